@@ -1,0 +1,109 @@
+// The k-NN inverse sensor model (Eq. 7) and its map update (Algorithm 1) on a liboctomap OcTree.
+#pragma once
+
+#include <memory>
+#include <stdexcept>
+#include <unordered_map>
+
+#include <octomap/OcTree.h>
+
+#include "knn_set_distances.hpp"
+#include "log_odds.hpp"
+#include "mapping_params.hpp"
+#include "normal_cdf.hpp"
+#include "octomap_baseline.hpp"
+
+namespace occsweep {
+
+/// Builds k-NN maps. The map is a real octomap::OcTree (so it can be written as .ot and classified like
+/// OctoMap's); every update goes through OcTree::updateNode(key, delta), which clamps as Eq. 5.
+class KnnInverseSensorModel {
+ public:
+  explicit KnnInverseSensorModel(const KnnParams& params);
+
+  /// Algorithm 1 over the whole set; computes the distances (and, in Batch mode, mu and sigma) first.
+  [[nodiscard]] std::unique_ptr<octomap::OcTree> buildMap(const PointCloudSet& set) const;
+
+  /// The same with distances computed beforehand for this set, k and s_c (shared across a sweep).
+  [[nodiscard]] std::unique_ptr<octomap::OcTree> buildMap(const PointCloudSet& set,
+                                                          const KnnSetDistances& distances) const;
+
+  /// One scan of Algorithm 1 with the given mu, sigma.
+  void insertScan(octomap::OcTree& tree, const Scan& scan, const KnnScanDistances& d, double mu,
+                  double sigma) const;
+
+  [[nodiscard]] const KnnParams& params() const { return params_; }
+
+ private:
+  KnnParams params_;
+  float l_in_;   // l(p_m)
+  float l_out_;  // l(p'_m)
+};
+
+// ---------------------------------------------------------------------------------------------------------
+
+inline KnnInverseSensorModel::KnnInverseSensorModel(const KnnParams& params)
+    : params_(params), l_in_(logOdds(params.p_m)), l_out_(logOdds(params.p_m_out)) {
+  validate(params_);
+}
+
+inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const PointCloudSet& set) const {
+  return buildMap(set, computeKnnDistances(set, params_.k, params_.s_c));
+}
+
+inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const PointCloudSet& set,
+                                                                       const KnnSetDistances& distances) const {
+  if (distances.k != params_.k || distances.s_c != params_.s_c || distances.scans.size() != set.size())
+    throw std::invalid_argument("k-NN distances were computed for another k, s_c or point cloud set");
+  auto tree = makeTree(params_.resolution, params_.p_max, params_.p_min, params_.p_t);
+  for (std::size_t t = 0; t < set.size(); ++t) {
+    const auto& d = distances.scans[t];
+    const bool online = params_.stats == StatsMode::Online;
+    insertScan(*tree, set[t], d, online ? d.online_mu : distances.mu,
+               online ? d.online_sigma : distances.sigma);
+  }
+  return tree;
+}
+
+inline void KnnInverseSensorModel::insertScan(octomap::OcTree& tree, const Scan& scan, const KnnScanDistances& d,
+                                              double mu, double sigma) const {
+  using octomap::OcTreeKey;
+  const float l_min = tree.getClampingThresMinLog();
+  const float l_max = tree.getClampingThresMaxLog();
+
+  // Lines 3-10: sum l(p(s_j)) over the points j of each voxel (in point order, float as OctoMap), clamp once.
+  std::unordered_map<OcTreeKey, float, OcTreeKey::KeyHash> hits;
+  std::vector<bool> is_inner(scan.points.size(), false);
+  for (std::size_t j = 0; j < d.inner.size(); ++j) {
+    const auto& p = scan.points[d.inner[j]];
+    is_inner[d.inner[j]] = true;
+    OcTreeKey key;
+    if (!tree.coordToKeyChecked(p, key)) continue;  // outside the octree: OctoMap drops it too
+    hits[key] += logOdds(pointProbability(d.s[j], mu, sigma, params_.p_u, params_.p_l));
+  }
+
+  // Lines 11 and 14: voxels crossed by rays to z_in points, and by rays to z_out points cut at s_c, with
+  // OctoMap's own traversal (origin voxel included, end voxel excluded), as computeUpdate does.
+  octomap::KeySet crossed_in, crossed_out;
+  octomap::KeyRay ray;
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    const auto& p = scan.points[i];
+    if (is_inner[i]) {
+      if (tree.computeRayKeys(scan.origin, p, ray)) crossed_in.insert(ray.begin(), ray.end());
+    } else {
+      const octomap::point3d direction = (p - scan.origin).normalized();
+      const octomap::point3d cut = scan.origin + direction * float(params_.s_c);
+      if (tree.computeRayKeys(scan.origin, cut, ray)) crossed_out.insert(ray.begin(), ray.end());
+    }
+  }
+
+  const bool literal = params_.variant == UpdateVariant::Literal;
+  for (const auto& [key, sum] : hits) tree.updateNode(key, std::min(std::max(sum, l_min), l_max));
+  for (const auto& key : crossed_in)
+    if (literal || !hits.count(key)) tree.updateNode(key, l_in_);
+  // Lines 15-20: l_out only where no z_in ray passed; by default (occupied wins) not where a point is either.
+  for (const auto& key : crossed_out)
+    if (!crossed_in.count(key) && (literal || !hits.count(key))) tree.updateNode(key, l_out_);
+}
+
+}  // namespace occsweep

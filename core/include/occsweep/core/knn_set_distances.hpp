@@ -1,0 +1,72 @@
+// The parts of the k-NN model that depend only on the points, k and s_c: the z_in / z_out split, s_i,
+// and mu, sigma (Eq. 9-10). Computed once and shared by every probability setting of a sweep.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "knn_average_distance.hpp"
+#include "point_cloud_set.hpp"
+#include "welford.hpp"
+
+namespace occsweep {
+
+/// One scan: which points are in z_in (range <= s_c) and their s_i.
+struct KnnScanDistances {
+  std::vector<std::uint32_t> inner;  ///< indices into Scan::points of z_in, in point order
+  std::vector<double> s;             ///< s_i of each z_in point, same order; +inf with no neighbour
+  double online_mu = 0.0;            ///< Welford mean over every finite s_i up to and including this scan
+  double online_sigma = 0.0;         ///< and its deviation sqrt(Q/n)
+};
+
+/// A whole point cloud set.
+struct KnnSetDistances {
+  int k = 0;
+  double s_c = 0.0;
+  std::vector<KnnScanDistances> scans;
+  double mu = 0.0;     ///< Eq. 10 over every finite s_i of the set (the paper's first pass)
+  double sigma = 0.0;
+};
+
+/// z_in split and s_i for every scan, then Welford over the s_i in scan and point order. Infinite s_i (a point
+/// alone within s_c) are left out of mu and sigma, which they would make infinite; F(+inf) = 1 still applies.
+[[nodiscard]] KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c);
+
+/// The z_in split of one scan (OctoMap's maxrange test: (p - origin).norm() <= s_c).
+[[nodiscard]] std::vector<std::uint32_t> innerPoints(const Scan& scan, double s_c);
+
+// ---------------------------------------------------------------------------------------------------------
+
+inline std::vector<std::uint32_t> innerPoints(const Scan& scan, double s_c) {
+  std::vector<std::uint32_t> inner;
+  inner.reserve(scan.points.size());
+  for (std::uint32_t i = 0; i < scan.points.size(); ++i)
+    if (rangeFromOrigin(scan.points[i], scan.origin) <= s_c) inner.push_back(i);
+  return inner;
+}
+
+inline KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c) {
+  KnnSetDistances out;
+  out.k = k;
+  out.s_c = s_c;
+  out.scans.resize(set.size());
+  Welford welford;
+  std::vector<octomap::point3d> inner_points;
+  for (std::size_t t = 0; t < set.size(); ++t) {
+    KnnScanDistances& d = out.scans[t];
+    d.inner = innerPoints(set[t], s_c);
+    inner_points.clear();
+    for (auto i : d.inner) inner_points.push_back(set[t].points[i]);
+    d.s = averageKnnDistances(inner_points, k);
+    for (double s : d.s)
+      if (std::isfinite(s)) welford.add(s);
+    d.online_mu = welford.mean();
+    d.online_sigma = welford.sigma();
+  }
+  out.mu = welford.mean();
+  out.sigma = welford.sigma();
+  return out;
+}
+
+}  // namespace occsweep

@@ -1,0 +1,32 @@
+// A point cloud set: the scans of one data set, each with its sensor origin, points in the world frame.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <octomap/octomap_types.h>
+
+namespace occsweep {
+
+/// One scan z_t taken from sensor origin x_t. Points are in the world frame, like the clouds OctoMap inserts.
+struct Scan {
+  octomap::point3d origin;
+  std::vector<octomap::point3d> points;
+};
+
+/// The ordered scans of one data set under one set of point cloud parameters.
+using PointCloudSet = std::vector<Scan>;
+
+[[nodiscard]] inline std::size_t pointCount(const PointCloudSet& set) {
+  std::size_t n = 0;
+  for (const auto& scan : set) n += scan.points.size();
+  return n;
+}
+
+/// Distance from the sensor as OctoMap measures it in computeUpdate: (p - origin).norm(), float
+/// components, so that our in/out split at s_c matches liboctomap's maxrange test bit for bit.
+[[nodiscard]] inline double rangeFromOrigin(const octomap::point3d& p, const octomap::point3d& origin) {
+  return (p - origin).norm();
+}
+
+}  // namespace occsweep

@@ -1,0 +1,51 @@
+// Ground truth at the map's resolution: occupied voxel keys inside an evaluation region (SPEC §2).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <cstddef>
+#include <cstdint>
+
+#include <octomap/OcTreeKey.h>
+#include <octomap/octomap_types.h>
+
+namespace occsweep {
+
+/// An axis-aligned box, metres.
+struct AxisBox {
+  std::array<double, 3> min{};
+  std::array<double, 3> max{};
+};
+
+struct Triangle {
+  std::array<octomap::point3d, 3> v;
+};
+
+/// Where the truth comes from; any mix of the three sources (SPEC §2).
+struct TruthSources {
+  std::vector<AxisBox> boxes;             ///< a voxel is occupied when its cube overlaps a box (positive volume)
+  std::vector<Triangle> mesh;             ///< voxels a triangle passes through (touching counts)
+  std::vector<octomap::point3d> points;   ///< the voxel holding each point
+};
+
+/// Occupied keys and the region's keys at one resolution. A voxel belongs to the region when its centre lies
+/// in the region box (borders included); voxels outside count for nothing.
+struct GroundTruth {
+  double resolution = 0.1;
+  AxisBox region;
+  octomap::OcTreeKey region_min_key, region_max_key;  ///< inclusive key bounds of the region
+  octomap::KeySet occupied;                           ///< only keys inside the region
+
+  [[nodiscard]] bool inRegion(const octomap::OcTreeKey& k) const;
+  [[nodiscard]] std::size_t regionVoxelCount() const;
+};
+
+/// Rasterises the sources at `resolution` with OctoMap's key arithmetic. Throws std::invalid_argument for an
+/// empty or inverted region, or a non-positive resolution.
+[[nodiscard]] GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, double resolution);
+
+/// Separating-axis test of a triangle against an axis-aligned cube (Akenine-Moeller 2001), closed sets.
+[[nodiscard]] bool triangleTouchesBox(const Triangle& t, const std::array<double, 3>& centre, double half);
+
+}  // namespace occsweep

@@ -1,0 +1,2 @@
+// placeholder until the grid code lands
+namespace occsweep {}

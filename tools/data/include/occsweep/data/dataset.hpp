@@ -1,0 +1,34 @@
+// A data set: scans, ground truth and evaluation region, and its on-disk form (docs/dataset-format.md).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "occsweep/core/point_cloud_set.hpp"
+#include "occsweep/eval/ground_truth.hpp"
+
+namespace occsweep {
+
+struct Dataset {
+  std::string name;
+  PointCloudSet scans;
+  TruthSources truth;
+  AxisBox region;
+  nlohmann::json source = nlohmann::json::object();  ///< how it was made (generator and its settings)
+};
+
+/// Writes DIR/manifest.json and DIR/scans/NNNNNN.f32 (+ truth files). Built in a temporary folder beside DIR
+/// and renamed into place, so a killed write never leaves a half data set. Replaces an existing DIR.
+void writeDataset(const Dataset& dataset, const std::filesystem::path& dir);
+
+/// Reads and checks a data set. Throws DataError naming the file and field: missing or truncated files,
+/// NaN or infinite coordinates, empty scans, bad manifest fields.
+[[nodiscard]] Dataset readDataset(const std::filesystem::path& dir);
+
+/// FNV-1a 64 over the manifest and every binary file in manifest order, as 16 hex digits: the data set's
+/// content hash recorded in results (SPEC §5).
+[[nodiscard]] std::string datasetContentHash(const std::filesystem::path& dir);
+
+}  // namespace occsweep

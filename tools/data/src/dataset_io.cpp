@@ -1,0 +1,224 @@
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include "occsweep/data/data_error.hpp"
+#include "occsweep/data/dataset.hpp"
+
+namespace occsweep {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kFormat = "occsweep-dataset";
+constexpr int kVersion = 1;
+constexpr std::uint64_t kMaxPointsPerFile = std::uint64_t(1) << 31;  // 24 GiB of float32: refuse beyond
+
+void writeFloats(const fs::path& file, const std::vector<octomap::point3d>& pts) {
+  std::ofstream out(file, std::ios::binary);
+  for (const auto& p : pts) {
+    const float xyz[3] = {p.x(), p.y(), p.z()};
+    out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);  // little-endian hosts only (x86-64, arm64)
+  }
+  if (!out) throw DataError(file, "", "cannot write");
+}
+
+std::vector<octomap::point3d> readFloats(const fs::path& file, std::uint64_t expected, const std::string& field) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) throw DataError(file, field, "file is missing");
+  const auto size = fs::file_size(file, ec);
+  if (ec) throw DataError(file, field, "cannot read its size: " + ec.message());
+  if (expected > kMaxPointsPerFile) throw DataError(file, field, "claims an absurd point count");
+  if (size != expected * 12)
+    throw DataError(file, field,
+                    "holds " + std::to_string(size) + " bytes, expected " + std::to_string(expected * 12) +
+                        " (" + std::to_string(expected) + " points of 3 float32): truncated or wrong count");
+  std::ifstream in(file, std::ios::binary);
+  std::vector<float> raw(expected * 3);
+  in.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size() * sizeof(float)));
+  if (!in) throw DataError(file, field, "cannot read");
+  std::vector<octomap::point3d> pts(expected);
+  for (std::uint64_t i = 0; i < expected; ++i) {
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(raw[i * 3 + a]))
+        throw DataError(file, field, "point " + std::to_string(i) + " has a NaN or infinite coordinate");
+    pts[i] = octomap::point3d(raw[i * 3], raw[i * 3 + 1], raw[i * 3 + 2]);
+  }
+  return pts;
+}
+
+json vec(const octomap::point3d& p) { return json::array({p.x(), p.y(), p.z()}); }
+json vec(const std::array<double, 3>& p) { return json::array({p[0], p[1], p[2]}); }
+
+// Typed access to manifest fields with errors that name the field.
+struct Manifest {
+  fs::path file;
+  const json& at(const json& obj, const std::string& key, const std::string& where) const {
+    if (!obj.is_object() || !obj.contains(key)) throw DataError(file, where + key, "field is missing");
+    return obj.at(key);
+  }
+  std::array<double, 3> triple(const json& v, const std::string& where) const {
+    if (!v.is_array() || v.size() != 3) throw DataError(file, where, "must be an array of 3 numbers");
+    std::array<double, 3> out{};
+    for (int a = 0; a < 3; ++a) {
+      if (!v[a].is_number()) throw DataError(file, where, "must be an array of 3 numbers");
+      out[a] = v[a].get<double>();
+      if (!std::isfinite(out[a])) throw DataError(file, where, "must be finite");
+    }
+    return out;
+  }
+  std::uint64_t count(const json& v, const std::string& where) const {
+    if (!v.is_number_unsigned()) throw DataError(file, where, "must be a non-negative integer");
+    return v.get<std::uint64_t>();
+  }
+  fs::path relative(const json& v, const std::string& where) const {
+    if (!v.is_string()) throw DataError(file, where, "must be a file name");
+    const fs::path p = v.get<std::string>();
+    if (p.is_absolute() || p.string().find("..") != std::string::npos)
+      throw DataError(file, where, "must be a path inside the data set folder");
+    return p;
+  }
+  AxisBox box(const json& v, const std::string& where) const {
+    AxisBox b{triple(at(v, "min", where + "."), where + ".min"), triple(at(v, "max", where + "."), where + ".max")};
+    for (int a = 0; a < 3; ++a)
+      if (b.min[a] > b.max[a]) throw DataError(file, where, "min must be <= max on every axis");
+    return b;
+  }
+};
+
+json readJson(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw DataError(file, "", "file is missing or unreadable");
+  try {
+    return json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw DataError(file, "", std::string("not valid JSON: ") + e.what());
+  }
+}
+
+// Binary files of a manifest in hashing order.
+std::vector<fs::path> binaryFiles(const json& m) {
+  std::vector<fs::path> files;
+  for (const auto& s : m.at("scans")) files.emplace_back(s.at("file").get<std::string>());
+  const auto& t = m.at("truth");
+  for (const char* key : {"mesh_file", "points_file"})
+    if (t.contains(key) && t.at(key).is_string()) files.emplace_back(t.at(key).get<std::string>());
+  return files;
+}
+
+}  // namespace
+
+void writeDataset(const Dataset& d, const fs::path& dir) {
+  const fs::path tmp = dir.string() + ".tmp-" + std::to_string(::getpid());
+  fs::remove_all(tmp);
+  fs::create_directories(tmp / "scans");
+  json m;
+  m["format"] = kFormat;
+  m["version"] = kVersion;
+  m["name"] = d.name;
+  m["scans"] = json::array();
+  for (std::size_t i = 0; i < d.scans.size(); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "scans/%06zu.f32", i);
+    writeFloats(tmp / name, d.scans[i].points);
+    m["scans"].push_back({{"file", name}, {"origin", vec(d.scans[i].origin)}, {"points", d.scans[i].points.size()}});
+  }
+  json truth = {{"boxes", json::array()}};
+  for (const auto& b : d.truth.boxes) truth["boxes"].push_back({{"min", vec(b.min)}, {"max", vec(b.max)}});
+  if (!d.truth.mesh.empty()) {
+    std::vector<octomap::point3d> v;
+    for (const auto& t : d.truth.mesh) v.insert(v.end(), t.v.begin(), t.v.end());
+    writeFloats(tmp / "truth_mesh.f32", v);
+    truth["mesh_file"] = "truth_mesh.f32";
+    truth["mesh_triangles"] = d.truth.mesh.size();
+  }
+  if (!d.truth.points.empty()) {
+    writeFloats(tmp / "truth_points.f32", d.truth.points);
+    truth["points_file"] = "truth_points.f32";
+    truth["points"] = d.truth.points.size();
+  }
+  m["truth"] = truth;
+  m["region"] = {{"min", vec(d.region.min)}, {"max", vec(d.region.max)}};
+  m["source"] = d.source;
+  {
+    std::ofstream out(tmp / "manifest.json");
+    out << m.dump(1) << '\n';
+    if (!out) throw DataError(tmp / "manifest.json", "", "cannot write");
+  }
+  if (dir.has_parent_path()) fs::create_directories(dir.parent_path());
+  const fs::path old = dir.string() + ".old-" + std::to_string(::getpid());
+  if (fs::exists(dir)) fs::rename(dir, old);
+  fs::rename(tmp, dir);
+  fs::remove_all(old);
+}
+
+Dataset readDataset(const fs::path& dir) {
+  const fs::path file = dir / "manifest.json";
+  if (!fs::is_directory(dir)) throw DataError(dir, "", "data set folder is missing");
+  const json m = readJson(file);
+  const Manifest mf{file};
+  if (!m.is_object()) throw DataError(file, "", "must be a JSON object");
+  if (mf.at(m, "format", "") != kFormat) throw DataError(file, "format", std::string("must be \"") + kFormat + "\"");
+  if (mf.at(m, "version", "") != kVersion)
+    throw DataError(file, "version", "unsupported version (this occsweep reads " + std::to_string(kVersion) + ")");
+  Dataset d;
+  const json& name = mf.at(m, "name", "");
+  if (!name.is_string() || name.get<std::string>().empty()) throw DataError(file, "name", "must be a non-empty string");
+  d.name = name.get<std::string>();
+  const json& scans = mf.at(m, "scans", "");
+  if (!scans.is_array() || scans.empty()) throw DataError(file, "scans", "must be a non-empty array");
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    const std::string where = "scans[" + std::to_string(i) + "]";
+    const json& s = scans[i];
+    Scan scan;
+    const auto o = mf.triple(mf.at(s, "origin", where + "."), where + ".origin");
+    scan.origin = octomap::point3d(float(o[0]), float(o[1]), float(o[2]));
+    const auto n = mf.count(mf.at(s, "points", where + "."), where + ".points");
+    if (n == 0) throw DataError(file, where + ".points", "an empty scan (0 points) is not allowed");
+    scan.points = readFloats(dir / mf.relative(mf.at(s, "file", where + "."), where + ".file"), n, where);
+    d.scans.push_back(std::move(scan));
+  }
+  const json& truth = mf.at(m, "truth", "");
+  if (truth.contains("boxes")) {
+    const json& boxes = truth.at("boxes");
+    if (!boxes.is_array()) throw DataError(file, "truth.boxes", "must be an array");
+    for (std::size_t i = 0; i < boxes.size(); ++i)
+      d.truth.boxes.push_back(mf.box(boxes[i], "truth.boxes[" + std::to_string(i) + "]"));
+  }
+  if (truth.contains("mesh_file")) {
+    const auto n = mf.count(mf.at(truth, "mesh_triangles", "truth."), "truth.mesh_triangles");
+    if (n > kMaxPointsPerFile / 3) throw DataError(file, "truth.mesh_triangles", "claims an absurd count");
+    const auto v = readFloats(dir / mf.relative(truth.at("mesh_file"), "truth.mesh_file"), n * 3, "truth.mesh_file");
+    for (std::uint64_t t = 0; t < n; ++t) d.truth.mesh.push_back(Triangle{{v[t * 3], v[t * 3 + 1], v[t * 3 + 2]}});
+  }
+  if (truth.contains("points_file")) {
+    const auto n = mf.count(mf.at(truth, "points", "truth."), "truth.points");
+    d.truth.points = readFloats(dir / mf.relative(truth.at("points_file"), "truth.points_file"), n, "truth.points_file");
+  }
+  d.region = mf.box(mf.at(m, "region", ""), "region");
+  if (m.contains("source")) d.source = m.at("source");
+  return d;
+}
+
+std::string datasetContentHash(const fs::path& dir) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  auto feed = [&](const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw DataError(file, "", "file is missing or unreadable");
+    char buf[1 << 16];
+    while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+      for (std::streamsize i = 0; i < in.gcount(); ++i) h = (h ^ std::uint8_t(buf[i])) * 0x100000001b3ull;
+      if (!in) break;
+    }
+  };
+  feed(dir / "manifest.json");
+  for (const auto& f : binaryFiles(readJson(dir / "manifest.json"))) feed(dir / f);
+  char out[17];
+  std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(h));
+  return out;
+}
+
+}  // namespace occsweep

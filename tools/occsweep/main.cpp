@@ -1,0 +1,39 @@
+// occsweep: OctoMap against the k-NN inverse sensor model, voxel for voxel, over parameter grids.
+#include <algorithm>
+#include <iostream>
+#include <map>
+
+#include "command_registry.hpp"
+#include "occsweep/sweeps/version.hpp"
+
+int main(int argc, char** argv) {
+  using namespace occsweep::cli;
+  CLI::App app{"occsweep " + std::string(occsweep::kVersion) +
+               ": occupancy mapping with OctoMap and the k-NN inverse sensor model (Miao et al., Sensors 2022)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(occsweep::kVersion) + " (" + occsweep::kGitCommit + ")");
+  auto specs = commandRegistry();
+  std::sort(specs.begin(), specs.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+  std::map<CLI::App*, std::function<int()>> runners;
+  for (const auto& spec : specs) {
+    CLI::App* sub = app.add_subcommand(spec.name, spec.help);
+    runners[sub] = spec.setup(*sub);
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  for (auto& [sub, run] : runners) {
+    if (!sub->parsed()) continue;
+    try {
+      return run();
+    } catch (const CLI::ParseError& e) {
+      return sub->exit(e);
+    } catch (const std::exception& e) {
+      std::cerr << "occsweep " << sub->get_name() << ": error: " << e.what() << '\n';
+      return 2;
+    }
+  }
+  return 1;
+}
