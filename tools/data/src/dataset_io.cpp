@@ -6,6 +6,7 @@
 
 #include "occsweep/data/data_error.hpp"
 #include "occsweep/data/dataset.hpp"
+#include "occsweep/data/fnv1a.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
@@ -204,21 +205,10 @@ Dataset readDataset(const fs::path& dir) {
 }
 
 std::string datasetContentHash(const fs::path& dir) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  auto feed = [&](const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw DataError(file, "", "file is missing or unreadable");
-    char buf[1 << 16];
-    while (in.read(buf, sizeof buf) || in.gcount() > 0) {
-      for (std::streamsize i = 0; i < in.gcount(); ++i) h = (h ^ std::uint8_t(buf[i])) * 0x100000001b3ull;
-      if (!in) break;
-    }
-  };
-  feed(dir / "manifest.json");
-  for (const auto& f : binaryFiles(readJson(dir / "manifest.json"))) feed(dir / f);
-  char out[17];
-  std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(h));
-  return out;
+  Fnv1a h;
+  h.feedFile(dir / "manifest.json");
+  for (const auto& f : binaryFiles(readJson(dir / "manifest.json"))) h.feedFile(dir / f);
+  return h.hex();
 }
 
 }  // namespace occsweep

@@ -1,0 +1,39 @@
+// Merging shards, and the best-AUC comparison behind the paper's Fig. 5.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "results.hpp"
+
+namespace occsweep {
+
+/// Merges the shards of one sweep. Refuses (std::runtime_error naming the file) an incomplete file, a file of
+/// another grid, data set, group or map setting, a duplicated combination, a combination outside the selection
+/// and a missing one. When the grid file is found and its hash matches, every id's parameters are checked too.
+[[nodiscard]] ResultsFile mergeResults(const std::vector<std::filesystem::path>& files);
+
+/// The ids a results file covers, checked against its selection by the caller.
+[[nodiscard]] std::vector<std::uint64_t> coveredIds(const ResultsFile& f);
+
+/// Checks one file's ids and parameters against its grid, when the grid file is found (returns false if not).
+bool checkAgainstGrid(const ResultsFile& f, const std::string& file);
+
+struct BestMap {
+  double auc = 0.0;       ///< anchored AUC (SPEC §2)
+  double observed = 0.0;  ///< AUC over the observed span
+  MapParams params;
+  std::uint64_t map_index = 0;
+};
+
+/// One data set and point cloud set: the best map of each method.
+struct ComparisonRow {
+  std::string dataset, point_cloud_set, dataset_hash;
+  std::optional<BestMap> octomap, knn;
+  [[nodiscard]] double improvementPercent() const;  ///< (knn - octomap) / octomap * 100; NaN if one is missing
+};
+
+[[nodiscard]] std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files);
+
+}  // namespace occsweep

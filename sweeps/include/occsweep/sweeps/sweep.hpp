@@ -1,0 +1,47 @@
+// A sweep: one map per combination of the non-p_t parameters, thresholded at every p_t (SPEC §2).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "occsweep/core/mapping_params.hpp"
+#include "results.hpp"
+
+namespace occsweep {
+
+struct SweepConfig {
+  std::filesystem::path dataset;  ///< data-set folder
+  std::string grid = "knn-opt";   ///< grid name (sweeps/grids/NAME.json) or path
+  SweepSelection selection;
+  std::filesystem::path out;      ///< results file; OUT.partial.jsonl holds finished maps while it runs
+  double resolution = 0.1;        ///< map resolution, metres (paper Section 4.2)
+  double s_c = 4.0;               ///< maximum range, metres
+  UpdateVariant variant = UpdateVariant::Default;
+  StatsMode stats = StatsMode::Batch;
+  int threads = 0;                ///< 0: all cores
+  bool quiet = false;             ///< no progress on stderr
+};
+
+/// One work item: a map of the grid and the thresholds of it that the selection asks for.
+struct SweepItem {
+  std::uint64_t map_index = 0;
+  std::vector<std::size_t> thresholds;  ///< indices into GridEnumeration::thresholds[map_index]
+};
+
+/// The selected maps of a grid in canonical order, cut to the shard (throws for an invalid selection).
+[[nodiscard]] std::vector<SweepItem> selectWork(const GridSpec& grid, const GridEnumeration& e,
+                                                const SweepSelection& selection);
+
+/// The ids a selection (ignoring its shard) must cover: what merge checks.
+[[nodiscard]] std::vector<std::uint64_t> expectedIds(const GridEnumeration& e, const SweepSelection& selection);
+
+/// Runs (or resumes) a sweep and writes its results file atomically. A complete file of the same work is
+/// left as it is and returned.
+ResultsFile runSweep(const SweepConfig& config);
+
+/// Map-level parameters as the core's structs (resolution, s_c and variant from the sweep).
+[[nodiscard]] KnnParams knnParams(const MapParams& m, const SweepConfig& c, Fixed p_t);
+[[nodiscard]] OctoMapParams octomapParams(const MapParams& m, const SweepConfig& c, Fixed p_t);
+
+}  // namespace occsweep

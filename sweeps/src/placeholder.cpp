@@ -1,2 +1,0 @@
-// placeholder until the grid code lands
-namespace occsweep {}

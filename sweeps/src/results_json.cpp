@@ -1,0 +1,258 @@
+// Results files to and from JSON, with checks that catch a file edited by hand.
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+#include <unistd.h>
+
+#include "occsweep/sweeps/results.hpp"
+
+namespace occsweep {
+namespace {
+
+using nlohmann::json;
+constexpr const char* kFormat = "occsweep-results";
+constexpr int kVersion = 1;
+
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+struct Reader {
+  const std::string& file;
+  [[noreturn]] void fail(const std::string& where, const std::string& rule) const {
+    throw std::runtime_error(file + ": " + where + ": " + rule);
+  }
+  const json& at(const json& j, const std::string& key, const std::string& where) const {
+    if (!j.is_object() || !j.contains(key)) fail(where.empty() ? key : where + "." + key, "is missing");
+    return j.at(key);
+  }
+  std::string str(const json& j, const std::string& key, const std::string& where) const {
+    const json& v = at(j, key, where);
+    if (!v.is_string()) fail(where + "." + key, "must be a string");
+    return v.get<std::string>();
+  }
+  std::uint64_t count(const json& j, const std::string& key, const std::string& where) const {
+    const json& v = at(j, key, where);
+    if (!v.is_number_unsigned()) fail(where + "." + key, "must be a non-negative integer");
+    return v.get<std::uint64_t>();
+  }
+  double real(const json& j, const std::string& key, const std::string& where, bool nullable = false) const {
+    const json& v = at(j, key, where);
+    if (nullable && v.is_null()) return std::numeric_limits<double>::quiet_NaN();
+    if (!v.is_number()) fail(where + "." + key, nullable ? "must be a number or null" : "must be a number");
+    return v.get<double>();
+  }
+  Fixed fixed(const json& j, const std::string& key, const std::string& where) const {
+    const double d = real(j, key, where);
+    if (!std::isfinite(d) || d < 0 || d > 1e6) fail(where + "." + key, "must be a finite non-negative number");
+    return std::llround(d * double(kFixedScale));
+  }
+  // A derived number must equal what its counts give: a hand edit of one or the other is caught.
+  void agrees(double stored, double derived, const std::string& where) const {
+    const bool both_nan = std::isnan(stored) && std::isnan(derived);
+    if (!both_nan && !(std::abs(stored - derived) <= 1e-12 * std::max(1.0, std::abs(derived))))
+      fail(where, "does not match the counts it is derived from (edited by hand?)");
+  }
+};
+
+}  // namespace
+
+bool sameWork(const ResultsHeader& a, const ResultsHeader& b, bool compare_shard, std::string* why) {
+  auto differ = [&](const char* what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (a.grid_name != b.grid_name || a.grid_hash != b.grid_hash) return differ("another grid");
+  if (a.dataset_name != b.dataset_name || a.dataset_hash != b.dataset_hash) return differ("another data set");
+  if (a.selection.group != b.selection.group) return differ("another Eq. 16 group");
+  if (compare_shard && (a.selection.shard_index != b.selection.shard_index ||
+                        a.selection.shard_count != b.selection.shard_count))
+    return differ("another shard");
+  if (a.resolution != b.resolution || a.s_c != b.s_c) return differ("another resolution or s_c");
+  if (a.variant != b.variant || a.stats != b.stats) return differ("another k-NN variant or statistics mode");
+  return true;
+}
+
+json toJson(const ResultsHeader& h) {
+  json sel = {{"shard", {{"index", h.selection.shard_index}, {"count", h.selection.shard_count}}},
+              {"group", nullptr}};
+  if (h.selection.group)
+    sel["group"] = {{"index", h.selection.group->index}, {"count", h.selection.group->count},
+                    {"seed", h.selection.group->seed}};
+  return {{"occsweep", {{"version", h.version}, {"commit", h.commit}}},
+          {"grid", {{"name", h.grid_name}, {"file_hash", h.grid_hash}, {"method", methodName(h.method)},
+                    {"combinations", h.grid_combinations}}},
+          {"selection", sel},
+          {"dataset", {{"name", h.dataset_name}, {"content_hash", h.dataset_hash},
+                       {"point_cloud_set", h.point_cloud_set}}},
+          {"map", {{"resolution", h.resolution}, {"s_c", h.s_c}, {"variant", h.variant}, {"stats", h.stats},
+                   {"engine", h.engine}}}};
+}
+
+json toJson(const MapResult& m, GridMethod method) {
+  json params = {{"p_max", toDouble(m.params.p_max)}, {"p_min", toDouble(m.params.p_min)},
+                 {"p_m", toDouble(m.params.p_m)}};
+  if (method == GridMethod::Knn) {
+    params["p_m_out"] = toDouble(m.params.p_m_out);
+    params["p_u"] = toDouble(m.params.p_u);
+    params["p_l"] = toDouble(m.params.p_l);
+    params["k"] = m.params.k;
+  } else {
+    params["p_h"] = toDouble(m.params.p_h);
+  }
+  json thresholds = json::array();
+  for (const auto& t : m.thresholds) {
+    const auto& c = t.counts;
+    thresholds.push_back({{"id", t.id}, {"p_t", toDouble(t.p_t)}, {"tp", c.tp}, {"fp", c.fp}, {"fn", c.fn},
+                          {"tn", c.tn}, {"tpr", number(c.tpr())}, {"fdr", number(c.fdr())},
+                          {"precision", number(c.precision())}, {"fpr", number(c.fpr())}});
+  }
+  return {{"map_index", m.map_index}, {"params", params}, {"thresholds", thresholds},
+          {"auc", {{"anchored", number(m.area.anchored)}, {"observed", number(m.area.observed)},
+                   {"points", m.area.points}}},
+          {"seconds", m.seconds}};
+}
+
+json toJson(const ResultsFile& f) {
+  json j = {{"format", kFormat}, {"version", kVersion}};
+  j.update(toJson(f.header));
+  j["complete"] = f.complete;
+  j["seconds"] = f.seconds;
+  j["maps"] = json::array();
+  for (const auto& m : f.maps) j["maps"].push_back(toJson(m, f.header.method));
+  return j;
+}
+
+ResultsHeader parseHeader(const json& j, const std::string& file) {
+  const Reader r{file};
+  ResultsHeader h;
+  const json& o = r.at(j, "occsweep", "");
+  h.version = r.str(o, "version", "occsweep");
+  h.commit = r.str(o, "commit", "occsweep");
+  const json& g = r.at(j, "grid", "");
+  h.grid_name = r.str(g, "name", "grid");
+  h.grid_hash = r.str(g, "file_hash", "grid");
+  const std::string method = r.str(g, "method", "grid");
+  if (method != "knn" && method != "octomap") r.fail("grid.method", "must be knn or octomap");
+  h.method = method == "knn" ? GridMethod::Knn : GridMethod::OctoMap;
+  h.grid_combinations = r.count(g, "combinations", "grid");
+  const json& sel = r.at(j, "selection", "");
+  const json& shard = r.at(sel, "shard", "selection");
+  h.selection.shard_index = r.count(shard, "index", "selection.shard");
+  h.selection.shard_count = r.count(shard, "count", "selection.shard");
+  if (h.selection.shard_count == 0 || h.selection.shard_index >= h.selection.shard_count)
+    r.fail("selection.shard", "index must be < count");
+  const json& group = r.at(sel, "group", "selection");
+  if (!group.is_null()) {
+    SweepSelection::Group gr{r.count(group, "index", "selection.group"), r.count(group, "count", "selection.group"),
+                             r.count(group, "seed", "selection.group")};
+    if (gr.count == 0 || gr.index >= gr.count) r.fail("selection.group", "index must be < count");
+    h.selection.group = gr;
+  }
+  const json& d = r.at(j, "dataset", "");
+  h.dataset_name = r.str(d, "name", "dataset");
+  h.dataset_hash = r.str(d, "content_hash", "dataset");
+  h.point_cloud_set = r.at(d, "point_cloud_set", "dataset");
+  const json& m = r.at(j, "map", "");
+  h.resolution = r.real(m, "resolution", "map");
+  h.s_c = r.real(m, "s_c", "map");
+  h.variant = r.str(m, "variant", "map");
+  h.stats = r.str(m, "stats", "map");
+  h.engine = r.str(m, "engine", "map");
+  return h;
+}
+
+MapResult parseMapResult(const json& j, GridMethod method, const std::string& file, const std::string& where) {
+  const Reader r{file};
+  MapResult m;
+  m.map_index = r.count(j, "map_index", where);
+  const json& p = r.at(j, "params", where);
+  const std::string pw = where + ".params";
+  m.params.p_max = r.fixed(p, "p_max", pw);
+  m.params.p_min = r.fixed(p, "p_min", pw);
+  m.params.p_m = r.fixed(p, "p_m", pw);
+  if (method == GridMethod::Knn) {
+    m.params.p_m_out = r.fixed(p, "p_m_out", pw);
+    m.params.p_u = r.fixed(p, "p_u", pw);
+    m.params.p_l = r.fixed(p, "p_l", pw);
+    m.params.k = int(r.count(p, "k", pw));
+  } else {
+    m.params.p_h = r.fixed(p, "p_h", pw);
+  }
+  const json& ts = r.at(j, "thresholds", where);
+  if (!ts.is_array() || ts.empty()) r.fail(where + ".thresholds", "must be a non-empty array");
+  std::uint64_t total = 0;
+  for (std::size_t i = 0; i < ts.size(); ++i) {
+    const std::string tw = where + ".thresholds[" + std::to_string(i) + "]";
+    ThresholdResult t;
+    t.id = r.count(ts[i], "id", tw);
+    t.p_t = r.fixed(ts[i], "p_t", tw);
+    t.counts = {r.count(ts[i], "tp", tw), r.count(ts[i], "fp", tw), r.count(ts[i], "fn", tw),
+                r.count(ts[i], "tn", tw)};
+    const auto& c = t.counts;
+    const std::uint64_t sum = c.tp + c.fp + c.fn + c.tn;
+    if (i == 0) total = sum;
+    if (sum != total) r.fail(tw, "TP+FP+FN+TN differs between thresholds of one map (edited by hand?)");
+    r.agrees(r.real(ts[i], "tpr", tw, true), c.tpr(), tw + ".tpr");
+    r.agrees(r.real(ts[i], "fdr", tw, true), c.fdr(), tw + ".fdr");
+    m.thresholds.push_back(t);
+  }
+  const json& auc = r.at(j, "auc", where);
+  m.area = mapArea(m.thresholds);
+  r.agrees(r.real(auc, "anchored", where + ".auc", true), m.area.anchored, where + ".auc.anchored");
+  r.agrees(r.real(auc, "observed", where + ".auc", true), m.area.observed, where + ".auc.observed");
+  m.seconds = r.real(j, "seconds", where);
+  return m;
+}
+
+ResultsFile parseResults(const json& j, const std::string& file) {
+  const Reader r{file};
+  if (!j.is_object()) r.fail("(top)", "must be a JSON object");
+  if (!j.contains("format") || j.at("format") != kFormat) r.fail("format", std::string("must be \"") + kFormat + "\"");
+  if (!j.contains("version") || j.at("version") != kVersion) r.fail("version", "unsupported results version");
+  ResultsFile f;
+  f.header = parseHeader(j, file);
+  const json& complete = r.at(j, "complete", "");
+  if (!complete.is_boolean()) r.fail("complete", "must be true or false");
+  f.complete = complete.get<bool>();
+  f.seconds = r.real(j, "seconds", "");
+  const json& maps = r.at(j, "maps", "");
+  if (!maps.is_array()) r.fail("maps", "must be an array");
+  for (std::size_t i = 0; i < maps.size(); ++i)
+    f.maps.push_back(parseMapResult(maps[i], f.header.method, file, "maps[" + std::to_string(i) + "]"));
+  return f;
+}
+
+ResultsFile readResults(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": results file is missing or unreadable");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(file.string() + ": not valid JSON (truncated?): " + e.what());
+  }
+  return parseResults(j, file.string());
+}
+
+void writeJsonAtomically(const json& j, const std::filesystem::path& file) {
+  namespace fs = std::filesystem;
+  if (file.has_parent_path()) fs::create_directories(file.parent_path());
+  const fs::path tmp = file.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp);
+    out << j.dump(1) << '\n';
+    out.flush();
+    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
+  }
+  fs::rename(tmp, file);
+}
+
+void writeResults(const ResultsFile& f, const std::filesystem::path& file) { writeJsonAtomically(toJson(f), file); }
+
+CurveArea mapArea(const std::vector<ThresholdResult>& thresholds) {
+  std::vector<ConfusionCounts> counts;
+  for (const auto& t : thresholds) counts.push_back(t.counts);
+  return curveArea(curvePoints(counts));
+}
+
+}  // namespace occsweep

@@ -1,0 +1,70 @@
+// The golden results in results/builtin/ are recomputed and must match: any TP/FP/FN/TN, or an AUC further
+// than 1e-12. Regenerate them with tools/regenerate_golden.sh only when a change is intended.
+#include <catch2/catch.hpp>
+
+#include "occsweep/core/octomap_baseline.hpp"
+#include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/sweeps/sweep.hpp"
+#include "test_helpers.hpp"
+
+using namespace occsweep;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kGolden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin";
+
+fs::path builtinScene(const std::string& test_name) {
+  const auto dir = test::scratch(test_name) / "scene";  // one folder per test: ctest runs them in parallel
+  writeDataset(makeBuiltinScene(), dir);  // the default settings, as tools/regenerate_golden.sh
+  return dir;
+}
+
+}  // namespace
+
+TEST_CASE("golden results of the built-in scene recompute identically") {
+  const auto scene = builtinScene("golden-recompute");
+  for (const char* grid : {"octomap-opt", "knn-opt"}) {
+    INFO("grid " << grid);
+    const ResultsFile golden = readResults(kGolden / (std::string(grid) + ".json"));
+    REQUIRE(golden.complete);
+    // A different scene would make every number differ: say so plainly.
+    REQUIRE(datasetContentHash(scene) == golden.header.dataset_hash);
+    SweepConfig c;
+    c.dataset = scene;
+    c.grid = grid;
+    c.out = scene.parent_path() / (std::string(grid) + ".json");
+    c.quiet = true;
+    const ResultsFile fresh = runSweep(c);
+    const auto diffs = resultDifferences(golden, fresh);
+    for (std::size_t i = 0; i < std::min<std::size_t>(diffs.size(), 10); ++i) UNSCOPED_INFO(diffs[i]);
+    CHECK(diffs.empty());
+  }
+}
+
+TEST_CASE("the golden check fails when a single voxel's classification changes") {
+  const auto scene = builtinScene("golden-perturb");
+  const ResultsFile golden = readResults(kGolden / "octomap-opt.json");
+  const Dataset data = readDataset(scene);
+  const GroundTruth truth = makeGroundTruth(data.truth, data.region, golden.header.resolution);
+  const MapResult& m = golden.maps.at(7);
+  SweepConfig c;
+  auto tree = buildOctoMap(data.scans, octomapParams(m.params, c, m.params.p_min));
+  RegionSample sample = sampleRegion(*tree, truth);
+
+  auto withCounts = [&](const RegionSample& s) {
+    ResultsFile f = golden;
+    MapResult& changed = f.maps.at(7);
+    for (auto& t : changed.thresholds) t.counts = classify(s, toDouble(t.p_t));
+    changed.area = mapArea(changed.thresholds);
+    return f;
+  };
+  // Unchanged, the recomputed map agrees with the golden file...
+  REQUIRE(resultDifferences(golden, withCounts(sample)).empty());
+  // ...and one truly occupied voxel that the map knew and called occupied becomes unknown: a TP turns FN.
+  REQUIRE_FALSE(sample.positive_log_odds.empty());
+  sample.positive_log_odds.pop_back();  // sorted: the most confident one, occupied at every p_t
+  const auto diffs = resultDifferences(golden, withCounts(sample));
+  REQUIRE_FALSE(diffs.empty());
+  CHECK(diffs.front().find("map 7") != std::string::npos);
+}

@@ -1,0 +1,52 @@
+// Shared helpers of the test programs: random clouds, temporary folders, running the occsweep command.
+#pragma once
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+#include <octomap/octomap_types.h>
+
+#include "occsweep/core/splitmix64.hpp"
+
+namespace occsweep::test {
+
+/// A fresh folder under the build tree, removed first if it exists.
+inline std::filesystem::path scratch(const std::string& name) {
+  const auto dir = std::filesystem::path(OCCSWEEP_BINARY_DIR) / "test-scratch" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+inline std::vector<octomap::point3d> randomCloud(SplitMix64& rng, std::size_t n, double extent) {
+  std::vector<octomap::point3d> pts;
+  for (std::size_t i = 0; i < n; ++i)
+    pts.emplace_back(float((rng.uniform() - 0.5) * extent), float((rng.uniform() - 0.5) * extent),
+                     float((rng.uniform() - 0.5) * extent));
+  return pts;
+}
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  ///< stdout and stderr together
+};
+
+/// Runs the occsweep binary with arguments (a shell string) and captures what it prints.
+inline CommandResult runCli(const std::string& args) {
+  const std::string cmd = std::string(OCCSWEEP_CLI) + " " + args + " 2>&1";
+  CommandResult r;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+}  // namespace occsweep::test

@@ -1,0 +1,162 @@
+// Sweeps: shards merge to the whole, merge refuses bad sets, a killed sweep resumes to the same result,
+// a hand-edited results file is caught.
+#include <catch2/catch.hpp>
+
+#include <csignal>
+#include <fstream>
+#include <thread>
+
+#include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/sweep.hpp"
+#include "test_helpers.hpp"
+
+using namespace occsweep;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path smallScene(const fs::path& dir, std::uint64_t seed = 3) {
+  writeDataset(makeBuiltinScene({.seed = seed, .scans = 6, .width = 32, .height = 24}), dir / ("scene" + std::to_string(seed)));
+  return dir / ("scene" + std::to_string(seed));
+}
+
+ResultsFile sweep(const fs::path& data, const std::string& grid, const fs::path& out, std::uint64_t shard = 0,
+                  std::uint64_t shards = 1) {
+  SweepConfig c;
+  c.dataset = data;
+  c.grid = grid;
+  c.out = out;
+  c.selection.shard_index = shard;
+  c.selection.shard_count = shards;
+  c.quiet = true;
+  return runSweep(c);
+}
+
+std::string mergeError(const std::vector<fs::path>& files) {
+  try {
+    (void)mergeResults(files);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "merged";
+}
+
+std::size_t lines(const fs::path& file) {
+  std::ifstream in(file);
+  std::size_t n = 0;
+  for (std::string l; std::getline(in, l);) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("shards merge to exactly the unsharded sweep; merge refuses missing, duplicated and foreign work") {
+  const auto dir = test::scratch("sweep-shards");
+  const auto data = smallScene(dir);
+  const ResultsFile whole = sweep(data, "octomap-opt", dir / "whole.json");
+  CHECK(whole.maps.size() == 20);
+  std::vector<fs::path> parts;
+  for (std::uint64_t i = 0; i < 3; ++i) {
+    parts.push_back(dir / ("part" + std::to_string(i) + ".json"));
+    (void)sweep(data, "octomap-opt", parts.back(), i, 3);
+  }
+  const ResultsFile merged = mergeResults(parts);
+  CHECK(resultDifferences(whole, merged).empty());
+  CHECK(mergeError({parts[0], parts[2]}) != "merged");
+  CHECK_THAT(mergeError({parts[0], parts[2]}), Contains("missing"));
+  CHECK_THAT(mergeError({parts[0], parts[1], parts[2], parts[1]}), Contains("duplicated") && Contains("part1.json"));
+  (void)sweep(data, "knn-opt", dir / "knn0.json", 0, 40);
+  CHECK_THAT(mergeError({parts[0], parts[1], parts[2], dir / "knn0.json"}), Contains("knn0.json") && Contains("foreign"));
+  const auto other = smallScene(dir, 4);
+  (void)sweep(other, "octomap-opt", dir / "other.json", 0, 3);
+  CHECK_THAT(mergeError({parts[0], parts[1], parts[2], dir / "other.json"}), Contains("another data set"));
+  // The CLI says the same with a non-zero exit, and writes nothing.
+  const auto r = test::runCli("merge " + parts[0].string() + " " + parts[2].string() + " --out " + (dir / "m.json").string());
+  CHECK(r.exit_code != 0);
+  CHECK_THAT(r.output, Contains("missing"));
+  CHECK_FALSE(fs::exists(dir / "m.json"));
+}
+
+TEST_CASE("a sweep killed part-way resumes and gives the same merged result as an uninterrupted one") {
+  const auto dir = test::scratch("sweep-resume");
+  const auto data = smallScene(dir);
+  const ResultsFile reference = sweep(data, "knn-opt", dir / "reference.json");
+  const fs::path out = dir / "killed.json", partial = dir / "killed.json.partial.jsonl";
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::execl(OCCSWEEP_CLI, OCCSWEEP_CLI, "sweep", "--dataset", data.c_str(), "--grid", "knn-opt", "--out", out.c_str(),
+            "--threads", "1", "--quiet", static_cast<char*>(nullptr));
+    std::_Exit(127);
+  }
+  // Wait until some maps are done, then kill it hard.
+  for (int i = 0; i < 3000 && lines(partial) < 20; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ::kill(child, SIGKILL);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  REQUIRE(WIFSIGNALED(status));
+  CHECK_FALSE(fs::exists(out));  // no half results file
+  const std::size_t finished = lines(partial) - 1;
+  CHECK(finished >= 19);
+  CHECK(finished < 450);
+  const auto r = test::runCli("sweep --dataset " + data.string() + " --grid knn-opt --out " + out.string() + " --quiet");
+  REQUIRE(r.exit_code == 0);
+  CHECK_FALSE(fs::exists(partial));
+  const ResultsFile resumed = readResults(out);
+  CHECK(resumed.complete);
+  CHECK(resultDifferences(reference, mergeResults({out})).empty());
+  // Re-running with a complete output leaves it as it is.
+  const auto before = fs::last_write_time(out);
+  CHECK(test::runCli("sweep --dataset " + data.string() + " --grid knn-opt --out " + out.string() + " --quiet").exit_code == 0);
+  CHECK(fs::last_write_time(out) == before);
+}
+
+TEST_CASE("an Eq. 16 group sweeps only its ids, and merges on its own") {
+  const auto dir = test::scratch("sweep-group");
+  const auto data = smallScene(dir);
+  SweepConfig c;
+  c.dataset = data;
+  c.grid = "knn-opt";
+  c.out = dir / "g.json";
+  c.selection.group = SweepSelection::Group{3, 20, 5};
+  c.quiet = true;
+  const ResultsFile g = runSweep(c);
+  CHECK(coveredIds(g).size() == 203);  // 4050 = 20 * 202 + 10: group 3 is one of the longer ones
+  CHECK(mergeResults({c.out}).maps.size() == g.maps.size());
+}
+
+TEST_CASE("a results file edited by hand is refused with the field named") {
+  const auto dir = test::scratch("sweep-edited");
+  const auto data = smallScene(dir);
+  (void)sweep(data, "octomap-opt", dir / "r.json");
+  std::ifstream in(dir / "r.json");
+  auto j = nlohmann::json::parse(in);
+  auto write = [&](const nlohmann::json& edited) { std::ofstream(dir / "e.json") << edited.dump(); };
+  auto error = [&] {
+    try {
+      (void)readResults(dir / "e.json");
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  write(j);
+  CHECK(error() == "accepted");
+  auto e = j;
+  e["maps"][2]["thresholds"][1]["tp"] = e["maps"][2]["thresholds"][1]["tp"].get<int>() + 1;
+  write(e);
+  CHECK_THAT(error(), Contains("e.json") && Contains("maps[2].thresholds[1]"));
+  e = j;
+  e["maps"][0]["auc"]["anchored"] = 0.99;
+  write(e);
+  CHECK_THAT(error(), Contains("maps[0].auc.anchored"));
+  e = j;
+  e["maps"][0]["params"]["p_h"] = 0.74;
+  e["maps"][0]["params"]["p_m"] = 0.38;
+  write(e);
+  CHECK_THAT(test::runCli("results check " + (dir / "e.json").string()).output, Contains("parameters differ"));
+  std::ofstream(dir / "e.json") << j.dump().substr(0, 500);
+  CHECK_THAT(error(), Contains("not valid JSON"));
+  CHECK(test::runCli("results check " + (dir / "e.json").string()).exit_code != 0);
+}

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Regenerates the golden results in results/builtin/ from the code. Run it only when a change to the numbers is
+# intended, then commit the diff with the reason; tests/test_golden.cpp checks them on every test run.
+# Usage: tools/regenerate_golden.sh [BUILD_DIR]   (default: build)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=$(cd "${1:-$root/build}" && pwd)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+"$build/tools/occsweep" scene --out "$tmp/scene"  # the built-in scene with its default settings (seed 1)
+for grid in octomap-opt knn-opt; do
+  "$build/tools/occsweep" sweep --dataset "$tmp/scene" --grid "$grid" --out "$tmp/$grid.json"
+  cp "$tmp/$grid.json" "$root/results/builtin/$grid.json"
+done
+echo "regenerated $root/results/builtin/: review with git diff, then commit"

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Set-up for a fresh Debian 12 machine: installs what is missing (apt-get), builds (Release), then
+#   run:  the main job on the built-in scene (out/demo/)
+#   test: every test with ctest
+# Usage: tools/setup.sh run|test   (BUILD_DIR overrides the build folder, default build/)
+set -euo pipefail
+mode=${1:-}
+[[ "$mode" == run || "$mode" == test ]] || { echo "usage: $0 run|test" >&2; exit 2; }
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${BUILD_DIR:-$root/build}
+
+packages=(g++ cmake make git pkg-config liboctomap-dev libnanoflann-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
+          catch2 libcli11-dev libpng-dev python3-matplotlib python3-numpy
+          libopencv-calib3d-dev libopencv-imgproc-dev libopencv-imgcodecs-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  sudo=""
+  [[ $(id -u) -eq 0 ]] || sudo=sudo
+  echo "installing: ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build" -j "$(nproc)"
+
+if [[ "$mode" == test ]]; then
+  cd "$build" && ctest --output-on-failure -j "$(nproc)"
+  exit
+fi
+
+# The main job: the built-in scene, both optimisation grids, the best AUC of each method.
+occsweep="$build/tools/occsweep"
+out="$root/out/demo"
+mkdir -p "$out"
+"$occsweep" scene --out "$out/scene"
+"$occsweep" map --dataset "$out/scene" --method octomap --out "$out/octomap.ot"
+"$occsweep" map --dataset "$out/scene" --method knn --out "$out/knn.ot"
+"$occsweep" sweep --dataset "$out/scene" --grid octomap-opt --out "$out/octomap-opt.json"
+"$occsweep" sweep --dataset "$out/scene" --grid knn-opt --out "$out/knn-opt.json"
+"$occsweep" compare "$out/octomap-opt.json" "$out/knn-opt.json" --json "$out/comparison.json"
+echo "results in $out"
