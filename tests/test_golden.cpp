@@ -35,11 +35,24 @@ TEST_CASE("golden results of the built-in scene recompute identically") {
     c.grid = grid;
     c.out = scene.parent_path() / (std::string(grid) + ".json");
     c.quiet = true;
-    const ResultsFile fresh = runSweep(c);
+    const ResultsFile fresh = runSweep(c);  // the default engine: replay
+    CHECK(fresh.header.engine == "replay");
     const auto diffs = resultDifferences(golden, fresh);
     for (std::size_t i = 0; i < std::min<std::size_t>(diffs.size(), 10); ++i) UNSCOPED_INFO(diffs[i]);
     CHECK(diffs.empty());
   }
+}
+
+TEST_CASE("the direct engine (liboctomap itself) reproduces the OctoMap golden results too") {
+  const auto scene = builtinScene("golden-direct");
+  const ResultsFile golden = readResults(kGolden / "octomap-opt.json");
+  SweepConfig c;
+  c.dataset = scene;
+  c.grid = "octomap-opt";
+  c.engine = "direct";
+  c.out = scene.parent_path() / "octomap-opt.json";
+  c.quiet = true;
+  CHECK(resultDifferences(golden, runSweep(c)).empty());
 }
 
 TEST_CASE("the golden check fails when a single voxel's classification changes") {

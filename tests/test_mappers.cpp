@@ -144,3 +144,49 @@ TEST_CASE("with several points in a voxel the two mappers differ (the property a
   CHECK(at(*buildOctoMap(set, om), 5) == lo(0.7));
   CHECK(at(*KnnInverseSensorModel(kp).buildMap(set), 5) == lo(0.7) + lo(0.7));
 }
+
+TEST_CASE("the k-NN fast build equals the plain OcTree-update reference voxel for voxel") {
+  for (std::uint64_t seed = 100; seed < 124; ++seed) {
+    SplitMix64 rng(seed);
+    KnnParams p;
+    p.k = 1 + int(rng.below(6));
+    p.p_u = 0.5 + 0.45 * rng.uniform();
+    p.p_l = 0.05 + (p.p_u - 0.05) * rng.uniform();
+    p.p_min = 0.02 + 0.2 * rng.uniform();
+    p.p_m = p.p_min + (0.45 - p.p_min) * rng.uniform();
+    p.p_m_out = p.p_m + (0.49 - p.p_m) * rng.uniform();
+    p.p_max = 0.6 + 0.39 * rng.uniform();
+    p.p_t = p.p_min;
+    p.s_c = 1.5 + 2.5 * rng.uniform();
+    p.variant = rng.below(2) ? UpdateVariant::Literal : UpdateVariant::Default;
+    p.stats = rng.below(2) ? StatsMode::Online : StatsMode::Batch;
+    PointCloudSet set;
+    for (int s = 0; s < 3 + int(rng.below(5)); ++s) {
+      Scan scan;
+      scan.origin = octomap::point3d(float(rng.uniform() - 0.5), float(rng.uniform() - 0.5), float(rng.uniform()));
+      // Clustered points (several per voxel) and scattered ones, some beyond s_c.
+      for (int c = 0; c < 30; ++c) {
+        const octomap::point3d centre(float((rng.uniform() - 0.5) * 8), float((rng.uniform() - 0.5) * 8),
+                                      float(rng.uniform() * 2));
+        for (int i = 0; i < 1 + int(rng.below(12)); ++i)
+          scan.points.push_back(centre + octomap::point3d(float(rng.gaussian() * 0.05), float(rng.gaussian() * 0.05),
+                                                          float(rng.gaussian() * 0.05)));
+      }
+      set.push_back(scan);
+    }
+    const KnnInverseSensorModel model(p);
+    const auto d = computeKnnDistances(set, p.k, p.s_c);
+    const auto fast = voxelLogOdds(*model.buildMap(set, d));
+    const auto reference = voxelLogOdds(*model.buildMapReference(set, d));
+    INFO("seed " << seed << (p.variant == UpdateVariant::Literal ? " literal" : " default")
+                 << (p.stats == StatsMode::Online ? " online" : " batch"));
+    REQUIRE(reference.size() > 500);
+    REQUIRE(fast.size() == reference.size());
+    std::size_t differing = 0;
+    for (const auto& [key, value] : reference) {
+      auto it = fast.find(key);
+      if (it == fast.end() || it->second != value) ++differing;
+    }
+    REQUIRE(differing == 0);
+  }
+}

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the golden results in results/builtin/ from the code. Run it only when a change to the numbers is
-# intended, then commit the diff with the reason; tests/test_golden.cpp checks them on every test run.
+# intended, then commit the diff with the reason; tests/test_golden.cpp checks them on every test run. They are
+# made with the direct engine (liboctomap itself for OctoMap), the reference the default replay engine must match.
 # Usage: tools/regenerate_golden.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -9,7 +10,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 "$build/tools/occsweep" scene --out "$tmp/scene"  # the built-in scene with its default settings (seed 1)
 for grid in octomap-opt knn-opt; do
-  "$build/tools/occsweep" sweep --dataset "$tmp/scene" --grid "$grid" --out "$tmp/$grid.json"
+  "$build/tools/occsweep" sweep --dataset "$tmp/scene" --grid "$grid" --engine direct --out "$tmp/$grid.json"
   cp "$tmp/$grid.json" "$root/results/builtin/$grid.json"
 done
 echo "regenerated $root/results/builtin/: review with git diff, then commit"

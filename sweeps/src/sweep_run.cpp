@@ -1,8 +1,10 @@
-// The direct sweep engine: build each selected map (liboctomap for OctoMap), threshold it at every p_t.
+// A sweep: each selected map replayed from recorded events (default) or built directly (liboctomap for OctoMap,
+// the k-NN mapper), then thresholded at every p_t.
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <tuple>
 #include <mutex>
 
 #include <tbb/parallel_for.h>
@@ -12,6 +14,7 @@
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/data/dataset.hpp"
 #include "occsweep/sweeps/progress.hpp"
+#include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "occsweep/sweeps/version.hpp"
 
@@ -57,6 +60,8 @@ ResultsFile runSweep(const SweepConfig& c) {
   const GridSpec grid = loadGrid(resolveGridPath(c.grid));
   const GridEnumeration e = enumerateGrid(grid);
   const std::vector<SweepItem> items = selectWork(grid, e, c.selection);
+  if (c.engine != "replay" && c.engine != "direct") throw std::invalid_argument("engine must be replay or direct");
+  const bool replaying = c.engine == "replay";
   const Dataset data = readDataset(c.dataset);
 
   ResultsFile f;
@@ -75,6 +80,7 @@ ResultsFile runSweep(const SweepConfig& c) {
   h.s_c = c.s_c;
   h.variant = c.variant == UpdateVariant::Literal ? "literal" : "default";
   h.stats = c.stats == StatsMode::Online ? "online" : "batch";
+  h.engine = c.engine;
 
   if (fs::exists(c.out)) {
     ResultsFile old = readResults(c.out);
@@ -101,10 +107,15 @@ ResultsFile runSweep(const SweepConfig& c) {
 
   const GroundTruth truth = makeGroundTruth(data.truth, data.region, c.resolution);
   tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
+  const bool knn = grid.method == GridMethod::Knn;
 
-  // k-NN: the distances depend only on the points, k and s_c: once per k for every map that uses it.
+  // Shared by every map: the events of the region voxels (replay), and for k-NN the distances of each k, which
+  // depend only on the points, k and s_c.
+  RecordedSet recorded;
+  if (replaying) recorded = recordSet(data.scans, truth, c.resolution, c.s_c);
   std::map<int, KnnSetDistances> distances;
-  if (grid.method == GridMethod::Knn) {
+  std::map<int, std::vector<double>> cdf;
+  if (knn) {
     for (const SweepItem* item : todo) distances[e.maps[item->map_index].k];
     std::vector<int> ks;
     for (auto& [k, _] : distances) ks.push_back(k);
@@ -113,36 +124,59 @@ ResultsFile runSweep(const SweepConfig& c) {
         distances[ks[i]] = computeKnnDistances(data.scans, ks[i], c.s_c);
       });
     });
+    if (replaying)
+      for (int k : ks) cdf[k] = hitCdf(recorded, distances.at(k), c.stats);
+  }
+
+  // Batches of maps sharing k, p_u and p_l: with replay their hit sums are computed once.
+  std::vector<std::vector<std::size_t>> batches;
+  {
+    std::map<std::tuple<int, Fixed, Fixed>, std::size_t> batch_of;
+    for (std::size_t i = 0; i < todo.size(); ++i) {
+      const MapParams& m = e.maps[todo[i]->map_index];
+      const auto key = replaying && knn ? std::make_tuple(m.k, m.p_u, m.p_l) : std::make_tuple(0, Fixed(i), Fixed(0));
+      auto [it, fresh] = batch_of.try_emplace(key, batches.size());
+      if (fresh) batches.emplace_back();
+      batches[it->second].push_back(i);
+    }
   }
 
   std::vector<MapResult> fresh(todo.size());
   std::mutex log_mutex;
   {
-    Progress progress("sweep " + grid.name + " on " + data.name, todo.size(), c.quiet);
+    Progress progress("sweep " + grid.name + " on " + data.name + " (" + c.engine + ")", todo.size(), c.quiet);
     arena.execute([&] {
-      tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t i) {
-        const auto t0 = Clock::now();
-        const SweepItem& item = *todo[i];
-        const MapParams& m = e.maps[item.map_index];
-        const auto& p_t = e.thresholds[item.map_index];
-        auto tree = grid.method == GridMethod::Knn
-                        ? KnnInverseSensorModel(knnParams(m, c, m.p_min)).buildMap(data.scans, distances.at(m.k))
-                        : buildOctoMap(data.scans, octomapParams(m, c, m.p_min));
-        const RegionSample sample = sampleRegion(*tree, truth);
-        MapResult r;
-        r.map_index = item.map_index;
-        r.params = m;
-        for (std::size_t t : item.thresholds)
-          r.thresholds.push_back({e.first_id[item.map_index] + t, p_t[t], classify(sample, toDouble(p_t[t]))});
-        r.area = mapArea(r.thresholds);
-        r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-        const std::string line = toJson(r, grid.method).dump();
-        {
-          std::lock_guard lock(log_mutex);
-          log << line << '\n' << std::flush;
+      tbb::parallel_for(std::size_t(0), batches.size(), [&](std::size_t b) {
+        std::vector<float> hit_sums;
+        for (std::size_t i : batches[b]) {
+          const auto t0 = Clock::now();
+          const SweepItem& item = *todo[i];
+          const MapParams& m = e.maps[item.map_index];
+          const auto& p_t = e.thresholds[item.map_index];
+          RegionSample sample;
+          if (replaying) {
+            if (knn && hit_sums.empty()) hit_sums = knnHitSums(recorded, cdf.at(m.k), toDouble(m.p_u), toDouble(m.p_l));
+            sample = replay(recorded, knn ? knnRule(m, hit_sums, c.variant) : octomapRule(m));
+          } else {
+            auto tree = knn ? KnnInverseSensorModel(knnParams(m, c, m.p_min)).buildMap(data.scans, distances.at(m.k))
+                            : buildOctoMap(data.scans, octomapParams(m, c, m.p_min));
+            sample = sampleRegion(*tree, truth);
+          }
+          MapResult r;
+          r.map_index = item.map_index;
+          r.params = m;
+          for (std::size_t t : item.thresholds)
+            r.thresholds.push_back({e.first_id[item.map_index] + t, p_t[t], classify(sample, toDouble(p_t[t]))});
+          r.area = mapArea(r.thresholds);
+          r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+          const std::string line = toJson(r, grid.method).dump();
+          {
+            std::lock_guard lock(log_mutex);
+            log << line << '\n' << std::flush;
+          }
+          fresh[i] = std::move(r);
+          progress.advance();
         }
-        fresh[i] = std::move(r);
-        progress.advance();
       });
     });
   }

@@ -27,6 +27,8 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
   app.add_option("--variant", o->variant, "k-NN update variant")->check(CLI::IsMember({"default", "literal"}))->capture_default_str();
   app.add_option("--stats", o->stats, "k-NN mu, sigma source")->check(CLI::IsMember({"batch", "online"}))->capture_default_str();
   app.add_option("--threads", o->config.threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--engine", o->config.engine, "replay: record events once, replay every combination; direct: build every map (the reference)")
+      ->check(CLI::IsMember({"replay", "direct"}))->capture_default_str();
   app.add_flag("--quiet", o->config.quiet, "No progress on stderr");
   return [o] {
     SweepConfig c = o->config;

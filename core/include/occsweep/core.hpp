@@ -12,3 +12,5 @@
 #include "core/point_cloud_set.hpp"
 #include "core/welford.hpp"
 #include "core/splitmix64.hpp"
+#include "core/scan_events.hpp"
+#include "core/flat_key_index.hpp"

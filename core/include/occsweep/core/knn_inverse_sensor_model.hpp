@@ -12,6 +12,7 @@
 #include "mapping_params.hpp"
 #include "normal_cdf.hpp"
 #include "octomap_baseline.hpp"
+#include "scan_events.hpp"
 
 namespace occsweep {
 
@@ -24,13 +25,24 @@ class KnnInverseSensorModel {
   /// Algorithm 1 over the whole set; computes the distances (and, in Batch mode, mu and sigma) first.
   [[nodiscard]] std::unique_ptr<octomap::OcTree> buildMap(const PointCloudSet& set) const;
 
-  /// The same with distances computed beforehand for this set, k and s_c (shared across a sweep).
+  /// The same with distances computed beforehand for this set, k and s_c (shared across a sweep). Updates a
+  /// flat voxel store scan by scan (the events of scan_events.hpp) and writes the OcTree once at the end.
   [[nodiscard]] std::unique_ptr<octomap::OcTree> buildMap(const PointCloudSet& set,
                                                           const KnnSetDistances& distances) const;
 
-  /// One scan of Algorithm 1 with the given mu, sigma.
-  void insertScan(octomap::OcTree& tree, const Scan& scan, const KnnScanDistances& d, double mu,
-                  double sigma) const;
+  /// The reference: Algorithm 1 applied through OcTree::updateNode scan by scan, with octomap::KeySet and
+  /// liboctomap's ray keys, as plainly as possible. Slower; the tests compare buildMap against it.
+  [[nodiscard]] std::unique_ptr<octomap::OcTree> buildMapReference(const PointCloudSet& set,
+                                                                   const KnnSetDistances& distances) const;
+
+  /// One scan of the reference with the given mu, sigma.
+  void insertScanReference(octomap::OcTree& tree, const Scan& scan, const KnnScanDistances& d, double mu,
+                           double sigma) const;
+
+  /// The delta of a voxel holding points with average distances s (Algorithm 1 lines 3-10): the float sum of
+  /// l(p(s_j)) in point order, clamped once to [l_min, l_max].
+  template <class Distances>
+  [[nodiscard]] float hitDelta(const Distances& s, double mu, double sigma, float l_min, float l_max) const;
 
   [[nodiscard]] const KnnParams& params() const { return params_; }
 
@@ -51,21 +63,74 @@ inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const Po
   return buildMap(set, computeKnnDistances(set, params_.k, params_.s_c));
 }
 
+namespace detail {
+inline void checkDistances(const KnnParams& p, const PointCloudSet& set, const KnnSetDistances& d) {
+  if (d.k != p.k || d.s_c != p.s_c || d.scans.size() != set.size())
+    throw std::invalid_argument("k-NN distances were computed for another k, s_c or point cloud set");
+}
+}  // namespace detail
+
+template <class Distances>
+float KnnInverseSensorModel::hitDelta(const Distances& s, double mu, double sigma, float l_min, float l_max) const {
+  float sum = 0.0f;
+  for (double s_j : s) sum += logOdds(pointProbability(s_j, mu, sigma, params_.p_u, params_.p_l));
+  return std::min(std::max(sum, l_min), l_max);
+}
+
 inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const PointCloudSet& set,
                                                                        const KnnSetDistances& distances) const {
-  if (distances.k != params_.k || distances.s_c != params_.s_c || distances.scans.size() != set.size())
-    throw std::invalid_argument("k-NN distances were computed for another k, s_c or point cloud set");
+  detail::checkDistances(params_, set, distances);
+  auto tree = makeTree(params_.resolution, params_.p_max, params_.p_min, params_.p_t);
+  const float l_min = tree->getClampingThresMinLog(), l_max = tree->getClampingThresMaxLog();
+  const bool literal = params_.variant == UpdateVariant::Literal;
+  ScanEventRecorder recorder(params_.resolution);
+  ScanEvents events;
+  FlatKeyIndex store;
+  std::vector<octomap::OcTreeKey> keys;
+  std::vector<float> values;
+  std::vector<double> s;
+  for (std::size_t t = 0; t < set.size(); ++t) {
+    const auto& d = distances.scans[t];
+    const bool online = params_.stats == StatsMode::Online;
+    const double mu = online ? d.online_mu : distances.mu, sigma = online ? d.online_sigma : distances.sigma;
+    recorder.record(set[t], d.inner, params_.s_c, [](const octomap::OcTreeKey&) { return true; }, events);
+    for (const VoxelEvent& e : events.voxels) {
+      const std::uint32_t i = store.findOrInsert(e.key);
+      if (i == values.size()) {
+        keys.push_back(e.key);
+        values.push_back(0.0f);  // a new node starts at log-odds 0, as in OctoMap
+      }
+      float& v = values[i];
+      if (e.flags & kHit) {
+        s.clear();
+        for (std::uint32_t h = 0; h < e.hit_count; ++h) s.push_back(d.s[events.hit_points[e.first_hit + h]]);
+        v = clampedUpdate(v, hitDelta(s, mu, sigma, l_min, l_max), l_min, l_max);
+        if (!literal) continue;  // occupied wins
+      }
+      if (e.flags & kCrossedIn)
+        v = clampedUpdate(v, l_in_, l_min, l_max);
+      else if (e.flags & kCrossedOut)
+        v = clampedUpdate(v, l_out_, l_min, l_max);
+    }
+  }
+  for (std::size_t i = 0; i < keys.size(); ++i) tree->setNodeValue(keys[i], values[i]);
+  return tree;
+}
+
+inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMapReference(
+    const PointCloudSet& set, const KnnSetDistances& distances) const {
+  detail::checkDistances(params_, set, distances);
   auto tree = makeTree(params_.resolution, params_.p_max, params_.p_min, params_.p_t);
   for (std::size_t t = 0; t < set.size(); ++t) {
     const auto& d = distances.scans[t];
     const bool online = params_.stats == StatsMode::Online;
-    insertScan(*tree, set[t], d, online ? d.online_mu : distances.mu,
-               online ? d.online_sigma : distances.sigma);
+    insertScanReference(*tree, set[t], d, online ? d.online_mu : distances.mu,
+                        online ? d.online_sigma : distances.sigma);
   }
   return tree;
 }
 
-inline void KnnInverseSensorModel::insertScan(octomap::OcTree& tree, const Scan& scan, const KnnScanDistances& d,
+inline void KnnInverseSensorModel::insertScanReference(octomap::OcTree& tree, const Scan& scan, const KnnScanDistances& d,
                                               double mu, double sigma) const {
   using octomap::OcTreeKey;
   const float l_min = tree.getClampingThresMinLog();

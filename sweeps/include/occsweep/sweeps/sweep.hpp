@@ -20,6 +20,8 @@ struct SweepConfig {
   UpdateVariant variant = UpdateVariant::Default;
   StatsMode stats = StatsMode::Batch;
   int threads = 0;                ///< 0: all cores
+  std::string engine = "replay";  ///< "replay" (record events once, replay each combination) or "direct"
+                                  ///< (build every map: liboctomap for OctoMap, the k-NN mapper): the reference
   bool quiet = false;             ///< no progress on stderr
 };
 

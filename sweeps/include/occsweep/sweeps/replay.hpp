@@ -1,0 +1,52 @@
+// The replay engine (issue 5): the update events of a point cloud set do not depend on any probability, so they
+// are recorded once and replayed for every combination with OctoMap's float arithmetic and clamping.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "occsweep/core/knn_set_distances.hpp"
+#include "occsweep/core/mapping_params.hpp"
+#include "occsweep/eval/confusion.hpp"
+#include "grid.hpp"
+
+namespace occsweep {
+
+/// The events of every region voxel, in scan order. Voxels outside the region never count, so they are not kept.
+struct RecordedSet {
+  std::vector<std::uint8_t> truth;           ///< per region voxel: truly occupied
+  std::uint64_t positives = 0, negatives = 0;
+  std::vector<std::uint32_t> voxel_first;    ///< events of voxel v: [voxel_first[v], voxel_first[v + 1])
+  std::vector<std::uint8_t> flags;           ///< per event: VoxelEventFlags
+  std::vector<std::uint32_t> hit_first;      ///< hits of event e: [hit_first[e], hit_first[e + 1])
+  std::vector<std::uint32_t> hit_scan;       ///< per hit: its scan
+  std::vector<std::uint32_t> hit_inner;      ///< per hit: its index j in the scan's z_in (point order kept)
+  std::uint64_t scan_voxel_updates = 0;      ///< events in the region over all scans (for reports)
+};
+
+/// Records the region voxels' events with the same traversal as the mappers (ScanEventRecorder).
+[[nodiscard]] RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c);
+
+/// F(s_j) (Eq. 8) of every recorded hit for one k and statistics mode.
+[[nodiscard]] std::vector<double> hitCdf(const RecordedSet& r, const KnnSetDistances& d, StatsMode stats);
+
+/// Per event, the float sum of l(p(s_j)) over its hits, in point order (unclamped): depends on k, p_u, p_l only.
+[[nodiscard]] std::vector<float> knnHitSums(const RecordedSet& r, const std::vector<double>& cdf, double p_u,
+                                            double p_l);
+
+/// How to replay one map.
+struct ReplayRule {
+  float l_min = 0, l_max = 0, l_in = 0, l_out = 0;
+  float octomap_hit = 0;                   ///< OctoMap: l(p_h) for every hit
+  const std::vector<float>* knn_hit_sums = nullptr;  ///< k-NN: per-event sums (clamped once when applied)
+  bool literal = false;
+};
+
+/// Replays every region voxel and returns what the map would say about the region: the same RegionSample that
+/// sampleRegion gives for the directly built map.
+[[nodiscard]] RegionSample replay(const RecordedSet& r, const ReplayRule& rule);
+
+[[nodiscard]] ReplayRule octomapRule(const MapParams& m);
+[[nodiscard]] ReplayRule knnRule(const MapParams& m, const std::vector<float>& hit_sums, UpdateVariant variant);
+
+}  // namespace occsweep

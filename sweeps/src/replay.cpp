@@ -1,0 +1,135 @@
+#include "occsweep/sweeps/replay.hpp"
+
+#include <algorithm>
+
+#include "occsweep/core/log_odds.hpp"
+#include "occsweep/core/normal_cdf.hpp"
+#include "occsweep/core/scan_events.hpp"
+
+namespace occsweep {
+
+RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c) {
+  RecordedSet r;
+  const auto& lo = truth.region_min_key;
+  const auto& hi = truth.region_max_key;
+  const std::uint32_t nx = hi[0] - lo[0] + 1u, ny = hi[1] - lo[1] + 1u, nz = hi[2] - lo[2] + 1u;
+  auto index = [&](const octomap::OcTreeKey& k) { return (std::uint32_t(k[0] - lo[0]) * ny + (k[1] - lo[1])) * nz + (k[2] - lo[2]); };
+  auto inRegion = [&](const octomap::OcTreeKey& k) { return truth.inRegion(k); };
+  const std::uint32_t voxels = nx * ny * nz;
+  r.truth.assign(voxels, 0);
+  for (const auto& k : truth.occupied) r.truth[index(k)] = 1;
+  r.positives = truth.occupied.size();
+  r.negatives = voxels - r.positives;
+
+  // Events in scan order, then bucketed by voxel with a stable counting sort.
+  struct Raw {
+    std::uint32_t voxel;
+    std::uint8_t flags;
+    std::uint32_t first_hit, hit_count;
+  };
+  std::vector<Raw> raw;
+  std::vector<std::uint32_t> raw_hit_scan, raw_hit_inner;
+  ScanEventRecorder recorder(resolution);
+  ScanEvents events;
+  for (std::uint32_t t = 0; t < set.size(); ++t) {
+    recorder.record(set[t], innerPoints(set[t], s_c), s_c, inRegion, events);
+    for (const VoxelEvent& e : events.voxels) {
+      raw.push_back({index(e.key), e.flags, std::uint32_t(raw_hit_scan.size()), e.hit_count});
+      for (std::uint32_t h = 0; h < e.hit_count; ++h) {
+        raw_hit_scan.push_back(t);
+        raw_hit_inner.push_back(events.hit_points[e.first_hit + h]);
+      }
+    }
+  }
+  r.scan_voxel_updates = raw.size();
+  r.voxel_first.assign(voxels + 1, 0);
+  for (const Raw& e : raw) ++r.voxel_first[e.voxel + 1];
+  for (std::uint32_t v = 0; v < voxels; ++v) r.voxel_first[v + 1] += r.voxel_first[v];
+  std::vector<std::uint32_t> order(raw.size()), fill(r.voxel_first.begin(), r.voxel_first.end() - 1);
+  for (std::uint32_t i = 0; i < raw.size(); ++i) order[fill[raw[i].voxel]++] = i;
+  r.flags.resize(raw.size());
+  r.hit_first.resize(raw.size() + 1);
+  r.hit_first[0] = 0;
+  for (std::uint32_t e = 0; e < order.size(); ++e) {
+    const Raw& src = raw[order[e]];
+    r.flags[e] = src.flags;
+    for (std::uint32_t h = 0; h < src.hit_count; ++h) {
+      r.hit_scan.push_back(raw_hit_scan[src.first_hit + h]);
+      r.hit_inner.push_back(raw_hit_inner[src.first_hit + h]);
+    }
+    r.hit_first[e + 1] = std::uint32_t(r.hit_scan.size());
+  }
+  return r;
+}
+
+std::vector<double> hitCdf(const RecordedSet& r, const KnnSetDistances& d, StatsMode stats) {
+  std::vector<double> cdf(r.hit_scan.size());
+  for (std::size_t h = 0; h < cdf.size(); ++h) {
+    const auto& scan = d.scans[r.hit_scan[h]];
+    const bool online = stats == StatsMode::Online;
+    cdf[h] = normalCdf(scan.s[r.hit_inner[h]], online ? scan.online_mu : d.mu, online ? scan.online_sigma : d.sigma);
+  }
+  return cdf;
+}
+
+std::vector<float> knnHitSums(const RecordedSet& r, const std::vector<double>& cdf, double p_u, double p_l) {
+  std::vector<float> sums(r.flags.size(), 0.0f);
+  for (std::size_t e = 0; e < sums.size(); ++e) {
+    float sum = 0.0f;  // float, in point order: exactly KnnInverseSensorModel::hitDelta
+    for (std::uint32_t h = r.hit_first[e]; h < r.hit_first[e + 1]; ++h) sum += logOdds(p_u - cdf[h] * (p_u - p_l));
+    sums[e] = sum;
+  }
+  return sums;
+}
+
+ReplayRule octomapRule(const MapParams& m) {
+  ReplayRule rule;
+  rule.l_min = logOdds(toDouble(m.p_min));
+  rule.l_max = logOdds(toDouble(m.p_max));
+  rule.l_in = rule.l_out = logOdds(toDouble(m.p_m));
+  rule.octomap_hit = logOdds(toDouble(m.p_h));
+  return rule;
+}
+
+ReplayRule knnRule(const MapParams& m, const std::vector<float>& hit_sums, UpdateVariant variant) {
+  ReplayRule rule;
+  rule.l_min = logOdds(toDouble(m.p_min));
+  rule.l_max = logOdds(toDouble(m.p_max));
+  rule.l_in = logOdds(toDouble(m.p_m));
+  rule.l_out = logOdds(toDouble(m.p_m_out));
+  rule.knn_hit_sums = &hit_sums;
+  rule.literal = variant == UpdateVariant::Literal;
+  return rule;
+}
+
+RegionSample replay(const RecordedSet& r, const ReplayRule& rule) {
+  RegionSample s;
+  s.positives = r.positives;
+  s.negatives = r.negatives;
+  const float lo = rule.l_min, hi = rule.l_max;
+  const bool knn = rule.knn_hit_sums != nullptr;
+  const std::uint32_t voxels = std::uint32_t(r.truth.size());
+  for (std::uint32_t v = 0; v < voxels; ++v) {
+    const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
+    if (begin == end) continue;  // never updated: unknown
+    float value = 0.0f;
+    for (std::uint32_t e = begin; e < end; ++e) {
+      const std::uint8_t f = r.flags[e];
+      if (f & kHit) {
+        const float delta = knn ? std::min(std::max((*rule.knn_hit_sums)[e], lo), hi) : rule.octomap_hit;
+        value = clampedUpdate(value, delta, lo, hi);
+        if (!rule.literal) continue;  // occupied wins
+      }
+      if (f & kCrossedIn)
+        value = clampedUpdate(value, rule.l_in, lo, hi);
+      else if (f & kCrossedOut)
+        value = clampedUpdate(value, rule.l_out, lo, hi);
+    }
+    (r.truth[v] ? s.positive_log_odds : s.negative_log_odds).push_back(value);
+  }
+  std::sort(s.positive_log_odds.begin(), s.positive_log_odds.end());
+  std::sort(s.negative_log_odds.begin(), s.negative_log_odds.end());
+  return s;
+}
+
+}  // namespace occsweep
