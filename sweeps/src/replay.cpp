@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include "occsweep/core/log_odds.hpp"
 #include "occsweep/core/normal_cdf.hpp"
 #include "occsweep/core/scan_events.hpp"
@@ -12,10 +15,10 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   RecordedSet r;
   const auto& lo = truth.region_min_key;
   const auto& hi = truth.region_max_key;
-  const std::uint32_t nx = hi[0] - lo[0] + 1u, ny = hi[1] - lo[1] + 1u, nz = hi[2] - lo[2] + 1u;
-  auto index = [&](const octomap::OcTreeKey& k) { return (std::uint32_t(k[0] - lo[0]) * ny + (k[1] - lo[1])) * nz + (k[2] - lo[2]); };
-  auto inRegion = [&](const octomap::OcTreeKey& k) { return truth.inRegion(k); };
-  const std::uint32_t voxels = nx * ny * nz;
+
+  const KeyWindow region{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+  auto index = [&](const octomap::OcTreeKey& k) { return region.index(k); };
+  const std::uint32_t voxels = region.volume();
   r.truth.assign(voxels, 0);
   for (const auto& k : truth.occupied) r.truth[index(k)] = 1;
   r.positives = truth.occupied.size();
@@ -29,10 +32,14 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   };
   std::vector<Raw> raw;
   std::vector<std::uint32_t> raw_hit_scan, raw_hit_inner;
-  ScanEventRecorder recorder(resolution);
-  ScanEvents events;
+  // Scans are independent: record them in parallel, each with its own recorder, then merge in scan order.
+  std::vector<ScanEvents> per_scan(set.size());
+  tbb::enumerable_thread_specific<ScanEventRecorder> recorders([&] { return ScanEventRecorder(resolution); });
+  tbb::parallel_for(std::size_t(0), set.size(), [&](std::size_t t) {
+    recorders.local().record(set[t], innerPoints(set[t], s_c), s_c, region, per_scan[t]);
+  });
   for (std::uint32_t t = 0; t < set.size(); ++t) {
-    recorder.record(set[t], innerPoints(set[t], s_c), s_c, inRegion, events);
+    const ScanEvents& events = per_scan[t];
     for (const VoxelEvent& e : events.voxels) {
       raw.push_back({index(e.key), e.flags, std::uint32_t(raw_hit_scan.size()), e.hit_count});
       for (std::uint32_t h = 0; h < e.hit_count; ++h) {
@@ -40,6 +47,7 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
         raw_hit_inner.push_back(events.hit_points[e.first_hit + h]);
       }
     }
+    ScanEvents().voxels.swap(per_scan[t].voxels);  // free as we go
   }
   r.scan_voxel_updates = raw.size();
   r.voxel_first.assign(voxels + 1, 0);
@@ -59,7 +67,27 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
     }
     r.hit_first[e + 1] = std::uint32_t(r.hit_scan.size());
   }
+  r.uniform.assign(voxels, 0);
+  for (std::uint32_t v = 0; v < voxels; ++v) {
+    const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
+    r.longest = std::max(r.longest, end - begin);
+    if (begin == end) continue;
+    std::uint8_t f = r.flags[begin];
+    for (std::uint32_t e = begin + 1; e < end && f; ++e)
+      if (r.flags[e] != f) f = 0;
+    r.uniform[v] = f;
+  }
   return r;
+}
+
+KnnSetDistances parallelKnnDistances(const PointCloudSet& set, int k, double s_c) {
+  KnnSetDistances out;
+  out.k = k;
+  out.s_c = s_c;
+  out.scans.resize(set.size());
+  tbb::parallel_for(std::size_t(0), set.size(), [&](std::size_t t) { out.scans[t] = scanKnnDistances(set[t], k, s_c); });
+  accumulateStatistics(out);
+  return out;
 }
 
 std::vector<double> hitCdf(const RecordedSet& r, const KnnSetDistances& d, StatsMode stats) {

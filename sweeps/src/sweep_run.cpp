@@ -112,7 +112,7 @@ ResultsFile runSweep(const SweepConfig& c) {
   // Shared by every map: the events of the region voxels (replay), and for k-NN the distances of each k, which
   // depend only on the points, k and s_c.
   RecordedSet recorded;
-  if (replaying) recorded = recordSet(data.scans, truth, c.resolution, c.s_c);
+  if (replaying) arena.execute([&] { recorded = recordSet(data.scans, truth, c.resolution, c.s_c); });
   std::map<int, KnnSetDistances> distances;
   std::map<int, std::vector<double>> cdf;
   if (knn) {
@@ -121,24 +121,26 @@ ResultsFile runSweep(const SweepConfig& c) {
     for (auto& [k, _] : distances) ks.push_back(k);
     arena.execute([&] {
       tbb::parallel_for(std::size_t(0), ks.size(), [&](std::size_t i) {
-        distances[ks[i]] = computeKnnDistances(data.scans, ks[i], c.s_c);
+        distances[ks[i]] = parallelKnnDistances(data.scans, ks[i], c.s_c);
       });
     });
     if (replaying)
       for (int k : ks) cdf[k] = hitCdf(recorded, distances.at(k), c.stats);
   }
 
-  // Batches of maps sharing k, p_u and p_l: with replay their hit sums are computed once.
+  // Batches: with replay, up to kReplayLanes maps sharing their hit rule (k-NN: k, p_u, p_l) replayed together;
+  // with direct, one map each.
   std::vector<std::vector<std::size_t>> batches;
   {
-    std::map<std::tuple<int, Fixed, Fixed>, std::size_t> batch_of;
+    std::map<std::tuple<int, Fixed, Fixed>, std::vector<std::size_t>> groups;
     for (std::size_t i = 0; i < todo.size(); ++i) {
       const MapParams& m = e.maps[todo[i]->map_index];
-      const auto key = replaying && knn ? std::make_tuple(m.k, m.p_u, m.p_l) : std::make_tuple(0, Fixed(i), Fixed(0));
-      auto [it, fresh] = batch_of.try_emplace(key, batches.size());
-      if (fresh) batches.emplace_back();
-      batches[it->second].push_back(i);
+      groups[replaying ? std::make_tuple(m.k, m.p_u, m.p_l) : std::make_tuple(0, Fixed(i), Fixed(0))].push_back(i);
     }
+    const std::size_t lanes = replaying ? kReplayLanes : 1;
+    for (auto& [_, members] : groups)
+      for (std::size_t b = 0; b < members.size(); b += lanes)
+        batches.emplace_back(members.begin() + long(b), members.begin() + long(std::min(b + lanes, members.size())));
   }
 
   std::vector<MapResult> fresh(todo.size());
@@ -147,34 +149,50 @@ ResultsFile runSweep(const SweepConfig& c) {
     Progress progress("sweep " + grid.name + " on " + data.name + " (" + c.engine + ")", todo.size(), c.quiet);
     arena.execute([&] {
       tbb::parallel_for(std::size_t(0), batches.size(), [&](std::size_t b) {
-        std::vector<float> hit_sums;
-        for (std::size_t i : batches[b]) {
-          const auto t0 = Clock::now();
-          const SweepItem& item = *todo[i];
-          const MapParams& m = e.maps[item.map_index];
-          const auto& p_t = e.thresholds[item.map_index];
-          RegionSample sample;
-          if (replaying) {
-            if (knn && hit_sums.empty()) hit_sums = knnHitSums(recorded, cdf.at(m.k), toDouble(m.p_u), toDouble(m.p_l));
-            sample = replay(recorded, knn ? knnRule(m, hit_sums, c.variant) : octomapRule(m));
-          } else {
-            auto tree = knn ? KnnInverseSensorModel(knnParams(m, c, m.p_min)).buildMap(data.scans, distances.at(m.k))
-                            : buildOctoMap(data.scans, octomapParams(m, c, m.p_min));
-            sample = sampleRegion(*tree, truth);
+        const auto t0 = Clock::now();
+        const std::vector<std::size_t>& batch = batches[b];
+        std::vector<std::vector<ConfusionCounts>> counts;  // per map of the batch, per selected threshold
+        if (replaying) {
+          std::vector<float> hit_sums;
+          const MapParams& first = e.maps[todo[batch[0]]->map_index];
+          if (knn) hit_sums = knnHitSums(recorded, cdf.at(first.k), toDouble(first.p_u), toDouble(first.p_l));
+          std::vector<ReplayRule> rules;
+          std::vector<std::vector<double>> p_t;
+          for (std::size_t i : batch) {
+            const SweepItem& item = *todo[i];
+            const MapParams& m = e.maps[item.map_index];
+            rules.push_back(knn ? knnRule(m, hit_sums, c.variant) : octomapRule(m));
+            p_t.emplace_back();
+            for (std::size_t t : item.thresholds) p_t.back().push_back(toDouble(e.thresholds[item.map_index][t]));
           }
+          counts = replayCounts(recorded, rules, p_t);
+        } else {
+          const SweepItem& item = *todo[batch[0]];
+          const MapParams& m = e.maps[item.map_index];
+          auto tree = knn ? KnnInverseSensorModel(knnParams(m, c, m.p_min)).buildMap(data.scans, distances.at(m.k))
+                          : buildOctoMap(data.scans, octomapParams(m, c, m.p_min));
+          const RegionSample sample = sampleRegion(*tree, truth);
+          counts.emplace_back();
+          for (std::size_t t : item.thresholds)
+            counts.back().push_back(classify(sample, toDouble(e.thresholds[item.map_index][t])));
+        }
+        const double seconds = std::chrono::duration<double>(Clock::now() - t0).count() / double(batch.size());
+        for (std::size_t j = 0; j < batch.size(); ++j) {
+          const SweepItem& item = *todo[batch[j]];
           MapResult r;
           r.map_index = item.map_index;
-          r.params = m;
-          for (std::size_t t : item.thresholds)
-            r.thresholds.push_back({e.first_id[item.map_index] + t, p_t[t], classify(sample, toDouble(p_t[t]))});
+          r.params = e.maps[item.map_index];
+          for (std::size_t t = 0; t < item.thresholds.size(); ++t)
+            r.thresholds.push_back({e.first_id[item.map_index] + item.thresholds[t],
+                                    e.thresholds[item.map_index][item.thresholds[t]], counts[j][t]});
           r.area = mapArea(r.thresholds);
-          r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+          r.seconds = seconds;  // a batch's time shared by its maps
           const std::string line = toJson(r, grid.method).dump();
           {
             std::lock_guard lock(log_mutex);
             log << line << '\n' << std::flush;
           }
-          fresh[i] = std::move(r);
+          fresh[batch[j]] = std::move(r);
           progress.advance();
         }
       });

@@ -14,3 +14,4 @@
 #include "core/splitmix64.hpp"
 #include "core/scan_events.hpp"
 #include "core/flat_key_index.hpp"
+#include "core/ray_traversal.hpp"

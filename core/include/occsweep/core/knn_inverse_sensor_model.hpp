@@ -12,6 +12,7 @@
 #include "mapping_params.hpp"
 #include "normal_cdf.hpp"
 #include "octomap_baseline.hpp"
+#include "flat_key_index.hpp"
 #include "scan_events.hpp"
 
 namespace occsweep {
@@ -93,7 +94,7 @@ inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const Po
     const auto& d = distances.scans[t];
     const bool online = params_.stats == StatsMode::Online;
     const double mu = online ? d.online_mu : distances.mu, sigma = online ? d.online_sigma : distances.sigma;
-    recorder.record(set[t], d.inner, params_.s_c, [](const octomap::OcTreeKey&) { return true; }, events);
+    recorder.recordAll(set[t], d.inner, params_.s_c, events);
     for (const VoxelEvent& e : events.voxels) {
       const std::uint32_t i = store.findOrInsert(e.key);
       if (i == values.size()) {

@@ -36,6 +36,12 @@ struct KnnSetDistances {
 /// The z_in split of one scan (OctoMap's maxrange test: (p - origin).norm() <= s_c).
 [[nodiscard]] std::vector<std::uint32_t> innerPoints(const Scan& scan, double s_c);
 
+/// One scan's z_in and s_i (no statistics): the part that scans can compute independently, in parallel.
+[[nodiscard]] KnnScanDistances scanKnnDistances(const Scan& scan, int k, double s_c);
+
+/// Welford over the scans' s_i in scan and point order: fills online_mu/sigma per scan and the set's mu, sigma.
+void accumulateStatistics(KnnSetDistances& d);
+
 // ---------------------------------------------------------------------------------------------------------
 
 inline std::vector<std::uint32_t> innerPoints(const Scan& scan, double s_c) {
@@ -46,19 +52,19 @@ inline std::vector<std::uint32_t> innerPoints(const Scan& scan, double s_c) {
   return inner;
 }
 
-inline KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c) {
-  KnnSetDistances out;
-  out.k = k;
-  out.s_c = s_c;
-  out.scans.resize(set.size());
-  Welford welford;
+inline KnnScanDistances scanKnnDistances(const Scan& scan, int k, double s_c) {
+  KnnScanDistances d;
+  d.inner = innerPoints(scan, s_c);
   std::vector<octomap::point3d> inner_points;
-  for (std::size_t t = 0; t < set.size(); ++t) {
-    KnnScanDistances& d = out.scans[t];
-    d.inner = innerPoints(set[t], s_c);
-    inner_points.clear();
-    for (auto i : d.inner) inner_points.push_back(set[t].points[i]);
-    d.s = averageKnnDistances(inner_points, k);
+  inner_points.reserve(d.inner.size());
+  for (auto i : d.inner) inner_points.push_back(scan.points[i]);
+  d.s = averageKnnDistances(inner_points, k);
+  return d;
+}
+
+inline void accumulateStatistics(KnnSetDistances& out) {
+  Welford welford;
+  for (KnnScanDistances& d : out.scans) {
     for (double s : d.s)
       if (std::isfinite(s)) welford.add(s);
     d.online_mu = welford.mean();
@@ -66,6 +72,14 @@ inline KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, doub
   }
   out.mu = welford.mean();
   out.sigma = welford.sigma();
+}
+
+inline KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c) {
+  KnnSetDistances out;
+  out.k = k;
+  out.s_c = s_c;
+  for (const Scan& scan : set) out.scans.push_back(scanKnnDistances(scan, k, s_c));
+  accumulateStatistics(out);
   return out;
 }
 

@@ -21,11 +21,18 @@ struct RecordedSet {
   std::vector<std::uint32_t> hit_first;      ///< hits of event e: [hit_first[e], hit_first[e + 1])
   std::vector<std::uint32_t> hit_scan;       ///< per hit: its scan
   std::vector<std::uint32_t> hit_inner;      ///< per hit: its index j in the scan's z_in (point order kept)
+  std::vector<std::uint8_t> uniform;         ///< per voxel: its events' flags when all are equal, else 0
+  std::uint32_t longest = 0;                 ///< most events of one voxel
   std::uint64_t scan_voxel_updates = 0;      ///< events in the region over all scans (for reports)
 };
 
-/// Records the region voxels' events with the same traversal as the mappers (ScanEventRecorder).
+/// Records the region voxels' events with the same traversal as the mappers (ScanEventRecorder), scans in
+/// parallel (TBB), merged in scan order.
 [[nodiscard]] RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c);
+
+/// computeKnnDistances with the scans' k-NN searches in parallel (TBB); the statistics are then accumulated in
+/// scan order, so the result is identical.
+[[nodiscard]] KnnSetDistances parallelKnnDistances(const PointCloudSet& set, int k, double s_c);
 
 /// F(s_j) (Eq. 8) of every recorded hit for one k and statistics mode.
 [[nodiscard]] std::vector<double> hitCdf(const RecordedSet& r, const KnnSetDistances& d, StatsMode stats);
@@ -48,5 +55,15 @@ struct ReplayRule {
 
 [[nodiscard]] ReplayRule octomapRule(const MapParams& m);
 [[nodiscard]] ReplayRule knnRule(const MapParams& m, const std::vector<float>& hit_sums, UpdateVariant variant);
+
+/// Maps replayed together: they must share the hit rule (OctoMap, or k-NN maps of one k, p_u, p_l).
+inline constexpr std::size_t kReplayLanes = 8;
+
+/// The fast path of replay(): up to kReplayLanes maps in one pass over the events (the lanes vectorise), voxels
+/// whose events are all alike settled from tables of repeated clamped updates (the same float steps), and
+/// TP/FP counted directly at each lane's thresholds (p_t values). Returns per lane the counts per threshold.
+[[nodiscard]] std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r,
+                                                                     const std::vector<ReplayRule>& lanes,
+                                                                     const std::vector<std::vector<double>>& p_t);
 
 }  // namespace occsweep

@@ -1,0 +1,186 @@
+// Issue 5's benchmark: on a paper-scale point cloud set, side by side in one run, one liboctomap build, the k-NN
+// mapper's direct build, the event recording, the replay of knn-opt and octomap-opt, their ratios, the run-time
+// models (Eq. 17, 18) and the sweep's peak memory. Build in Release (the default).
+//   build/bench/bench_sweep [--scans 120 --width 200 --height 160]   (defaults: about 3.5 M points)
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <thread>
+
+#include <octomap/octomap.h>
+#include <tbb/version.h>
+
+#include "occsweep/core/knn_inverse_sensor_model.hpp"
+#include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/eval/runtime_model.hpp"
+#include "occsweep/sweeps/replay.hpp"
+#include "occsweep/sweeps/sweep.hpp"
+
+using namespace occsweep;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+template <class Fn>
+double seconds(Fn&& fn) {
+  const auto t0 = Clock::now();
+  fn();
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Peak resident memory of one `occsweep sweep` process (as a user runs it), in bytes.
+double sweepPeakBytes(const std::string& dataset, const std::string& grid, const std::string& out) {
+  std::filesystem::remove(out);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::execl(OCCSWEEP_CLI, OCCSWEEP_CLI, "sweep", "--dataset", dataset.c_str(), "--grid", grid.c_str(), "--out",
+            out.c_str(), "--quiet", static_cast<char*>(nullptr));
+    std::_Exit(127);
+  }
+  int status = 0;
+  struct rusage usage {};
+  ::wait4(child, &status, 0, &usage);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error("occsweep sweep failed");
+  return double(usage.ru_maxrss) * 1024.0;
+}
+
+PointCloudSet firstScans(const PointCloudSet& set, std::size_t n) { return {set.begin(), set.begin() + long(n)}; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  BuiltinSceneConfig config;
+  config.scans = 120;
+  config.width = 200;
+  config.height = 160;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--scans")) config.scans = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--width")) config.width = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--height")) config.height = std::atoi(argv[i + 1]);
+  }
+  std::printf("occsweep bench_sweep: build type %s, g++ %d.%d, liboctomap %s, oneTBB %d.%d, %u hardware threads\n",
+              OCCSWEEP_BUILD_TYPE, __GNUC__, __GNUC_MINOR__, OCCSWEEP_OCTOMAP_VERSION, TBB_VERSION_MAJOR, TBB_VERSION_MINOR,
+              std::thread::hardware_concurrency());
+  const Dataset data = makeBuiltinScene(config);
+  const std::size_t n = pointCount(data.scans);
+  std::printf("set: built-in scene, %zu scans of %dx%d rays, %zu points (%.1f MB as float32)\n", data.scans.size(),
+              config.width, config.height, n, double(n) * 12 / 1e6);
+  const auto dir = std::filesystem::temp_directory_path() / ("occsweep-bench-" + std::to_string(::getpid()));
+  writeDataset(data, dir / "set");
+
+  const double resolution = 0.1, s_c = 4.0;
+  OctoMapParams om;
+  KnnParams knn;
+  knn.k = 1;  // knn-opt's k
+  const double t_octomap = seconds([&] { (void)buildOctoMap(data.scans, om); });
+  const double t_knn = seconds([&] { (void)KnnInverseSensorModel(knn).buildMap(data.scans); });
+
+  // The whole comparison as `occsweep sweep` runs it (reading the set, recording, replay, writing results), once
+  // on one thread for a like-for-like ratio and once on all cores.
+  auto sweep = [&](const char* grid, int threads) {
+    SweepConfig c;
+    c.dataset = dir / "set";
+    c.grid = grid;
+    c.out = dir / (std::string(grid) + std::to_string(threads) + ".json");
+    c.threads = threads;
+    c.quiet = true;
+    std::filesystem::remove(c.out);
+    return seconds([&] { (void)runSweep(c); });
+  };
+  const double sweep_knn_1 = sweep("knn-opt", 1), sweep_om_1 = sweep("octomap-opt", 1);
+  const double sweep_knn_all = sweep("knn-opt", 0), sweep_om_all = sweep("octomap-opt", 0);
+
+  // Its parts, on all cores.
+  const GroundTruth truth = makeGroundTruth(data.truth, data.region, resolution);
+  RecordedSet recorded;
+  KnnSetDistances distances;
+  std::vector<double> cdf;
+  const double t_record = seconds([&] { recorded = recordSet(data.scans, truth, resolution, s_c); });
+  const double t_distances = seconds([&] {
+    distances = parallelKnnDistances(data.scans, 1, s_c);
+    cdf = hitCdf(recorded, distances, StatsMode::Batch);
+  });
+  auto replayGrid = [&](const char* name) {
+    const GridEnumeration e = enumerateGrid(loadGrid(resolveGridPath(name)));
+    std::size_t combos = 0;
+    const double t = seconds([&] {
+      std::vector<float> sums;
+      std::vector<ReplayRule> rules;
+      std::vector<std::vector<double>> p_t;
+      auto flush = [&] {
+        if (!rules.empty()) (void)replayCounts(recorded, rules, p_t);
+        rules.clear();
+        p_t.clear();
+      };
+      for (std::size_t m = 0; m < e.maps.size(); ++m) {
+        const MapParams& p = e.maps[m];
+        const bool knn_map = p.k > 0;
+        if (knn_map && (m == 0 || p.p_u != e.maps[m - 1].p_u || p.p_l != e.maps[m - 1].p_l)) {
+          flush();
+          sums = knnHitSums(recorded, cdf, toDouble(p.p_u), toDouble(p.p_l));
+        }
+        if (rules.size() == kReplayLanes) flush();
+        rules.push_back(knn_map ? knnRule(p, sums, UpdateVariant::Default) : octomapRule(p));
+        p_t.emplace_back();
+        for (Fixed t : e.thresholds[m]) p_t.back().push_back(toDouble(t)), ++combos;
+      }
+      flush();
+    });
+    return std::pair{t, combos};
+  };
+  const auto [t_replay_knn, combos_knn] = replayGrid("knn-opt");
+  const auto [t_replay_om, combos_om] = replayGrid("octomap-opt");
+
+  std::printf("\n%-52s %10s\n", "step", "seconds");
+  std::printf("%-52s %10.3f\n", "liboctomap build (insertPointCloud per scan, 1 thread)", t_octomap);
+  std::printf("%-52s %10.3f\n", "k-NN mapper direct build (k = 1, incl. k-NN, 1 thread)", t_knn);
+  std::printf("%-52s %10.3f / %.3f\n", "occsweep sweep knn-opt (1 thread / all cores)", sweep_knn_1, sweep_knn_all);
+  std::printf("%-52s %10.3f / %.3f\n", "occsweep sweep octomap-opt (1 thread / all cores)", sweep_om_1, sweep_om_all);
+  std::printf("  parts, all cores: recording %.3f s (%llu region voxel updates), k-NN distances and F %.3f s,\n",
+              t_record, (unsigned long long)recorded.scan_voxel_updates, t_distances);
+  std::printf("  replay knn-opt %.3f s (%zu combinations), replay octomap-opt %.3f s (%zu combinations)\n", t_replay_knn,
+              combos_knn, t_replay_om, combos_om);
+  std::printf("\n(a) knn-opt + octomap-opt sweeps (recording included) / one liboctomap build: %.3f on 1 thread, "
+              "%.3f on all cores   (goal <= 1.0)\n",
+              (sweep_knn_1 + sweep_om_1) / t_octomap, (sweep_knn_all + sweep_om_all) / t_octomap);
+  std::printf("(b) k-NN direct build / one liboctomap build:                 %.3f   (goal <= 0.7)\n", t_knn / t_octomap);
+  std::printf("(c) replay throughput: %.0f combinations/s (all cores)\n",
+              double(combos_knn + combos_om) / (t_replay_knn + t_replay_om));
+
+  // Growth with points (and k): Eq. 17 for liboctomap and for the whole sweep, Eq. 18 for the k-NN build.
+  std::vector<RuntimeSample> s_om, s_knn, s_sweep;
+  for (std::size_t scans : {data.scans.size() / 4, data.scans.size() / 2, 3 * data.scans.size() / 4, data.scans.size()}) {
+    const PointCloudSet part = firstScans(data.scans, scans);
+    const double np = double(pointCount(part));
+    s_om.push_back({np, 0, seconds([&] { (void)buildOctoMap(part, om); })});
+    for (int k : {1, 3, 5, 7}) {
+      KnnParams p = knn;
+      p.k = k;
+      s_knn.push_back({np, double(k), seconds([&] { (void)KnnInverseSensorModel(p).buildMap(part); })});
+    }
+    s_sweep.push_back({np, 0, seconds([&] {
+                         const RecordedSet r = recordSet(part, truth, resolution, s_c);
+                         (void)hitCdf(r, parallelKnnDistances(part, 1, s_c), StatsMode::Batch);
+                       })});
+  }
+  const RuntimeFit f_om = fitEq17(s_om), f_knn = fitEq18(s_knn), f_sweep = fitEq17(s_sweep);
+  std::printf("\nEq. 17 liboctomap:     t = %.4e N + %.4e          R^2 = %.4f\n", f_om.a, f_om.b, f_om.r_squared);
+  std::printf("Eq. 18 k-NN direct:    t = (%.4e k + %.4e) N + %.4e   R^2 = %.4f\n", f_knn.a, f_knn.b, f_knn.c, f_knn.r_squared);
+  std::printf("Eq. 17 recording+k-NN:  t = %.4e N + %.4e          R^2 = %.4f\n", f_sweep.a, f_sweep.b, f_sweep.r_squared);
+
+  const double points_bytes = double(n) * 12;
+  const double peak_knn = sweepPeakBytes((dir / "set").string(), "knn-opt", (dir / "knn.json").string());
+  const double peak_om = sweepPeakBytes((dir / "set").string(), "octomap-opt", (dir / "om.json").string());
+  std::printf("\npeak memory of `occsweep sweep` (whole process): knn-opt %.1f MB, octomap-opt %.1f MB\n", peak_knn / 1e6,
+              peak_om / 1e6);
+  std::printf("peak / points in memory (%.1f MB): knn-opt %.2f, octomap-opt %.2f   (goal <= 3)\n", points_bytes / 1e6,
+              peak_knn / points_bytes, peak_om / points_bytes);
+  std::filesystem::remove_all(dir);
+  return 0;
+}

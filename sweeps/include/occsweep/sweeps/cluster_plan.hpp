@@ -1,0 +1,105 @@
+// A cluster plan (issue 7): the work of an experiment cut into shards, grouped in stages that run as one Slurm job
+// array each, chained with --dependency=afterok. The same plan runs on one machine with `cluster run-local`.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace occsweep {
+
+/// How a task's output is judged done (cluster_state.hpp). Every command a plan runs writes its output atomically
+/// (temporary name + rename), so a killed task leaves no output that passes these checks.
+enum class OutputKind {
+  Results,     ///< occsweep results file: complete, consistent, of the expected grid and shard
+  Comparison,  ///< `occsweep compare --json` file ("format": "occsweep-comparison")
+  Dataset,     ///< data-set folder whose manifest.json parses
+  Exists,      ///< any file or folder (custom generation commands)
+};
+
+/// One shard: one occsweep command, its inputs (outputs of earlier stages) and its output, paths relative to the
+/// plan folder (tasks run there).
+struct ClusterTask {
+  std::uint64_t index = 0;             ///< the array task id
+  std::string label;                   ///< what it is, for status ("ds0 knn-opt 2/3")
+  std::vector<std::string> argv;       ///< argv[0] is the occsweep binary
+  std::vector<std::string> inputs;
+  std::string output;
+  OutputKind kind = OutputKind::Exists;
+  std::string expect_grid;             ///< Results: the grid name the file must have
+  std::uint64_t expect_shard = 0, expect_shards = 1;
+};
+
+struct ClusterStage {
+  std::string name;                    ///< generate, sweep, merge, report
+  std::vector<std::string> after;      ///< stages whose arrays must succeed first (afterok)
+  std::vector<ClusterTask> tasks;
+};
+
+/// sbatch options passed through to every stage's script. Empty strings are left out.
+struct SlurmOptions {
+  int cpus_per_task = 1;
+  std::string mem = "1G", time = "01:00:00", partition, account;
+  std::vector<std::string> extra;      ///< more `#SBATCH` options, verbatim (e.g. --qos=normal)
+};
+
+struct ClusterPlan {
+  std::string experiment;              ///< reproduce | sweep
+  std::string occsweep;                ///< absolute path of the occsweep binary the tasks run
+  SlurmOptions slurm;
+  std::vector<ClusterStage> stages;    ///< in dependency order
+};
+
+/// One grid of a plan: NAME[:SHARDS[:grouped]]. Grouped: data set i of n sweeps only Eq. 16 group i/n.
+struct PlanGrid {
+  std::string name;
+  std::uint64_t shards = 1;
+  bool grouped = false;
+};
+
+/// What `cluster plan` was asked for. Templates take {dataset} {index} {seed} {block} {blocks} {out} {scale}.
+struct PlanConfig {
+  std::string experiment = "reproduce";
+  std::string occsweep;                     ///< binary; default: the running one
+  std::vector<std::string> datasets;        ///< reproduce: names; sweep: existing data-set folders
+  std::string generate = "dataset generate --name {dataset} --out data --scale {scale}";
+  std::string generate_out = "data/{dataset}";   ///< folder the generation of one data set and block writes
+  OutputKind generate_kind = OutputKind::Exists;
+  std::string scale = "paper";
+  std::uint64_t blocks = 1;                 ///< parameter blocks per data set (generation shards)
+  std::vector<std::string> sets = {"."};    ///< point cloud sets to sweep, relative to a data set's folder
+  std::vector<PlanGrid> grids = {{"octomap-opt", 1, false}, {"knn-opt", 4, false}};
+  std::uint64_t group_seed = 0;             ///< Eq. 16 permutation seed of grouped grids
+  int sweep_threads = 0;                    ///< --threads of each sweep (0: --cpus-per-task)
+  std::vector<std::string> sweep_args;      ///< more `occsweep sweep` arguments, e.g. --s-c 4
+  SlurmOptions slurm;
+};
+
+/// "knn-opt:4", "reduction:8:grouped"; std::invalid_argument naming the text otherwise.
+[[nodiscard]] PlanGrid parsePlanGrid(const std::string& text);
+/// Fills every {key} of `text` from `values`; std::invalid_argument for an unknown key or an unclosed brace.
+[[nodiscard]] std::string expandTemplate(const std::string& text, const std::map<std::string, std::string>& values);
+/// Splits a command template on spaces (no quoting: a template is a plain argument list).
+[[nodiscard]] std::vector<std::string> splitArgs(const std::string& text);
+
+/// The stages of an experiment: [generate ->] sweep -> merge -> report. Throws std::invalid_argument for an
+/// inconsistent configuration (no data sets, zero shards, a grid name given twice).
+[[nodiscard]] ClusterPlan buildPlan(const PlanConfig& config);
+
+/// Writes DIR/plan.json (the manifest) and DIR/slurm/<stage>.sbatch, each file atomically. Refuses a DIR that
+/// already holds a different plan.json unless `replace`.
+void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool replace);
+/// Reads DIR/plan.json; std::runtime_error naming the file and field for anything malformed.
+[[nodiscard]] ClusterPlan readPlan(const std::filesystem::path& dir);
+
+/// The sbatch script of one stage: a bash `case` on SLURM_ARRAY_TASK_ID, one occsweep command per task.
+[[nodiscard]] std::string sbatchScript(const ClusterPlan& plan, const ClusterStage& stage);
+/// The stage's task list; std::out_of_range for an unknown stage.
+[[nodiscard]] const ClusterStage& stageNamed(const ClusterPlan& plan, const std::string& name);
+
+[[nodiscard]] const char* kindName(OutputKind k);
+[[nodiscard]] OutputKind kindFromName(const std::string& name);  ///< std::invalid_argument otherwise
+
+}  // namespace occsweep

@@ -1,0 +1,75 @@
+// Where a plan stands: outputs on disk (the truth about "done") and Slurm's records (running, pending, failed).
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <sys/types.h>
+#include <vector>
+
+#include "cluster_plan.hpp"
+
+namespace occsweep {
+
+// ---- processes (cluster_exec.cpp) ----
+struct ProcessOutput {
+  int exit_code = -1;  ///< 127 when the program is not found, 128 + signal when killed
+  std::string text;    ///< stdout
+};
+/// Runs argv (searched on PATH), captures stdout; stderr passes through.
+[[nodiscard]] ProcessOutput runCapture(const std::vector<std::string>& argv);
+/// Starts argv in `cwd` with stdout and stderr appended to `log`; returns the pid (std::runtime_error on failure).
+[[nodiscard]] pid_t spawnLogged(const std::vector<std::string>& argv, const std::filesystem::path& cwd,
+                                const std::filesystem::path& log);
+/// Exit code of a finished child as runCapture reports it.
+[[nodiscard]] int exitCodeOf(int wait_status);
+
+// ---- outputs ----
+/// Empty when the task's output is valid, else why not ("missing", "incomplete results", ...).
+[[nodiscard]] std::string checkOutput(const ClusterTask& task, const std::filesystem::path& dir);
+/// True when the output is older than one of its inputs (an input was redone after it).
+[[nodiscard]] bool outputStale(const ClusterTask& task, const std::filesystem::path& dir);
+
+// ---- Slurm records ----
+/// One `sbatch` of a stage's tasks, appended to DIR/submissions.jsonl.
+struct Submission {
+  std::string stage, job_id;
+  std::vector<std::uint64_t> tasks;
+};
+[[nodiscard]] std::vector<Submission> readSubmissions(const std::filesystem::path& dir);
+void appendSubmission(const std::filesystem::path& dir, const Submission& s);
+
+/// What Slurm says about array tasks, keyed "JOBID_TASK": state (RUNNING, FAILED, ...) and pending reason.
+struct SlurmRecord {
+  std::string state, reason;
+};
+/// squeue for live tasks, then `scontrol show job` (finished tasks kept MinJobAge seconds), then sacct (where
+/// accounting runs). Tasks none of them knows are absent.
+[[nodiscard]] std::map<std::string, SlurmRecord> querySlurm(const std::vector<Submission>& submissions);
+
+// ---- status ----
+enum class TaskState { Done, Running, Pending, Failed, Stale, Invalid, Missing };
+[[nodiscard]] const char* stateName(TaskState s);
+
+struct TaskStatus {
+  TaskState state = TaskState::Missing;
+  std::string detail;    ///< why not done
+  std::string slurm_id;  ///< JOBID_TASK of its latest submission, if any
+};
+
+/// Per stage, per task. Live Slurm tasks are Running/Pending whatever their output; otherwise a valid, fresh
+/// output is Done; a task whose latest Slurm record ended badly (or ended COMPLETED without a valid output) is
+/// Failed; an output that exists but does not pass is Invalid; an output older than an input is Stale.
+[[nodiscard]] std::vector<std::vector<TaskStatus>> planStatus(const ClusterPlan& plan, const std::filesystem::path& dir,
+                                                              const std::map<std::string, SlurmRecord>& records,
+                                                              const std::vector<Submission>& submissions);
+
+/// Tasks to run again, per stage: every task not Done, Running or Pending, and every task downstream of one
+/// (its input will be rewritten, so its output would go stale).
+[[nodiscard]] std::vector<std::vector<std::uint64_t>> tasksToRun(const ClusterPlan& plan,
+                                                                 const std::vector<std::vector<TaskStatus>>& status);
+
+/// "0-3,7,9-10": Slurm's --array syntax for sorted ids.
+[[nodiscard]] std::string arrayRanges(const std::vector<std::uint64_t>& ids);
+
+}  // namespace occsweep

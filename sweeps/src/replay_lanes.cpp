@@ -1,0 +1,97 @@
+// The replay engine's fast path: several maps per pass, closed-form voxels, counts without sorting.
+#include <algorithm>
+#include <array>
+#include <stdexcept>
+
+#include "occsweep/core/log_odds.hpp"
+#include "occsweep/core/scan_events.hpp"
+#include "occsweep/sweeps/replay.hpp"
+
+namespace occsweep {
+namespace {
+
+using Lanes = std::array<float, kReplayLanes>;
+
+// OctoMap's clamped update on every lane: value += delta, then clamp (OccupancyOcTreeBase::updateNodeLogOdds).
+inline void update(Lanes& v, const Lanes& d, const Lanes& lo, const Lanes& hi) {
+  for (std::size_t l = 0; l < kReplayLanes; ++l) {
+    const float sum = v[l] + d[l];
+    v[l] = sum < lo[l] ? lo[l] : (sum > hi[l] ? hi[l] : sum);
+  }
+}
+
+}  // namespace
+
+std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, const std::vector<ReplayRule>& rules,
+                                                       const std::vector<std::vector<double>>& p_t) {
+  const std::size_t n = rules.size();
+  if (n == 0 || n > kReplayLanes || p_t.size() != n) throw std::invalid_argument("replayCounts: 1 to 8 lanes");
+  const std::vector<float>* sums = rules[0].knn_hit_sums;
+  const bool literal = rules[0].literal;
+  Lanes lo{}, hi{}, in{}, out{}, hit{};
+  for (std::size_t l = 0; l < kReplayLanes; ++l) {
+    const ReplayRule& rule = rules[std::min(l, n - 1)];  // spare lanes repeat the last map; never counted
+    if (rule.knn_hit_sums != sums || rule.literal != literal)
+      throw std::invalid_argument("replayCounts: lanes must share their hit rule");
+    lo[l] = rule.l_min, hi[l] = rule.l_max, in[l] = rule.l_in, out[l] = rule.l_out, hit[l] = rule.octomap_hit;
+  }
+  // table[c][m]: the value after m equal updates of kind c from 0 (c: in, out, OctoMap hit), step by step.
+  std::array<std::vector<Lanes>, 3> table;
+  const Lanes* deltas[3] = {&in, &out, &hit};
+  for (int c = 0; c < 3; ++c) {
+    table[c].assign(r.longest + 1, Lanes{});
+    for (std::uint32_t m = 1; m <= r.longest; ++m) {
+      table[c][m] = table[c][m - 1];
+      update(table[c][m], *deltas[c], lo, hi);
+    }
+  }
+  std::vector<std::vector<float>> thresholds(n);
+  std::vector<std::vector<ConfusionCounts>> counts(n);
+  for (std::size_t l = 0; l < n; ++l) {
+    for (double p : p_t[l]) thresholds[l].push_back(logOdds(p));
+    counts[l].assign(p_t[l].size(), ConfusionCounts{});
+  }
+  const std::uint32_t voxels = std::uint32_t(r.truth.size());
+  for (std::uint32_t v = 0; v < voxels; ++v) {
+    const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
+    if (begin == end) continue;  // unknown: counted as FN or TN below
+    Lanes value{};
+    const std::uint8_t u = r.uniform[v];
+    if (u == kCrossedIn || u == kCrossedOut) {
+      value = table[u == kCrossedIn ? 0 : 1][end - begin];
+    } else if (u == kHit && !sums) {
+      value = table[2][end - begin];
+    } else {
+      for (std::uint32_t e = begin; e < end; ++e) {
+        const std::uint8_t f = r.flags[e];
+        if (f & kHit) {
+          Lanes d;
+          if (sums) {
+            const float s = (*sums)[e];  // clamped once per lane (Algorithm 1 line 6-10)
+            for (std::size_t l = 0; l < kReplayLanes; ++l) d[l] = std::min(std::max(s, lo[l]), hi[l]);
+          } else {
+            d = hit;
+          }
+          update(value, d, lo, hi);
+          if (!literal) continue;  // occupied wins
+        }
+        if (f & kCrossedIn)
+          update(value, in, lo, hi);
+        else if (f & kCrossedOut)
+          update(value, out, lo, hi);
+      }
+    }
+    const bool occupied = r.truth[v] != 0;
+    for (std::size_t l = 0; l < n; ++l)
+      for (std::size_t t = 0; t < thresholds[l].size(); ++t)
+        if (value[l] >= thresholds[l][t]) ++(occupied ? counts[l][t].tp : counts[l][t].fp);
+  }
+  for (auto& lane : counts)
+    for (auto& c : lane) {
+      c.fn = r.positives - c.tp;
+      c.tn = r.negatives - c.fp;
+    }
+  return counts;
+}
+
+}  // namespace occsweep
