@@ -25,12 +25,12 @@ if ((${#missing[@]})); then
 fi
 
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build" -j "$(nproc)"
-
 if [[ "$mode" == test ]]; then
+  cmake --build "$build" -j "$(nproc)"
   cd "$build" && ctest --output-on-failure -j "$(nproc)"
   exit
 fi
+cmake --build "$build" -j "$(nproc)" --target occsweep
 
 # The main job: the built-in scene, both optimisation grids, the best AUC of each method.
 occsweep="$build/tools/occsweep"

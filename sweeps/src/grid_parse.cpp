@@ -159,9 +159,9 @@ std::filesystem::path resolveGridPath(const std::string& name_or_path) {
   places.emplace_back(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids");
   for (const auto& dir : places)
     if (fs::is_regular_file(dir / (name_or_path + ".json"))) return dir / (name_or_path + ".json");
-  std::string where;
-  for (const auto& dir : places) where += " " + dir.string();
-  throw std::runtime_error("grid '" + name_or_path + "': no such file, nor " + name_or_path + ".json in" + where);
+  std::string message = "grid '" + name_or_path + "': no such file, nor " + name_or_path + ".json in";
+  for (const auto& dir : places) message.append(" ").append(dir.string());
+  throw std::runtime_error(message);
 }
 
 const char* methodName(GridMethod m) { return m == GridMethod::Knn ? "knn" : "octomap"; }
