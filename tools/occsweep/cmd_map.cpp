@@ -9,6 +9,7 @@
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/data/dataset.hpp"
 #include "occsweep/eval/confusion.hpp"
+#include "occsweep/sweeps/results.hpp"
 
 namespace occsweep::cli {
 namespace {
@@ -61,9 +62,22 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     if (out.has_parent_path()) fs::create_directories(out.parent_path());
     if (!tree->write(tmp.string())) throw std::runtime_error(o->out + ": cannot write the map");
     fs::rename(tmp, out);
+    // The .ot format keeps resolution and log-odds only: the resolved settings go beside it.
+    nlohmann::json params = {{"p_m", k.p_m}, {"p_max", k.p_max}, {"p_min", k.p_min}, {"p_t", k.p_t},
+                             {"resolution", k.resolution}, {"s_c", k.s_c}};
+    if (o->method == "octomap") {
+      params["p_h"] = om.p_h;
+    } else {
+      params.update({{"p_m_out", k.p_m_out}, {"p_u", k.p_u}, {"p_l", k.p_l}, {"k", k.k}, {"variant", o->variant},
+                     {"stats", o->stats}});
+    }
+    writeJsonAtomically({{"method", o->method}, {"dataset", o->dataset}, {"dataset_name", d.name},
+                         {"dataset_hash", datasetContentHash(o->dataset)}, {"parameters", params},
+                         {"build_seconds", seconds}},
+                        o->out + ".json");
     std::cout << "method " << o->method << ", " << d.scans.size() << " scans, " << pointCount(d.scans)
               << " points, built in " << seconds << " s\n"
-              << "map " << o->out << ": " << tree->getNumLeafNodes() << " leaves\n";
+              << "map " << o->out << ": " << tree->getNumLeafNodes() << " leaves (settings in " << o->out << ".json)\n";
     if (!d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty()) {
       const GroundTruth gt = makeGroundTruth(d.truth, d.region, k.resolution);
       const ConfusionCounts c = classify(sampleRegion(*tree, gt), k.p_t);
