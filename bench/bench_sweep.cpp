@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -34,7 +35,8 @@ double seconds(Fn&& fn) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Peak resident memory of one `occsweep sweep` process (as a user runs it), in bytes.
+// Peak resident memory of one `occsweep sweep` process (as a user runs it), in bytes: its VmHWM, polled until it
+// exits. (ru_maxrss would also count the pages the child inherited from this large process through fork.)
 double sweepPeakBytes(const std::string& dataset, const std::string& grid, const std::string& out) {
   std::filesystem::remove(out);
   const pid_t child = ::fork();
@@ -43,11 +45,17 @@ double sweepPeakBytes(const std::string& dataset, const std::string& grid, const
             out.c_str(), "--quiet", static_cast<char*>(nullptr));
     std::_Exit(127);
   }
+  double peak = 0;
+  const std::string status_file = "/proc/" + std::to_string(child) + "/status";
   int status = 0;
-  struct rusage usage {};
-  ::wait4(child, &status, 0, &usage);
+  while (::waitpid(child, &status, WNOHANG) == 0) {
+    std::ifstream in(status_file);
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind("VmHWM:", 0) == 0) peak = std::max(peak, std::stod(line.substr(6)) * 1024.0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error("occsweep sweep failed");
-  return double(usage.ru_maxrss) * 1024.0;
+  return peak;
 }
 
 PointCloudSet firstScans(const PointCloudSet& set, std::size_t n) { return {set.begin(), set.begin() + long(n)}; }
