@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include <octomap/OcTree.h>
 
@@ -13,7 +14,7 @@ namespace occsweep {
 
 /// Visits the keys liboctomap's computeRayKeys(origin, end) would return: the origin voxel first, the end voxel
 /// excluded; nothing when both lie in one voxel. Returns false (visiting nothing) when an end is outside the
-/// octree, as computeRayKeys does.
+/// octree, as computeRayKeys does. `visit(key)` may return bool: false stops the ray there.
 template <class Visit>
 bool traverseRay(const octomap::OcTree& grid, const octomap::point3d& origin, const octomap::point3d& end,
                  Visit&& visit);
@@ -26,7 +27,11 @@ bool traverseRay(const octomap::OcTree& grid, const octomap::point3d& origin, co
   octomap::OcTreeKey key_origin, key_end;
   if (!grid.coordToKeyChecked(origin, key_origin) || !grid.coordToKeyChecked(end, key_end)) return false;
   if (key_origin == key_end) return true;
-  visit(key_origin);
+  auto keepGoing = [&](const octomap::OcTreeKey& k) {
+    if constexpr (std::is_same_v<decltype(visit(k)), bool>) return visit(k);
+    else return visit(k), true;
+  };
+  if (!keepGoing(key_origin)) return true;
 
   // Initialisation, as OcTreeBaseImpl::computeRayKeys: direction and length in float, tMax/tDelta in double.
   octomap::point3d direction = (end - origin);
@@ -72,7 +77,8 @@ bool traverseRay(const octomap::OcTree& grid, const octomap::point3d& origin, co
     k0 &= 0xFFFF, k1 &= 0xFFFF, k2 &= 0xFFFF;
     if (k0 == e0 && k1 == e1 && k2 == e2) return true;
     if (std::min(std::min(t0, t1), t2) > length) return true;
-    visit(octomap::OcTreeKey(octomap::key_type(k0), octomap::key_type(k1), octomap::key_type(k2)));
+    if (!keepGoing(octomap::OcTreeKey(octomap::key_type(k0), octomap::key_type(k1), octomap::key_type(k2))))
+      return true;
   }
 }
 

@@ -3,6 +3,7 @@
 // functions of these events; they depend only on the points, the resolution and s_c.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -62,9 +63,12 @@ class ScanEventRecorder {
   [[nodiscard]] bool mayReach(const octomap::point3d& a, const octomap::point3d& b, const KeyWindow& w) const;
 
   octomap::OcTree grid_;  // only for OctoMap's key arithmetic; never holds nodes
-  std::vector<std::uint32_t> stamp_, slot_;  // per window cell: generation when last touched, its voxel index
-  std::uint32_t generation_ = 0;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (voxel, j) in point order
+  // Per window cell, 16 bits: the scan generation (high byte) that last touched it and its flags (low byte).
+  // Small enough to stay in cache, which is what makes this faster than hashing every ray key.
+  std::vector<std::uint16_t> cells_;
+  std::uint8_t generation_ = 0;
+  std::vector<std::uint32_t> touched_;                         // cells touched this scan, in first-touch order
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (cell, j) in point order
   std::vector<std::uint8_t> is_inner_;
 };
 
@@ -109,32 +113,32 @@ inline void ScanEventRecorder::record(const Scan& scan, const std::vector<std::u
   out.voxels.clear();
   out.hit_points.clear();
   hits_.clear();
-  if (stamp_.size() < window.volume()) {
-    stamp_.assign(window.volume(), 0);
-    slot_.resize(window.volume());
+  touched_.clear();
+  if (cells_.size() < window.volume()) {
+    cells_.assign(window.volume(), 0);
     generation_ = 0;
   }
-  if (++generation_ == 0) {  // wrapped: clear once every 2^32 scans
-    std::fill(stamp_.begin(), stamp_.end(), 0);
+  if (++generation_ == 0) {  // wrapped after 255 scans: forget every stamp once
+    std::fill(cells_.begin(), cells_.end(), 0);
     generation_ = 1;
   }
-  auto slot = [&](const octomap::OcTreeKey& key) -> VoxelEvent& {
-    const std::uint32_t cell = window.index(key);
-    if (stamp_[cell] != generation_) {
-      stamp_[cell] = generation_;
-      slot_[cell] = std::uint32_t(out.voxels.size());
-      out.voxels.push_back(VoxelEvent{key, 0, 0, 0});
+  const std::uint16_t stamp = std::uint16_t(generation_) << 8;
+  auto mark = [&](std::uint32_t cell, std::uint8_t flag) {
+    std::uint16_t& c = cells_[cell];
+    if ((c & 0xFF00) != stamp) {
+      c = stamp;
+      touched_.push_back(cell);
     }
-    return out.voxels[slot_[cell]];
+    c |= flag;
   };
   is_inner_.assign(scan.points.size(), 0);
   for (std::uint32_t j = 0; j < inner.size(); ++j) {
     is_inner_[inner[j]] = 1;
     octomap::OcTreeKey key;
     if (!grid_.coordToKeyChecked(scan.points[inner[j]], key) || !window.contains(key)) continue;
-    VoxelEvent& e = slot(key);
-    e.flags |= kHit;
-    hits_.emplace_back(std::uint32_t(&e - out.voxels.data()), j);
+    const std::uint32_t cell = window.index(key);
+    mark(cell, kHit);
+    hits_.emplace_back(cell, j);
   }
   for (std::size_t i = 0; i < scan.points.size(); ++i) {
     const auto& p = scan.points[i];
@@ -142,20 +146,48 @@ inline void ScanEventRecorder::record(const Scan& scan, const std::vector<std::u
     const octomap::point3d end =
         is_inner_[i] ? p : scan.origin + (p - scan.origin).normalized() * float(s_c);  // cut as computeUpdate
     if (!mayReach(scan.origin, end, window)) continue;
+    // Keys move monotonically along each axis, so once a ray has left the (convex) window it never returns.
+    bool entered = false;
     traverseRay(grid_, scan.origin, end, [&](const octomap::OcTreeKey& key) {
-      if (window.contains(key)) slot(key).flags |= flag;
+      if (!window.contains(key)) return !entered;
+      entered = true;
+      mark(window.index(key), flag);
+      return true;
     });
   }
-  // Group the hit points by voxel, keeping point order within each voxel (a counting sort).
-  for (const auto& [v, j] : hits_) ++out.voxels[v].hit_count;
-  std::uint32_t offset = 0;
-  for (auto& v : out.voxels) {
-    v.first_hit = offset;
-    offset += v.hit_count;
-    v.hit_count = 0;
+  // One event per touched cell, in first-touch order; hit points grouped per voxel in point order.
+  auto keyOf = [&](std::uint32_t cell) {
+    const std::uint32_t nz = std::uint32_t(window.hi[2] - window.lo[2] + 1);
+    const std::uint32_t ny = std::uint32_t(window.hi[1] - window.lo[1] + 1);
+    return octomap::OcTreeKey(octomap::key_type(window.lo[0] + int(cell / (ny * nz))),
+                              octomap::key_type(window.lo[1] + int(cell / nz % ny)),
+                              octomap::key_type(window.lo[2] + int(cell % nz)));
+  };
+  out.voxels.reserve(touched_.size());
+  for (std::uint32_t cell : touched_) {
+    out.voxels.push_back(VoxelEvent{keyOf(cell), std::uint8_t(cells_[cell] & 0xFF), 0, 0});
   }
-  out.hit_points.resize(offset);
-  for (const auto& [v, j] : hits_) out.hit_points[out.voxels[v].first_hit + out.voxels[v].hit_count++] = j;
+  if (!hits_.empty()) {
+    // Hit cells are few: map cell -> voxel through a sorted list of (cell, voxel).
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> voxel_of;
+    voxel_of.reserve(out.voxels.size());
+    for (std::uint32_t v = 0; v < touched_.size(); ++v)
+      if (out.voxels[v].flags & kHit) voxel_of.emplace_back(touched_[v], v);
+    std::sort(voxel_of.begin(), voxel_of.end());
+    auto voxel = [&](std::uint32_t cell) {
+      return std::lower_bound(voxel_of.begin(), voxel_of.end(), std::make_pair(cell, 0u))->second;
+    };
+    for (auto& h : hits_) h.first = voxel(h.first);
+    for (const auto& [v, j] : hits_) ++out.voxels[v].hit_count;
+    std::uint32_t offset = 0;
+    for (auto& v : out.voxels) {
+      v.first_hit = offset;
+      offset += v.hit_count;
+      v.hit_count = 0;
+    }
+    out.hit_points.resize(offset);
+    for (const auto& [v, j] : hits_) out.hit_points[out.voxels[v].first_hit + out.voxels[v].hit_count++] = j;
+  }
 }
 
 }  // namespace occsweep
