@@ -59,17 +59,22 @@ struct PlanGrid {
   bool grouped = false;
 };
 
-/// What `cluster plan` was asked for. Templates take {dataset} {index} {seed} {block} {blocks} {out} {scale}.
+/// What `cluster plan` was asked for. Defaults: the paper's reproduction (docs/cluster.md). Generation templates
+/// take {dataset} {index} {seed} {block} {blocks} {block_dir} {pcs} {cpus} {scale} {out}.
 struct PlanConfig {
   std::string experiment = "reproduce";
   std::string occsweep;                     ///< binary; default: the running one
   std::vector<std::string> datasets;        ///< reproduce: names; sweep: existing data-set folders
-  std::string generate = "dataset generate --name {dataset} --out data --scale {scale}";
-  std::string generate_out = "data/{dataset}";   ///< folder the generation of one data set and block writes
+  std::string generate =
+      "dataset generate --name {dataset} --out {block_dir} --scale {scale} --pcs {pcs} --threads {cpus} --no-preview";
+  std::string generate_out = "{block_dir}/{dataset}/ranking.json";  ///< what one generation task writes last
   OutputKind generate_kind = OutputKind::Exists;
   std::string scale = "paper";
-  std::uint64_t blocks = 1;                 ///< parameter blocks per data set (generation shards)
-  std::vector<std::string> sets = {"."};    ///< point cloud sets to sweep, relative to a data set's folder
+  std::uint64_t blocks = 16;                ///< generation shards per data set: blocks of point cloud parameter ids
+  std::uint64_t pcs_count = 1600;           ///< point cloud parameter ids 0..pcs_count-1, cut into `blocks` ({pcs})
+  bool ranked = true;                       ///< a select stage links every block's sets as pcs-NNNN and rank-N
+  std::vector<std::string> sets = {"rank-1", "rank-800", "rank-1600"};  ///< sets to sweep (paper 4.3)
+  std::string group_set = "rank-800";       ///< the one set grouped grids sweep (empty: the first of `sets`)
   std::vector<PlanGrid> grids = {{"octomap-opt", 1, false}, {"knn-opt", 4, false}};
   std::uint64_t group_seed = 0;             ///< Eq. 16 permutation seed of grouped grids
   int sweep_threads = 0;                    ///< --threads of each sweep (0: --cpus-per-task)

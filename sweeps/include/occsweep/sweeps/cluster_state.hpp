@@ -16,8 +16,9 @@ struct ProcessOutput {
   int exit_code = -1;  ///< 127 when the program is not found, 128 + signal when killed
   std::string text;    ///< stdout
 };
-/// Runs argv (searched on PATH), captures stdout; stderr passes through.
-[[nodiscard]] ProcessOutput runCapture(const std::vector<std::string>& argv);
+/// Runs argv (searched on PATH), captures stdout; stderr passes through, or goes to /dev/null when `quiet`
+/// (status queries: sacct without accounting complains on every call).
+[[nodiscard]] ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet = false);
 /// Starts argv in `cwd` with stdout and stderr appended to `log`; returns the pid (std::runtime_error on failure).
 [[nodiscard]] pid_t spawnLogged(const std::vector<std::string>& argv, const std::filesystem::path& cwd,
                                 const std::filesystem::path& log);

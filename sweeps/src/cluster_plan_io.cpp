@@ -1,0 +1,172 @@
+// The plan's files: DIR/plan.json (the manifest of every shard) and one sbatch script per stage.
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "occsweep/sweeps/cluster_plan.hpp"
+#include "occsweep/sweeps/results.hpp"
+
+namespace occsweep {
+namespace {
+
+using nlohmann::json;
+constexpr const char* kPlanFormat = "occsweep-cluster-plan";
+
+json taskJson(const ClusterTask& t) {
+  json j = {{"index", t.index}, {"label", t.label}, {"argv", t.argv}, {"inputs", t.inputs},
+            {"output", t.output}, {"kind", kindName(t.kind)}};
+  if (t.kind == OutputKind::Results) j["expect"] = {{"grid", t.expect_grid}, {"shard", {t.expect_shard, t.expect_shards}}};
+  return j;
+}
+
+json planJson(const ClusterPlan& p) {
+  json stages = json::array();
+  for (const auto& s : p.stages) {
+    json tasks = json::array();
+    for (const auto& t : s.tasks) tasks.push_back(taskJson(t));
+    stages.push_back({{"name", s.name}, {"after", s.after}, {"tasks", tasks}});
+  }
+  const auto& o = p.slurm;
+  return {{"format", kPlanFormat}, {"version", 1}, {"experiment", p.experiment}, {"occsweep", p.occsweep},
+          {"slurm", {{"cpus_per_task", o.cpus_per_task}, {"mem", o.mem}, {"time", o.time},
+                     {"partition", o.partition}, {"account", o.account}, {"extra", o.extra}}},
+          {"stages", stages}};
+}
+
+/// A value of `j` at `key`, or a runtime_error naming the file and the field.
+template <class T>
+T field(const json& j, const std::string& key, const std::string& file, const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) throw std::runtime_error(file + ": " + where + key + ": missing");
+  try {
+    return j.at(key).get<T>();
+  } catch (const json::exception&) {
+    throw std::runtime_error(file + ": " + where + key + ": wrong type");
+  }
+}
+
+ClusterPlan parsePlan(const json& j, const std::string& file) {
+  if (field<std::string>(j, "format", file, "") != kPlanFormat)
+    throw std::runtime_error(file + ": format: expected \"" + std::string(kPlanFormat) + "\"");
+  if (field<int>(j, "version", file, "") != 1) throw std::runtime_error(file + ": version: expected 1");
+  ClusterPlan p;
+  p.experiment = field<std::string>(j, "experiment", file, "");
+  p.occsweep = field<std::string>(j, "occsweep", file, "");
+  const json s = field<json>(j, "slurm", file, "");
+  p.slurm = {field<int>(s, "cpus_per_task", file, "slurm."), field<std::string>(s, "mem", file, "slurm."),
+             field<std::string>(s, "time", file, "slurm."), field<std::string>(s, "partition", file, "slurm."),
+             field<std::string>(s, "account", file, "slurm."),
+             field<std::vector<std::string>>(s, "extra", file, "slurm.")};
+  for (const auto& sj : field<json>(j, "stages", file, "")) {
+    ClusterStage st{field<std::string>(sj, "name", file, "stages[]."),
+                    field<std::vector<std::string>>(sj, "after", file, "stages[]."), {}};
+    const std::string where = "stages[" + st.name + "].tasks[].";
+    for (const auto& tj : field<json>(sj, "tasks", file, "stages[].")) {
+      ClusterTask t;
+      t.index = field<std::uint64_t>(tj, "index", file, where);
+      if (t.index != st.tasks.size()) throw std::runtime_error(file + ": " + where + "index: not in order");
+      t.label = field<std::string>(tj, "label", file, where);
+      t.argv = field<std::vector<std::string>>(tj, "argv", file, where);
+      if (t.argv.empty()) throw std::runtime_error(file + ": " + where + "argv: empty");
+      t.inputs = field<std::vector<std::string>>(tj, "inputs", file, where);
+      t.output = field<std::string>(tj, "output", file, where);
+      try {
+        t.kind = kindFromName(field<std::string>(tj, "kind", file, where));
+      } catch (const std::invalid_argument& e) {
+        throw std::runtime_error(file + ": " + where + "kind: " + e.what());
+      }
+      if (t.kind == OutputKind::Results) {
+        const json e = field<json>(tj, "expect", file, where);
+        t.expect_grid = field<std::string>(e, "grid", file, where + "expect.");
+        const auto shard = field<std::vector<std::uint64_t>>(e, "shard", file, where + "expect.");
+        if (shard.size() != 2 || shard[0] >= shard[1])
+          throw std::runtime_error(file + ": " + where + "expect.shard: expected [I, N] with I < N");
+        t.expect_shard = shard[0];
+        t.expect_shards = shard[1];
+      }
+      st.tasks.push_back(std::move(t));
+    }
+    p.stages.push_back(std::move(st));
+  }
+  return p;
+}
+
+std::string shellQuote(const std::string& a) {
+  if (!a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-./=:,+@%") ==
+                        std::string::npos)
+    return a;
+  std::string q = "'";
+  for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+void writeTextAtomically(const std::string& text, const std::filesystem::path& file) {
+  const std::filesystem::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << text;
+    out.flush();
+    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
+  }
+  std::filesystem::rename(tmp, file);
+}
+
+}  // namespace
+
+std::string sbatchScript(const ClusterPlan& plan, const ClusterStage& stage) {
+  const auto& o = plan.slurm;
+  std::ostringstream s;
+  s << "#!/bin/bash\n# occsweep cluster plan, stage " << stage.name << ": " << stage.tasks.size()
+    << " tasks, one occsweep command each. Submitted by `occsweep cluster submit|resubmit`, which adds\n"
+    << "# --array (only the tasks to run), --chdir (the plan folder), --output and --dependency=afterok.\n"
+    << "#SBATCH --job-name=occsweep-" << stage.name << "\n#SBATCH --cpus-per-task=" << o.cpus_per_task << '\n';
+  if (!o.mem.empty()) s << "#SBATCH --mem=" << o.mem << '\n';
+  if (!o.time.empty()) s << "#SBATCH --time=" << o.time << '\n';
+  if (!o.partition.empty()) s << "#SBATCH --partition=" << o.partition << '\n';
+  if (!o.account.empty()) s << "#SBATCH --account=" << o.account << '\n';
+  for (const auto& e : o.extra) s << "#SBATCH " << e << '\n';
+  // Requeue after node failure is safe: every output is written atomically and a sweep resumes.
+  s << "#SBATCH --requeue\nset -euo pipefail\ncase \"${SLURM_ARRAY_TASK_ID:?not run as a job array task}\" in\n";
+  for (const auto& t : stage.tasks) {
+    s << "  " << t.index << ")";
+    for (const auto& a : t.argv) s << ' ' << shellQuote(a);
+    s << " ;;\n";
+  }
+  s << "  *) echo \"stage " << stage.name << " has no task $SLURM_ARRAY_TASK_ID\" >&2; exit 2 ;;\nesac\n";
+  return s.str();
+}
+
+void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool replace) {
+  namespace fs = std::filesystem;
+  const fs::path manifest = dir / "plan.json";
+  const json j = planJson(plan);
+  if (fs::exists(manifest) && !replace) {
+    const ClusterPlan old = readPlan(dir);
+    if (planJson(old) != j)
+      throw std::runtime_error(manifest.string() + ": a different plan is already there (use --replace, or another --out)");
+  }
+  fs::create_directories(dir / "slurm");
+  fs::create_directories(dir / "logs");
+  for (const auto& st : plan.stages) {
+    const fs::path script = dir / "slurm" / (st.name + ".sbatch");
+    writeTextAtomically(sbatchScript(plan, st), script);
+    fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+  }
+  writeJsonAtomically(j, manifest);  // last: a plan folder with plan.json is complete
+}
+
+ClusterPlan readPlan(const std::filesystem::path& dir) {
+  const std::string file = (dir / "plan.json").string();
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file + ": cannot open (not a plan folder?)");
+  json j;
+  try {
+    in >> j;
+  } catch (const json::exception& e) {
+    throw std::runtime_error(file + ": not JSON: " + e.what());
+  }
+  return parsePlan(j, file);
+}
+
+}  // namespace occsweep

@@ -1,0 +1,96 @@
+// Small parsers of the plan options: grid specs, command templates, output kinds.
+#include <stdexcept>
+
+#include "occsweep/sweeps/cluster_plan.hpp"
+
+namespace occsweep {
+
+PlanGrid parsePlanGrid(const std::string& text) {
+  PlanGrid g;
+  const auto bad = [&](const std::string& why) {
+    return std::invalid_argument("--grids '" + text + "': " + why + " (expected NAME[:SHARDS[:grouped]])");
+  };
+  std::vector<std::string> parts;
+  // A grid may be a path: split from the right, at most two fields.
+  std::string rest = text;
+  for (int i = 0; i < 2; ++i) {
+    const auto colon = rest.rfind(':');
+    if (colon == std::string::npos) break;
+    parts.insert(parts.begin(), rest.substr(colon + 1));
+    rest = rest.substr(0, colon);
+  }
+  g.name = rest;
+  if (g.name.empty()) throw bad("empty grid name");
+  if (parts.size() == 2) {
+    if (parts[1] != "grouped") throw bad("third field must be 'grouped'");
+    g.grouped = true;
+  }
+  if (!parts.empty()) {
+    const std::string& n = parts[0];
+    if (n.empty() || n.find_first_not_of("0123456789") != std::string::npos) throw bad("shards must be a number");
+    g.shards = std::stoull(n);
+    if (g.shards == 0) throw bad("shards must be at least 1");
+  }
+  return g;
+}
+
+std::string expandTemplate(const std::string& text, const std::map<std::string, std::string>& values) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '{') {
+      out += text[i];
+      continue;
+    }
+    const auto close = text.find('}', i);
+    if (close == std::string::npos) throw std::invalid_argument("template '" + text + "': '{' without '}'");
+    const std::string key = text.substr(i + 1, close - i - 1);
+    const auto it = values.find(key);
+    if (it == values.end()) {
+      std::string known;
+      for (const auto& [k, v] : values) known += " {" + k + "}";
+      throw std::invalid_argument("template '" + text + "': unknown {" + key + "}; known:" + known);
+    }
+    out += it->second;
+    i = close;
+  }
+  return out;
+}
+
+std::vector<std::string> splitArgs(const std::string& text) {
+  std::vector<std::string> args;
+  std::string cur;
+  for (char c : text) {
+    if (c == ' ' || c == '\t') {
+      if (!cur.empty()) args.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  if (!cur.empty()) args.push_back(cur);
+  return args;
+}
+
+const ClusterStage& stageNamed(const ClusterPlan& plan, const std::string& name) {
+  for (const auto& s : plan.stages)
+    if (s.name == name) return s;
+  throw std::out_of_range("no stage '" + name + "' in the plan");
+}
+
+const char* kindName(OutputKind k) {
+  switch (k) {
+    case OutputKind::Results: return "results";
+    case OutputKind::Comparison: return "comparison";
+    case OutputKind::Dataset: return "dataset";
+    case OutputKind::Exists: return "exists";
+  }
+  return "exists";
+}
+
+OutputKind kindFromName(const std::string& name) {
+  for (auto k : {OutputKind::Results, OutputKind::Comparison, OutputKind::Dataset, OutputKind::Exists})
+    if (name == kindName(k)) return k;
+  throw std::invalid_argument("'" + name + "': expected results, comparison, dataset or exists");
+}
+
+}  // namespace occsweep

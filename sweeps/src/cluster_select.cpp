@@ -1,0 +1,86 @@
+// `cluster select`: one folder of links per data set, pcs-NNNN and rank-N, over the rankings of every generation
+// block, so that sweep tasks planned before generation can name "the 800th ranked point cloud set" (paper 4.3).
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "occsweep/sweeps/cluster_select.hpp"
+#include "occsweep/sweeps/results.hpp"
+
+namespace occsweep {
+namespace fs = std::filesystem;
+namespace {
+
+struct RankedSet {
+  std::string folder;
+  fs::path path;  ///< absolute
+  std::uint64_t id = 0;
+  double fdr = NAN, tpr = NAN;
+};
+
+double number(const nlohmann::json& j, const char* key) {
+  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
+}
+
+/// The generator's order (stereo rankSets, `ranked_by` in ranking.json): naive FDR ascending with NaN last, then
+/// TPR descending when both are numbers, then id; merging blocks by the same key gives the ranking of all sets.
+bool better(const RankedSet& a, const RankedSet& b) {
+  if (std::isnan(a.fdr) != std::isnan(b.fdr)) return !std::isnan(a.fdr);
+  if (!std::isnan(a.fdr) && a.fdr != b.fdr) return a.fdr < b.fdr;
+  if (!std::isnan(a.tpr) && !std::isnan(b.tpr) && a.tpr != b.tpr) return a.tpr > b.tpr;  // as rankSets does
+  return a.id < b.id;
+}
+
+}  // namespace
+
+std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& out) {
+  std::vector<RankedSet> sets;
+  std::set<std::uint64_t> ids;
+  for (const auto& file : rankings) {
+    std::ifstream in(file);
+    if (!in) throw std::runtime_error(file.string() + ": cannot open");
+    nlohmann::json j;
+    try {
+      in >> j;
+      if (j.value("format", "") != "occsweep-pointcloud-ranking")
+        throw std::runtime_error("format: expected \"occsweep-pointcloud-ranking\"");
+      for (const auto& s : j.at("sets")) {
+        RankedSet r{s.at("folder").get<std::string>(), {}, s.at("id").get<std::uint64_t>(), NAN, NAN};
+        r.path = fs::absolute(file).parent_path() / r.folder;
+        if (s.contains("naive")) {
+          r.fdr = number(s["naive"], "fdr");
+          r.tpr = number(s["naive"], "tpr");
+        }
+        if (!fs::is_directory(r.path)) throw std::runtime_error("sets: folder " + r.folder + " not found");
+        if (!ids.insert(r.id).second) throw std::runtime_error("sets: id " + std::to_string(r.id) + " in two rankings");
+        sets.push_back(r);
+      }
+    } catch (const std::exception& e) {
+      throw std::runtime_error(file.string() + ": " + e.what());
+    }
+  }
+  if (sets.empty()) throw std::runtime_error("no point cloud sets in the rankings");
+  std::stable_sort(sets.begin(), sets.end(), better);
+  // Built beside `out` and renamed into place: a killed task leaves no half folder.
+  const fs::path target = fs::absolute(out);
+  const fs::path tmp = target.string() + ".tmp-" + std::to_string(::getpid());
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t r = 0; r < sets.size(); ++r) {
+    const fs::path link = fs::relative(sets[r].path, target);
+    fs::create_directory_symlink(link, tmp / sets[r].folder);
+    fs::create_directory_symlink(link, tmp / ("rank-" + std::to_string(r + 1)));
+    list.push_back({{"rank", r + 1}, {"id", sets[r].id}, {"folder", sets[r].folder}, {"path", link.string()}});
+  }
+  writeJsonAtomically({{"format", "occsweep-selected-sets"}, {"sets", list}}, tmp / "sets.json");
+  fs::remove_all(target);
+  fs::rename(tmp, target);
+  return sets.size();
+}
+
+}  // namespace occsweep

@@ -1,0 +1,140 @@
+// Talking to Slurm: reading its records of a plan's array tasks, and submitting stages as chained job arrays.
+#include <set>
+#include <sstream>
+
+#include "occsweep/sweeps/cluster_slurm.hpp"
+
+namespace occsweep {
+namespace fs = std::filesystem;
+namespace {
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty()) out.push_back(l);
+  return out;
+}
+
+std::vector<std::string> splitOn(const std::string& text, char sep) {
+  std::vector<std::string> out;
+  std::string cur;
+  std::istringstream in(text);
+  while (std::getline(in, cur, sep)) out.push_back(cur);
+  return out;
+}
+
+bool numeric(const std::string& s) { return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos; }
+
+/// "CANCELLED by 0" -> "CANCELLED".
+std::string firstWord(const std::string& s) { return s.substr(0, s.find(' ')); }
+
+}  // namespace
+
+std::map<std::string, SlurmRecord> querySlurm(const std::vector<Submission>& submissions) {
+  std::map<std::string, SlurmRecord> out;
+  std::set<std::string> jobs;
+  for (const auto& s : submissions) jobs.insert(s.job_id);
+  for (const auto& job : jobs) {
+    std::map<std::string, SlurmRecord> live, kept, accounted;
+    // Live tasks, one line each (-r), pending ones too: "12_3|PENDING|Dependency".
+    const auto q = runCapture({"squeue", "-h", "-r", "-j", job, "-o", "%i|%T|%r"}, true);
+    if (q.exit_code == 0)
+      for (const auto& l : lines(q.text)) {
+        const auto f = splitOn(l, '|');
+        if (f.size() >= 3 && f[0].rfind(job + "_", 0) == 0 && numeric(f[0].substr(job.size() + 1)))
+          live[f[0]] = {f[1], f[2]};
+      }
+    // Finished tasks while slurmctld keeps them (MinJobAge): "... ArrayJobId=12 ArrayTaskId=3 ... JobState=FAILED".
+    const auto c = runCapture({"scontrol", "-o", "show", "job", job}, true);
+    if (c.exit_code == 0)
+      for (const auto& l : lines(c.text)) {
+        std::string array_job, task, state, reason;
+        for (const auto& tok : splitOn(l, ' ')) {
+          const auto eq = tok.find('=');
+          if (eq == std::string::npos) continue;
+          const std::string key = tok.substr(0, eq), value = tok.substr(eq + 1);
+          if (key == "ArrayJobId") array_job = value;
+          else if (key == "ArrayTaskId") task = value;
+          else if (key == "JobState") state = value;
+          else if (key == "Reason") reason = value;
+        }
+        if (array_job == job && numeric(task)) kept[job + "_" + task] = {state, reason};
+      }
+    // Accounting, where slurmdbd runs (real clusters keep records long after MinJobAge).
+    const auto a = live.empty() && kept.empty()
+                       ? runCapture({"sacct", "-n", "-P", "-X", "-j", job, "-o", "JobID,State"}, true)
+                       : ProcessOutput{};
+    if (a.exit_code == 0)
+      for (const auto& l : lines(a.text)) {
+        const auto f = splitOn(l, '|');
+        if (f.size() >= 2 && f[0].rfind(job + "_", 0) == 0 && numeric(f[0].substr(job.size() + 1)))
+          accounted[f[0]] = {firstWord(f[1]), ""};
+      }
+    for (auto* m : {&accounted, &kept, &live})
+      for (auto& [k, v] : *m) out[k] = v;  // later sources win: live over kept over accounted
+  }
+  return out;
+}
+
+SubmitReport submitPlan(const ClusterPlan& plan, const fs::path& dir, bool resubmit, std::ostream& log) {
+  SubmitReport report;
+  const auto subs = readSubmissions(dir);
+  if (!resubmit && !subs.empty())
+    throw std::runtime_error((dir / "submissions.jsonl").string() + ": the plan was submitted already (" +
+                             std::to_string(subs.size()) + " arrays): use `cluster status` and `cluster resubmit`");
+  auto records = querySlurm(subs);
+  // Tasks waiting on a dependency that failed never start: cancel them, they are submitted again below.
+  for (auto& [id, rec] : records)
+    if (rec.state == "PENDING" && rec.reason == "DependencyNeverSatisfied") {
+      (void)runCapture({"scancel", id}, true);
+      report.cancelled.push_back(id);
+      rec = {"CANCELLED", "resubmit"};
+    }
+  const auto status = planStatus(plan, dir, records, subs);
+  std::size_t live = 0;
+  for (const auto& row : status)
+    for (const auto& t : row) live += t.state == TaskState::Running || t.state == TaskState::Pending;
+  if (live)
+    throw std::runtime_error(std::to_string(live) + " tasks of the plan are still running or pending: wait for them "
+                             "(`cluster status DIR --wait`) or scancel them, then resubmit");
+  const auto torun = tasksToRun(plan, status);
+  std::map<std::string, std::string> submitted;  // stage -> job id, this round
+  for (std::size_t s = 0; s < plan.stages.size(); ++s) {
+    const ClusterStage& stage = plan.stages[s];
+    if (torun[s].empty()) continue;
+    // An output that is rewritten must not be taken as done meanwhile (a sweep keeps a complete file).
+    for (auto t : torun[s]) {
+      std::error_code ec;
+      if (fs::is_regular_file(dir / stage.tasks[t].output, ec)) fs::remove(dir / stage.tasks[t].output, ec);
+    }
+    std::vector<std::string> argv = {"sbatch", "--parsable", "--array=" + arrayRanges(torun[s]),
+                                     "--chdir=" + fs::absolute(dir).string(),
+                                     "--output=" + (fs::absolute(dir) / "logs" / (stage.name + "-%A_%a.out")).string()};
+    std::string deps;
+    for (const auto& a : stage.after)
+      if (submitted.count(a)) deps += ":" + submitted[a];
+    if (!deps.empty()) {
+      argv.push_back("--dependency=afterok" + deps);
+      argv.push_back("--kill-on-invalid-dep=yes");  // a failed dependency cancels this array, not leaves it pending
+    }
+    argv.push_back((fs::absolute(dir) / "slurm" / (stage.name + ".sbatch")).string());
+    const auto r = runCapture(argv);
+    const auto got = lines(r.text);
+    const std::string job = got.empty() ? "" : firstWord(splitOn(got.back(), ';')[0]);
+    if (r.exit_code != 0 || !numeric(job))
+      throw std::runtime_error("sbatch of stage " + stage.name + " failed (exit " + std::to_string(r.exit_code) +
+                               ")" + (report.submitted.empty() ? "" : ": earlier stages were submitted, see status"));
+    const Submission sub{stage.name, job, torun[s]};
+    appendSubmission(dir, sub);
+    submitted[stage.name] = job;
+    report.submitted.push_back(sub);
+    log << "stage " << stage.name << ": job " << job << ", " << torun[s].size() << " of " << stage.tasks.size()
+        << " tasks (--array=" << arrayRanges(torun[s]) << ")" << (deps.empty() ? "" : ", after " + deps.substr(1))
+        << '\n';
+  }
+  if (report.submitted.empty()) log << "nothing to submit: every task is done\n";
+  return report;
+}
+
+}  // namespace occsweep

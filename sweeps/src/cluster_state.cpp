@@ -1,0 +1,177 @@
+// Task status from outputs on disk and Slurm's records, and which tasks a resubmission must run.
+#include <fstream>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "occsweep/sweeps/cluster_state.hpp"
+#include "occsweep/sweeps/merge.hpp"
+
+namespace occsweep {
+namespace fs = std::filesystem;
+
+std::string checkOutput(const ClusterTask& task, const fs::path& dir) {
+  const fs::path file = dir / task.output;
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return "missing";
+  try {
+    switch (task.kind) {
+      case OutputKind::Exists:
+        return "";
+      case OutputKind::Dataset: {
+        std::ifstream in(file / "manifest.json");
+        if (!in) return "no manifest.json";
+        const auto manifest = nlohmann::json::parse(in);
+        return manifest.is_object() ? "" : "manifest.json is not an object";
+      }
+      case OutputKind::Comparison: {
+        std::ifstream in(file);
+        const auto j = nlohmann::json::parse(in);
+        if (!j.is_object() || j.value("format", "") != "occsweep-comparison" || !j.contains("rows") ||
+            !j["rows"].is_array())
+          return "not an occsweep-comparison file";
+        return "";
+      }
+      case OutputKind::Results: {
+        const ResultsFile f = readResults(file);
+        if (!f.complete) return "incomplete results";
+        if (f.header.grid_name != task.expect_grid)
+          return "grid " + f.header.grid_name + ", expected " + task.expect_grid;
+        const auto& s = f.header.selection;
+        if (s.shard_index != task.expect_shard || s.shard_count != task.expect_shards)
+          return "shard " + std::to_string(s.shard_index) + "/" + std::to_string(s.shard_count) + ", expected " +
+                 std::to_string(task.expect_shard) + "/" + std::to_string(task.expect_shards);
+        (void)checkAgainstGrid(f, file.string());
+        return "";
+      }
+    }
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool outputStale(const ClusterTask& task, const fs::path& dir) {
+  std::error_code ec;
+  const auto out_time = fs::last_write_time(dir / task.output, ec);
+  if (ec) return false;
+  for (const auto& in : task.inputs) {
+    const auto t = fs::last_write_time(dir / in, ec);
+    if (!ec && t > out_time) return true;
+  }
+  return false;
+}
+
+std::vector<Submission> readSubmissions(const fs::path& dir) {
+  std::vector<Submission> out;
+  const std::string file = (dir / "submissions.jsonl").string();
+  std::ifstream in(file);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    try {
+      const auto j = nlohmann::json::parse(line);
+      out.push_back({j.at("stage").get<std::string>(), j.at("job_id").get<std::string>(),
+                     j.at("tasks").get<std::vector<std::uint64_t>>()});
+    } catch (const std::exception& e) {
+      throw std::runtime_error(file + ":" + std::to_string(n) + ": not a submission record: " + e.what());
+    }
+  }
+  return out;
+}
+
+void appendSubmission(const fs::path& dir, const Submission& s) {
+  std::ofstream out(dir / "submissions.jsonl", std::ios::app);
+  out << nlohmann::json{{"stage", s.stage}, {"job_id", s.job_id}, {"tasks", s.tasks}}.dump() << '\n';
+  out.flush();
+  if (!out) throw std::runtime_error((dir / "submissions.jsonl").string() + ": cannot append");
+}
+
+const char* stateName(TaskState s) {
+  switch (s) {
+    case TaskState::Done: return "done";
+    case TaskState::Running: return "running";
+    case TaskState::Pending: return "pending";
+    case TaskState::Failed: return "failed";
+    case TaskState::Stale: return "stale";
+    case TaskState::Invalid: return "invalid";
+    case TaskState::Missing: return "missing";
+  }
+  return "missing";
+}
+
+std::vector<std::vector<TaskStatus>> planStatus(const ClusterPlan& plan, const fs::path& dir,
+                                                const std::map<std::string, SlurmRecord>& records,
+                                                const std::vector<Submission>& submissions) {
+  std::map<std::pair<std::string, std::uint64_t>, std::string> latest;  // (stage, task) -> JOBID_TASK
+  for (const auto& s : submissions)
+    for (auto t : s.tasks) latest[{s.stage, t}] = s.job_id + "_" + std::to_string(t);
+  static const std::set<std::string> pending = {"PENDING", "REQUEUED", "REQUEUE_HOLD", "REQUEUE_FED", "SUSPENDED"};
+  static const std::set<std::string> running = {"RUNNING", "CONFIGURING", "COMPLETING", "RESIZING", "STAGE_OUT",
+                                                "SIGNALING"};
+  std::vector<std::vector<TaskStatus>> out;
+  for (const auto& stage : plan.stages) {
+    auto& row = out.emplace_back();
+    for (const auto& task : stage.tasks) {
+      TaskStatus st;
+      const auto id = latest.find({stage.name, task.index});
+      const SlurmRecord* rec = nullptr;
+      if (id != latest.end()) {
+        st.slurm_id = id->second;
+        const auto r = records.find(id->second);
+        if (r != records.end()) rec = &r->second;
+      }
+      if (rec && (pending.count(rec->state) || running.count(rec->state))) {
+        st.state = pending.count(rec->state) ? TaskState::Pending : TaskState::Running;
+        st.detail = rec->reason;
+      } else if (const std::string why = checkOutput(task, dir); why.empty()) {
+        st.state = outputStale(task, dir) ? TaskState::Stale : TaskState::Done;
+        if (st.state == TaskState::Stale) st.detail = "older than an input";
+      } else if (rec) {
+        st.state = TaskState::Failed;
+        st.detail = rec->state == "COMPLETED" ? "slurm COMPLETED but output: " + why
+                                              : "slurm " + rec->state + "; output: " + why;
+      } else {
+        std::error_code ec;
+        st.state = fs::exists(dir / task.output, ec) ? TaskState::Invalid : TaskState::Missing;
+        st.detail = why;
+      }
+      row.push_back(st);
+    }
+  }
+  return out;
+}
+
+std::vector<std::vector<std::uint64_t>> tasksToRun(const ClusterPlan& plan,
+                                                   const std::vector<std::vector<TaskStatus>>& status) {
+  std::set<std::string> rewritten;  // outputs that this round writes again
+  std::vector<std::vector<std::uint64_t>> out;
+  for (std::size_t s = 0; s < plan.stages.size(); ++s) {
+    auto& ids = out.emplace_back();
+    for (const auto& task : plan.stages[s].tasks) {
+      const TaskState st = status[s][task.index].state;
+      if (st == TaskState::Running || st == TaskState::Pending) continue;
+      bool run = st != TaskState::Done;
+      for (const auto& in : task.inputs) run = run || rewritten.count(in);
+      if (!run) continue;
+      ids.push_back(task.index);
+      rewritten.insert(task.output);
+    }
+  }
+  return out;
+}
+
+std::string arrayRanges(const std::vector<std::uint64_t>& ids) {
+  std::string out;
+  for (std::size_t i = 0; i < ids.size();) {
+    std::size_t j = i;
+    while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) ++j;
+    if (!out.empty()) out += ',';
+    out += std::to_string(ids[i]);
+    if (j > i) out += "-" + std::to_string(ids[j]);
+    i = j + 1;
+  }
+  return out;
+}
+
+}  // namespace occsweep

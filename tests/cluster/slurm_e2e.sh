@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# End-to-end test of `occsweep cluster` on a real one-node Slurm (run by tests/test_cluster.cpp, or by hand as root):
+#  1. installs Slurm when missing, starts it on loopback; stops it on exit, also on failure (trap);
+#  2. plans a small reproduction (2 data sets of the built-in scene, 2 + 3 + 2 sweep shards each) twice: runs one
+#     with `run-local -j 2`, submits the other, waits, checks status;
+#  3. removes one sweep shard and blocks its path, so its task fails: status must show it failed, resubmit must
+#     submit only it (and the merge and report after it);
+#  4. unblocks it, resubmits only it again, waits: everything done.
+# The caller compares WORK/local/merged, WORK/first-merged and WORK/slurm/merged (identical results expected).
+# Usage: slurm_e2e.sh OCCSWEEP_BINARY WORK_DIR
+set -euo pipefail
+[[ $# -eq 2 ]] || { echo "usage: $0 OCCSWEEP_BINARY WORK_DIR" >&2; exit 2; }
+root=$(cd "$(dirname "$0")/../.." && pwd)
+bin=$1
+work=$2
+rm -rf "$work"
+mkdir -p "$work"
+run=$(mktemp -d /tmp/occsweep-slurm.XXXXXX)
+finish() {
+  local rc=$?
+  if ((rc != 0)); then
+    echo "slurm_e2e: FAILED (exit $rc); last lines of the Slurm logs:" >&2
+    tail -n 15 "$run"/log/slurmctld.log "$run"/log/slurmd.log >&2 2>/dev/null || true
+  fi
+  bash "$root/tools/slurm/stop.sh" "$run" || true
+  rm -rf "$run"
+  exit "$rc"
+}
+trap finish EXIT
+trap 'exit 130' INT TERM HUP  # so that the EXIT trap stops Slurm on these too
+fail() { echo "slurm_e2e: $*" >&2; exit 1; }
+t0=$SECONDS
+
+bash "$root/tools/slurm/install.sh"
+eval "$(bash "$root/tools/slurm/start.sh" "$run")"
+echo "slurm_e2e: Slurm up after $((SECONDS - t0)) s (SLURM_CONF=$SLURM_CONF)"
+
+plan_args=(--experiment reproduce --datasets ds0,ds1 --unranked --generate "scene --out {out} --seed {seed}"
+           --generate-out "data/{dataset}" --generate-kind dataset
+           --grids octomap-opt:2,knn-opt:3,reduction:2:grouped --cpus-per-task 1 --mem 400M --time 00:10:00)
+"$bin" cluster plan --out "$work/local" "${plan_args[@]}"
+"$bin" cluster plan --out "$work/slurm" "${plan_args[@]}"
+
+"$bin" cluster run-local "$work/local" -j 2
+"$bin" cluster status "$work/local" || fail "run-local left tasks not done"
+echo "slurm_e2e: run-local done after $((SECONDS - t0)) s"
+
+"$bin" cluster submit "$work/slurm"
+"$bin" cluster status "$work/slurm" --wait --poll 1 --timeout 150 || fail "Slurm run not done"
+cp -r "$work/slurm/merged" "$work/first-merged"
+echo "slurm_e2e: Slurm run done after $((SECONDS - t0)) s"
+
+# One task fails on purpose: its output path is a folder, so the sweep cannot read or replace it.
+victim=sweeps/ds1/knn-opt/shard-1-of-3.json
+index=$("$bin" cluster status "$work/slurm" --all | sed -n "s|^  done sweep\[\([0-9]*\)\] .* -> $victim\$|\1|p")
+[[ -n $index ]] || fail "no sweep task writes $victim"
+rm "$work/slurm/$victim"
+mkdir "$work/slurm/$victim"
+"$bin" cluster resubmit "$work/slurm" | tee "$work/resubmit-1.txt"
+grep -q "^stage sweep: job [0-9]*, 1 of 14 tasks (--array=$index)" "$work/resubmit-1.txt" || fail "resubmit did not submit sweep task $index alone"
+grep -q "^stage generate" "$work/resubmit-1.txt" && fail "resubmit submitted generation again"
+"$bin" cluster status "$work/slurm" --wait --poll 1 --timeout 60 | tee "$work/status-failed.txt" && fail "status says done after a failed task"
+grep -q "^stage sweep: 14 tasks: 13 done, 0 running, 0 pending, 1 failed," "$work/status-failed.txt" || fail "status does not count one failed sweep task"
+grep -q "^  failed sweep\[$index\] .* -> $victim: slurm FAILED" "$work/status-failed.txt" || fail "status does not show task $index failed"
+echo "slurm_e2e: failed task shown after $((SECONDS - t0)) s"
+
+rmdir "$work/slurm/$victim"
+"$bin" cluster resubmit "$work/slurm" | tee "$work/resubmit-2.txt"
+grep -q "^stage sweep: job [0-9]*, 1 of 14 tasks (--array=$index)" "$work/resubmit-2.txt" || fail "second resubmit did not submit task $index alone"
+"$bin" cluster status "$work/slurm" --wait --poll 1 --timeout 60 || fail "not done after resubmitting the failed task"
+"$bin" cluster resubmit "$work/slurm" | grep -q "nothing to submit" || fail "resubmit of a finished plan submitted work"
+echo "slurm_e2e: passed in $((SECONDS - t0)) s"

@@ -1,0 +1,220 @@
+// Cluster plans without Slurm: --array syntax, plan structure, the sbatch scripts' commands, run-local against an
+// unsharded sweep, and status/resubmission decisions from the outputs on disk.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "occsweep/core/splitmix64.hpp"
+#include "occsweep/sweeps/cluster_slurm.hpp"
+#include "occsweep/sweeps/grid.hpp"
+#include "occsweep/sweeps/merge.hpp"
+#include "test_helpers.hpp"
+
+using namespace occsweep;
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+
+namespace {
+
+/// Slurm's --array syntax read back: "0-3,7" -> {0,1,2,3,7}.
+std::vector<std::uint64_t> expandRanges(const std::string& text) {
+  std::vector<std::uint64_t> out;
+  std::istringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) {
+    const auto dash = part.find('-');
+    const auto a = std::stoull(part.substr(0, dash)), b = dash == std::string::npos ? a : std::stoull(part.substr(dash + 1));
+    for (auto i = a; i <= b; ++i) out.push_back(i);
+  }
+  return out;
+}
+
+PlanConfig sceneConfig(std::vector<std::string> datasets, std::vector<PlanGrid> grids) {
+  PlanConfig c;
+  c.occsweep = OCCSWEEP_CLI;
+  c.datasets = std::move(datasets);
+  c.generate = "scene --out {out} --seed {seed}";
+  c.generate_kind = OutputKind::Dataset;
+  c.generate_out = "data/{dataset}";
+  c.blocks = 1;
+  c.ranked = false;
+  c.sets = {"."};
+  c.group_set.clear();
+  c.grids = std::move(grids);
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("arrayRanges gives Slurm's --array syntax that reads back to the same ids over many random sets") {
+  SplitMix64 rng(7);
+  for (int round = 0; round < 500; ++round) {
+    std::set<std::uint64_t> ids;
+    const auto n = rng.below(40);
+    for (std::uint64_t i = 0; i < n; ++i) ids.insert(rng.below(60));
+    const std::vector<std::uint64_t> sorted(ids.begin(), ids.end());
+    const std::string text = arrayRanges(sorted);
+    CHECK(expandRanges(text.empty() ? std::string() : text) == sorted);
+    CHECK(text.find("--") == std::string::npos);
+  }
+  CHECK(arrayRanges({0, 1, 2, 3, 7, 9, 10}) == "0-3,7,9-10");
+}
+
+TEST_CASE("plan option parsers refuse what they cannot read and name it") {
+  CHECK(parsePlanGrid("knn-opt").shards == 1);
+  const PlanGrid g = parsePlanGrid("reduction:8:grouped");
+  CHECK((g.name == "reduction" && g.shards == 8 && g.grouped));
+  CHECK(parsePlanGrid("/a/b.json:3").name == "/a/b.json");
+  CHECK_THROWS_WITH(parsePlanGrid("knn-opt:0"), Contains("knn-opt:0"));
+  CHECK_THROWS_WITH(parsePlanGrid("knn-opt:x"), Contains("number"));
+  CHECK_THROWS_WITH(parsePlanGrid("knn-opt:2:split"), Contains("grouped"));
+  CHECK(expandTemplate("a {x}-{y}", {{"x", "1"}, {"y", "2"}}) == "a 1-2");
+  CHECK_THROWS_WITH(expandTemplate("{nope}", {{"x", "1"}}), Contains("{nope}") && Contains("{x}"));
+  CHECK_THROWS_WITH(expandTemplate("{x", {{"x", "1"}}), Contains("without"));
+  PlanConfig c = sceneConfig({"a"}, {{"octomap-opt", 21, false}});
+  CHECK_THROWS_WITH(buildPlan(c), Contains("21 shards but only 20 maps"));
+  c.grids = {{"no-such-grid", 1, false}};
+  CHECK_THROWS(buildPlan(c));
+  c.grids = {{"knn-opt", 2, false}, {"knn-opt", 3, false}};
+  CHECK_THROWS_WITH(buildPlan(c), Contains("twice"));
+}
+
+TEST_CASE("a plan has every shard once and merges take exactly their shards and plan.json reads back the same") {
+  SplitMix64 rng(11);
+  for (int round = 0; round < 20; ++round) {
+    const auto nd = 1 + rng.below(4), so = 1 + rng.below(20), sk = 1 + rng.below(30), sr = 1 + rng.below(5);
+    std::vector<std::string> names;
+    for (std::uint64_t i = 0; i < nd; ++i) names.push_back("d" + std::to_string(i));
+    const ClusterPlan p = buildPlan(sceneConfig(names, {{"octomap-opt", so, false}, {"knn-opt", sk, false},
+                                                        {"reduction", sr, true}}));
+    REQUIRE(p.stages.size() == 4);
+    CHECK(stageNamed(p, "generate").tasks.size() == nd);
+    const auto& sweep = stageNamed(p, "sweep").tasks;
+    CHECK(sweep.size() == nd * (so + sk + sr));
+    std::set<std::string> outputs;
+    for (const auto& t : sweep) outputs.insert(t.output);
+    CHECK(outputs.size() == sweep.size());
+    std::set<std::string> merged_inputs;
+    for (const auto& m : stageNamed(p, "merge").tasks) {
+      const auto shards = m.expect_grid == "octomap-opt" ? so : m.expect_grid == "knn-opt" ? sk : sr;
+      CHECK(m.inputs.size() == shards);
+      for (std::size_t k = 0; k < m.inputs.size(); ++k) {
+        CHECK(m.inputs[k].find("shard-" + std::to_string(k) + "-of-" + std::to_string(shards)) != std::string::npos);
+        merged_inputs.insert(m.inputs[k]);
+      }
+    }
+    CHECK(merged_inputs == outputs);  // no shard left out, none merged twice
+    // The report compares the optimisation grids only (grouped reduction results answer another question).
+    CHECK(stageNamed(p, "report").tasks.at(0).inputs.size() == 2 * nd);
+    const auto dir = test::scratch("cluster-plan-io");
+    writePlan(p, dir, false);
+    const ClusterPlan back = readPlan(dir);
+    for (const auto& s : p.stages) CHECK(sbatchScript(back, stageNamed(back, s.name)) == sbatchScript(p, s));
+    writePlan(p, dir, false);  // the same plan again is fine
+    ClusterPlan other = p;
+    other.slurm.mem = "9G";
+    CHECK_THROWS_WITH(writePlan(other, dir, false), Contains("different plan"));
+  }
+}
+
+TEST_CASE("each sbatch array task runs exactly its task's command with its arguments intact") {
+  const auto dir = test::scratch("cluster-sbatch");
+  const fs::path echo = dir / "print-args.sh";
+  std::ofstream(echo) << "#!/bin/sh\nfor a in \"$@\"; do printf '%s\\n' \"$a\"; done\n";
+  fs::permissions(echo, fs::perms::owner_all);
+  PlanConfig c = sceneConfig({"x"}, {{"octomap-opt", 3, false}, {"knn-opt", 2, false}});
+  c.experiment = "sweep";
+  c.datasets = {(dir / "it's a data set").string()};
+  c.occsweep = echo.string();
+  const ClusterPlan p = buildPlan(c);
+  writePlan(p, dir / "plan", false);
+  for (const auto& stage : p.stages)
+    for (const auto& t : stage.tasks) {
+      const auto r = [&] {
+        const std::string cmd = "SLURM_ARRAY_TASK_ID=" + std::to_string(t.index) + " bash '" +
+                                (dir / "plan" / "slurm" / (stage.name + ".sbatch")).string() + "'";
+        FILE* pipe = ::popen(cmd.c_str(), "r");
+        std::string out;
+        char buf[4096];
+        while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
+        ::pclose(pipe);
+        return out;
+      }();
+      std::string expected;
+      for (std::size_t i = 1; i < t.argv.size(); ++i) expected += t.argv[i] + "\n";
+      CHECK(r == expected);
+    }
+  CHECK(stageNamed(p, "sweep").tasks[0].argv.at(3) == (dir / "it's a data set").string());
+}
+
+TEST_CASE("run-local gives the unsharded sweep's numbers and status and resubmission follow the outputs on disk") {
+  const auto dir = test::scratch("cluster-local");
+  const fs::path plan_dir = dir / "plan";
+  const ClusterPlan p = buildPlan(sceneConfig({"a", "b"}, {{"octomap-opt", 3, false}, {"knn-opt", 4, false}}));
+  writePlan(p, plan_dir, false);
+  REQUIRE(runLocal(p, plan_dir, 2) == 0);
+  // Oracle: one unsharded sweep per data set, run directly.
+  for (const char* d : {"a", "b"})
+    for (const char* g : {"octomap-opt", "knn-opt"}) {
+      const fs::path whole = dir / (std::string(d) + "-" + g + ".json");
+      const auto r = test::runCli("sweep --quiet --dataset " + (plan_dir / "data" / d).string() + " --grid " + g +
+                                  " --out " + whole.string());
+      REQUIRE(r.exit_code == 0);
+      const auto diff = resultDifferences(readResults(whole), readResults(plan_dir / "merged" / d / (std::string(g) + ".json")));
+      CHECK(diff.empty());
+    }
+  auto status = planStatus(p, plan_dir, {}, {});
+  for (const auto& row : status)
+    for (const auto& t : row) CHECK(t.state == TaskState::Done);
+  for (const auto& ids : tasksToRun(p, status)) CHECK(ids.empty());
+
+  // A missing shard, a truncated shard (a half file) and a shard of another grid: exactly those and what is
+  // downstream of them run again.
+  const auto& sweep = stageNamed(p, "sweep").tasks;
+  fs::remove(plan_dir / sweep[1].output);
+  { std::ofstream(plan_dir / sweep[5].output, std::ios::trunc) << "{\"format\": \"occsweep-res"; }
+  fs::copy_file(plan_dir / sweep[2].output, plan_dir / sweep[8].output, fs::copy_options::overwrite_existing);
+  status = planStatus(p, plan_dir, {}, {});
+  CHECK(status[1][1].state == TaskState::Missing);
+  CHECK(status[1][5].state == TaskState::Invalid);
+  CHECK(status[1][8].state == TaskState::Invalid);
+  CHECK_THAT(status[1][8].detail, Contains("expected"));
+  auto torun = tasksToRun(p, status);
+  CHECK(torun[0].empty());
+  CHECK(torun[1] == std::vector<std::uint64_t>{1, 5, 8});
+  // Sweep tasks: a octomap 0-2, a knn 3-6, b octomap 7-9, b knn 10-13; merges: a octomap, a knn, b octomap, b knn.
+  CHECK(torun[2] == std::vector<std::uint64_t>{0, 1, 2});
+  CHECK(torun[3] == std::vector<std::uint64_t>{0});
+  // Slurm's word: a live task is not run twice; a failed one is failed.
+  const std::vector<Submission> subs = {{"sweep", "41", {1, 5, 8}}};
+  status = planStatus(p, plan_dir, {{"41_1", {"RUNNING", ""}}, {"41_5", {"FAILED", "NonZeroExitCode"}}}, subs);
+  CHECK(status[1][1].state == TaskState::Running);
+  CHECK(status[1][5].state == TaskState::Failed);
+  CHECK(status[1][8].state == TaskState::Invalid);
+  CHECK(tasksToRun(p, status)[1] == std::vector<std::uint64_t>{5, 8});
+  // run-local repairs exactly that, and the numbers are the same again.
+  REQUIRE(runLocal(p, plan_dir, 2) == 0);
+  for (const auto& row : planStatus(p, plan_dir, {}, {}))
+    for (const auto& t : row) CHECK(t.state == TaskState::Done);
+  CHECK(resultDifferences(readResults(dir / "a-knn-opt.json"), readResults(plan_dir / "merged/a/knn-opt.json")).empty());
+  // A shard redone after its merge makes the merge stale.
+  fs::last_write_time(plan_dir / sweep[0].output, fs::file_time_type::clock::now() + std::chrono::seconds(5));
+  status = planStatus(p, plan_dir, {}, {});
+  CHECK(status[2][0].state == TaskState::Stale);
+  CHECK(tasksToRun(p, status)[2] == std::vector<std::uint64_t>{0});
+}
+
+TEST_CASE("cluster commands refuse a folder without a plan and a failing task makes run-local exit non-zero") {
+  const auto dir = test::scratch("cluster-errors");
+  auto r = test::runCli("cluster status " + dir.string());
+  CHECK(r.exit_code != 0);
+  CHECK_THAT(r.output, Contains("plan.json"));
+  r = test::runCli("cluster plan --out " + (dir / "p").string() + " --experiment sweep --datasets " +
+                   (dir / "none").string() + " --grids octomap-opt:2");
+  REQUIRE(r.exit_code == 0);
+  r = test::runCli("cluster run-local " + (dir / "p").string() + " -j 2");
+  CHECK(r.exit_code != 0);
+  CHECK_THAT(r.output, Contains("failed"));
+  CHECK_FALSE(fs::exists(dir / "p" / "merged"));
+}
