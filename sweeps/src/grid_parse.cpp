@@ -141,7 +141,7 @@ GridSpec loadGrid(const std::filesystem::path& file) {
   json j;
   try {
     j = json::parse(bytes);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
     throw std::runtime_error(file.string() + ": not valid JSON: " + e.what());
   }
   GridSpec g = parseGrid(j, file.string());

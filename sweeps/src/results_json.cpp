@@ -228,7 +228,7 @@ ResultsFile readResults(const std::filesystem::path& file) {
   json j;
   try {
     j = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
     throw std::runtime_error(file.string() + ": not valid JSON (truncated?): " + e.what());
   }
   return parseResults(j, file.string());

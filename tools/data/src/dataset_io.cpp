@@ -95,7 +95,7 @@ json readJson(const fs::path& file) {
   if (!in) throw DataError(file, "", "file is missing or unreadable");
   try {
     return json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
     throw DataError(file, "", std::string("not valid JSON: ") + e.what());
   }
 }

@@ -1,0 +1,48 @@
+// Point clouds of real recordings (issue 8): PLY (ascii, binary little and big endian), PCD (ascii, binary) and
+// plain `x y z` text, one cloud a scan with an optional pose list.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "dataset.hpp"
+#include "import_pose.hpp"
+
+namespace occsweep {
+
+/// A PLY file's vertices and, when it has a face element, its faces fan-triangulated.
+struct PlyData {
+  std::vector<octomap::point3d> vertices;
+  std::vector<Triangle> triangles;
+};
+
+/// DataError for a wrong magic, an unknown format or type, counts the bytes cannot hold, a truncated body, NaN or
+/// infinite coordinates, face indices out of range, faces of fewer than 3 vertices, or trailing data.
+[[nodiscard]] PlyData decodePly(std::string_view bytes, const std::filesystem::path& file);
+
+/// PCD v0.7 ascii or binary (binary_compressed is refused). Points whose x, y and z are all NaN are PCL's "no
+/// return" in organised clouds: skipped and counted in `skipped_nan`; any other NaN or infinity is an error.
+[[nodiscard]] std::vector<octomap::point3d> decodePcd(std::string_view bytes, const std::filesystem::path& file,
+                                                      std::size_t* skipped_nan = nullptr);
+
+/// One point a line, `x y z` then optional extra columns (ignored); `#` comments and blank lines skipped.
+[[nodiscard]] std::vector<octomap::point3d> decodeXyz(std::string_view bytes, const std::filesystem::path& file);
+
+/// By extension: .ply, .pcd, anything else is `x y z` text.
+[[nodiscard]] std::vector<octomap::point3d> decodeCloud(std::string_view bytes, const std::filesystem::path& file);
+[[nodiscard]] std::vector<octomap::point3d> readCloud(const std::filesystem::path& file);
+
+struct CloudImportConfig {
+  std::optional<std::filesystem::path> pose_file;  ///< one pose a cloud, sensor -> world; none: world frame
+  PoseFormat pose_format = PoseFormat::Quaternion;
+  std::array<double, 3> origin{0, 0, 0};           ///< sensor origin of every cloud when there is no pose file
+  bool skip_empty = false;
+};
+
+/// One scan a cloud file, in order; progress on stderr. A data set without ground truth.
+[[nodiscard]] Dataset importClouds(const std::vector<std::filesystem::path>& clouds, const CloudImportConfig& config);
+
+}  // namespace occsweep

@@ -1,0 +1,44 @@
+// What an imported recording becomes: a data set without ground truth until `import truth` adds one.
+#pragma once
+
+#include <iostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "dataset.hpp"
+
+namespace occsweep {
+
+/// Axis-aligned bounding box of every point and every origin of `scans` (which must not be empty).
+[[nodiscard]] AxisBox boundingBox(const PointCloudSet& scans);
+
+/// A data set of real scans without ground truth: empty truth sources and, as evaluation region, the bounding box
+/// of the points and origins, so that readDataset accepts it unchanged and `map` prints no confusion counts
+/// (docs/import.md). `source` records the reader and its settings; source.truth is set to "none".
+[[nodiscard]] Dataset importedDataset(std::string name, PointCloudSet scans, nlohmann::json source);
+
+/// "label i/n" on one stderr line, rewritten in place; the line is ended when the import ends, also by an error,
+/// so that an error message starts on its own line.
+class ProgressLine {
+ public:
+  explicit ProgressLine(std::string label) : label_(std::move(label)) {}
+  ProgressLine(const ProgressLine&) = delete;
+  ProgressLine& operator=(const ProgressLine&) = delete;
+  ~ProgressLine() {
+    if (shown_) std::cerr << '\n';
+  }
+  void show(std::size_t done, std::size_t total) {
+    std::cerr << '\r' << label_ << ' ' << done << '/' << total << std::flush;
+    shown_ = true;
+  }
+
+ private:
+  std::string label_;
+  bool shown_ = false;
+};
+
+/// Throws DataError(file, where, ...) when a scan has no point: data sets refuse empty scans.
+void requireNonEmpty(const Scan& scan, const std::string& file, const std::string& where);
+
+}  // namespace occsweep

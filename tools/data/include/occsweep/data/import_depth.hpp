@@ -1,0 +1,55 @@
+// Depth-image sequences (issue 8): 16-bit PNG or PGM depth, a depth scale, pinhole intrinsics and one pose a
+// frame, turned into scans in the world frame.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string_view>
+#include <vector>
+
+#include "dataset.hpp"
+#include "import_pose.hpp"
+
+namespace occsweep {
+
+struct DepthImage {
+  int width = 0, height = 0;
+  std::vector<std::uint16_t> values;  ///< row-major, raw sensor units (0 = no measurement)
+};
+
+/// Images with more pixels are refused before anything is allocated (a 640x480 frame has 0.3 M).
+inline constexpr std::uint64_t kMaxDepthPixels = std::uint64_t(1) << 26;
+
+/// 16-bit (or 8-bit) greyscale PNG through libpng. DataError for a bad signature, colour images, a truncated or
+/// corrupt stream, or absurd dimensions.
+[[nodiscard]] DepthImage decodePng(std::string_view bytes, const std::filesystem::path& file);
+/// Netpbm greyscale: P5 (binary, big-endian when maxval > 255) or P2 (ASCII). DataError for a wrong magic, a bad
+/// header, a truncated raster, values above maxval, or bytes after the raster.
+[[nodiscard]] DepthImage decodePgm(std::string_view bytes, const std::filesystem::path& file);
+/// Chooses by the first bytes (PNG signature or `P5`/`P2`).
+[[nodiscard]] DepthImage decodeDepthImage(std::string_view bytes, const std::filesystem::path& file);
+[[nodiscard]] DepthImage readDepthImage(const std::filesystem::path& file);
+
+/// How depth pixels become points. No defaults for the intrinsics: a wrong guess would silently warp the map.
+struct DepthImportConfig {
+  double depth_scale = 1000.0;  ///< raw units per metre: depth_m = value / depth_scale (1000 = mm, TUM 5000)
+  double fx = 0, fy = 0, cx = 0, cy = 0;  ///< pinhole intrinsics, pixels; fx, fy non-zero (may be negative)
+  double max_depth = 0.0;       ///< metres; pixels at or beyond it are dropped (0 = keep all)
+  int stride = 1;               ///< use every stride-th pixel in u and v, to keep clouds small
+  PoseFormat pose_format = PoseFormat::Quaternion;
+  bool skip_empty = false;      ///< drop frames without a valid pixel instead of refusing them
+};
+
+/// Throws std::invalid_argument naming the field that breaks a rule (scale > 0, fx, fy != 0, stride >= 1...).
+void validate(const DepthImportConfig& config);
+
+/// Back-projects one frame: x = (u - cx) z / fx, y = (v - cy) z / fy, z = value / scale, camera frame (z forward),
+/// then moved to the world by `pose`. Zero pixels are skipped. The scan's origin is the camera position.
+[[nodiscard]] Scan depthToScan(const DepthImage& image, const RigidPose& pose, const DepthImportConfig& config);
+
+/// Reads `images` in order with one pose each from `pose_file`; progress on stderr. A data set without ground
+/// truth (see importedDataset).
+[[nodiscard]] Dataset importDepthSequence(const std::vector<std::filesystem::path>& images,
+                                          const std::filesystem::path& pose_file, const DepthImportConfig& config);
+
+}  // namespace occsweep

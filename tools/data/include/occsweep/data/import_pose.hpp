@@ -1,0 +1,43 @@
+// Sensor poses of real recordings: `tx ty tz qx qy qz qw` lines or 4x4 matrices, sensor-to-world (issue 8).
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <string_view>
+#include <vector>
+
+#include <octomap/octomap_types.h>
+
+namespace occsweep {
+
+/// A rigid transform sensor -> world: p_world = R p_sensor + t, in double precision.
+struct RigidPose {
+  std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  ///< row-major 3x3
+  std::array<double, 3> translation{0, 0, 0};
+
+  [[nodiscard]] octomap::point3d apply(double x, double y, double z) const;
+  [[nodiscard]] octomap::point3d origin() const;
+};
+
+enum class PoseFormat {
+  Quaternion,  ///< one pose a line: tx ty tz qx qy qz qw (TUM and slambook order, w last)
+  Matrix,      ///< 16 numbers a pose, row-major 4x4, over any number of lines; last row 0 0 0 1
+};
+
+/// How far a quaternion's norm may be from 1 and still be normalised; beyond it the pose is refused, because a
+/// quaternion that far off is a corrupted or mis-ordered line, not rounding (docs/import.md).
+inline constexpr double kQuaternionNormTolerance = 1e-3;
+/// How far R^T R may be from I (max abs entry) and det R from 1 for a matrix pose.
+inline constexpr double kRotationTolerance = 1e-3;
+
+/// Rotation of a quaternion (w, x, y, z); `ok` false when |q| is not within kQuaternionNormTolerance of 1.
+[[nodiscard]] RigidPose poseFromQuaternion(double tx, double ty, double tz, double qw, double qx, double qy,
+                                           double qz, bool& ok);
+
+/// Parses a pose file; `#` comments and blank lines are skipped. DataError naming the line for a wrong column
+/// count, NaN or infinite values, a quaternion off unit norm, a matrix that is not a rotation, or no poses.
+[[nodiscard]] std::vector<RigidPose> decodePoses(std::string_view text, const std::filesystem::path& file,
+                                                 PoseFormat format);
+[[nodiscard]] std::vector<RigidPose> readPoses(const std::filesystem::path& file, PoseFormat format);
+
+}  // namespace occsweep

@@ -1,0 +1,20 @@
+// Ground truth of a real recording (issue 8): a PLY mesh, a PLY or PCD point cloud, or a JSON list of boxes.
+#pragma once
+
+#include <filesystem>
+#include <string_view>
+
+#include "occsweep/eval/ground_truth.hpp"
+
+namespace occsweep {
+
+/// By extension: .ply with faces -> mesh, .ply without faces or .pcd -> points, .json -> boxes, given either as
+/// `[{"min": [x,y,z], "max": [x,y,z]}, ...]` or as `{"boxes": [...]}`. DataError for anything malformed, NaN or
+/// infinite values, min > max, or a source with nothing in it.
+[[nodiscard]] TruthSources decodeTruth(std::string_view bytes, const std::filesystem::path& file);
+[[nodiscard]] TruthSources readTruth(const std::filesystem::path& file);
+
+/// Boxes from JSON text (the fuzzable part of decodeTruth).
+[[nodiscard]] std::vector<AxisBox> decodeTruthBoxes(std::string_view text, const std::filesystem::path& file);
+
+}  // namespace occsweep

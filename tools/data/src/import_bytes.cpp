@@ -1,0 +1,128 @@
+#include "occsweep/data/import_bytes.hpp"
+
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+namespace occsweep {
+namespace fs = std::filesystem;
+
+std::string readFileBytes(const fs::path& file, std::uint64_t max_bytes) {
+  std::error_code ec;
+  const auto status = fs::status(file, ec);
+  if (ec || !fs::exists(status)) throw DataError(file, "", "file is missing");
+  if (fs::is_directory(status)) throw DataError(file, "", "is a folder, expected a file");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw DataError(file, "", "file is unreadable (permissions?)");
+  std::string bytes;
+  char buf[1 << 16];
+  // Read in chunks rather than trusting file_size: pipes and /proc files report 0.
+  while (in.read(buf, sizeof buf), in.gcount() > 0) {
+    bytes.append(buf, std::size_t(in.gcount()));
+    if (bytes.size() > max_bytes)
+      throw DataError(file, "", "larger than " + std::to_string(max_bytes) + " bytes: refused");
+  }
+  if (in.bad()) throw DataError(file, "", "read error");
+  return bytes;
+}
+
+void ByteReader::need(std::uint64_t n, const std::string& what) const {
+  if (n > remaining())
+    fail(what, "needs " + std::to_string(n) + " bytes, only " + std::to_string(remaining()) +
+                   " left: truncated file or wrong count");
+}
+
+std::string_view ByteReader::take(std::size_t n, const std::string& what) {
+  need(n, what);
+  const auto out = bytes_.substr(pos_, n);
+  pos_ += n;
+  return out;
+}
+
+std::uint32_t ByteReader::u32le(const std::string& what) {
+  const auto b = take(4, what);
+  std::uint32_t v = 0;
+  for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(b[std::size_t(i)]);
+  return v;
+}
+
+std::int32_t ByteReader::i32le(const std::string& what) { return static_cast<std::int32_t>(u32le(what)); }
+
+double ByteReader::f64le(const std::string& what) {
+  const auto b = take(8, what);
+  std::uint64_t v = 0;
+  for (int i = 7; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(b[std::size_t(i)]);
+  return std::bit_cast<double>(v);
+}
+
+void ByteReader::fail(const std::string& what, const std::string& rule) const {
+  throw DataError(file_, "byte " + std::to_string(pos_) + (what.empty() ? "" : " (" + what + ")"), rule);
+}
+
+bool TextLines::next(std::vector<std::string_view>& tokens) {
+  tokens.clear();
+  if (pos_ >= text_.size()) return false;
+  std::size_t end = text_.find('\n', pos_);
+  if (end == std::string_view::npos) end = text_.size();
+  std::string_view line = text_.substr(pos_, end - pos_);
+  pos_ = end + 1;
+  ++line_;
+  std::size_t i = 0;
+  auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; };
+  while (i < line.size()) {
+    while (i < line.size() && space(line[i])) ++i;
+    std::size_t j = i;
+    while (j < line.size() && !space(line[j])) ++j;
+    if (j > i) tokens.push_back(line.substr(i, j - i));
+    i = j;
+  }
+  return true;
+}
+
+bool TextLines::nextData(std::vector<std::string_view>& tokens) {
+  while (next(tokens))
+    if (!tokens.empty() && tokens[0][0] != '#') return true;
+  return false;
+}
+
+void TextLines::fail(const std::string& rule) const {
+  throw DataError(file_, "line " + std::to_string(line_), rule);
+}
+
+double TextLines::number(std::string_view token, std::size_t column, const std::string& what) const {
+  double v = 0;
+  if (!parseFiniteDouble(token, v)) {
+    const std::string shown(token.substr(0, 32));
+    fail("column " + std::to_string(column + 1) + " (" + what + ") is \"" + shown + "\": " +
+         (shown.find_first_of("nNiI") != std::string::npos ? "NaN and infinite values are not allowed"
+                                                           : "not a number"));
+  }
+  return v;
+}
+
+double decodeScalar(const char* p, int size, char kind, bool big_endian) {
+  std::uint64_t v = 0;
+  for (int i = 0; i < size; ++i) {
+    const int at = big_endian ? i : size - 1 - i;
+    v = (v << 8) | static_cast<unsigned char>(p[at]);
+  }
+  if (kind == 'f') return size == 4 ? double(std::bit_cast<float>(std::uint32_t(v))) : std::bit_cast<double>(v);
+  if (kind == 'u') return double(v);
+  const int shift = 64 - 8 * size;  // sign-extend
+  return double(static_cast<std::int64_t>(v << shift) >> shift);
+}
+
+bool parseFiniteDouble(std::string_view token, double& out) {
+  if (!token.empty() && token[0] == '+') token.remove_prefix(1);  // from_chars refuses a leading '+'
+  const auto r = std::from_chars(token.data(), token.data() + token.size(), out);
+  return r.ec == std::errc() && r.ptr == token.data() + token.size() && std::isfinite(out);
+}
+
+bool parseUnsigned(std::string_view token, std::uint64_t& out) {
+  const auto r = std::from_chars(token.data(), token.data() + token.size(), out);
+  return r.ec == std::errc() && r.ptr == token.data() + token.size() && !token.empty();
+}
+
+}  // namespace occsweep

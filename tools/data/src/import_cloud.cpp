@@ -1,0 +1,83 @@
+#include <cctype>
+#include <iostream>
+#include <stdexcept>
+
+#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/data/import_cloud.hpp"
+#include "occsweep/data/import_dataset.hpp"
+
+namespace occsweep {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lowerExtension(const fs::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace
+
+std::vector<octomap::point3d> decodeXyz(std::string_view bytes, const fs::path& file) {
+  TextLines lines(bytes, file);
+  std::vector<std::string_view> tok;
+  std::vector<octomap::point3d> pts;
+  while (lines.nextData(tok)) {
+    if (tok.size() < 3) lines.fail("has " + std::to_string(tok.size()) + " values, expected x y z");
+    pts.emplace_back(float(lines.number(tok[0], 0, "x")), float(lines.number(tok[1], 1, "y")),
+                     float(lines.number(tok[2], 2, "z")));
+  }
+  return pts;
+}
+
+std::vector<octomap::point3d> decodeCloud(std::string_view bytes, const fs::path& file) {
+  const std::string ext = lowerExtension(file);
+  if (ext == ".ply") return decodePly(bytes, file).vertices;
+  if (ext == ".pcd") return decodePcd(bytes, file);
+  return decodeXyz(bytes, file);
+}
+
+std::vector<octomap::point3d> readCloud(const fs::path& file) { return decodeCloud(readFileBytes(file), file); }
+
+Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfig& c) {
+  if (clouds.empty()) throw std::invalid_argument("no point cloud given");
+  std::vector<RigidPose> poses;
+  if (c.pose_file) {
+    poses = readPoses(*c.pose_file, c.pose_format);
+    if (poses.size() != clouds.size())
+      throw DataError(*c.pose_file, "", "holds " + std::to_string(poses.size()) + " poses for " +
+                                            std::to_string(clouds.size()) + " clouds: one pose per cloud needed");
+  }
+  PointCloudSet scans;
+  nlohmann::json files = nlohmann::json::array();
+  ProgressLine progress("point cloud");
+  for (std::size_t i = 0; i < clouds.size(); ++i) {
+    progress.show(i + 1, clouds.size());
+    const auto local = readCloud(clouds[i]);
+    files.push_back(clouds[i].filename().string());
+    Scan scan;
+    if (c.pose_file) {
+      scan.origin = poses[i].origin();
+      scan.points.reserve(local.size());
+      for (const auto& p : local) scan.points.push_back(poses[i].apply(p.x(), p.y(), p.z()));
+    } else {
+      scan.origin = octomap::point3d(float(c.origin[0]), float(c.origin[1]), float(c.origin[2]));
+      scan.points = local;
+    }
+    if (scan.points.empty() && c.skip_empty) continue;
+    requireNonEmpty(scan, clouds[i].string(), "");
+    scans.push_back(std::move(scan));
+  }
+  if (scans.empty()) throw std::invalid_argument("every point cloud is empty");
+  nlohmann::json source = {{"generator", "occsweep import cloud"}, {"clouds", files}};
+  if (c.pose_file) {
+    source["poses"] = c.pose_file->filename().string();
+    source["pose_format"] = c.pose_format == PoseFormat::Matrix ? "matrix" : "quaternion";
+  } else {
+    source["origin"] = c.origin;
+  }
+  return importedDataset(clouds.front().stem().string(), std::move(scans), source);
+}
+
+}  // namespace occsweep

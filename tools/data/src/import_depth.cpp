@@ -1,0 +1,68 @@
+#include <cmath>
+#include <iostream>
+#include <stdexcept>
+
+#include "occsweep/data/data_error.hpp"
+#include "occsweep/data/import_dataset.hpp"
+#include "occsweep/data/import_depth.hpp"
+
+namespace occsweep {
+namespace fs = std::filesystem;
+
+void validate(const DepthImportConfig& c) {
+  auto finite = [](double v) { return std::isfinite(v); };
+  if (!finite(c.depth_scale) || c.depth_scale <= 0) throw std::invalid_argument("depth scale must be > 0");
+  if (!finite(c.fx) || !finite(c.fy) || c.fx == 0 || c.fy == 0)
+    throw std::invalid_argument("intrinsics fx and fy must be finite and non-zero (give --fx --fy --cx --cy)");
+  if (!finite(c.cx) || !finite(c.cy)) throw std::invalid_argument("intrinsics cx and cy must be finite");
+  if (!finite(c.max_depth) || c.max_depth < 0) throw std::invalid_argument("max depth must be >= 0 (0 = no limit)");
+  if (c.stride < 1) throw std::invalid_argument("pixel stride must be >= 1");
+}
+
+Scan depthToScan(const DepthImage& image, const RigidPose& pose, const DepthImportConfig& c) {
+  Scan scan;
+  scan.origin = pose.origin();
+  const auto stride = std::size_t(c.stride);
+  for (std::size_t v = 0; v < std::size_t(image.height); v += stride)
+    for (std::size_t u = 0; u < std::size_t(image.width); u += stride) {
+      const std::uint16_t raw = image.values[v * std::size_t(image.width) + u];
+      if (raw == 0) continue;  // no measurement
+      const double z = raw / c.depth_scale;
+      if (c.max_depth > 0 && z >= c.max_depth) continue;
+      scan.points.push_back(pose.apply((double(u) - c.cx) * z / c.fx, (double(v) - c.cy) * z / c.fy, z));
+    }
+  return scan;
+}
+
+Dataset importDepthSequence(const std::vector<fs::path>& images, const fs::path& pose_file,
+                            const DepthImportConfig& c) {
+  validate(c);
+  if (images.empty()) throw std::invalid_argument("no depth image given");
+  const auto poses = readPoses(pose_file, c.pose_format);
+  if (poses.size() != images.size())
+    throw DataError(pose_file, "", "holds " + std::to_string(poses.size()) + " poses for " +
+                                       std::to_string(images.size()) + " depth images: one pose per image needed");
+  PointCloudSet scans;
+  nlohmann::json files = nlohmann::json::array();
+  ProgressLine progress("depth image");
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    progress.show(i + 1, images.size());
+    Scan scan = depthToScan(readDepthImage(images[i]), poses[i], c);
+    files.push_back(images[i].filename().string());
+    if (scan.points.empty() && c.skip_empty) continue;
+    requireNonEmpty(scan, images[i].string(), "");
+    scans.push_back(std::move(scan));
+  }
+  if (scans.empty()) throw std::invalid_argument("every depth image is empty");
+  nlohmann::json source = {{"generator", "occsweep import depth"},
+                           {"images", files},
+                           {"poses", pose_file.filename().string()},
+                           {"pose_format", c.pose_format == PoseFormat::Matrix ? "matrix" : "quaternion"},
+                           {"depth_scale", c.depth_scale},
+                           {"intrinsics", {c.fx, c.fy, c.cx, c.cy}},
+                           {"max_depth", c.max_depth},
+                           {"stride", c.stride}};
+  return importedDataset(images.front().parent_path().filename().string(), std::move(scans), source);
+}
+
+}  // namespace occsweep

@@ -1,0 +1,74 @@
+#include "occsweep/data/import_truth.hpp"
+
+#include <cctype>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/data/import_cloud.hpp"
+
+namespace occsweep {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::array<double, 3> triple(const json& v, const fs::path& file, const std::string& where) {
+  if (!v.is_array() || v.size() != 3) throw DataError(file, where, "must be an array of 3 numbers");
+  std::array<double, 3> out{};
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (!v[a].is_number()) throw DataError(file, where, "must be an array of 3 numbers");
+    out[a] = v[a].get<double>();
+    if (!std::isfinite(out[a])) throw DataError(file, where, "must be finite");
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<AxisBox> decodeTruthBoxes(std::string_view text, const fs::path& file) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::exception& e) {
+    throw DataError(file, "", std::string("not valid JSON: ") + e.what());
+  }
+  if (j.is_object() && j.contains("boxes")) j = j.at("boxes");
+  if (!j.is_array()) throw DataError(file, "", "must be a list of boxes or an object with a \"boxes\" list");
+  std::vector<AxisBox> boxes;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string where = "boxes[" + std::to_string(i) + "]";
+    const json& b = j[i];
+    if (!b.is_object() || !b.contains("min") || !b.contains("max"))
+      throw DataError(file, where, "must be an object with \"min\" and \"max\"");
+    AxisBox box{triple(b.at("min"), file, where + ".min"), triple(b.at("max"), file, where + ".max")};
+    for (std::size_t a = 0; a < 3; ++a)
+      if (box.min[a] > box.max[a]) throw DataError(file, where, "min must be <= max on every axis");
+    boxes.push_back(box);
+  }
+  return boxes;
+}
+
+TruthSources decodeTruth(std::string_view bytes, const fs::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  TruthSources t;
+  if (ext == ".json") {
+    t.boxes = decodeTruthBoxes(bytes, file);
+  } else if (ext == ".ply") {
+    PlyData ply = decodePly(bytes, file);
+    if (!ply.triangles.empty()) t.mesh = std::move(ply.triangles);
+    else t.points = std::move(ply.vertices);
+  } else if (ext == ".pcd") {
+    t.points = decodePcd(bytes, file);
+  } else {
+    throw DataError(file, "", "unknown ground-truth format: expected .ply (mesh or points), .pcd or .json (boxes)");
+  }
+  if (t.boxes.empty() && t.mesh.empty() && t.points.empty()) throw DataError(file, "", "holds no ground truth");
+  return t;
+}
+
+TruthSources readTruth(const fs::path& file) { return decodeTruth(readFileBytes(file), file); }
+
+}  // namespace occsweep
