@@ -8,11 +8,14 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <thread>
+#include <vector>
 
 #include <octomap/octomap.h>
 #include <tbb/version.h>
@@ -35,16 +38,20 @@ double seconds(Fn&& fn) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Peak resident memory of one `occsweep sweep` process (as a user runs it), in bytes: its VmHWM, polled until it
-// exits. (ru_maxrss would also count the pages the child inherited from this large process through fork.)
-double sweepPeakBytes(const std::string& dataset, const std::string& grid, const std::string& out) {
-  std::filesystem::remove(out);
-  const pid_t child = ::fork();
-  if (child == 0) {
-    ::execl(OCCSWEEP_CLI, OCCSWEEP_CLI, "sweep", "--dataset", dataset.c_str(), "--grid", grid.c_str(), "--out",
-            out.c_str(), "--quiet", static_cast<char*>(nullptr));
-    std::_Exit(127);
-  }
+// Peak resident memory of one occsweep process (as a user runs it), in bytes: its VmHWM, polled until it exits.
+// posix_spawn, not fork: a forked child's VmHWM counts this large process's pages until it execs, and polling
+// could read that; posix_spawn returns only once the child runs the new program.
+double peakBytes(const std::vector<std::string>& args) {
+  std::vector<char*> argv{const_cast<char*>(OCCSWEEP_CLI)};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t quiet;  // the child's stdout to /dev/null: this program's output is the table
+  posix_spawn_file_actions_init(&quiet);
+  posix_spawn_file_actions_addopen(&quiet, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  pid_t child = 0;
+  const int failed = ::posix_spawn(&child, OCCSWEEP_CLI, &quiet, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&quiet);
+  if (failed) throw std::runtime_error("cannot start occsweep");
   double peak = 0;
   const std::string status_file = "/proc/" + std::to_string(child) + "/status";
   int status = 0;
@@ -54,8 +61,13 @@ double sweepPeakBytes(const std::string& dataset, const std::string& grid, const
       if (line.rfind("VmHWM:", 0) == 0) peak = std::max(peak, std::stod(line.substr(6)) * 1024.0);
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error("occsweep sweep failed");
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error("occsweep " + args[0] + " failed");
   return peak;
+}
+
+double sweepPeakBytes(const std::string& dataset, const std::string& grid, const std::string& out) {
+  std::filesystem::remove(out);
+  return peakBytes({"sweep", "--dataset", dataset, "--grid", grid, "--out", out, "--quiet"});
 }
 
 PointCloudSet firstScans(const PointCloudSet& set, std::size_t n) { return {set.begin(), set.begin() + long(n)}; }
@@ -187,8 +199,13 @@ int main(int argc, char** argv) {
   const double peak_om = sweepPeakBytes((dir / "set").string(), "octomap-opt", (dir / "om.json").string());
   std::printf("\npeak memory of `occsweep sweep` (whole process): knn-opt %.1f MB, octomap-opt %.1f MB\n", peak_knn / 1e6,
               peak_om / 1e6);
+  // The binary alone (code of occsweep, liboctomap, TBB, OpenCV and their libraries, loaded and touched) is
+  // resident before any data is read: `occsweep grid count` reads a small grid file and nothing else.
+  const double binary = peakBytes({"grid", "count", "knn-opt"});
   std::printf("peak / points in memory (%.1f MB): knn-opt %.2f, octomap-opt %.2f   (goal <= 3)\n", points_bytes / 1e6,
               peak_knn / points_bytes, peak_om / points_bytes);
+  std::printf("the binary alone (`occsweep grid count`): %.1f MB; peak minus it / points: knn-opt %.2f, octomap-opt "
+              "%.2f\n", binary / 1e6, (peak_knn - binary) / points_bytes, (peak_om - binary) / points_bytes);
   std::filesystem::remove_all(dir);
   return 0;
 }

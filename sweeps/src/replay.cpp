@@ -24,30 +24,29 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   r.positives = truth.occupied.size();
   r.negatives = voxels - r.positives;
 
-  // Events in scan order, then bucketed by voxel with a stable counting sort.
+  // Events in scan order, then bucketed by voxel with a stable counting sort. Memory matters here (issue 5: the
+  // sweep's peak at most 3x the points): hits stay in their scan's list until the final copy, every vector is
+  // sized exactly, and each scan's voxel events are freed once converted.
   struct Raw {
     std::uint32_t voxel;
+    std::uint32_t scan;
+    std::uint32_t first_hit, hit_count;  ///< range in per_scan[scan].hit_points
     std::uint8_t flags;
-    std::uint32_t first_hit, hit_count;
   };
-  std::vector<Raw> raw;
-  std::vector<std::uint32_t> raw_hit_scan, raw_hit_inner;
-  // Scans are independent: record them in parallel, each with its own recorder, then merge in scan order.
   std::vector<ScanEvents> per_scan(set.size());
   tbb::enumerable_thread_specific<ScanEventRecorder> recorders([&] { return ScanEventRecorder(resolution); });
   tbb::parallel_for(std::size_t(0), set.size(), [&](std::size_t t) {
     recorders.local().record(set[t], innerPoints(set[t], s_c), s_c, region, per_scan[t]);
+    per_scan[t].voxels.shrink_to_fit();
   });
+  recorders.clear();
+  std::size_t events_total = 0, hits_total = 0;
+  for (const ScanEvents& events : per_scan) events_total += events.voxels.size(), hits_total += events.hit_points.size();
+  std::vector<Raw> raw;
+  raw.reserve(events_total);
   for (std::uint32_t t = 0; t < set.size(); ++t) {
-    const ScanEvents& events = per_scan[t];
-    for (const VoxelEvent& e : events.voxels) {
-      raw.push_back({index(e.key), e.flags, std::uint32_t(raw_hit_scan.size()), e.hit_count});
-      for (std::uint32_t h = 0; h < e.hit_count; ++h) {
-        raw_hit_scan.push_back(t);
-        raw_hit_inner.push_back(events.hit_points[e.first_hit + h]);
-      }
-    }
-    ScanEvents().voxels.swap(per_scan[t].voxels);  // free as we go
+    for (const VoxelEvent& e : per_scan[t].voxels) raw.push_back({index(e.key), t, e.first_hit, e.hit_count, e.flags});
+    std::vector<VoxelEvent>().swap(per_scan[t].voxels);  // free as we go
   }
   r.scan_voxel_updates = raw.size();
   r.voxel_first.assign(voxels + 1, 0);
@@ -55,15 +54,19 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   for (std::uint32_t v = 0; v < voxels; ++v) r.voxel_first[v + 1] += r.voxel_first[v];
   std::vector<std::uint32_t> order(raw.size()), fill(r.voxel_first.begin(), r.voxel_first.end() - 1);
   for (std::uint32_t i = 0; i < raw.size(); ++i) order[fill[raw[i].voxel]++] = i;
+  std::vector<std::uint32_t>().swap(fill);
   r.flags.resize(raw.size());
   r.hit_first.resize(raw.size() + 1);
   r.hit_first[0] = 0;
+  r.hit_scan.reserve(hits_total);
+  r.hit_inner.reserve(hits_total);
   for (std::uint32_t e = 0; e < order.size(); ++e) {
     const Raw& src = raw[order[e]];
     r.flags[e] = src.flags;
+    const std::vector<std::uint32_t>& hits = per_scan[src.scan].hit_points;
     for (std::uint32_t h = 0; h < src.hit_count; ++h) {
-      r.hit_scan.push_back(raw_hit_scan[src.first_hit + h]);
-      r.hit_inner.push_back(raw_hit_inner[src.first_hit + h]);
+      r.hit_scan.push_back(src.scan);
+      r.hit_inner.push_back(hits[src.first_hit + h]);
     }
     r.hit_first[e + 1] = std::uint32_t(r.hit_scan.size());
   }

@@ -103,7 +103,7 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
     return runGenerate(*o);
 #else
     std::cerr << "occsweep dataset generate: this build has no stereo tools (configure with -DOCCSWEEP_STEREO=ON "
-                 "and OpenCV's calib3d, imgproc and imgcodecs)\n";
+                 "and OpenCV's calib3d and imgproc)\n";
     return 2;
 #endif
   };
