@@ -1,0 +1,86 @@
+// `occsweep reproduce` (issue 6): every experiment of the paper's Section 4 in one command. Each step writes one
+// JSON file under OUT (fits, nca, comparison, curves, runtime); the figures are drawn from those files by
+// tools/plot_reproduction.py and report.md sets each of the paper's findings beside ours. See docs/reproduction.md.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace occsweep {
+
+struct ReproduceConfig {
+  std::string scale = "ci";                  ///< ci | small | paper: the data sets' scale (docs/datasets.md)
+  std::filesystem::path out;                 ///< results, figures and report.md
+  std::filesystem::path data;                ///< generated data sets; empty: OUT/data. Existing ones are reused
+  std::filesystem::path occsweep_binary;     ///< run as `dataset generate` for missing data sets
+  std::vector<std::string> datasets;         ///< empty: the paper's 20, in allDatasetNames() order
+  std::uint64_t seed = 1;                    ///< Eq. 16 split of the reduction grid, NCA subsample and folds
+  /// Section 4.4 / Fig. 3: the 800th (median-ranked) set of building-voronoi-I; falls back to the first data set.
+  std::string fit_dataset = "building-voronoi-I";
+  int fit_k = 1;                             ///< k of the s_i fitted (the paper does not say; knn-opt's k)
+  std::string reduction_grid = "reduction";  ///< Table 1 note a, split over the 20 data sets (Eq. 16)
+  std::size_t nca_samples = 0;               ///< NCA samples per data set and response, drawn from the group's
+                                             ///< 5,625; 0: all (NCA is O(n^2) per iteration)
+  int nca_folds = 5;                         ///< cross-validation folds for lambda
+  std::vector<double> nca_lambda_factors = {0.0, 0.25, 1.0, 4.0, 16.0};  ///< lambda = factor / n
+  std::string map_dataset = "parking-voronoi-O";  ///< Fig. 6: its 1st ranked set
+  std::vector<int> runtime_k = {1, 3, 5, 7};      ///< Fig. 7b: k of the timed k-NN builds (Table 1 note a)
+  int runtime_fractions = 4;                 ///< Fig. 7: builds on the first 1/F, 2/F, ..., F/F of each set's scans
+  int runtime_datasets = 4;                  ///< Fig. 7: timed data sets (spread over the list), reduction set
+  int runtime_repeats = 1;                   ///< each build timed this often, the fastest kept
+  int threads = 0;                           ///< sweeps and NCA; 0: all cores (timed builds always use 1)
+  std::string python;                        ///< interpreter for the figures; empty: search (see findPython)
+  bool figures = true;                       ///< false: JSON and report only
+  bool quiet = false;                        ///< no progress on stderr
+};
+
+/// Defaults per scale: ci keeps the whole pipeline under 10 minutes on 2 cores (NCA on 800 samples, 3 folds),
+/// small 1,000 samples and 5 folds, paper all samples, 5 folds and 5 lambdas. Throws std::invalid_argument for another scale.
+[[nodiscard]] ReproduceConfig reproduceDefaults(const std::string& scale);
+
+/// The paper's 20 data-set names, {building,parking} x {plain,voronoi} x {I,O,T,L,S}.
+[[nodiscard]] std::vector<std::string> paperDatasetNames();
+
+/// One data set's point cloud sets from its ranking.json, best first.
+struct RankedDataset {
+  std::string name;
+  std::filesystem::path root;              ///< DATA/NAME
+  std::vector<std::string> folders;        ///< pcs-NNNN in rank order
+  std::vector<std::int64_t> ids;           ///< point cloud parameter ids, same order
+  /// Rank positions (0-based) standing for the paper's 1st, 800th and 1,600th of 1,600: first, (n+1)/2-th, last.
+  [[nodiscard]] std::vector<std::size_t> paperRanks() const;
+};
+
+/// Generates the missing data sets (running the occsweep binary) and reads every ranking.json.
+[[nodiscard]] std::vector<RankedDataset> prepareDatasets(const ReproduceConfig& c);
+
+/// Fig. 3: fits of the s_i of the fit data set's median-ranked set. Returns the fits.json content.
+nlohmann::json runDistributionFits(const ReproduceConfig& c, const std::vector<RankedDataset>& d);
+/// Fig. 4: reduction-grid sweeps (Eq. 16 group per data set) and NCA weights for TPR and FDR.
+nlohmann::json runNcaWeights(const ReproduceConfig& c, const std::vector<RankedDataset>& d);
+/// Fig. 5: knn-opt and octomap-opt sweeps of the 1st, median and last set of each data set; best AUCs.
+nlohmann::json runOptimalComparison(const ReproduceConfig& c, const std::vector<RankedDataset>& d);
+/// Fig. 6: both best curves of the map data set's 1st set, maps at points of similar FDR as PLY.
+nlohmann::json runCurvesAndMaps(const ReproduceConfig& c, const std::vector<RankedDataset>& d,
+                                const nlohmann::json& comparison);
+/// Fig. 7: timed builds, Eq. 17 and Eq. 18 fits.
+nlohmann::json runRuntimeModels(const ReproduceConfig& c, const std::vector<RankedDataset>& d);
+
+/// report.md: each finding of the paper beside ours, every number from the step files.
+[[nodiscard]] std::string reproductionReport(const ReproduceConfig& c, const nlohmann::json& fits,
+                                             const nlohmann::json& nca, const nlohmann::json& comparison,
+                                             const nlohmann::json& curves, const nlohmann::json& runtime);
+
+/// A Python 3 that imports matplotlib: `configured` if given, else $OCCSWEEP_PYTHON, /usr/bin/python3, python3.
+/// Throws std::runtime_error saying what to install when none does.
+[[nodiscard]] std::string findPython(const std::string& configured);
+
+/// All steps in order; each step's JSON is written to OUT (temporary name, renamed) before the next starts,
+/// sweeps resume from OUT/sweeps. Returns the wall time in seconds.
+double runReproduction(const ReproduceConfig& c);
+
+}  // namespace occsweep

@@ -1,0 +1,55 @@
+// Helpers shared by the reproduce steps (reproduce_*.cpp); not part of the public API.
+#pragma once
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "occsweep/sweeps/reproduce.hpp"
+#include "occsweep/sweeps/results.hpp"
+
+namespace occsweep::reproduce {
+
+/// Runs (or resumes, or reuses when complete) one sweep of a point cloud set into OUT/sweeps/NAME/.
+[[nodiscard]] ResultsFile sweepSet(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank,
+                                   const std::string& grid, const SweepSelection& selection = {});
+
+/// The data set with this name, or the first one when it is not in the run (small runs pick a subset).
+[[nodiscard]] const RankedDataset& datasetOrFirst(const std::vector<RankedDataset>& d, const std::string& name);
+
+/// Index of a data set in paperDatasetNames() (its Eq. 16 group); the list position for other names.
+[[nodiscard]] std::size_t paperIndex(const std::string& name, std::size_t fallback);
+
+/// Finite numbers as JSON numbers, NaN and infinities as null (JSON has no NaN).
+[[nodiscard]] nlohmann::json number(double v);
+
+/// Reads a step's JSON written by an earlier run (for --figures-only style reuse); throws naming the file.
+[[nodiscard]] nlohmann::json readJson(const std::filesystem::path& file);
+
+/// A number for report.md: `format` applied, "n/a" for NaN and infinities.
+[[nodiscard]] inline std::string num(double v, const char* format = "%.4f") {
+  if (!std::isfinite(v)) return "n/a";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+/// A JSON number, or NaN for null (how the step files store NaN).
+[[nodiscard]] inline double get(const nlohmann::json& j) { return j.is_number() ? j.get<double>() : NAN; }
+
+/// Arithmetic mean; NaN for none.
+[[nodiscard]] inline double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? NAN : s / double(v.size());
+}
+
+/// report.md's sections 3 and 4 (Fig. 5): improvement and the texture / environment means.
+void comparisonSection(std::ostringstream& o, const nlohmann::json& comparison);
+
+}  // namespace occsweep::reproduce

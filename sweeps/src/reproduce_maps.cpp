@@ -1,0 +1,149 @@
+// Fig. 6 (Section 4.4): the TPR-FDR curves of both methods' best combinations on the map data set's 1st ranked
+// set, and both maps at two points of similar FDR, as coloured PLY (TP blue, FP red, FN yellow; TN left out as
+// in the paper).
+#include <cmath>
+#include <fstream>
+#include <unistd.h>
+
+#include "occsweep/core/knn_inverse_sensor_model.hpp"
+#include "occsweep/core/log_odds.hpp"
+#include "occsweep/core/octomap_baseline.hpp"
+#include "occsweep/data/dataset.hpp"
+#include "occsweep/sweeps/merge.hpp"
+#include "reproduce_internal.hpp"
+
+namespace occsweep {
+namespace fs = std::filesystem;
+using nlohmann::json;
+using reproduce::number;
+
+namespace {
+
+struct Point {
+  double p_t, fdr, tpr;
+};
+
+std::vector<Point> bestCurve(const ResultsFile& f, std::uint64_t map_index, MapParams* params) {
+  for (const auto& m : f.maps) {
+    if (m.map_index != map_index) continue;
+    *params = m.params;
+    std::vector<Point> curve;
+    for (const auto& t : m.thresholds)
+      if (std::isfinite(t.counts.tpr()) && std::isfinite(t.counts.fdr()))
+        curve.push_back({toDouble(t.p_t), t.counts.fdr(), t.counts.tpr()});
+    return curve;
+  }
+  throw std::runtime_error(f.header.dataset_name + ": best map " + std::to_string(map_index) + " not in results");
+}
+
+// Two points of similar FDR (Fig. 6): OctoMap's point of largest TPR - FDR (its best trade-off; the paper does
+// not say which it took), then the k-NN point nearest to it in FDR, ties to the higher TPR.
+std::pair<std::size_t, std::size_t> similarFdr(const std::vector<Point>& om, const std::vector<Point>& knn) {
+  std::size_t a = 0, b = 0;
+  for (std::size_t i = 1; i < om.size(); ++i)
+    if (om[i].tpr - om[i].fdr > om[a].tpr - om[a].fdr) a = i;
+  for (std::size_t j = 1; j < knn.size(); ++j) {
+    const double gap = std::abs(knn[j].fdr - om[a].fdr), best = std::abs(knn[b].fdr - om[a].fdr);
+    if (gap < best || (gap == best && knn[j].tpr > knn[b].tpr)) b = j;
+  }
+  return {a, b};
+}
+
+// Classifies every region voxel of the map at p_t (as classify(): known and log-odds >= l(p_t) in float) and
+// writes the TP, FP and FN voxel centres as an ASCII PLY.
+ConfusionCounts writeClassifiedPly(const octomap::OcTree& map, const GroundTruth& truth, double p_t,
+                                   const fs::path& file) {
+  const float threshold = logOdds(p_t);
+  ConfusionCounts c;
+  std::vector<std::pair<octomap::point3d, int>> voxels;  // 0 TP, 1 FP, 2 FN
+  const auto& lo = truth.region_min_key;
+  const auto& hi = truth.region_max_key;
+  for (int x = lo[0]; x <= hi[0]; ++x)
+    for (int y = lo[1]; y <= hi[1]; ++y)
+      for (int z = lo[2]; z <= hi[2]; ++z) {
+        const octomap::OcTreeKey key(x, y, z);
+        const bool truly = truth.occupied.count(key) > 0;
+        const octomap::OcTreeNode* node = map.search(key);
+        const bool predicted = node && node->getLogOdds() >= threshold;
+        if (truly && predicted) ++c.tp, voxels.emplace_back(map.keyToCoord(key), 0);
+        else if (predicted) ++c.fp, voxels.emplace_back(map.keyToCoord(key), 1);
+        else if (truly) ++c.fn, voxels.emplace_back(map.keyToCoord(key), 2);
+        else ++c.tn;
+      }
+  const fs::path tmp = file.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp);
+    out << "ply\nformat ascii 1.0\ncomment occsweep reproduce: TP blue, FP red, FN yellow (paper Fig. 6)\n"
+        << "comment resolution " << truth.resolution << "\nelement vertex " << voxels.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\n"
+        << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+    const int colour[3][3] = {{30, 90, 255}, {230, 30, 30}, {250, 210, 0}};
+    for (const auto& [p, kind] : voxels)
+      out << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << colour[kind][0] << ' ' << colour[kind][1] << ' '
+          << colour[kind][2] << '\n';
+    if (!out) throw std::runtime_error(file.string() + ": cannot write");
+  }
+  fs::rename(tmp, file);
+  return c;
+}
+
+json countsJson(const ConfusionCounts& c) {
+  return {{"tp", c.tp}, {"fp", c.fp}, {"fn", c.fn}, {"tn", c.tn}, {"tpr", number(c.tpr())}, {"fdr", number(c.fdr())}};
+}
+
+json curveJson(const std::vector<Point>& curve) {
+  json j = json::array();
+  for (const auto& p : curve) j.push_back({{"p_t", p.p_t}, {"fdr", p.fdr}, {"tpr", p.tpr}});
+  return j;
+}
+
+}  // namespace
+
+json runCurvesAndMaps(const ReproduceConfig& c, const std::vector<RankedDataset>& all, const json& comparison) {
+  const RankedDataset& d = reproduce::datasetOrFirst(all, c.map_dataset);
+  const json* row = nullptr;
+  for (const auto& r : comparison.at("rows"))
+    if (r.at("dataset") == d.name && r.at("rank") == 1) row = &r;
+  if (!row || row->at("octomap").is_null() || row->at("knn").is_null())
+    throw std::runtime_error("reproduce: no best maps of " + d.name + "'s 1st set in the comparison");
+  MapParams om_params, knn_params;
+  const auto om_curve = bestCurve(reproduce::sweepSet(c, d, 0, "octomap-opt"),
+                                  row->at("octomap").at("map_index").get<std::uint64_t>(), &om_params);
+  const auto knn_curve = bestCurve(reproduce::sweepSet(c, d, 0, "knn-opt"),
+                                   row->at("knn").at("map_index").get<std::uint64_t>(), &knn_params);
+  if (om_curve.empty() || knn_curve.empty()) throw std::runtime_error("reproduce: a best curve has no valid point");
+  const auto [a, b] = similarFdr(om_curve, knn_curve);
+
+  const Dataset data = readDataset(d.root / d.folders[0]);
+  const double resolution = 0.1, s_c = 4.0;
+  const GroundTruth truth = makeGroundTruth(data.truth, data.region, resolution);
+  const OctoMapParams om{toDouble(om_params.p_h), toDouble(om_params.p_m), toDouble(om_params.p_max),
+                         toDouble(om_params.p_min), om_curve[a].p_t, resolution, s_c};
+  KnnParams kp;
+  kp.p_u = toDouble(knn_params.p_u), kp.p_l = toDouble(knn_params.p_l), kp.p_m = toDouble(knn_params.p_m);
+  kp.p_m_out = toDouble(knn_params.p_m_out), kp.p_max = toDouble(knn_params.p_max);
+  kp.p_min = toDouble(knn_params.p_min), kp.p_t = knn_curve[b].p_t, kp.k = knn_params.k;
+  kp.resolution = resolution, kp.s_c = s_c;
+  const fs::path dir = c.out / "maps";
+  fs::create_directories(dir);
+  // The maps are built directly (liboctomap, the k-NN mapper), not replayed: their counts must equal the
+  // sweep's, which the report checks.
+  const ConfusionCounts om_counts = writeClassifiedPly(*buildOctoMap(data.scans, om), truth, om.p_t, dir / "octomap.ply");
+  const ConfusionCounts knn_counts =
+      writeClassifiedPly(*KnnInverseSensorModel(kp).buildMap(data.scans), truth, kp.p_t, dir / "knn.ply");
+  const bool agree = std::abs(om_counts.fdr() - om_curve[a].fdr) < 1e-12 &&
+                     std::abs(om_counts.tpr() - om_curve[a].tpr) < 1e-12 &&
+                     std::abs(knn_counts.fdr() - knn_curve[b].fdr) < 1e-12 &&
+                     std::abs(knn_counts.tpr() - knn_curve[b].tpr) < 1e-12;
+  return {{"format", "occsweep-reproduce-curves"}, {"figure", "Fig. 6"}, {"dataset", d.name},
+          {"point_cloud_set", d.folders[0]}, {"rank", 1},
+          {"octomap", {{"params", row->at("octomap").at("params")}, {"auc", row->at("octomap").at("auc")},
+                       {"curve", curveJson(om_curve)}, {"chosen_p_t", om.p_t}, {"map", "maps/octomap.ply"},
+                       {"map_counts", countsJson(om_counts)}}},
+          {"knn", {{"params", row->at("knn").at("params")}, {"auc", row->at("knn").at("auc")},
+                   {"curve", curveJson(knn_curve)}, {"chosen_p_t", kp.p_t}, {"map", "maps/knn.ply"},
+                   {"map_counts", countsJson(knn_counts)}}},
+          {"direct_build_matches_sweep", agree}};
+}
+
+}  // namespace occsweep

@@ -1,0 +1,106 @@
+// The reproduction in order: data, Fig. 3-7 step files, report.md, then the figures drawn by Python.
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <stdexcept>
+#include <unistd.h>
+
+#include "reproduce_internal.hpp"
+
+namespace occsweep {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+ReproduceConfig reproduceDefaults(const std::string& scale) {
+  ReproduceConfig c;
+  c.scale = scale;
+  if (scale == "ci") {
+    // Under 10 minutes on 2 cores with data generation (measured in docs/reproduction.md): NCA is O(n^2) per
+    // objective evaluation, so 800 samples per fit and 3 folds over 3 lambdas around 1/n.
+    c.nca_samples = 800, c.nca_folds = 3, c.nca_lambda_factors = {0.25, 1.0, 4.0};
+    c.runtime_datasets = 4, c.runtime_repeats = 2;
+  } else if (scale == "small") {
+    // About 40 minutes on 2 cores after the data (docs/reproduction.md).
+    c.nca_samples = 1000, c.nca_lambda_factors = {0.25, 1.0, 4.0};
+    c.runtime_datasets = 4, c.runtime_repeats = 2;
+  } else if (scale == "paper") {
+    c.nca_samples = 0, c.runtime_datasets = 20, c.runtime_repeats = 3;
+  } else {
+    throw std::invalid_argument("scale '" + scale + "': must be ci, small or paper");
+  }
+  return c;
+}
+
+std::string findPython(const std::string& configured) {
+  std::vector<std::string> candidates;
+  if (!configured.empty()) candidates.push_back(configured);
+  if (const char* env = std::getenv("OCCSWEEP_PYTHON")) candidates.emplace_back(env);
+  candidates.insert(candidates.end(), {"/usr/bin/python3", "python3"});
+  for (const auto& p : candidates) {
+    const std::string probe = "'" + p + "' -c 'import matplotlib, numpy' >/dev/null 2>&1";
+    if (std::system(probe.c_str()) == 0) return p;
+  }
+  throw std::runtime_error("reproduce: no Python 3 with matplotlib and numpy (tried " +
+                           (configured.empty() ? std::string() : configured + ", ") +
+                           "$OCCSWEEP_PYTHON, /usr/bin/python3, python3); install python3-matplotlib "
+                           "(apt-get install python3-matplotlib) or pass --python, or use --no-figures");
+}
+
+namespace {
+
+void writeText(const std::string& text, const fs::path& file) {
+  const fs::path tmp = file.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp);
+    out << text;
+    if (!out) throw std::runtime_error(file.string() + ": cannot write");
+  }
+  fs::rename(tmp, file);
+}
+
+}  // namespace
+
+double runReproduction(const ReproduceConfig& c) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  fs::create_directories(c.out);
+  // Before hours of work: fail now if the figures cannot be drawn.
+  const std::string python = c.figures ? findPython(c.python) : std::string();
+  json timing = json::object();
+  auto step = [&](const char* name, auto&& fn) {
+    const auto t0 = Clock::now();
+    if (!c.quiet) std::fprintf(stderr, "reproduce: %s\n", name);
+    auto result = fn();
+    timing[name] = std::chrono::duration<double>(Clock::now() - t0).count();
+    return result;
+  };
+  const auto datasets = step("data", [&] { return prepareDatasets(c); });
+  const json fits = step("fits", [&] { return runDistributionFits(c, datasets); });
+  writeJsonAtomically(fits, c.out / "fits.json");
+  const json nca = step("nca", [&] { return runNcaWeights(c, datasets); });
+  writeJsonAtomically(nca, c.out / "nca.json");
+  const json comparison = step("comparison", [&] { return runOptimalComparison(c, datasets); });
+  writeJsonAtomically(comparison, c.out / "comparison.json");
+  const json curves = step("curves", [&] { return runCurvesAndMaps(c, datasets, comparison); });
+  writeJsonAtomically(curves, c.out / "curves.json");
+  const json runtime = step("runtime", [&] { return runRuntimeModels(c, datasets); });
+  writeJsonAtomically(runtime, c.out / "runtime.json");
+  writeText(reproductionReport(c, fits, nca, comparison, curves, runtime), c.out / "report.md");
+  if (c.figures) {
+    step("figures", [&] {
+      const std::string cmd = "'" + python + "' '" + std::string(OCCSWEEP_SOURCE_DIR) +
+                              "/tools/plot_reproduction.py' '" + c.out.string() + "'";
+      if (std::system(cmd.c_str()) != 0) throw std::runtime_error("reproduce: `" + cmd + "` failed");
+      return 0;
+    });
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  timing["total"] = seconds;
+  writeJsonAtomically({{"format", "occsweep-reproduce-run"}, {"scale", c.scale}, {"seconds", timing},
+                       {"datasets", datasets.size()}, {"nca_samples", c.nca_samples}, {"nca_folds", c.nca_folds},
+                       {"seed", c.seed}, {"figures", c.figures}},
+                      c.out / "run.json");
+  return seconds;
+}
+
+}  // namespace occsweep

@@ -1,0 +1,127 @@
+// occsweep reproduce (issue 6) on two ci-scale data sets: every step file is written and agrees with the tools it
+// is built from (compare's best AUCs, directly built maps against the sweep), the report names every finding, and
+// bad input is refused. Also the rank positions that stand for the paper's 1st, 800th and 1,600th.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "occsweep/sweeps/reproduce.hpp"
+#include "test_helpers.hpp"
+
+using namespace occsweep;
+using nlohmann::json;
+
+namespace {
+
+json readJsonFile(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  REQUIRE(in.good());
+  return json::parse(in);
+}
+
+std::string readText(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+bool haveMatplotlib() { return std::system("/usr/bin/python3 -c 'import matplotlib, numpy' >/dev/null 2>&1") == 0; }
+
+}  // namespace
+
+TEST_CASE("paper ranks scale the 1st, 800th and 1,600th of 1,600 down") {
+  auto ranks = [](std::size_t n) {
+    RankedDataset d;
+    d.folders.assign(n, "pcs");
+    return d.paperRanks();
+  };
+  CHECK(ranks(1600) == std::vector<std::size_t>{0, 799, 1599});
+  CHECK(ranks(9) == std::vector<std::size_t>{0, 4, 8});
+  CHECK(ranks(3) == std::vector<std::size_t>{0, 1, 2});
+  CHECK(ranks(2) == std::vector<std::size_t>{0, 1});
+  CHECK(ranks(1) == std::vector<std::size_t>{0});
+  CHECK(ranks(0).empty());
+  CHECK(paperDatasetNames().size() == 20);
+  CHECK(paperDatasetNames().front() == "building-plain-I");
+  CHECK_THROWS_AS(reproduceDefaults("huge"), std::invalid_argument);
+}
+
+TEST_CASE("reproduce on two ci data sets writes every step, consistent with compare and direct builds") {
+  const auto dir = test::scratch("reproduce");
+  const bool figures = haveMatplotlib();
+  const auto r = test::runCli("reproduce --scale ci --datasets building-voronoi-I,parking-voronoi-O --nca-samples 200 "
+                              "--runtime-repeats 1 --quiet --out " + dir.string() + (figures ? "" : " --no-figures"));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+
+  const json fits = readJsonFile(dir / "fits.json");
+  CHECK(fits.at("dataset") == "building-voronoi-I");
+  CHECK(fits.at("rank") == 2);  // the median of 3 sets stands for the 800th
+  REQUIRE(fits.at("fits").size() == 5);
+  CHECK(fits.at("samples").get<std::size_t>() > 1000);
+  for (std::size_t a = 0; a < 5; ++a) {
+    CHECK(fits.at("fits")[a].at("ks")[a] == 0.0);
+    for (std::size_t b = 0; b < 5; ++b) CHECK(fits.at("fits")[a].at("ks")[b] == fits.at("fits")[b].at("ks")[a]);
+  }
+
+  const json nca = readJsonFile(dir / "nca.json");
+  REQUIRE(nca.at("datasets").size() == 2);
+  for (const auto& d : nca.at("datasets"))
+    for (const char* response : {"tpr", "fdr"}) {
+      const auto w = d.at(response).at("normalized").get<std::vector<double>>();
+      REQUIRE(w.size() == 8);
+      double sum = 0;
+      for (double v : w) sum += v;
+      CHECK(sum == Approx(1.0));
+      CHECK(d.at(response).at("samples") == 200);
+    }
+
+  // The comparison agrees with `occsweep compare` run on the same sweep files.
+  const json comparison = readJsonFile(dir / "comparison.json");
+  REQUIRE(comparison.at("rows").size() == 6);
+  for (const auto& row : comparison.at("rows")) {
+    const auto sweeps = dir / "sweeps" / row.at("dataset").get<std::string>();
+    const std::string set = row.at("point_cloud_set");
+    const auto c = test::runCli("compare " + (sweeps / (set + "-octomap-opt.json")).string() + " " +
+                                (sweeps / (set + "-knn-opt.json")).string() + " --json " + (dir / "c.json").string());
+    REQUIRE(c.exit_code == 0);
+    const json expected = readJsonFile(dir / "c.json").at("rows").at(0);
+    CHECK(row.at("octomap").at("auc") == expected.at("octomap").at("auc"));
+    CHECK(row.at("knn").at("auc") == expected.at("knn").at("auc"));
+    const double om = row.at("octomap").at("auc"), knn = row.at("knn").at("auc");
+    CHECK(row.at("improvement_percent").get<double>() == Approx((knn - om) / om * 100.0));
+  }
+
+  const json curves = readJsonFile(dir / "curves.json");
+  CHECK(curves.at("dataset") == "parking-voronoi-O");
+  CHECK(curves.at("direct_build_matches_sweep") == true);  // liboctomap and the k-NN mapper against the replay
+  CHECK(std::filesystem::file_size(dir / "maps" / "octomap.ply") > 100);
+  CHECK(std::filesystem::file_size(dir / "maps" / "knn.ply") > 100);
+
+  const json runtime = readJsonFile(dir / "runtime.json");
+  CHECK(std::isfinite(runtime.at("octomap").at("fit").at("r_squared").get<double>()));
+  CHECK(runtime.at("knn").at("samples").size() == 2 * 4 * 4);  // 2 data sets x 4 fractions x k in {1,3,5,7}
+
+  const std::string report = readText(dir / "report.md");
+  for (const char* heading : {"## 1.", "## 2.", "## 3.", "## 4.", "## 5.", "## 6."}) CHECK(report.find(heading) != std::string::npos);
+  if (figures)
+    for (const char* png : {"fig3_distribution_fits.png", "fig4_nca_weights.png", "fig5_improvement.png",
+                            "fig6_curves_maps.png", "fig7_runtime.png"})
+      CHECK(std::filesystem::file_size(dir / png) > 10000);
+}
+
+TEST_CASE("reproduce refuses bad input with the field named") {
+  const auto dir = test::scratch("reproduce-bad");
+  auto r = test::runCli("reproduce --datasets building-voronoi-X --no-figures --out " + dir.string());
+  CHECK(r.exit_code != 0);
+  CHECK(r.output.find("--datasets") != std::string::npos);
+
+  std::filesystem::create_directories(dir / "data" / "building-plain-I");
+  std::ofstream(dir / "data" / "building-plain-I" / "ranking.json") << R"({"sets": [{"folder": "pcs-0000"}]})";
+  r = test::runCli("reproduce --datasets building-plain-I --no-figures --quiet --data " + (dir / "data").string() +
+                   " --out " + (dir / "out").string());
+  CHECK(r.exit_code != 0);
+  CHECK(r.output.find("ranking.json") != std::string::npos);
+}

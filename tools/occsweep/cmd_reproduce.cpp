@@ -1,0 +1,65 @@
+// occsweep reproduce: every experiment of the paper's Section 4 (Fig. 3-7) in one command (issue 6).
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "command_registry.hpp"
+#include "occsweep/sweeps/reproduce.hpp"
+
+namespace occsweep::cli {
+namespace {
+
+struct ReproduceOptions {
+  std::string scale = "ci", out, data, python;
+  std::vector<std::string> datasets;
+  std::uint64_t seed = 1;
+  long nca_samples = -1;
+  int runtime_repeats = 0;
+  int threads = 0;
+  bool no_figures = false, quiet = false;
+};
+
+const RegisterCommand kReproduce{"reproduce",
+                                 "Reproduce the paper's Section 4: distribution fits, NCA weights, optimal-AUC "
+                                 "comparison, curves and maps, run-time models; report.md and five figures",
+                                 [](CLI::App& app) {
+  auto o = std::make_shared<ReproduceOptions>();
+  app.add_option("--scale", o->scale, "ci (under 10 min on 2 cores), small, paper: data scale and reductions")
+      ->check(CLI::IsMember({"ci", "small", "paper"}))->capture_default_str();
+  app.add_option("--out", o->out, "Output folder: *.json, report.md, fig*.png, maps/, sweeps/, data/")->required();
+  app.add_option("--data", o->data, "Generated data sets to use (default OUT/data; missing ones are generated)");
+  app.add_option("--datasets", o->datasets, "Only these data sets (default: the paper's 20)")->delimiter(',');
+  app.add_option("--seed", o->seed, "Eq. 16 split of the reduction grid, NCA subsample and folds")->capture_default_str();
+  app.add_option("--nca-samples", o->nca_samples, "NCA samples per data set and response (0: all; default per scale)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--runtime-repeats", o->runtime_repeats, "Times each Fig. 7 build is timed, fastest kept (default per scale)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--python", o->python, "Python 3 with matplotlib for the figures (default: search)");
+  app.add_flag("--no-figures", o->no_figures, "JSON and report.md only");
+  app.add_flag("--quiet", o->quiet, "No progress on stderr");
+  return [o] {
+    ReproduceConfig c = reproduceDefaults(o->scale);
+    c.out = o->out;
+    c.data = o->data;
+    c.datasets = o->datasets;
+    c.seed = o->seed;
+    if (o->nca_samples >= 0) c.nca_samples = std::size_t(o->nca_samples);
+    c.threads = o->threads;
+    if (o->runtime_repeats > 0) c.runtime_repeats = o->runtime_repeats;
+    c.python = o->python;
+    c.figures = !o->no_figures;
+    c.quiet = o->quiet;
+    c.occsweep_binary = std::filesystem::read_symlink("/proc/self/exe");
+    const auto known = paperDatasetNames();
+    for (const auto& d : c.datasets)
+      if (std::find(known.begin(), known.end(), d) == known.end())
+        throw std::invalid_argument("--datasets: '" + d + "' is not one of the paper's 20 (docs/datasets.md)");
+    const double seconds = runReproduction(c);
+    std::printf("reproduce --scale %s: %.1f s; report %s/report.md\n", c.scale.c_str(), seconds, c.out.string().c_str());
+    return 0;
+  };
+}};
+
+}  // namespace
+}  // namespace occsweep::cli
