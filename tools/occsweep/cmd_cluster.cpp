@@ -90,9 +90,9 @@ const RegisterCommand kCluster{"cluster", "Plan, submit and check sharded experi
   auto* blocks = plan->add_option("--blocks", c->blocks, "Generation shards per data set: blocks of point cloud parameter ids ({pcs})")
       ->capture_default_str()->check(CLI::PositiveNumber);
   plan->add_option("--pcs-count", c->pcs_count, "Point cloud parameter ids 0..N-1 to generate")->capture_default_str()->check(CLI::PositiveNumber);
-  auto unranked_flag = std::make_shared<bool>(false);
-  auto* unranked = plan->add_flag("--unranked", *unranked_flag, "No select stage: sweep folders under the generated "
-                                  "output itself (defaults then: --blocks 1 --sets . --group-set '')");
+  // Read through count(): no bound variable, which would have to outlive parsing (ASan caught a freed one).
+  auto* unranked = plan->add_flag("--unranked")->description("No select stage: sweep folders under the generated "
+                                                             "output itself (defaults then: --blocks 1 --sets . --group-set '')");
   auto* sets = plan->add_option("--sets", c->sets, "Point cloud sets to sweep, per data set: rank-N or pcs-NNNN (ranked), or "
                                                    "folders relative to the data set ('.': itself)")
       ->delimiter(',')->capture_default_str();
