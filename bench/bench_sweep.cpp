@@ -1,7 +1,11 @@
 // Issue 5's benchmark: on a paper-scale point cloud set, side by side in one run, one liboctomap build, the k-NN
 // mapper's direct build, the event recording, the replay of knn-opt and octomap-opt, their ratios, the run-time
 // models (Eq. 17, 18) and the sweep's peak memory. Build in Release (the default).
-//   build/bench/bench_sweep [--scans 120 --width 200 --height 160]   (defaults: about 3.5 M points)
+//   build/bench/bench_sweep                  the paper-scale set: building-voronoi-I's median point cloud set at
+//                                            paper scale (144 keyframes, 2.9 M points), generated once by
+//                                            `occsweep dataset generate` (about 5 min) into build/bench/paper-set
+//   build/bench/bench_sweep --builtin [--scans 120 --width 200 --height 160]   the dense built-in range scene
+//   build/bench/bench_sweep --dataset DIR    any data set
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -22,6 +26,7 @@
 
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/data/dataset.hpp"
 #include "occsweep/eval/runtime_model.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/sweep.hpp"
@@ -70,6 +75,21 @@ double sweepPeakBytes(const std::string& dataset, const std::string& grid, const
   return peakBytes({"sweep", "--dataset", dataset, "--grid", grid, "--out", out, "--quiet"});
 }
 
+// The default set: what the paper maps (a stereo camera's clouds, voxel-filtered at 0.1 m, about 140 keyframes),
+// deterministic from the generator's seed. Generated on first use and kept beside this program.
+std::string paperScaleSet() {
+  const std::filesystem::path out = std::filesystem::path(OCCSWEEP_BENCH_DIR) / "paper-set";
+  const std::filesystem::path set = out / "building-voronoi-I" / "pcs-0800";
+  if (!std::filesystem::exists(set / "manifest.json")) {
+    std::printf("generating the paper-scale set once (about 5 minutes on 2 cores) into %s\n", out.c_str());
+    std::fflush(stdout);
+    const std::vector<std::string> args = {"dataset", "generate", "--name", "building-voronoi-I", "--scale", "paper",
+                                           "--pcs", "800", "--no-preview", "--out", out.string()};
+    (void)peakBytes(args);
+  }
+  return set.string();
+}
+
 PointCloudSet firstScans(const PointCloudSet& set, std::size_t n) { return {set.begin(), set.begin() + long(n)}; }
 
 }  // namespace
@@ -79,7 +99,13 @@ int main(int argc, char** argv) {
   config.scans = 120;
   config.width = 200;
   config.height = 160;
+  std::string dataset_dir;
+  bool builtin = false;
+  for (int i = 1; i < argc; ++i)
+    if (!std::strcmp(argv[i], "--builtin")) builtin = true;
   for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--builtin")) --i;  // a flag: the pairs start one later
+    else if (!std::strcmp(argv[i], "--dataset")) dataset_dir = argv[i + 1];
     if (!std::strcmp(argv[i], "--scans")) config.scans = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--width")) config.width = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--height")) config.height = std::atoi(argv[i + 1]);
@@ -87,10 +113,15 @@ int main(int argc, char** argv) {
   std::printf("occsweep bench_sweep: build type %s, g++ %d.%d, liboctomap %s, oneTBB %d.%d, %u hardware threads\n",
               OCCSWEEP_BUILD_TYPE, __GNUC__, __GNUC_MINOR__, OCCSWEEP_OCTOMAP_VERSION, TBB_VERSION_MAJOR, TBB_VERSION_MINOR,
               std::thread::hardware_concurrency());
-  const Dataset data = makeBuiltinScene(config);
+  if (!builtin && dataset_dir.empty()) dataset_dir = paperScaleSet();
+  const Dataset data = dataset_dir.empty() ? makeBuiltinScene(config) : readDataset(dataset_dir);
   const std::size_t n = pointCount(data.scans);
-  std::printf("set: built-in scene, %zu scans of %dx%d rays, %zu points (%.1f MB as float32)\n", data.scans.size(),
-              config.width, config.height, n, double(n) * 12 / 1e6);
+  if (dataset_dir.empty())
+    std::printf("set: built-in scene, %zu scans of %dx%d rays, %zu points (%.1f MB as float32)\n", data.scans.size(),
+                config.width, config.height, n, double(n) * 12 / 1e6);
+  else
+    std::printf("set: %s, %zu scans, %zu points (%.1f MB as float32)\n", dataset_dir.c_str(), data.scans.size(), n,
+                double(n) * 12 / 1e6);
   const auto dir = std::filesystem::temp_directory_path() / ("occsweep-bench-" + std::to_string(::getpid()));
   writeDataset(data, dir / "set");
 

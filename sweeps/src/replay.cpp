@@ -24,15 +24,9 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   r.positives = truth.occupied.size();
   r.negatives = voxels - r.positives;
 
-  // Events in scan order, then bucketed by voxel with a stable counting sort. Memory matters here (issue 5: the
-  // sweep's peak at most 3x the points): hits stay in their scan's list until the final copy, every vector is
-  // sized exactly, and each scan's voxel events are freed once converted.
-  struct Raw {
-    std::uint32_t voxel;
-    std::uint32_t scan;
-    std::uint32_t first_hit, hit_count;  ///< range in per_scan[scan].hit_points
-    std::uint8_t flags;
-  };
+  // Events in scan order, then bucketed by voxel with a stable counting sort done in place over the scans'
+  // own lists (three passes: count per voxel, hits per sorted event, copy). Memory matters here (issue 5: the
+  // sweep's peak at most 3x the points): no intermediate copy of the events, every vector sized exactly.
   std::vector<ScanEvents> per_scan(set.size());
   tbb::enumerable_thread_specific<ScanEventRecorder> recorders([&] { return ScanEventRecorder(resolution); });
   tbb::parallel_for(std::size_t(0), set.size(), [&](std::size_t t) {
@@ -41,35 +35,36 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   });
   recorders.clear();
   std::size_t events_total = 0, hits_total = 0;
-  for (const ScanEvents& events : per_scan) events_total += events.voxels.size(), hits_total += events.hit_points.size();
-  std::vector<Raw> raw;
-  raw.reserve(events_total);
-  for (std::uint32_t t = 0; t < set.size(); ++t) {
-    for (const VoxelEvent& e : per_scan[t].voxels) raw.push_back({index(e.key), t, e.first_hit, e.hit_count, e.flags});
-    std::vector<VoxelEvent>().swap(per_scan[t].voxels);  // free as we go
-  }
-  r.scan_voxel_updates = raw.size();
   r.voxel_first.assign(voxels + 1, 0);
-  for (const Raw& e : raw) ++r.voxel_first[e.voxel + 1];
-  for (std::uint32_t v = 0; v < voxels; ++v) r.voxel_first[v + 1] += r.voxel_first[v];
-  std::vector<std::uint32_t> order(raw.size()), fill(r.voxel_first.begin(), r.voxel_first.end() - 1);
-  for (std::uint32_t i = 0; i < raw.size(); ++i) order[fill[raw[i].voxel]++] = i;
-  std::vector<std::uint32_t>().swap(fill);
-  r.flags.resize(raw.size());
-  r.hit_first.resize(raw.size() + 1);
-  r.hit_first[0] = 0;
-  r.hit_scan.reserve(hits_total);
-  r.hit_inner.reserve(hits_total);
-  for (std::uint32_t e = 0; e < order.size(); ++e) {
-    const Raw& src = raw[order[e]];
-    r.flags[e] = src.flags;
-    const std::vector<std::uint32_t>& hits = per_scan[src.scan].hit_points;
-    for (std::uint32_t h = 0; h < src.hit_count; ++h) {
-      r.hit_scan.push_back(src.scan);
-      r.hit_inner.push_back(hits[src.first_hit + h]);
-    }
-    r.hit_first[e + 1] = std::uint32_t(r.hit_scan.size());
+  for (const ScanEvents& events : per_scan) {
+    events_total += events.voxels.size();
+    hits_total += events.hit_points.size();
+    for (const VoxelEvent& e : events.voxels) ++r.voxel_first[index(e.key) + 1];
   }
+  r.scan_voxel_updates = events_total;
+  for (std::uint32_t v = 0; v < voxels; ++v) r.voxel_first[v + 1] += r.voxel_first[v];
+  // Sorted position of each event: its voxel's next free slot, scans and events taken in order (stable).
+  std::vector<std::uint32_t> fill(r.voxel_first.begin(), r.voxel_first.end() - 1);
+  auto forEachSorted = [&](auto&& visit) {
+    std::copy(r.voxel_first.begin(), r.voxel_first.end() - 1, fill.begin());
+    for (std::uint32_t t = 0; t < per_scan.size(); ++t)
+      for (const VoxelEvent& e : per_scan[t].voxels) visit(t, e, fill[index(e.key)]++);
+  };
+  r.flags.resize(events_total);
+  r.hit_first.assign(events_total + 1, 0);
+  forEachSorted([&](std::uint32_t, const VoxelEvent& e, std::uint32_t pos) {
+    r.flags[pos] = e.flags;
+    r.hit_first[pos + 1] = e.hit_count;
+  });
+  for (std::size_t e = 0; e < events_total; ++e) r.hit_first[e + 1] += r.hit_first[e];
+  r.hit_scan.resize(hits_total);
+  r.hit_inner.resize(hits_total);
+  forEachSorted([&](std::uint32_t t, const VoxelEvent& e, std::uint32_t pos) {
+    const std::uint32_t* hits = per_scan[t].hit_points.data() + e.first_hit;
+    std::fill_n(r.hit_scan.begin() + r.hit_first[pos], e.hit_count, t);
+    std::copy_n(hits, e.hit_count, r.hit_inner.begin() + r.hit_first[pos]);
+  });
+  std::vector<ScanEvents>().swap(per_scan);
   r.uniform.assign(voxels, 0);
   for (std::uint32_t v = 0; v < voxels; ++v) {
     const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];

@@ -62,7 +62,7 @@ ResultsFile runSweep(const SweepConfig& c) {
   const std::vector<SweepItem> items = selectWork(grid, e, c.selection);
   if (c.engine != "replay" && c.engine != "direct") throw std::invalid_argument("engine must be replay or direct");
   const bool replaying = c.engine == "replay";
-  const Dataset data = readDataset(c.dataset);
+  Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
 
   ResultsFile f;
   ResultsHeader& h = f.header;
@@ -119,14 +119,22 @@ ResultsFile runSweep(const SweepConfig& c) {
     for (const SweepItem* item : todo) distances[e.maps[item->map_index].k];
     std::vector<int> ks;
     for (auto& [k, _] : distances) ks.push_back(k);
-    arena.execute([&] {
-      tbb::parallel_for(std::size_t(0), ks.size(), [&](std::size_t i) {
-        distances[ks[i]] = parallelKnnDistances(data.scans, ks[i], c.s_c);
+    if (replaying) {
+      // Replay needs only F(s) of the recorded hits: one k at a time, its distances freed at once (memory, issue 5).
+      for (int k : ks) {
+        arena.execute([&] { cdf[k] = hitCdf(recorded, parallelKnnDistances(data.scans, k, c.s_c), c.stats); });
+        distances.erase(k);
+      }
+    } else {
+      arena.execute([&] {
+        tbb::parallel_for(std::size_t(0), ks.size(), [&](std::size_t i) {
+          distances[ks[i]] = parallelKnnDistances(data.scans, ks[i], c.s_c);
+        });
       });
-    });
-    if (replaying)
-      for (int k : ks) cdf[k] = hitCdf(recorded, distances.at(k), c.stats);
+    }
   }
+  // Replay reads only the recorded events from here on: the points can go (about a third of the peak).
+  if (replaying) PointCloudSet().swap(data.scans);
 
   // Batches: with replay, up to kReplayLanes maps sharing their hit rule (k-NN: k, p_u, p_l) replayed together;
   // with direct, one map each.
