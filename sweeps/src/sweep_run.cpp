@@ -133,7 +133,7 @@ ResultsFile runSweep(const SweepConfig& c) {
       });
     }
   }
-  // Replay reads only the recorded events from here on: the points can go (about a third of the peak).
+  // Replay reads only the recorded events from here on: the points (12 bytes each) make room for its buffers.
   if (replaying) PointCloudSet().swap(data.scans);
 
   // Batches: with replay, up to kReplayLanes maps sharing their hit rule (k-NN: k, p_u, p_l) replayed together;
