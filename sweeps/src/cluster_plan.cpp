@@ -36,7 +36,7 @@ std::vector<std::string> datasetKeys(const PlanConfig& c) {
                                               : c.datasets[i];
     if (key.empty() || key == "." || key == "..") key = "dataset";
     key = fileKey(key);
-    if (!seen.insert(key).second) key += "-" + std::to_string(i);
+    if (!seen.insert(key).second) (key += '-') += std::to_string(i);  // not "-" + ...: GCC 12 -Wrestrict false positive
     seen.insert(key);
     keys.push_back(key);
   }
@@ -50,7 +50,10 @@ ClusterTask generationTask(const PlanConfig& c, std::size_t i, const std::string
     throw std::invalid_argument("--blocks " + std::to_string(c.blocks) + " is more than --pcs-count " +
                                 std::to_string(c.pcs_count) + ": empty blocks");
   std::string pcs;
-  for (auto id = ids.begin; id < ids.end; ++id) pcs += (pcs.empty() ? "" : ",") + std::to_string(id);
+  for (auto id = ids.begin; id < ids.end; ++id) {
+    if (!pcs.empty()) pcs += ',';
+    pcs += std::to_string(id);
+  }
   std::map<std::string, std::string> v = {
       {"dataset", c.datasets[i]}, {"index", std::to_string(i)}, {"seed", std::to_string(i + 1)},
       {"block", std::to_string(b)}, {"blocks", std::to_string(c.blocks)}, {"scale", c.scale}, {"pcs", pcs},
