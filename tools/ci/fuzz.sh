@@ -17,7 +17,9 @@ if ! command -v clang++-14 >/dev/null || ! have_fuzzer_lib; then
   $SUDO apt-get update -qq && $SUDO apt-get install -y -qq clang-14 libclang-rt-14-dev >/dev/null
 fi
 
-cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
+# -g1: line tables are enough for the reports' stack traces and build much faster than -g. Asserts stay on.
+cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
+  -DCMAKE_CXX_COMPILER=clang++-14 \
   -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" -DOCCSWEEP_SANITIZE=ON -DOCCSWEEP_FUZZ=ON -DOCCSWEEP_STEREO=OFF \
   -DBUILD_TESTING=ON >"$BUILD.cmake.log" 2>&1 || { cat "$BUILD.cmake.log"; exit 1; }
 cmake --build "$BUILD" --target occsweep_fuzz_all -j"$(nproc)" >"$BUILD.build.log" 2>&1 || { tail -50 "$BUILD.build.log"; exit 1; }
