@@ -17,6 +17,10 @@ if ! command -v clang++-14 >/dev/null || ! have_fuzzer_lib; then
   $SUDO apt-get update -qq && $SUDO apt-get install -y -qq clang-14 libclang-rt-14-dev >/dev/null
 fi
 
+# A build folder configured from another checkout (CMake refuses it) is started afresh.
+if [ -f "$BUILD/CMakeCache.txt" ] && ! grep -qx "CMAKE_HOME_DIRECTORY:INTERNAL=$SRC" "$BUILD/CMakeCache.txt"; then
+  rm -rf "$BUILD"
+fi
 # -g1: line tables are enough for the reports' stack traces and build much faster than -g. Asserts stay on.
 cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
   -DCMAKE_CXX_COMPILER=clang++-14 \

@@ -12,6 +12,10 @@ SRC=$PWD
 BUILD=${1:-/tmp/occsweep-sanitize}
 JOBS=$(nproc)
 
+# A build folder configured from another checkout (CMake refuses it) is started afresh.
+if [ -f "$BUILD/CMakeCache.txt" ] && ! grep -qx "CMAKE_HOME_DIRECTORY:INTERNAL=$SRC" "$BUILD/CMakeCache.txt"; then
+  rm -rf "$BUILD"
+fi
 # -g1 (line tables, enough for the sanitizers' stack traces) instead of -g: a much cheaper build. Asserts stay on.
 cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
   -DOCCSWEEP_SANITIZE=ON \
