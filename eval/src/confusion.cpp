@@ -27,17 +27,10 @@ double ConfusionCounts::fpr() const { return ratio(fp, fp + tn); }
 
 RegionSample sampleRegion(const octomap::OcTree& map, const GroundTruth& truth) {
   RegionSample s;
-  const auto& lo = truth.region_min_key;
-  const auto& hi = truth.region_max_key;
-  for (int x = lo[0]; x <= hi[0]; ++x)
-    for (int y = lo[1]; y <= hi[1]; ++y)
-      for (int z = lo[2]; z <= hi[2]; ++z) {
-        const octomap::OcTreeKey key(x, y, z);
-        const bool occupied = truth.occupied.count(key) > 0;
-        (occupied ? s.positives : s.negatives) += 1;
-        if (const octomap::OcTreeNode* node = map.search(key))
-          (occupied ? s.positive_log_odds : s.negative_log_odds).push_back(node->getLogOdds());
-      }
+  forEachRegionVoxel(map, truth, [&](const octomap::OcTreeKey&, bool occupied, const octomap::OcTreeNode* node) {
+    (occupied ? s.positives : s.negatives) += 1;
+    if (node) (occupied ? s.positive_log_odds : s.negative_log_odds).push_back(node->getLogOdds());
+  });
   std::sort(s.positive_log_odds.begin(), s.positive_log_odds.end());
   std::sort(s.negative_log_odds.begin(), s.negative_log_odds.end());
   return s;

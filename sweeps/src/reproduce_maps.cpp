@@ -9,6 +9,7 @@
 #include "occsweep/core/log_odds.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/data/dataset.hpp"
+#include "occsweep/eval/confusion.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "reproduce_internal.hpp"
 
@@ -56,20 +57,13 @@ ConfusionCounts writeClassifiedPly(const octomap::OcTree& map, const GroundTruth
   const float threshold = logOdds(p_t);
   ConfusionCounts c;
   std::vector<std::pair<octomap::point3d, int>> voxels;  // 0 TP, 1 FP, 2 FN
-  const auto& lo = truth.region_min_key;
-  const auto& hi = truth.region_max_key;
-  for (int x = lo[0]; x <= hi[0]; ++x)
-    for (int y = lo[1]; y <= hi[1]; ++y)
-      for (int z = lo[2]; z <= hi[2]; ++z) {
-        const octomap::OcTreeKey key(x, y, z);
-        const bool truly = truth.occupied.count(key) > 0;
-        const octomap::OcTreeNode* node = map.search(key);
-        const bool predicted = node && node->getLogOdds() >= threshold;
-        if (truly && predicted) ++c.tp, voxels.emplace_back(map.keyToCoord(key), 0);
-        else if (predicted) ++c.fp, voxels.emplace_back(map.keyToCoord(key), 1);
-        else if (truly) ++c.fn, voxels.emplace_back(map.keyToCoord(key), 2);
-        else ++c.tn;
-      }
+  forEachRegionVoxel(map, truth, [&](const octomap::OcTreeKey& key, bool truly, const octomap::OcTreeNode* node) {
+    const bool predicted = predictedOccupied(node, threshold);
+    if (truly && predicted) ++c.tp, voxels.emplace_back(map.keyToCoord(key), 0);
+    else if (predicted) ++c.fp, voxels.emplace_back(map.keyToCoord(key), 1);
+    else if (truly) ++c.fn, voxels.emplace_back(map.keyToCoord(key), 2);
+    else ++c.tn;
+  });
   const fs::path tmp = file.string() + ".tmp-" + std::to_string(::getpid());
   {
     std::ofstream out(tmp);

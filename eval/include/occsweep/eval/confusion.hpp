@@ -32,11 +32,34 @@ struct RegionSample {
 /// Looks every region voxel up in the map (search(): a voxel it does not find is unknown).
 [[nodiscard]] RegionSample sampleRegion(const octomap::OcTree& map, const GroundTruth& truth);
 
+/// Calls visit(key, truly_occupied, node) for every region voxel, x outermost; node is nullptr when unknown.
+template <class Visit>
+void forEachRegionVoxel(const octomap::OcTree& map, const GroundTruth& truth, Visit&& visit);
+
+/// SPEC §2's rule for one voxel: known and log-odds >= threshold (l(p_t) in float), as classify() counts it.
+[[nodiscard]] inline bool predictedOccupied(const octomap::OcTreeNode* node, float threshold) {
+  return node && node->getLogOdds() >= threshold;
+}
+
 /// Counts at threshold p_t: predicted occupied when known and log-odds >= l(p_t) in float, as OctoMap's
 /// isNodeOccupied; unknown is predicted not occupied (SPEC §2).
 [[nodiscard]] ConfusionCounts classify(const RegionSample& sample, double p_t);
 
 /// The same for several thresholds at once (the map does not change with p_t).
 [[nodiscard]] std::vector<ConfusionCounts> classify(const RegionSample& sample, const std::vector<double>& p_t);
+
+// ---------------------------------------------------------------------------------------------------------
+
+template <class Visit>
+void forEachRegionVoxel(const octomap::OcTree& map, const GroundTruth& truth, Visit&& visit) {
+  const auto& lo = truth.region_min_key;
+  const auto& hi = truth.region_max_key;
+  for (int x = lo[0]; x <= hi[0]; ++x)
+    for (int y = lo[1]; y <= hi[1]; ++y)
+      for (int z = lo[2]; z <= hi[2]; ++z) {
+        const octomap::OcTreeKey key(x, y, z);
+        visit(key, truth.occupied.count(key) > 0, map.search(key));
+      }
+}
 
 }  // namespace occsweep
