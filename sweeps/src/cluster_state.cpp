@@ -168,7 +168,7 @@ std::string arrayRanges(const std::vector<std::uint64_t>& ids) {
     while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) ++j;
     if (!out.empty()) out += ',';
     out += std::to_string(ids[i]);
-    if (j > i) out += "-" + std::to_string(ids[j]);
+    if (j > i) (out += '-') += std::to_string(ids[j]);  // not "-" + ...: GCC 12 -Wrestrict false positive
     i = j + 1;
   }
   return out;
