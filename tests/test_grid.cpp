@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <set>
+#include <sstream>
 
 #include "occsweep/sweeps/grid.hpp"
 #include "occsweep/sweeps/sharding.hpp"
@@ -21,8 +22,39 @@ TEST_CASE("Table 1's grids enumerate to the paper's counts and agree with Eq. 15
     CHECK(enumerateGrid(g).combinations == count);
     CHECK(closedFormCount(g) == count);
   }
-  const GridSpec red = loadGrid(resolveGridPath("reduction"));
   for (std::uint64_t i = 0; i < 20; ++i) CHECK(permutationGroup(112500, 3, 20, i).size() == 5625);
+}
+
+TEST_CASE("occsweep grid count prints Table 1's counts beside Eq. 15, and grid list one line per stable id") {
+  const auto count = [](const std::string& grid) {
+    const auto r = test::runCli("grid count " + grid);
+    REQUIRE(r.exit_code == 0);
+    return r.output;
+  };
+  CHECK(count("reduction") ==
+        "reduction: 112500 combinations (enumerated), 112500 (Eq. 15 closed form)\nper group of 20 (Eq. 16): 5625\n");
+  CHECK(count("knn-opt") == "knn-opt: 4050 combinations (enumerated), 4050 (Eq. 15 closed form)\n"
+                            "per group of 20 (Eq. 16): 202 (the first 10 groups 203)\n");
+  CHECK(count("octomap-opt") ==
+        "octomap-opt: 180 combinations (enumerated), 180 (Eq. 15 closed form)\nper group of 20 (Eq. 16): 9\n");
+
+  // grid list: one JSON line per combination, ids 0..n-1 in order, parameters as the enumeration gives them.
+  const auto r = test::runCli("grid list octomap-opt");
+  REQUIRE(r.exit_code == 0);
+  const GridEnumeration e = enumerateGrid(loadGrid(resolveGridPath("octomap-opt")));
+  std::istringstream lines(r.output);
+  std::string line;
+  std::uint64_t id = 0;
+  std::set<std::string> distinct;
+  while (std::getline(lines, line)) {
+    const json j = json::parse(line);
+    REQUIRE(j.at("id").get<std::uint64_t>() == id);
+    CHECK(j.at("params").at("p_t").get<double>() >= j.at("params").at("p_min").get<double>());
+    distinct.insert(j.at("params").dump());
+    ++id;
+  }
+  CHECK(id == e.combinations);
+  CHECK(distinct.size() == e.combinations);  // no two ids name the same combination
 }
 
 TEST_CASE("grid values are exact: 0.98 is 0.98") {
@@ -109,8 +141,11 @@ TEST_CASE("the Eq. 16 permutation is a fixed, portable function of n and seed") 
   CHECK(rng.next() == 6457827717110365317ull);
   CHECK(rng.next() == 3203168211198807973ull);
   CHECK(rng.next() == 9817491932198370423ull);
-  // Pinned permutation: a change to the algorithm (or a non-portable substitute) shows here.
-  CHECK(portablePermutation(10, 42) == portablePermutation(10, 42));
+  // Pinned permutations, computed once by tools/shard_reference.py (Python, written from docs/grids.md): a change
+  // to the algorithm, or a non-portable substitute such as std::shuffle, shows here even without python3.
+  CHECK(portablePermutation(10, 42) == std::vector<std::uint64_t>{0, 9, 5, 8, 6, 4, 7, 2, 1, 3});
+  CHECK(portablePermutation(20, 7) ==
+        std::vector<std::uint64_t>{4, 1, 2, 15, 16, 18, 9, 6, 13, 3, 8, 5, 19, 12, 17, 10, 11, 0, 14, 7});
   CHECK(portablePermutation(10, 42) != portablePermutation(10, 43));
   for (std::uint64_t seed = 0; seed < 20; ++seed) {
     const std::uint64_t n = 1 + seed * 37, groups = 1 + seed % 7;

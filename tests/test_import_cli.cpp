@@ -77,3 +77,37 @@ TEST_CASE("import commands write data sets equal to the library readers, truth i
         self.at("occupied_both").get<std::uint64_t>());  // A's occupied voxels, counted two ways
   CHECK(test::runCli("mapdiff " + (dir / "oj.ot").string() + " " + (dir / "missing.ot").string()).exit_code != 0);
 }
+
+TEST_CASE("ground truth from a PLY or PCD point cloud: the voxels holding its points") {
+  const fs::path dir = test::scratch("import_truth_points");
+  // Three points, two of them in one 0.1 m voxel: the truth is two voxels, whatever the format.
+  std::ofstream(dir / "truth.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                      "property float z\nend_header\n0.05 0.05 0.05\n0.06 0.04 0.02\n0.35 0.05 0.15\n";
+  std::ofstream(dir / "truth.pcd") << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\n"
+                                      "HEIGHT 1\nPOINTS 3\nDATA ascii\n0.05 0.05 0.05\n0.06 0.04 0.02\n0.35 0.05 0.15\n";
+  const std::vector<octomap::point3d> expected{{0.05f, 0.05f, 0.05f}, {0.06f, 0.04f, 0.02f}, {0.35f, 0.05f, 0.15f}};
+  for (const char* name : {"truth.ply", "truth.pcd"}) {
+    INFO(name);
+    const TruthSources t = readTruth(dir / name);
+    CHECK(t.boxes.empty());
+    CHECK(t.mesh.empty());
+    REQUIRE(t.points.size() == expected.size());
+    for (std::size_t i = 0; i < expected.size(); ++i) CHECK(t.points[i] == expected[i]);
+  }
+
+  // Through the command, onto a scan of the built-in scene: the data set keeps the points as its truth.
+  REQUIRE(test::runCli("scene --out " + (dir / "scene").string()).exit_code == 0);
+  for (const char* name : {"truth.ply", "truth.pcd"}) {
+    INFO(name);
+    const fs::path out = dir / (std::string(name) + ".set");
+    const auto r = test::runCli("import truth " + (dir / name).string() + " --dataset " + (dir / "scene").string() +
+                                " --region -1 -1 -1 1 1 1 --out " + out.string());
+    REQUIRE(r.exit_code == 0);
+    const Dataset d = readDataset(out);
+    CHECK(d.truth.boxes.empty());
+    CHECK(d.truth.mesh.empty());
+    REQUIRE(d.truth.points.size() == expected.size());
+    const GroundTruth gt = makeGroundTruth(d.truth, d.region, 0.1);
+    CHECK(gt.occupied.size() == 2);
+  }
+}

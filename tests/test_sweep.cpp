@@ -100,8 +100,16 @@ TEST_CASE("a sweep killed part-way resumes and gives the same merged result as a
   const std::size_t finished = lines(partial) - 1;
   CHECK(finished >= 19);
   CHECK(finished < 450);
-  const auto r = test::runCli("sweep --dataset " + data.string() + " --grid knn-opt --out " + out.string() + " --quiet");
+  const auto r = test::runCli("sweep --dataset " + data.string() + " --grid knn-opt --out " + out.string());
   REQUIRE(r.exit_code == 0);
+  // The maps finished before the kill are taken from the partial file, not done again (a line cut by the kill is).
+  const auto at = r.output.find("resuming ");
+  REQUIRE(at != std::string::npos);
+  const auto colon = r.output.find(": ", at);
+  const std::size_t reused = std::stoul(r.output.substr(colon + 2));
+  CHECK(reused + 1 >= finished);
+  CHECK(reused <= finished);
+  CHECK_THAT(r.output, Contains(" of 450 maps done before"));
   CHECK_FALSE(fs::exists(partial));
   const ResultsFile resumed = readResults(out);
   CHECK(resumed.complete);

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <tuple>
 #include <mutex>
@@ -96,6 +97,9 @@ ResultsFile runSweep(const SweepConfig& c) {
   std::vector<const SweepItem*> todo;
   for (const auto& item : items)
     if (!done.count(item.map_index)) todo.push_back(&item);
+  if (!done.empty() && !c.quiet)
+    std::cerr << "resuming " << partial.string() << ": " << done.size() << " of " << items.size()
+              << " maps done before\n";
   if (c.out.has_parent_path()) fs::create_directories(c.out.parent_path());
   std::ofstream log(partial, std::ios::app);
   if (done.empty()) {
