@@ -1,32 +1,16 @@
 #!/usr/bin/env bash
-# Fuzzes every reader with libFuzzer (issue 8): builds tests/fuzz/ with clang-14, ASan and UBSan, and runs each
-# target for a fixed time from its seed corpus (tests/fuzz/corpus/NAME, copied: the committed seeds stay as they
+# Fuzzes every reader with libFuzzer (issue 8): the fuzz targets of tools/ci/sanitized_build.sh (clang-14, ASan,
+# UBSan; the same build folder as tools/ci/sanitize.sh by default, so CI compiles once for both), each run for a
+# fixed time from its seed corpus (tests/fuzz/corpus/NAME, copied: the committed seeds stay as they
 # are) plus the inputs of past findings (tests/fuzz/regressions/NAME). Exit 0 only when no target found anything. Usage:
-#   tools/ci/fuzz.sh [BUILD_DIR] [SECONDS_PER_TARGET]      defaults: /tmp/occsweep-fuzz, 6 (10 targets, ~60 s)
-# By hand, longer: tools/ci/fuzz.sh /tmp/occsweep-fuzz 600; the executions of each run are printed at the end.
+#   tools/ci/fuzz.sh [BUILD_DIR] [SECONDS_PER_TARGET]      defaults: /tmp/occsweep-sanitize, 6 (10 targets, ~60 s)
+# By hand, longer: tools/ci/fuzz.sh /tmp/occsweep-sanitize 600; the executions of each run are printed at the end.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SRC=$PWD
-BUILD=${1:-/tmp/occsweep-fuzz}
+BUILD=${1:-/tmp/occsweep-sanitize}
 SECONDS_EACH=${2:-6}
-
-have_fuzzer_lib() { ls /usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1; }
-if ! command -v clang++-14 >/dev/null || ! have_fuzzer_lib; then
-  echo "fuzz.sh: installing clang-14 and libclang-rt-14-dev" >&2
-  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
-  $SUDO apt-get update -qq && $SUDO apt-get install -y -qq clang-14 libclang-rt-14-dev >/dev/null
-fi
-
-# A build folder configured from another checkout (CMake refuses it) is started afresh.
-if [ -f "$BUILD/CMakeCache.txt" ] && ! grep -qx "CMAKE_HOME_DIRECTORY:INTERNAL=$SRC" "$BUILD/CMakeCache.txt"; then
-  rm -rf "$BUILD"
-fi
-# -g1: line tables are enough for the reports' stack traces and build much faster than -g. Asserts stay on.
-cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
-  -DCMAKE_CXX_COMPILER=clang++-14 \
-  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" -DOCCSWEEP_SANITIZE=ON -DOCCSWEEP_FUZZ=ON -DOCCSWEEP_STEREO=OFF \
-  -DBUILD_TESTING=ON >"$BUILD.cmake.log" 2>&1 || { cat "$BUILD.cmake.log"; exit 1; }
-cmake --build "$BUILD" --target occsweep_fuzz_all -j"$(nproc)" >"$BUILD.build.log" 2>&1 || { tail -50 "$BUILD.build.log"; exit 1; }
+bash tools/ci/sanitized_build.sh "$BUILD"
 
 status=0
 summary=""

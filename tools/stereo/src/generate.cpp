@@ -90,7 +90,8 @@ DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c,
 
   for (std::size_t s = 0; s < sets.size(); ++s) {
     start = std::chrono::steady_clock::now();
-    const auto& [id, params] = sets[s];
+    const auto& id = sets[s].first;
+    const auto& params = sets[s].second;  // not a structured binding: clang 14 cannot capture one in a lambda
     std::vector<Scan> scans(key.frames.size());
     std::vector<std::uint64_t> target_pixels(key.frames.size()), target_valid(key.frames.size());
     std::vector<std::int16_t> preview_disparity;

@@ -51,9 +51,11 @@ PointCloudGrid parsePointCloudGrid(const nlohmann::json& j, const std::string& f
   PointCloudGrid g;
   g.name = j["name"].get<std::string>();
   const auto& params = j["parameters"];
-  for (const auto& [key, value] : params.items())
+  for (const auto& item : params.items()) {
+    const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture one in a lambda
     if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return key == k; }) == std::end(kKeys))
       throw fail("parameters." + key, "unknown parameter");
+  }
   for (int i = 0; i < 5; ++i) {
     const std::string key = std::string("parameters.") + kKeys[i];
     if (!params.contains(kKeys[i])) throw fail(key, "missing");
