@@ -23,6 +23,14 @@ float at(const octomap::OcTree& t, int x) {
   return n ? n->getLogOdds() : NAN;
 }
 
+// Every leaf of the tree: a voxel the hand-built cases do not list would show here. (One row of voxels along x
+// never has eight equal siblings, so nothing is pruned and each leaf is one voxel.)
+std::size_t leafCount(const octomap::OcTree& t) {
+  std::size_t n = 0;
+  for (auto it = t.begin_leafs(), end = t.end_leafs(); it != end; ++it) ++n;
+  return n;
+}
+
 float lo(double p) { return float(std::log(p / (1.0 - p))); }  // Eq. 2, by hand
 
 Scan lineScan(std::vector<octomap::point3d> pts) { return Scan{{0.05f, 0.05f, 0.05f}, std::move(pts)}; }
@@ -36,6 +44,7 @@ TEST_CASE("OctoMap baseline on one hand-built ray: free voxels, the hit voxel, c
   for (int x = 0; x <= 4; ++x) CHECK(at(*t, x) == lo(0.4));  // origin voxel included
   CHECK(at(*t, 5) == lo(0.7));                                // end voxel hit, not freed
   CHECK(std::isnan(at(*t, 6)));
+  CHECK(leafCount(*t) == 6);  // voxels 0 to 5 and nothing else
   const PointCloudSet ten(10, one[0]);
   auto t10 = buildOctoMap(ten, p);
   CHECK(at(*t10, 5) == lo(0.97));  // clamped at l_max (Eq. 5)
@@ -74,6 +83,7 @@ TEST_CASE("k-NN model on hand-built rays: summed hits, l_in, l_out, default and 
     CHECK(at(*t, keyB) == hitB);                                         // on the ray to C, but holds B
     for (int x = keyB + 1; x < keyCut; ++x) CHECK(at(*t, x) == lo(0.45));  // only the cut ray to C: l_out
     CHECK(std::isnan(at(*t, keyCut)));
+    CHECK(leafCount(*t) == std::size_t(keyCut));  // voxels 0 to 39 and nothing else
   }
   SECTION("literal: Algorithm 1 word for word, hits then l_in then l_out") {
     p.variant = UpdateVariant::Literal;

@@ -46,6 +46,11 @@ TEST_CASE("the TPR-FDR curve discards NaN points and its AUC follows SPEC §2") 
   CHECK(one.anchored == Approx(0.2 * 0.5 / 2 + 0.8 * 0.5));
   // No valid point: NaN.
   CHECK(std::isnan(curveArea({}).anchored));
+  // A region without a true voxel: TPR is 0/0 at every threshold, so every point is discarded and the AUC is NaN.
+  const auto no_truth = curvePoints({{0, 5, 0, 995}, {0, 0, 0, 1000}});
+  CHECK(no_truth.empty());
+  CHECK(std::isnan(curveArea(no_truth).anchored));
+  CHECK(std::isnan(curveArea(no_truth).observed));
 }
 
 TEST_CASE("classification: known and log-odds >= l(p_t) in float; unknown is negative; region only") {

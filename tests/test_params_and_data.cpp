@@ -78,13 +78,21 @@ TEST_CASE("broken data sets give an error naming the file and the field") {
     writeDataset(d, dir / "s");
     return dir / "s";
   };
-  auto error = [](const std::filesystem::path& p) {
+  // The reader's message; and the command, given the same data set, must exit non-zero with that message and
+  // write no map.
+  auto error = [&](const std::filesystem::path& p) {
+    std::string message = "no error";
     try {
       (void)readDataset(p);
     } catch (const DataError& e) {
-      return std::string(e.what());
+      message = e.what();
     }
-    return std::string("no error");
+    const auto map = dir / "m.ot";
+    const auto r = test::runCli("map --dataset " + p.string() + " --method octomap --out " + map.string());
+    CHECK(r.exit_code != 0);
+    CHECK_THAT(r.output, Contains(message));
+    CHECK_FALSE(std::filesystem::exists(map));
+    return message;
   };
   SECTION("NaN coordinate") {
     const auto s = fresh();
