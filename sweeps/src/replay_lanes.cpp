@@ -45,11 +45,21 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
       update(table[c][m], *deltas[c], lo, hi);
     }
   }
+  // Counting without a compare-and-increment per voxel, lane and threshold: each lane's thresholds are sorted
+  // ascending, a voxel adds one to reach[j], j = how many of them its value reaches (value >= l(p_t), the same float
+  // comparison), and the voxels at or above the s-th threshold are the sum of reach[j] over j > s.
   std::vector<std::vector<float>> thresholds(n);
-  std::vector<std::vector<ConfusionCounts>> counts(n);
+  std::vector<std::vector<std::size_t>> order(n);  // order[l][s]: the index in p_t[l] of the s-th smallest
+  std::vector<std::vector<std::uint64_t>> reach_tp(n), reach_fp(n);
   for (std::size_t l = 0; l < n; ++l) {
-    for (double p : p_t[l]) thresholds[l].push_back(logOdds(p));
-    counts[l].assign(p_t[l].size(), ConfusionCounts{});
+    std::vector<float> unsorted;
+    for (double p : p_t[l]) unsorted.push_back(logOdds(p));
+    order[l].resize(unsorted.size());
+    for (std::size_t t = 0; t < unsorted.size(); ++t) order[l][t] = t;
+    std::stable_sort(order[l].begin(), order[l].end(), [&](std::size_t a, std::size_t b) { return unsorted[a] < unsorted[b]; });
+    for (std::size_t t : order[l]) thresholds[l].push_back(unsorted[t]);
+    reach_tp[l].assign(unsorted.size() + 1, 0);
+    reach_fp[l].assign(unsorted.size() + 1, 0);
   }
   const std::uint32_t voxels = std::uint32_t(r.truth.size());
   for (std::uint32_t v = 0; v < voxels; ++v) {
@@ -81,16 +91,23 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
           update(value, out, lo, hi);
       }
     }
-    const bool occupied = r.truth[v] != 0;
-    for (std::size_t l = 0; l < n; ++l)
-      for (std::size_t t = 0; t < thresholds[l].size(); ++t)
-        if (value[l] >= thresholds[l][t]) ++(occupied ? counts[l][t].tp : counts[l][t].fp);
-  }
-  for (auto& lane : counts)
-    for (auto& c : lane) {
-      c.fn = r.positives - c.tp;
-      c.tn = r.negatives - c.fp;
+    auto& reach = r.truth[v] != 0 ? reach_tp : reach_fp;
+    for (std::size_t l = 0; l < n; ++l) {
+      std::size_t j = 0;
+      for (const float threshold : thresholds[l]) j += value[l] >= threshold;
+      ++reach[l][j];
     }
+  }
+  std::vector<std::vector<ConfusionCounts>> counts(n);
+  for (std::size_t l = 0; l < n; ++l) {
+    counts[l].assign(p_t[l].size(), ConfusionCounts{});
+    std::uint64_t tp = 0, fp = 0;
+    for (std::size_t s = thresholds[l].size(); s-- > 0;) {
+      tp += reach_tp[l][s + 1], fp += reach_fp[l][s + 1];
+      ConfusionCounts& c = counts[l][order[l][s]];
+      c.tp = tp, c.fp = fp, c.fn = r.positives - tp, c.tn = r.negatives - fp;
+    }
+  }
   return counts;
 }
 
