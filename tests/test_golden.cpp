@@ -20,48 +20,39 @@ fs::path builtinScene(const std::string& test_name) {
   return dir;
 }
 
+// Sweeps `grid` on the scene with `engine` and requires exactly the golden file's numbers (resultDifferences: any
+// TP/FP/FN/TN, an AUC beyond 1e-12).
+void requireGolden(const fs::path& scene, const std::string& grid, const std::string& engine) {
+  INFO("grid " << grid << ", engine " << engine);
+  const ResultsFile golden = readResults(kGolden / (grid + ".json"));
+  REQUIRE(golden.complete);
+  // A different scene would make every number differ: say so plainly.
+  REQUIRE(datasetContentHash(scene) == golden.header.dataset_hash);
+  SweepConfig c;
+  c.dataset = scene;
+  c.grid = grid;
+  c.engine = engine;
+  c.out = scene.parent_path() / (grid + "-" + engine + ".json");
+  c.quiet = true;
+  const ResultsFile fresh = runSweep(c);
+  CHECK(fresh.header.engine == engine);
+  const auto diffs = resultDifferences(golden, fresh);
+  for (std::size_t i = 0; i < std::min<std::size_t>(diffs.size(), 10); ++i) UNSCOPED_INFO(diffs[i]);
+  CHECK(diffs.empty());
+}
+
 }  // namespace
 
 TEST_CASE("golden results of the built-in scene recompute identically") {
   const auto scene = builtinScene("golden-recompute");
-  for (const char* grid : {"octomap-opt", "knn-opt"}) {
-    INFO("grid " << grid);
-    const ResultsFile golden = readResults(kGolden / (std::string(grid) + ".json"));
-    REQUIRE(golden.complete);
-    // A different scene would make every number differ: say so plainly.
-    REQUIRE(datasetContentHash(scene) == golden.header.dataset_hash);
-    SweepConfig c;
-    c.dataset = scene;
-    c.grid = grid;
-    c.out = scene.parent_path() / (std::string(grid) + ".json");
-    c.quiet = true;
-    const ResultsFile fresh = runSweep(c);  // the default engine: replay
-    CHECK(fresh.header.engine == "replay");
-    const auto diffs = resultDifferences(golden, fresh);
-    for (std::size_t i = 0; i < std::min<std::size_t>(diffs.size(), 10); ++i) UNSCOPED_INFO(diffs[i]);
-    CHECK(diffs.empty());
-  }
+  for (const char* grid : {"octomap-opt", "knn-opt"}) requireGolden(scene, grid, "replay");  // the default engine
 }
 
 TEST_CASE("the direct engine (liboctomap for OctoMap, one k-NN map per combination) reproduces the golden results") {
   // The golden files are recomputed above by the replay engine; here by the reference engine, map by map, so that
   // replay and direct are compared on the built-in scene for every combination of both grids (issue 5).
   const auto scene = builtinScene("golden-direct");
-  for (const char* grid : {"octomap-opt", "knn-opt"}) {
-    INFO("grid " << grid);
-    const ResultsFile golden = readResults(kGolden / (std::string(grid) + ".json"));
-    SweepConfig c;
-    c.dataset = scene;
-    c.grid = grid;
-    c.engine = "direct";
-    c.out = scene.parent_path() / (std::string(grid) + ".json");
-    c.quiet = true;
-    const ResultsFile fresh = runSweep(c);
-    CHECK(fresh.header.engine == "direct");
-    const auto diffs = resultDifferences(golden, fresh);
-    for (std::size_t i = 0; i < std::min<std::size_t>(diffs.size(), 10); ++i) UNSCOPED_INFO(diffs[i]);
-    CHECK(diffs.empty());
-  }
+  for (const char* grid : {"octomap-opt", "knn-opt"}) requireGolden(scene, grid, "direct");
 }
 
 TEST_CASE("the golden check fails when a single voxel's classification changes") {
