@@ -5,7 +5,8 @@
 # enough for the reports' stack traces; asserts stay on). tools/ci/sanitize.sh runs the test suite from it,
 # tools/ci/fuzz.sh the libFuzzer targets. Installs clang-14 and libclang-rt-14-dev with apt-get when missing.
 # Why clang for the test suite too: libFuzzer needs clang, and a second, g++ sanitizer build took 607 s against
-# about 300 s for this one on 2 cores (g++ 12 at -O2 with both sanitizers is about twice as slow per file).
+# 305-370 s for this one, fuzz targets included, on 2 cores (g++ 12 at -O2 with both sanitizers is about twice as
+# slow per file).
 # It builds the command, every test program and every fuzz target (not the benchmarks); a second call on the same
 # folder only checks that all is up to date. Usage: tools/ci/sanitized_build.sh BUILD_DIR
 # Environment: OCCSWEEP_SANITIZE_STEREO = ON|OFF, build the OpenCV stereo tools too (default ON).
