@@ -1,9 +1,12 @@
-// Child processes for the cluster commands: Slurm's clients (captured) and run-local's tasks (logged).
+// Child processes for the cluster commands: Slurm's clients (captured) and run-local's tasks (logged, ending with
+// run-local).
 #include <cerrno>
 #include <cstring>
+#include <csignal>
 #include <fcntl.h>
 #include <spawn.h>
 #include <stdexcept>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -65,18 +68,35 @@ ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet) {
 
 pid_t spawnLogged(const std::vector<std::string>& argv, const std::filesystem::path& cwd,
                   const std::filesystem::path& log) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  pid_t pid = 0;
-  auto args = cArgv(argv);
-  const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(rc));
-  return pid;
+  auto args = cArgv(argv);  // built before fork: the child only makes system calls
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error("cannot start " + argv[0] + ": fork: " + std::strerror(errno));
+  if (pid > 0) return pid;
+  // The child. SIGTERM when the parent dies, however it dies; it may have died before the prctl.
+  if (::prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || ::getppid() != parent) ::_exit(143);
+  // Caught signals are reset by exec anyway: reset them now, so run-local's handler never runs in the child;
+  // ignored ones (nohup) stay ignored.
+  for (int signal : {SIGTERM, SIGINT, SIGHUP}) {
+    struct sigaction current {};
+    if (::sigaction(signal, nullptr, &current) == 0 && current.sa_handler != SIG_IGN) ::signal(signal, SIG_DFL);
+  }
+  const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  const int in = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+  if (out < 0 || in < 0 || ::dup2(out, STDOUT_FILENO) < 0 || ::dup2(out, STDERR_FILENO) < 0 ||
+      ::dup2(in, STDIN_FILENO) < 0)
+    ::_exit(127);
+  if (::chdir(cwd.c_str()) != 0) {
+    const char* why = "run-local: cannot enter the plan folder\n";
+    (void)!::write(STDERR_FILENO, why, std::strlen(why));
+    ::_exit(127);
+  }
+  ::execvp(args[0], args.data());
+  const char* why = "run-local: cannot start the task's program: ";
+  (void)!::write(STDERR_FILENO, why, std::strlen(why));
+  (void)!::write(STDERR_FILENO, std::strerror(errno), std::strlen(std::strerror(errno)));
+  (void)!::write(STDERR_FILENO, "\n", 1);
+  ::_exit(127);
 }
 
 }  // namespace occsweep

@@ -1,32 +1,139 @@
 // run-local: the same plan without Slurm, so a laptop and a cluster share one path.
+#include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
+#include <sys/file.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "occsweep/sweeps/cluster_slurm.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
 
+namespace {
+
+// ---- ending the tasks with run-local (docs/cluster.md, "Stopping run-local") ----
+// The signal handler may only make async-signal-safe calls: it reads the pids of the running tasks from a fixed
+// table of lock-free atomics, sends each SIGTERM and records the signal.
+std::atomic<pid_t>* g_task_pids = nullptr;
+std::size_t g_task_slots = 0;
+volatile std::sig_atomic_t g_stop_signal = 0;
+static_assert(std::atomic<pid_t>::is_always_lock_free);
+
+void stopTasks(int signal) {
+  g_stop_signal = signal;
+  for (std::size_t i = 0; i < g_task_slots; ++i)
+    if (const pid_t pid = g_task_pids[i].load(); pid > 0) ::kill(pid, SIGTERM);
+}
+
+/// SIGTERM, SIGINT and SIGHUP end the running tasks while alive; the old handlers come back after.
+class TaskStopper {
+ public:
+  explicit TaskStopper(std::size_t slots) : pids_(new std::atomic<pid_t>[slots]) {
+    for (std::size_t i = 0; i < slots; ++i) pids_[i] = 0;
+    g_task_pids = pids_.get();
+    g_task_slots = slots;
+    g_stop_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = stopTasks;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = 0;  // no SA_RESTART: waitpid returns EINTR, and the loop sees the signal
+    for (std::size_t i = 0; i < 3; ++i) {  // an ignored signal (nohup's SIGHUP) stays ignored
+      ::sigaction(kSignals[i], nullptr, &old_[i]);
+      if (old_[i].sa_handler != SIG_IGN) ::sigaction(kSignals[i], &sa, nullptr);
+    }
+  }
+  TaskStopper(const TaskStopper&) = delete;
+  TaskStopper& operator=(const TaskStopper&) = delete;
+  ~TaskStopper() {
+    for (std::size_t i = 0; i < 3; ++i) ::sigaction(kSignals[i], &old_[i], nullptr);
+    g_task_slots = 0;
+    g_task_pids = nullptr;
+  }
+  void track(std::size_t slot, pid_t pid) { pids_[slot] = pid; }
+  void forget(std::size_t slot) { pids_[slot] = 0; }
+  [[nodiscard]] int signal() const { return g_stop_signal; }
+  /// Sends SIGTERM again from the main loop: a task started while the handler ran is not missed.
+  void stopAll() const { stopTasks(g_stop_signal); }
+
+ private:
+  static constexpr int kSignals[3] = {SIGTERM, SIGINT, SIGHUP};
+  std::unique_ptr<std::atomic<pid_t>[]> pids_;
+  struct sigaction old_[3] {};
+};
+
+/// DIR/run-local.lock, held (flock) while this run-local runs: a second one on the same plan is refused. The
+/// kernel releases it when the process dies, even by SIGKILL; the descriptor is not inherited by the tasks.
+class PlanLock {
+ public:
+  explicit PlanLock(const fs::path& dir) : file_(dir / "run-local.lock") {
+    fd_ = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw std::runtime_error(file_.string() + ": cannot open: " + std::strerror(errno));
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      std::string holder;
+      std::getline(std::ifstream(file_), holder);
+      ::close(fd_);
+      throw std::runtime_error(dir.string() + ": another `cluster run-local` (pid " + holder +
+                               ") is running this plan: wait for it or stop it (its tasks end with it)");
+    }
+    const std::string pid = std::to_string(::getpid()) + "\n";
+    if (::ftruncate(fd_, 0) != 0 || ::write(fd_, pid.data(), pid.size()) != ssize_t(pid.size()))
+      throw std::runtime_error(file_.string() + ": cannot write");
+  }
+  PlanLock(const PlanLock&) = delete;
+  PlanLock& operator=(const PlanLock&) = delete;
+  ~PlanLock() { ::close(fd_); }
+
+ private:
+  fs::path file_;
+  int fd_ = -1;
+};
+
+/// Refuses while tasks of the plan run elsewhere: on Slurm, or started by a run-local that was killed and whose
+/// tasks have not ended yet; they would write the same outputs as ours.
+void refuseLiveTasks(const ClusterPlan& plan, const fs::path& dir) {
+  const auto subs = readSubmissions(dir);
+  std::size_t slurm = 0, local = 0;
+  const auto status = planStatus(plan, dir, subs.empty() ? std::map<std::string, SlurmRecord>{} : querySlurm(subs), subs);
+  for (const auto& row : status)
+    for (const auto& t : row)
+      if (t.state == TaskState::Running || t.state == TaskState::Pending)
+        ++(t.detail.rfind("run-local pid ", 0) == 0 ? local : slurm);
+  if (slurm)
+    throw std::runtime_error(std::to_string(slurm) + " tasks of the plan are running or pending on Slurm: wait for "
+                             "them (`cluster status DIR --wait`) or scancel them first");
+  if (local)
+    throw std::runtime_error(std::to_string(local) + " tasks of the plan are still running, started by an earlier "
+                             "run-local (`cluster status DIR` lists their pids): wait for them to end");
+}
+
+fs::path logOf(const fs::path& dir, const ClusterStage& stage, const ClusterTask& t) {
+  return dir / "logs" / ("local-" + stage.name + "-" + std::to_string(t.index) + ".log");
+}
+
+}  // namespace
+
 std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs) {
   const fs::path dir = fs::absolute(plan_dir);  // tasks start in it, and logs open after that chdir
   if (jobs < 1) throw std::invalid_argument("-j must be at least 1");
   fs::create_directories(dir / "logs");
-  // A plan also submitted to Slurm: its live tasks would write the same outputs as ours.
-  if (const auto subs = readSubmissions(dir); !subs.empty()) {
-    std::size_t live = 0;
-    for (const auto& row : planStatus(plan, dir, querySlurm(subs), subs))
-      for (const auto& t : row) live += t.state == TaskState::Running || t.state == TaskState::Pending;
-    if (live)
-      throw std::runtime_error(std::to_string(live) + " tasks of the plan are running or pending on Slurm: wait for "
-                               "them (`cluster status DIR --wait`) or scancel them first");
-  }
+  fs::create_directories(dir / "running");
+  const PlanLock lock(dir);
+  refuseLiveTasks(plan, dir);
+  for (const auto& marker : fs::directory_iterator(dir / "running")) fs::remove(marker.path());  // none is live
   // Otherwise what is done is what is on disk.
   const auto torun = tasksToRun(plan, planStatus(plan, dir, {}, {}));
+  TaskStopper stopper{std::size_t(jobs)};
   std::size_t failed = 0;
-  for (std::size_t s = 0; s < plan.stages.size(); ++s) {
+  for (std::size_t s = 0; s < plan.stages.size() && !stopper.signal(); ++s) {
     const ClusterStage& stage = plan.stages[s];
     const auto& ids = torun[s];
     if (ids.empty()) {
@@ -35,26 +142,37 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
     }
     const auto start = std::chrono::steady_clock::now();
     auto last_print = start;
-    std::map<pid_t, std::uint64_t> running;
+    struct Running {
+      std::uint64_t task;
+      std::size_t slot;
+    };
+    std::map<pid_t, Running> running;
+    std::vector<std::size_t> free_slots;
+    for (std::size_t i = std::size_t(jobs); i-- > 0;) free_slots.push_back(i);
     std::size_t next = 0, finished = 0, stage_failed = 0;
     auto reap = [&] {
       int status = 0;
       const pid_t pid = ::waitpid(-1, &status, 0);
       if (pid < 0) {
         if (errno == EINTR) return;
-        throw std::runtime_error("waitpid failed");
+        throw std::runtime_error(std::string("waitpid failed: ") + std::strerror(errno));
       }
       const auto it = running.find(pid);
       if (it == running.end()) return;
-      const ClusterTask& t = stage.tasks[it->second];
+      const ClusterTask& t = stage.tasks[it->second.task];
+      stopper.forget(it->second.slot);
+      free_slots.push_back(it->second.slot);
+      std::error_code ec;
+      fs::remove(runningMarker(dir, stage.name, t.index), ec);
+      running.erase(it);
+      if (stopper.signal()) return;  // stopped: the task did not fail, it was ended
       ++finished;
       const int code = exitCodeOf(status);
       std::string why = code == 0 ? checkOutput(t, dir) : "exit code " + std::to_string(code);
       if (!why.empty()) {
         ++stage_failed;
         std::cerr << "stage " << stage.name << ": task " << t.index << " (" << t.label << ") failed: " << why
-                  << "; log " << (dir / "logs" / ("local-" + stage.name + "-" + std::to_string(t.index) + ".log")).string()
-                  << '\n';
+                  << "; log " << logOf(dir, stage, t).string() << '\n';
       }
       // A line every few seconds, not one per task: paper-scale stages have hundreds.
       const auto now = std::chrono::steady_clock::now();
@@ -62,22 +180,28 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
         std::cerr << "stage " << stage.name << ": " << finished << "/" << ids.size() << " tasks finished\n";
         last_print = now;
       }
-      running.erase(it);
     };
     for (auto t : ids) {  // outputs rewritten now must not count as done meanwhile
       std::error_code ec;
       if (fs::is_regular_file(dir / stage.tasks[t].output, ec)) fs::remove(dir / stage.tasks[t].output, ec);
     }
-    while (next < ids.size() || !running.empty()) {
-      while (next < ids.size() && running.size() < std::size_t(jobs)) {
+    while ((next < ids.size() && !stopper.signal()) || !running.empty()) {
+      while (next < ids.size() && running.size() < std::size_t(jobs) && !stopper.signal()) {
         const ClusterTask& t = stage.tasks[ids[next]];
-        const fs::path log = dir / "logs" / ("local-" + stage.name + "-" + std::to_string(t.index) + ".log");
+        const fs::path log = logOf(dir, stage, t);
         fs::remove(log);
-        running[spawnLogged(t.argv, dir, log)] = t.index;
+        const pid_t pid = spawnLogged(t.argv, dir, log);
+        const std::size_t slot = free_slots.back();
+        free_slots.pop_back();
+        stopper.track(slot, pid);
+        running[pid] = {t.index, slot};
+        std::ofstream(runningMarker(dir, stage.name, t.index)) << pid << '\n';
         ++next;
       }
+      if (stopper.signal()) stopper.stopAll();
       reap();
     }
+    if (stopper.signal()) break;
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cerr << "stage " << stage.name << ": " << ids.size() - stage_failed << " of " << ids.size()
               << " tasks succeeded in " << secs << " s\n";
@@ -86,6 +210,13 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
       std::cerr << "stopping: later stages need this one\n";
       break;
     }
+  }
+  if (const int signal = stopper.signal()) {
+    std::cerr << "run-local: stopped by signal " << signal << " (" << strsignal(signal)
+              << "); its tasks are ended, done tasks are kept: run it again to go on\n";
+    // Die of the same signal, as the shell and a parent expect of a stopped program.
+    ::signal(signal, SIG_DFL);
+    ::raise(signal);
   }
   return failed;
 }

@@ -130,10 +130,14 @@ ClusterPlan buildPlan(const PlanConfig& c) {
 
   // Grids are loaded now so that a wrong name or too many shards fail at planning, not on the cluster.
   std::set<std::string> grid_names;
-  std::vector<std::string> names;
+  std::vector<std::string> names, grid_args;
   for (const auto& g : c.grids) {
     if (g.shards == 0) throw std::invalid_argument("grid " + g.name + ": shards must be at least 1");
     const GridSpec spec = loadGrid(resolveGridPath(g.name));
+    // A grid file named relative to here would not be found by the tasks, which run in the plan folder.
+    grid_args.push_back(std::filesystem::is_regular_file(g.name)
+                            ? std::filesystem::absolute(g.name).lexically_normal().string()
+                            : g.name);
     if (!grid_names.insert(spec.name).second) throw std::invalid_argument("grid " + spec.name + " given twice");
     const auto maps = enumerateGrid(spec).maps.size();
     if (!g.grouped && g.shards > maps)
@@ -163,7 +167,7 @@ ClusterPlan buildPlan(const PlanConfig& c) {
         t.label = s.key + " " + names[gi] + " " + std::to_string(k) + "/" + std::to_string(g.shards);
         t.output = "sweeps/" + s.key + "/" + names[gi] + "/shard-" + std::to_string(k) + "-of-" +
                    std::to_string(g.shards) + ".json";
-        t.argv = {bin, "sweep", "--dataset", s.dir, "--grid", g.name, "--out", t.output,
+        t.argv = {bin, "sweep", "--dataset", s.dir, "--grid", grid_args[gi], "--out", t.output,
                   "--shard", std::to_string(k) + "/" + std::to_string(g.shards), "--threads", std::to_string(threads)};
         if (g.grouped)
           for (auto a : {std::string("--group"), std::to_string(s.dataset_index) + "/" + std::to_string(c.datasets.size()),

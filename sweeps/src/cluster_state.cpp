@@ -10,6 +10,25 @@
 namespace occsweep {
 namespace fs = std::filesystem;
 
+fs::path runningMarker(const fs::path& dir, const std::string& stage, std::uint64_t task) {
+  return dir / "running" / (stage + "-" + std::to_string(task) + ".pid");
+}
+
+pid_t liveLocalTask(const fs::path& dir, const std::string& stage, std::uint64_t task) {
+  long pid = 0;
+  if (!(std::ifstream(runningMarker(dir, stage, task)) >> pid) || pid <= 0) return 0;
+  // Alive and not a zombie: the state letter of /proc/PID/stat, after the ")" that ends the command name.
+  std::string stat;
+  std::getline(std::ifstream("/proc/" + std::to_string(pid) + "/stat"), stat);
+  const auto paren = stat.rfind(')');
+  if (paren == std::string::npos || paren + 2 >= stat.size() || stat[paren + 2] == 'Z') return 0;
+  // A pid reused by an unrelated process after a reboot or a long time: the task runs in the plan folder.
+  std::error_code ec;
+  const auto cwd = fs::read_symlink("/proc/" + std::to_string(pid) + "/cwd", ec);
+  if (ec || !fs::equivalent(cwd, dir, ec)) return 0;
+  return pid_t(pid);
+}
+
 std::string checkOutput(const ClusterTask& task, const fs::path& dir) {
   const fs::path file = dir / task.output;
   std::error_code ec;
@@ -124,6 +143,9 @@ std::vector<std::vector<TaskStatus>> planStatus(const ClusterPlan& plan, const f
       if (rec && (pending.count(rec->state) || running.count(rec->state))) {
         st.state = pending.count(rec->state) ? TaskState::Pending : TaskState::Running;
         st.detail = rec->reason;
+      } else if (const pid_t pid = liveLocalTask(dir, stage.name, task.index); pid > 0) {
+        st.state = TaskState::Running;
+        st.detail = "run-local pid " + std::to_string(pid);
       } else if (const std::string why = checkOutput(task, dir); why.empty()) {
         st.state = outputStale(task, dir) ? TaskState::Stale : TaskState::Done;
         if (st.state == TaskState::Stale) st.detail = "older than an input";

@@ -14,6 +14,7 @@
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/data/dataset.hpp"
+#include "occsweep/data/dataset_truth.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/sweep.hpp"
@@ -64,6 +65,7 @@ ResultsFile runSweep(const SweepConfig& c) {
   if (c.engine != "replay" && c.engine != "direct") throw std::invalid_argument("engine must be replay or direct");
   const bool replaying = c.engine == "replay";
   Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
+  const GroundTruth truth = datasetGroundTruth(data, c.dataset, c.resolution);  // refused before any file is written
 
   ResultsFile f;
   ResultsHeader& h = f.header;
@@ -109,7 +111,6 @@ ResultsFile runSweep(const SweepConfig& c) {
   }
   if (!log) throw std::runtime_error(partial.string() + ": cannot write");
 
-  const GroundTruth truth = makeGroundTruth(data.truth, data.region, c.resolution);
   tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
   const bool knn = grid.method == GridMethod::Knn;
 

@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "command_registry.hpp"
+#include "option_checks.hpp"
 #include "occsweep/sweeps/cluster_select.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 
@@ -88,13 +89,14 @@ const RegisterCommand kCluster{"cluster", "Plan, submit and check sharded experi
       ->check(CLI::IsMember({"exists", "dataset"}))->capture_default_str();
   plan->add_option("--scale", c->scale, "{scale} of the generation command")->capture_default_str();
   auto* blocks = plan->add_option("--blocks", c->blocks, "Generation shards per data set: blocks of point cloud parameter ids ({pcs})")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  plan->add_option("--pcs-count", c->pcs_count, "Point cloud parameter ids 0..N-1 to generate")->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(integerAtLeast<std::uint64_t>(1));
+  plan->add_option("--pcs-count", c->pcs_count, "Point cloud parameter ids 0..N-1 to generate")->capture_default_str()->check(integerAtLeast<std::uint64_t>(1));
   // Read through count(): no bound variable, which would have to outlive parsing (ASan caught a freed one).
   auto* unranked = plan->add_flag("--unranked")->description("No select stage: sweep folders under the generated "
                                                              "output itself (defaults then: --blocks 1 --sets . --group-set '')");
   auto* sets = plan->add_option("--sets", c->sets, "Point cloud sets to sweep, per data set: rank-N or pcs-NNNN (ranked), or "
-                                                   "folders relative to the data set ('.': itself)")
+                                                   "folders relative to the data set ('.': itself, the default of "
+                                                   "--experiment sweep)")
       ->delimiter(',')->capture_default_str();
   auto* group_set = plan->add_option("--group-set", c->group_set, "The set that grouped grids sweep")->capture_default_str();
   plan->add_option("--grids", *grids, "NAME[:SHARDS[:grouped]], grouped: data set i sweeps Eq. 16 group i of the data sets "
@@ -103,7 +105,7 @@ const RegisterCommand kCluster{"cluster", "Plan, submit and check sharded experi
   plan->add_option("--threads", c->sweep_threads, "--threads of each sweep (0: --cpus-per-task)")->capture_default_str();
   plan->add_option("--sweep-args", c->sweep_args, "More `occsweep sweep` arguments for every sweep, e.g. --s-c,4")->delimiter(',');
   plan->add_option("--occsweep", c->occsweep, "occsweep binary the tasks run (default: this one)");
-  plan->add_option("--cpus-per-task", c->slurm.cpus_per_task, "sbatch --cpus-per-task")->capture_default_str()->check(CLI::PositiveNumber);
+  plan->add_option("--cpus-per-task", c->slurm.cpus_per_task, "sbatch --cpus-per-task")->capture_default_str()->check(integerAtLeast<int>(1));
   plan->add_option("--mem", c->slurm.mem, "sbatch --mem")->capture_default_str();
   plan->add_option("--time", c->slurm.time, "sbatch --time")->capture_default_str();
   plan->add_option("--partition", c->slurm.partition, "sbatch --partition");
@@ -122,9 +124,9 @@ const RegisterCommand kCluster{"cluster", "Plan, submit and check sharded experi
   for (CLI::App* sub : {submit, status, resubmit, local}) sub->add_option("dir", *dir, "Plan folder")->required();
   status->add_flag("--wait", *wait, "Wait until no task is running or pending, then print");
   status->add_option("--timeout", *timeout, "With --wait: give up after this many seconds (0: never)")->capture_default_str();
-  status->add_option("--poll", *poll, "With --wait: seconds between looks")->capture_default_str()->check(CLI::PositiveNumber);
+  status->add_option("--poll", *poll, "With --wait: seconds between looks")->capture_default_str()->check(numberAbove(0));
   status->add_flag("--all", *all, "List every task, done ones too");
-  local->add_option("-j,--jobs", *jobs, "Tasks at a time")->capture_default_str()->check(CLI::PositiveNumber);
+  local->add_option("-j,--jobs", *jobs, "Tasks at a time")->capture_default_str()->check(integerAtLeast<int>(1));
   app.require_subcommand(1);
 
   return [=] {
@@ -134,6 +136,10 @@ const RegisterCommand kCluster{"cluster", "Plan, submit and check sharded experi
            if (unranked->count()) {
              cfg.ranked = false;
              if (!blocks->count()) cfg.blocks = 1;
+             if (!sets->count()) cfg.sets = {"."};
+             if (!group_set->count()) cfg.group_set.clear();
+           }
+           if (cfg.experiment == "sweep") {  // user data-set folders: each one is the set to sweep
              if (!sets->count()) cfg.sets = {"."};
              if (!group_set->count()) cfg.group_set.clear();
            }

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "command_registry.hpp"
+#include "option_checks.hpp"
 
 #ifdef OCCSWEEP_HAVE_STEREO
 #include <tbb/global_control.h>
@@ -92,11 +93,11 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
   gen->add_option("--grid", o->grid, "Point cloud parameter grid, name or file")->capture_default_str();
   gen->add_option("--seed", o->seed, "Seed of sensor noise and pose drift")->capture_default_str();
   gen->add_option("--pose-drift", o->drift_m, "SLAM-like drift: position random walk, metres per keyframe (sigma)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(numberAtLeast(0));
   gen->add_option("--yaw-drift", o->drift_yaw, "SLAM-like drift: yaw random walk, degrees per keyframe (sigma)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(numberAtLeast(0));
   gen->add_flag("--no-preview", o->no_preview, "Do not write OUT/NAME/preview/*.png");
-  gen->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::NonNegativeNumber);
+  gen->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
   return [o, gen]() -> int {
     if (!gen->parsed()) throw CLI::CallForHelp();
 #ifdef OCCSWEEP_HAVE_STEREO

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "option_checks.hpp"
 #include "occsweep/sweeps/grid.hpp"
 #include "occsweep/sweeps/sharding.hpp"
 
@@ -32,7 +33,7 @@ const RegisterCommand kGrid{"grid", "Count, list or shard a parameter grid (Tabl
   for (CLI::App* sub : {count, list, shards})
     sub->add_option("grid", *grid, "Grid name (sweeps/grids) or path")->required();
   for (CLI::App* sub : {count, shards})
-    sub->add_option("--groups", *groups, "Number of groups N_d (Eq. 16)")->capture_default_str()->check(CLI::PositiveNumber);
+    sub->add_option("--groups", *groups, "Number of groups N_d (Eq. 16)")->capture_default_str()->check(integerAtLeast<std::uint64_t>(1));
   shards->add_option("--seed", *seed, "Permutation seed")->capture_default_str();
   app.require_subcommand(1);
   auto load = [grid] { return loadGrid(resolveGridPath(*grid)); };

@@ -21,15 +21,13 @@ struct ImportOptions {
   bool skip_empty = false;
 };
 
-PoseFormat poseFormat(const std::string& s) { return s == "matrix" ? PoseFormat::Matrix : PoseFormat::Quaternion; }
-
 std::vector<fs::path> paths(const std::vector<std::string>& files) { return {files.begin(), files.end()}; }
 
 int finish(Dataset d, const ImportOptions& o) {
   d.name = !o.name.empty() ? o.name : fs::path(o.out).filename().string();
   if (d.name.empty()) d.name = "imported";
   writeDataset(d, o.out);  // atomic: built beside the target, then renamed
-  std::cout << "wrote " << o.out << ": " << d.scans.size() << " scans, " << pointCount(d.scans) << " points";
+  std::cout << "wrote " << o.out << ": data set \"" << d.name << "\", " << d.scans.size() << " scans, " << pointCount(d.scans) << " points";
   if (d.truth.boxes.empty() && d.truth.mesh.empty() && d.truth.points.empty())
     std::cout << ", no ground truth (region = bounding box)";
   else
@@ -40,8 +38,10 @@ int finish(Dataset d, const ImportOptions& o) {
 }
 
 void addPoseOptions(CLI::App* sub, ImportOptions& o) {
-  sub->add_option("--pose-format", o.pose_format, "Pose file lines: quaternion (tx ty tz qx qy qz qw) or matrix (4x4)")
-      ->check(CLI::IsMember({"quaternion", "matrix"}))->capture_default_str();
+  sub->add_option("--pose-format", o.pose_format,
+                  "Pose file lines: quaternion (tx ty tz qx qy qz qw), matrix (4x4), tum (timestamp tx ty tz qx qy qz "
+                  "qw) or kitti (12 numbers: 3x4 [R|t] row-major); docs/import.md")
+      ->check(CLI::IsMember({"quaternion", "matrix", "tum", "kitti"}))->capture_default_str();
 }
 
 const RegisterCommand kImport{"import", "Import real recordings (depth images, OctoMap graphs, point clouds, truth)",
@@ -54,8 +54,9 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
   for (CLI::App* sub : {depth, graph, cloud, truth}) {
     sub->add_option("files", o->files, "Input files, in scan order")->required();
     sub->add_option("--out", o->out, "Output data-set folder (written atomically)")->required();
-    sub->add_option("--name", o->name, "Data-set name (default: the output folder's name)");
+    if (sub != truth) sub->add_option("--name", o->name, "Data-set name (default: the output folder's name)");
   }
+  truth->add_option("--name", o->name, "Data-set name (default: the name of --dataset, kept)");
   for (CLI::App* sub : {depth, graph, cloud})
     sub->add_flag("--skip-empty", o->skip_empty, "Drop scans without a valid point instead of refusing them");
   DepthImportConfig& c = o->depth;
@@ -77,7 +78,7 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
   return [=] {
     return runChosen({
         {depth, [o] {
-           o->depth.pose_format = poseFormat(o->pose_format);
+           o->depth.pose_format = poseFormatNamed(o->pose_format);
            o->depth.skip_empty = o->skip_empty;
            return finish(importDepthSequence(paths(o->files), o->poses, o->depth), *o);
          }},
@@ -88,7 +89,7 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
         {cloud, [o] {
            CloudImportConfig cc;
            if (!o->poses.empty()) cc.pose_file = fs::path(o->poses);
-           cc.pose_format = poseFormat(o->pose_format);
+           cc.pose_format = poseFormatNamed(o->pose_format);
            cc.origin = {o->origin[0], o->origin[1], o->origin[2]};
            cc.skip_empty = o->skip_empty;
            return finish(importClouds(paths(o->files), cc), *o);

@@ -2,12 +2,15 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <unistd.h>
 
 #include "command_registry.hpp"
+#include "option_checks.hpp"
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/data/dataset.hpp"
+#include "occsweep/data/dataset_truth.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/sweeps/results.hpp"
 
@@ -21,7 +24,7 @@ struct MapOptions {
 };
 
 void addProbability(CLI::App& app, const std::string& flag, double& value, const std::string& help) {
-  app.add_option(flag, value, help)->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  app.add_option(flag, value, help)->capture_default_str()->check(probability());
 }
 
 const RegisterCommand kMap{"map", "Build one map of a data set and write it as OctoMap .ot (octovis opens it)",
@@ -39,9 +42,9 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
   addProbability(app, "--p-max", k.p_max, "Upper clamping threshold");
   addProbability(app, "--p-min", k.p_min, "Lower clamping threshold");
   addProbability(app, "--p-t", k.p_t, "Occupancy threshold (stored in the .ot, used for the summary)");
-  app.add_option("--k", k.k, "k-NN: neighbours averaged")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--s-c", k.s_c, "Maximum range s_c, metres")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--resolution", k.resolution, "Voxel edge, metres")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--k", k.k, "k-NN: neighbours averaged")->capture_default_str()->check(integerAtLeast<int>(1));
+  app.add_option("--s-c", k.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
+  app.add_option("--resolution", k.resolution, "Voxel edge, metres")->capture_default_str()->check(numberAbove(0));
   app.add_option("--variant", o->variant, "k-NN update: default (occupied wins) or literal (Algorithm 1 word for word)")
       ->check(CLI::IsMember({"default", "literal"}))->capture_default_str();
   app.add_option("--stats", o->stats, "k-NN mu, sigma: batch (whole set, the paper's) or online (running)")
@@ -54,6 +57,10 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     // Refuse broken parameters before reading anything.
     if (o->method == "octomap") validate(om); else validate(k);
     const Dataset d = readDataset(o->dataset);
+    // Before the map is built and written: a region the truth cannot use is refused with nothing written.
+    std::optional<GroundTruth> gt;
+    if (!d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty())
+      gt = datasetGroundTruth(d, o->dataset, k.resolution);
     const auto start = std::chrono::steady_clock::now();
     auto tree = o->method == "octomap" ? buildOctoMap(d.scans, om) : KnnInverseSensorModel(k).buildMap(d.scans);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -78,9 +85,8 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     std::cout << "method " << o->method << ", " << d.scans.size() << " scans, " << pointCount(d.scans)
               << " points, built in " << seconds << " s\n"
               << "map " << o->out << ": " << tree->getNumLeafNodes() << " leaves (settings in " << o->out << ".json)\n";
-    if (!d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty()) {
-      const GroundTruth gt = makeGroundTruth(d.truth, d.region, k.resolution);
-      const ConfusionCounts c = classify(sampleRegion(*tree, gt), k.p_t);
+    if (gt) {
+      const ConfusionCounts c = classify(sampleRegion(*tree, *gt), k.p_t);
       std::cout << "at p_t " << k.p_t << ": TP " << c.tp << " FP " << c.fp << " FN " << c.fn << " TN " << c.tn
                 << "  TPR " << c.tpr() << " FDR " << c.fdr() << '\n';
     }

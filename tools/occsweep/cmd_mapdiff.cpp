@@ -2,20 +2,56 @@
 // samples have no ground truth, so OctoMap's and the k-NN model's maps are compared with each other).
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 #include <octomap/OcTree.h>
 
 #include "command_registry.hpp"
+#include "option_checks.hpp"
 #include "occsweep/core/log_odds.hpp"
 
 namespace occsweep::cli {
 namespace {
 
+/// Holds what liboctomap writes to std::cout and std::cerr ("Reading octree type OcTree", "Done (N nodes)": its
+/// OCTOMAP_DEBUG_STR and OCTOMAP_ERROR_STR macros) while alive, so that the output is occsweep's JSON alone; its
+/// error lines are kept for occsweep's own message (docs/robustness.md).
+class HeldLibraryChatter {
+ public:
+  HeldLibraryChatter() : out_(std::cout.rdbuf(held_.rdbuf())), err_(std::cerr.rdbuf(held_.rdbuf())) {}
+  HeldLibraryChatter(const HeldLibraryChatter&) = delete;
+  HeldLibraryChatter& operator=(const HeldLibraryChatter&) = delete;
+  ~HeldLibraryChatter() {
+    std::cout.rdbuf(out_);
+    std::cerr.rdbuf(err_);
+  }
+  /// The lines starting with "ERROR:", joined with "; ".
+  [[nodiscard]] std::string errors() const {
+    std::istringstream in(held_.str());
+    std::string line, out;
+    while (std::getline(in, line))
+      if (line.rfind("ERROR: ", 0) == 0) out += (out.empty() ? "" : "; ") + line.substr(7);
+    return out;
+  }
+
+ private:
+  std::ostringstream held_;
+  std::streambuf *out_, *err_;
+};
+
 std::unique_ptr<octomap::OcTree> readTree(const std::string& file) {
-  std::unique_ptr<octomap::AbstractOcTree> t(octomap::AbstractOcTree::read(file));
+  std::unique_ptr<octomap::AbstractOcTree> t;
+  std::string library_errors;
+  {
+    HeldLibraryChatter quiet;
+    t.reset(octomap::AbstractOcTree::read(file));
+    library_errors = quiet.errors();
+  }
   auto* tree = dynamic_cast<octomap::OcTree*>(t.get());
-  if (!tree) throw std::runtime_error(file + ": not an OcTree .ot file (missing, unreadable or another tree type)");
+  if (!tree)
+    throw std::runtime_error(file + ": not an OcTree .ot file (missing, unreadable or another tree type)" +
+                             (library_errors.empty() ? "" : ": liboctomap: " + library_errors));
   t.release();
   std::unique_ptr<octomap::OcTree> out(tree);
   out->expand();  // every leaf at the finest depth: voxel counts do not depend on pruning
@@ -55,7 +91,7 @@ const RegisterCommand kMapDiff{"mapdiff", "Count the voxels two maps (.ot) disag
   auto o = std::make_shared<Options>();
   app.add_option("a", o->a, "First map, .ot")->required();
   app.add_option("b", o->b, "Second map, .ot (same resolution)")->required();
-  app.add_option("--p-t", o->p_t, "Occupancy threshold")->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  app.add_option("--p-t", o->p_t, "Occupancy threshold")->capture_default_str()->check(probability());
   return [o] {
     const auto a = readTree(o->a), b = readTree(o->b);
     if (a->getResolution() != b->getResolution())

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "command_registry.hpp"
+#include "option_checks.hpp"
 #include "occsweep/sweeps/reproduce.hpp"
 
 namespace occsweep::cli {
@@ -31,10 +32,10 @@ const RegisterCommand kReproduce{"reproduce",
   app.add_option("--datasets", o->datasets, "Only these data sets (default: the paper's 20)")->delimiter(',');
   app.add_option("--seed", o->seed, "Eq. 16 split of the reduction grid, NCA subsample and folds")->capture_default_str();
   app.add_option("--nca-samples", o->nca_samples, "NCA samples per data set and response (0: all; default per scale)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integerAtLeast<long>(0));
   app.add_option("--runtime-repeats", o->runtime_repeats, "Times each Fig. 7 build is timed, fastest kept (default per scale)")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->check(integerAtLeast<int>(1));
+  app.add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
   app.add_option("--python", o->python, "Python 3 with matplotlib for the figures (default: search)");
   app.add_flag("--no-figures", o->no_figures, "JSON and report.md only");
   app.add_flag("--quiet", o->quiet, "No progress on stderr");

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "option_checks.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/data/builtin_scene.hpp"
 
@@ -17,11 +18,11 @@ const RegisterCommand kScene{"scene", "Write the built-in scene (four boxes in a
   auto o = std::make_shared<Options>();
   app.add_option("--out", o->out, "Output data-set folder")->required();
   app.add_option("--seed", o->config.seed, "Seed of noise and outliers")->capture_default_str();
-  app.add_option("--scans", o->config.scans, "Keyframes over both orbits")->capture_default_str()->check(CLI::Range(1, 100000));
-  app.add_option("--width", o->config.width, "Rays per row")->capture_default_str()->check(CLI::Range(1, 100000));
-  app.add_option("--height", o->config.height, "Rows")->capture_default_str()->check(CLI::Range(1, 100000));
-  app.add_option("--noise", o->config.noise_sigma, "Range noise sigma, metres")->capture_default_str()->check(CLI::NonNegativeNumber);
-  app.add_option("--outliers", o->config.outlier_fraction, "Outlier fraction")->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  app.add_option("--scans", o->config.scans, "Keyframes over both orbits")->capture_default_str()->check(integerIn<int>(1, 100000));
+  app.add_option("--width", o->config.width, "Rays per row")->capture_default_str()->check(integerIn<int>(1, 100000));
+  app.add_option("--height", o->config.height, "Rows")->capture_default_str()->check(integerIn<int>(1, 100000));
+  app.add_option("--noise", o->config.noise_sigma, "Range noise sigma, metres")->capture_default_str()->check(numberAtLeast(0));
+  app.add_option("--outliers", o->config.outlier_fraction, "Outlier fraction")->capture_default_str()->check(numberIn(0, 1));
   return [o] {
     const Dataset d = makeBuiltinScene(o->config);
     writeDataset(d, o->out);

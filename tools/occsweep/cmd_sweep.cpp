@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "option_checks.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "selection_options.hpp"
 
@@ -22,11 +23,11 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
   app.add_option("--shard", o->shard, "I/N: the I-th of N contiguous blocks of the grid's maps (I from 0)");
   app.add_option("--group", o->group, "G/N: only the G-th Eq. 16 group of the seeded permutation");
   app.add_option("--seed", o->seed, "Seed of the Eq. 16 permutation (with --group)")->capture_default_str();
-  app.add_option("--resolution", o->config.resolution, "Map resolution, metres")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--s-c", o->config.s_c, "Maximum range s_c, metres")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--resolution", o->config.resolution, "Map resolution, metres")->capture_default_str()->check(numberAbove(0));
+  app.add_option("--s-c", o->config.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
   app.add_option("--variant", o->variant, "k-NN update variant")->check(CLI::IsMember({"default", "literal"}))->capture_default_str();
   app.add_option("--stats", o->stats, "k-NN mu, sigma source")->check(CLI::IsMember({"batch", "online"}))->capture_default_str();
-  app.add_option("--threads", o->config.threads, "Worker threads (0: all cores)")->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--threads", o->config.threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
   app.add_option("--engine", o->config.engine, "replay: record events once, replay every combination; direct: build every map (the reference)")
       ->check(CLI::IsMember({"replay", "direct"}))->capture_default_str();
   app.add_flag("--quiet", o->config.quiet, "No progress on stderr");

@@ -5,6 +5,7 @@
 
 #include "command_registry.hpp"
 #include "occsweep/sweeps/version.hpp"
+#include "usage_errors.hpp"
 
 int main(int argc, char** argv) {
   using namespace occsweep::cli;
@@ -22,14 +23,14 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return reportParseError(app, e, argc, argv);
   }
   for (auto& [sub, run] : runners) {
     if (!sub->parsed()) continue;
     try {
       return run();
     } catch (const CLI::ParseError& e) {
-      return sub->exit(e);
+      return e.get_exit_code() == 0 ? sub->exit(e) : reportParseError(app, e, argc, argv);
     } catch (const std::exception& e) {
       std::cerr << "occsweep " << sub->get_name() << ": error: " << e.what() << '\n';
       return 2;

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -75,12 +76,24 @@ struct Manifest {
     if (!v.is_number_unsigned()) throw DataError(file, where, "must be a non-negative integer");
     return v.get<std::uint64_t>();
   }
-  fs::path relative(const json& v, const std::string& where) const {
-    if (!v.is_string()) throw DataError(file, where, "must be a file name");
+  /// The file a manifest path names, refused unless it is inside the data-set folder once symbolic links are
+  /// resolved (docs/dataset-format.md): an absolute path, a ".." component or a link leading out is refused; a
+  /// name that merely contains two dots ("a..b.f32") is fine.
+  fs::path inside(const json& v, const std::string& where) const {
+    if (!v.is_string() || v.get<std::string>().empty()) throw DataError(file, where, "must be a file name");
     const fs::path p = v.get<std::string>();
-    if (p.is_absolute() || p.string().find("..") != std::string::npos)
-      throw DataError(file, where, "must be a path inside the data set folder");
-    return p;
+    const auto dotdot = std::find(p.begin(), p.end(), fs::path(".."));
+    if (p.is_absolute() || dotdot != p.end())
+      throw DataError(file, where, "\"" + p.string() + "\" must be a relative path inside the data set folder");
+    std::error_code ec;
+    const fs::path folder = fs::canonical(file.parent_path(), ec);
+    const fs::path target = ec ? fs::path() : fs::weakly_canonical(folder / p, ec);
+    if (ec) throw DataError(file, where, "\"" + p.string() + "\" cannot be resolved: " + ec.message());
+    const auto [f, t] = std::mismatch(folder.begin(), folder.end(), target.begin(), target.end());
+    if (f != folder.end())
+      throw DataError(file, where, "\"" + p.string() + "\" leads out of the data set folder (to " + target.string() +
+                                       ", through a symbolic link)");
+    return file.parent_path() / p;  // as the user wrote it, for messages
   }
   AxisBox box(const json& v, const std::string& where) const {
     AxisBox b{triple(at(v, "min", where + "."), where + ".min"), triple(at(v, "max", where + "."), where + ".max")};
@@ -179,10 +192,11 @@ Dataset readDataset(const fs::path& dir) {
     scan.origin = octomap::point3d(float(o[0]), float(o[1]), float(o[2]));
     const auto n = mf.count(mf.at(s, "points", where + "."), where + ".points");
     if (n == 0) throw DataError(file, where + ".points", "an empty scan (0 points) is not allowed");
-    scan.points = readFloats(dir / mf.relative(mf.at(s, "file", where + "."), where + ".file"), n, where);
+    scan.points = readFloats(mf.inside(mf.at(s, "file", where + "."), where + ".file"), n, where);
     d.scans.push_back(std::move(scan));
   }
   const json& truth = mf.at(m, "truth", "");
+  if (!truth.is_object()) throw DataError(file, "truth", "must be an object (boxes, mesh_file, points_file)");
   if (truth.contains("boxes")) {
     const json& boxes = truth.at("boxes");
     if (!boxes.is_array()) throw DataError(file, "truth.boxes", "must be an array");
@@ -192,12 +206,12 @@ Dataset readDataset(const fs::path& dir) {
   if (truth.contains("mesh_file")) {
     const auto n = mf.count(mf.at(truth, "mesh_triangles", "truth."), "truth.mesh_triangles");
     if (n > kMaxPointsPerFile / 3) throw DataError(file, "truth.mesh_triangles", "claims an absurd count");
-    const auto v = readFloats(dir / mf.relative(truth.at("mesh_file"), "truth.mesh_file"), n * 3, "truth.mesh_file");
+    const auto v = readFloats(mf.inside(truth.at("mesh_file"), "truth.mesh_file"), n * 3, "truth.mesh_file");
     for (std::uint64_t t = 0; t < n; ++t) d.truth.mesh.push_back(Triangle{{v[t * 3], v[t * 3 + 1], v[t * 3 + 2]}});
   }
   if (truth.contains("points_file")) {
     const auto n = mf.count(mf.at(truth, "points", "truth."), "truth.points");
-    d.truth.points = readFloats(dir / mf.relative(truth.at("points_file"), "truth.points_file"), n, "truth.points_file");
+    d.truth.points = readFloats(mf.inside(truth.at("points_file"), "truth.points_file"), n, "truth.points_file");
   }
   d.region = mf.box(mf.at(m, "region", ""), "region");
   if (m.contains("source")) d.source = m.at("source");

@@ -73,7 +73,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
   nlohmann::json source = {{"generator", "occsweep import cloud"}, {"clouds", files}};
   if (c.pose_file) {
     source["poses"] = c.pose_file->filename().string();
-    source["pose_format"] = c.pose_format == PoseFormat::Matrix ? "matrix" : "quaternion";
+    source["pose_format"] = poseFormatName(c.pose_format);
   } else {
     source["origin"] = c.origin;
   }

@@ -57,7 +57,7 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const fs::path&
   nlohmann::json source = {{"generator", "occsweep import depth"},
                            {"images", files},
                            {"poses", pose_file.filename().string()},
-                           {"pose_format", c.pose_format == PoseFormat::Matrix ? "matrix" : "quaternion"},
+                           {"pose_format", poseFormatName(c.pose_format)},
                            {"depth_scale", c.depth_scale},
                            {"intrinsics", {c.fx, c.fy, c.cx, c.cy}},
                            {"max_depth", c.max_depth},

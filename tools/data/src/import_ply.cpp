@@ -48,8 +48,14 @@ struct Header {
 Header parseHeader(std::string_view bytes, const std::filesystem::path& file) {
   if (bytes.substr(0, 4) != "ply\n" && bytes.substr(0, 5) != "ply\r\n")
     throw DataError(file, "magic", "not a PLY file: must start with a line \"ply\"");
-  const auto end = bytes.find("end_header");
-  if (end == std::string_view::npos || end > (1u << 20)) throw DataError(file, "header", "no end_header line");
+  // A header is a few hundred bytes; 1 MiB of header is a broken or hostile file (docs/robustness.md).
+  constexpr std::size_t kMaxHeaderBytes = std::size_t(1) << 20;
+  const auto end = bytes.substr(0, kMaxHeaderBytes + 10).find("end_header");
+  if (end == std::string_view::npos && bytes.size() <= kMaxHeaderBytes)
+    throw DataError(file, "header", "no end_header line: the header is not complete (truncated file?)");
+  if (end == std::string_view::npos || end > kMaxHeaderBytes)
+    throw DataError(file, "header", "no end_header line in the first " + std::to_string(kMaxHeaderBytes) +
+                                        " bytes (1 MiB, the most a PLY header may hold)");
   const auto nl = bytes.find('\n', end);
   Header h;
   h.body = nl == std::string_view::npos ? bytes.size() : nl + 1;

@@ -1,6 +1,7 @@
 #include "occsweep/data/import_pose.hpp"
 
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "occsweep/data/import_bytes.hpp"
@@ -22,20 +23,70 @@ namespace {
   return std::abs(det - 1.0) <= kRotationTolerance;  // det -1 is a reflection: a left-handed frame, refused
 }
 
-RigidPose quaternionLine(const TextLines& lines, const std::vector<std::string_view>& tok) {
-  if (tok.size() != 7)
-    lines.fail("has " + std::to_string(tok.size()) + " values, expected 7: tx ty tz qx qy qz qw");
-  static const char* names[] = {"tx", "ty", "tz", "qx", "qy", "qz", "qw"};
-  double v[7];
-  for (std::size_t i = 0; i < 7; ++i) v[i] = lines.number(tok[i], i, names[i]);
+/// tx ty tz qx qy qz qw, after TUM's timestamp when `timestamp`.
+RigidPose quaternionLine(const TextLines& lines, const std::vector<std::string_view>& tok, bool timestamp) {
+  static const char* names[] = {"timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
+  const std::size_t skip = timestamp ? 1 : 0, expected = 7 + skip;
+  if (tok.size() != expected)
+    lines.fail("has " + std::to_string(tok.size()) + " values, expected " + std::to_string(expected) + ": " +
+               (timestamp ? "timestamp " : "") + "tx ty tz qx qy qz qw" +
+               (!timestamp && tok.size() == 8 ? " (a TUM file starts with a timestamp: --pose-format tum)" : ""));
+  double v[8];
+  for (std::size_t i = 0; i < expected; ++i) v[i] = lines.number(tok[i], i, names[i + 1 - skip]);
+  const double* q = v + skip;
   bool ok = false;
-  const RigidPose pose = poseFromQuaternion(v[0], v[1], v[2], v[6], v[3], v[4], v[5], ok);
+  const RigidPose pose = poseFromQuaternion(q[0], q[1], q[2], q[6], q[3], q[4], q[5], ok);
   if (!ok) {
-    const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+    const double norm = std::sqrt(q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]);
     lines.fail("quaternion norm is " + std::to_string(norm) + ", more than " +
                std::to_string(kQuaternionNormTolerance) + " from 1: not a rotation (wrong column order?)");
   }
   return pose;
+}
+
+/// The rows [R|t] of a rigid transform (12 numbers, row-major), refused unless R is a rotation.
+RigidPose rigidFromRows(const TextLines& lines, const std::vector<double>& v, std::size_t pose_number,
+                        std::size_t first_line) {
+  RigidPose p;
+  p.rotation = {v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10]};
+  p.translation = {v[3], v[7], v[11]};
+  if (!isRotation(p.rotation))
+    lines.fail("pose " + std::to_string(pose_number) + " (from line " + std::to_string(first_line) +
+               "): upper-left 3x3 is not a rotation (orthonormal, det +1, tolerance 1e-3)");
+  return p;
+}
+
+/// KITTI odometry: r11 r12 r13 tx r21 r22 r23 ty r31 r32 r33 tz, one pose a line.
+RigidPose kittiLine(const TextLines& lines, const std::vector<std::string_view>& tok, std::size_t pose_number) {
+  if (tok.size() != 12)
+    lines.fail("has " + std::to_string(tok.size()) + " values, expected 12: the 3x4 [R|t] row-major (KITTI)");
+  std::vector<double> v;
+  for (std::size_t i = 0; i < 12; ++i) v.push_back(lines.number(tok[i], i, "matrix entry"));
+  return rigidFromRows(lines, v, pose_number, lines.line());
+}
+
+std::vector<RigidPose> matrixPoses(TextLines& lines, const std::filesystem::path& file) {
+  std::vector<std::string_view> tok;
+  std::vector<RigidPose> poses;
+  std::vector<double> values;  // numbers of the pose being read
+  std::size_t first_line = 0;
+  while (lines.nextData(tok)) {
+    if (values.empty()) first_line = lines.line();
+    for (std::size_t i = 0; i < tok.size(); ++i) {
+      values.push_back(lines.number(tok[i], i, "matrix entry"));
+      if (values.size() < 16) continue;
+      if (i + 1 != tok.size()) lines.fail("a 4x4 pose ends inside this line: 16 numbers a pose expected");
+      if (values[12] != 0 || values[13] != 0 || values[14] != 0 || values[15] != 1)
+        lines.fail("pose " + std::to_string(poses.size() + 1) + " (from line " + std::to_string(first_line) +
+                   "): last row must be 0 0 0 1");
+      poses.push_back(rigidFromRows(lines, values, poses.size() + 1, first_line));
+      values.clear();
+    }
+  }
+  if (!values.empty())
+    throw DataError(file, "end of file", "the last pose has " + std::to_string(values.size()) +
+                                             " numbers, expected 16: truncated file");
+  return poses;
 }
 
 }  // namespace
@@ -68,36 +119,28 @@ std::vector<RigidPose> decodePoses(std::string_view text, const fs::path& file, 
   TextLines lines(text, file);
   std::vector<std::string_view> tok;
   std::vector<RigidPose> poses;
-  if (format == PoseFormat::Quaternion) {
-    while (lines.nextData(tok)) poses.push_back(quaternionLine(lines, tok));
-  } else {
-    std::vector<double> values;  // numbers of the pose being read
-    std::size_t first_line = 0;
-    while (lines.nextData(tok)) {
-      if (values.empty()) first_line = lines.line();
-      for (std::size_t i = 0; i < tok.size(); ++i) {
-        values.push_back(lines.number(tok[i], i, "matrix entry"));
-        if (values.size() < 16) continue;
-        if (i + 1 != tok.size()) lines.fail("a 4x4 pose ends inside this line: 16 numbers a pose expected");
-        if (values[12] != 0 || values[13] != 0 || values[14] != 0 || values[15] != 1)
-          lines.fail("pose " + std::to_string(poses.size() + 1) + " (from line " + std::to_string(first_line) +
-                     "): last row must be 0 0 0 1");
-        RigidPose p;
-        p.rotation = {values[0], values[1], values[2], values[4], values[5], values[6], values[8], values[9], values[10]};
-        p.translation = {values[3], values[7], values[11]};
-        if (!isRotation(p.rotation))
-          lines.fail("pose " + std::to_string(poses.size() + 1) + " (from line " + std::to_string(first_line) +
-                     "): upper-left 3x3 is not a rotation (orthonormal, det +1, tolerance 1e-3)");
-        poses.push_back(p);
-        values.clear();
-      }
-    }
-    if (!values.empty())
-      throw DataError(file, "end of file", "the last pose has " + std::to_string(values.size()) +
-                                               " numbers, expected 16: truncated file");
-  }
+  if (format == PoseFormat::Matrix) poses = matrixPoses(lines, file);
+  while (format == PoseFormat::Quaternion && lines.nextData(tok)) poses.push_back(quaternionLine(lines, tok, false));
+  while (format == PoseFormat::Tum && lines.nextData(tok)) poses.push_back(quaternionLine(lines, tok, true));
+  while (format == PoseFormat::Kitti && lines.nextData(tok)) poses.push_back(kittiLine(lines, tok, poses.size() + 1));
   if (poses.empty()) throw DataError(file, "", "holds no pose");
   return poses;
+}
+
+const char* poseFormatName(PoseFormat format) {
+  switch (format) {
+    case PoseFormat::Matrix: return "matrix";
+    case PoseFormat::Tum: return "tum";
+    case PoseFormat::Kitti: return "kitti";
+    case PoseFormat::Quaternion: break;
+  }
+  return "quaternion";
+}
+
+PoseFormat poseFormatNamed(const std::string& name) {
+  for (auto f : {PoseFormat::Quaternion, PoseFormat::Matrix, PoseFormat::Tum, PoseFormat::Kitti})
+    if (name == poseFormatName(f)) return f;
+  throw std::invalid_argument("pose format '" + name + "': expected quaternion, matrix, tum or kitti");
 }
 
 std::vector<RigidPose> readPoses(const fs::path& file, PoseFormat format) {

@@ -20,10 +20,20 @@ struct ProcessOutput {
 /// (status queries: sacct without accounting complains on every call).
 [[nodiscard]] ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet = false);
 /// Starts argv in `cwd` with stdout and stderr appended to `log`; returns the pid (std::runtime_error on failure).
+/// The child gets SIGTERM when this process dies, even by SIGKILL (PR_SET_PDEATHSIG): run-local's tasks never
+/// outlive it (docs/cluster.md); an argv[0] that cannot be started is exit code 127 with the reason in the log.
 [[nodiscard]] pid_t spawnLogged(const std::vector<std::string>& argv, const std::filesystem::path& cwd,
                                 const std::filesystem::path& log);
 /// Exit code of a finished child as runCapture reports it.
 [[nodiscard]] int exitCodeOf(int wait_status);
+
+// ---- run-local's running tasks ----
+/// DIR/running/<stage>-<task>.pid: the pid of the process run-local started for the task, while it runs.
+[[nodiscard]] std::filesystem::path runningMarker(const std::filesystem::path& dir, const std::string& stage,
+                                                 std::uint64_t task);
+/// The pid in the task's marker when that process is alive (not a zombie) and runs in DIR; 0 otherwise (no
+/// marker, or one left by a run-local killed with SIGKILL whose task has ended since).
+[[nodiscard]] pid_t liveLocalTask(const std::filesystem::path& dir, const std::string& stage, std::uint64_t task);
 
 // ---- outputs ----
 /// Empty when the task's output is valid, else why not ("missing", "incomplete results", ...).
@@ -58,7 +68,8 @@ struct TaskStatus {
   std::string slurm_id;  ///< JOBID_TASK of its latest submission, if any
 };
 
-/// Per stage, per task. Live Slurm tasks are Running/Pending whatever their output; otherwise a valid, fresh
+/// Per stage, per task. Live Slurm tasks are Running/Pending whatever their output, and so are tasks a run-local
+/// is running (liveLocalTask, detail "run-local pid N"); otherwise a valid, fresh
 /// output is Done; a task whose latest Slurm record ended badly (or ended COMPLETED without a valid output) is
 /// Failed; an output that exists but does not pass is Invalid; an output older than an input is Stale.
 [[nodiscard]] std::vector<std::vector<TaskStatus>> planStatus(const ClusterPlan& plan, const std::filesystem::path& dir,

@@ -1,8 +1,10 @@
 // What an imported recording becomes: a data set without ground truth until `import truth` adds one.
 #pragma once
 
+#include <chrono>
 #include <iostream>
 #include <string>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -18,24 +20,35 @@ namespace occsweep {
 /// (docs/import.md). `source` records the reader and its settings; source.truth is set to "none".
 [[nodiscard]] Dataset importedDataset(std::string name, PointCloudSet scans, nlohmann::json source);
 
-/// "label i/n" on one stderr line, rewritten in place; the line is ended when the import ends, also by an error,
-/// so that an error message starts on its own line.
+/// "label i/n" on stderr. On a terminal one line rewritten in place, ended when the import ends (also by an error,
+/// so that an error message starts on its own line); into a log file or pipe whole lines only, the first, the last
+/// and one every 5 s, so that a log holds no carriage returns (docs/robustness.md).
 class ProgressLine {
  public:
-  explicit ProgressLine(std::string label) : label_(std::move(label)) {}
+  explicit ProgressLine(std::string label)
+      : label_(std::move(label)), terminal_(::isatty(STDERR_FILENO) != 0), last_(std::chrono::steady_clock::now()) {}
   ProgressLine(const ProgressLine&) = delete;
   ProgressLine& operator=(const ProgressLine&) = delete;
   ~ProgressLine() {
-    if (shown_) std::cerr << '\n';
+    if (shown_ && terminal_) std::cerr << '\n';
   }
   void show(std::size_t done, std::size_t total) {
-    std::cerr << '\r' << label_ << ' ' << done << '/' << total << std::flush;
+    if (terminal_) {
+      std::cerr << '\r' << label_ << ' ' << done << '/' << total << std::flush;
+      shown_ = true;
+      return;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (shown_ && done != total && now - last_ < std::chrono::seconds(5)) return;
+    std::cerr << label_ << ' ' << done << '/' << total << '\n' << std::flush;
     shown_ = true;
+    last_ = now;
   }
 
  private:
   std::string label_;
-  bool shown_ = false;
+  bool terminal_, shown_ = false;
+  std::chrono::steady_clock::time_point last_;
 };
 
 /// Throws DataError(file, where, ...) when a scan has no point: data sets refuse empty scans.

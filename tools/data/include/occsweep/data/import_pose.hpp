@@ -3,6 +3,7 @@
 
 #include <array>
 #include <filesystem>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -20,9 +21,16 @@ struct RigidPose {
 };
 
 enum class PoseFormat {
-  Quaternion,  ///< one pose a line: tx ty tz qx qy qz qw (TUM and slambook order, w last)
+  Quaternion,  ///< one pose a line: tx ty tz qx qy qz qw (slambook order, w last)
   Matrix,      ///< 16 numbers a pose, row-major 4x4, over any number of lines; last row 0 0 0 1
+  Tum,         ///< one pose a line: timestamp tx ty tz qx qy qz qw (TUM RGB-D trajectory format, docs/import.md)
+  Kitti,       ///< one pose a line: 12 numbers, the 3x4 [R|t] row-major (KITTI odometry poses, docs/import.md)
 };
+
+/// The name of a pose format on the command line and in a data set's `source` ("tum"); "quaternion" for today's.
+[[nodiscard]] const char* poseFormatName(PoseFormat format);
+/// The format of a name; std::invalid_argument listing the names otherwise.
+[[nodiscard]] PoseFormat poseFormatNamed(const std::string& name);
 
 /// How far a quaternion's norm may be from 1 and still be normalised; beyond it the pose is refused, because a
 /// quaternion that far off is a corrupted or mis-ordered line, not rounding (docs/import.md).

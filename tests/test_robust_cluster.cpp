@@ -1,0 +1,214 @@
+// cluster plan on user data-set folders, relative grid paths, and run-local killed at random moments: its tasks end
+// with it, status sees running shards, a second run-local is refused, and the resumed plan gives the numbers of an
+// uninterrupted one (issue 13; docs/cluster.md, docs/robustness.md "Messages, formats and the cluster").
+// OCCSWEEP_UNDER_TEST=/path/to/old/occsweep runs the commands of another build.
+#include <catch2/catch.hpp>
+
+#include <csignal>
+#include <fcntl.h>
+#include <fstream>
+#include <thread>
+#include <unistd.h>
+
+#include "occsweep/core/splitmix64.hpp"
+#include "occsweep/sweeps/cluster_slurm.hpp"
+#include "occsweep/sweeps/merge.hpp"
+#include "robust_cli_helpers.hpp"
+
+using namespace occsweep;
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+using namespace std::chrono_literals;
+
+namespace {
+
+void makeScene(const fs::path& out, int seed) {
+  const auto r = test::runCli("scene --out " + out.string() + " --seed " + std::to_string(seed) +
+                              " --scans 6 --width 32 --height 16");
+  REQUIRE(r.exit_code == 0);
+}
+
+/// A small OctoMap grid (4 maps of 2 thresholds), written as a file: the plan names it by a relative path.
+void writeSmallGrid(const fs::path& file) {
+  fs::create_directories(file.parent_path());
+  std::ofstream(file) << R"({"name": "small-octomap", "method": "octomap", "parameters": {
+    "p_max": {"value": 0.97}, "p_min": {"value": 0.12}, "p_h": {"min": 0.6, "max": 0.9, "step": 0.3},
+    "p_m": {"min": 0.2, "max": 0.4, "step": 0.2}, "p_t": {"step": 0.3}}})";
+}
+
+/// run-local started in its own process group (so that the test can always clean up what it started), output to
+/// `log`.
+pid_t startRunLocal(const fs::path& plan, const fs::path& log, int jobs) {
+  const std::string cli = test::cliUnderTest(), dir = plan.string(), j = std::to_string(jobs);
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    ::setpgid(0, 0);
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    ::dup2(fd, STDOUT_FILENO);
+    ::dup2(fd, STDERR_FILENO);
+    ::execl(cli.c_str(), cli.c_str(), "cluster", "run-local", dir.c_str(), "-j", j.c_str(), nullptr);
+    ::_exit(127);
+  }
+  ::setpgid(pid, pid);
+  return pid;
+}
+
+/// Processes whose working folder is `dir`: run-local's tasks run there, and nothing else does.
+std::vector<pid_t> processesIn(const fs::path& dir) {
+  std::vector<pid_t> out;
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    const std::string name = e.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::error_code ec;
+    const auto cwd = fs::read_symlink(e.path() / "cwd", ec);  // fails for zombies and ended processes
+    if (!ec && fs::equivalent(cwd, dir, ec)) out.push_back(pid_t(std::stol(name)));
+  }
+  return out;
+}
+
+/// Waits up to `limit` for the processes in `dir` to end; returns those left.
+std::vector<pid_t> survivorsAfter(const fs::path& dir, std::chrono::milliseconds limit) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  auto left = processesIn(dir);
+  while (!left.empty() && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(50ms);
+    left = processesIn(dir);
+  }
+  return left;
+}
+
+/// Ends whatever the test started in `dir` and is still there (only after a failed check).
+void endLeftovers(const fs::path& dir) {
+  for (pid_t pid : processesIn(dir)) ::kill(pid, SIGKILL);
+}
+
+int waitExit(pid_t pid) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+
+std::string planWith(const std::string& plan, const std::string& extra = "") {
+  return "cluster plan --out " + plan + " --experiment sweep --datasets A B --grids grids/small.json:2" + extra;
+}
+
+}  // namespace
+
+TEST_CASE("cluster plan --experiment sweep takes user data-set folders without --sets, and relative grid paths") {
+  const fs::path dir = test::scratch("robust-cluster-plan");
+  makeScene(dir / "A", 1);
+  makeScene(dir / "B", 2);
+  writeSmallGrid(dir / "grids" / "small.json");
+  auto r = test::runIn(dir, planWith("p"));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const ClusterPlan p = readPlan(dir / "p");
+  for (const auto& t : stageNamed(p, "sweep").tasks) {
+    CHECK((t.argv.at(3) == fs::absolute(dir / "A").string() || t.argv.at(3) == fs::absolute(dir / "B").string()));
+    CHECK(t.argv.at(5) == (dir / "grids" / "small.json").string());  // resolved at plan time
+  }
+  r = test::runIn(dir, "cluster run-local p -j 2");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  r = test::runIn(dir, "cluster status p");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(fs::exists(dir / "p" / "merged" / "A" / "small-octomap.json"));
+}
+
+TEST_CASE("status sees run-local's running shards, a second run-local is refused, SIGKILL ends the tasks too") {
+  const fs::path dir = test::scratch("robust-cluster-running");
+  makeScene(dir / "A", 1);
+  makeScene(dir / "B", 2);
+  writeSmallGrid(dir / "grids" / "small.json");
+  // Every task starts 3 s late (bash's read with a timeout, then exec: one process, which keeps the death signal).
+  const fs::path slow = dir / "slow-occsweep.sh";
+  std::ofstream(slow) << "#!/bin/bash\nread -t 3 <> <(:)\nexec " << test::cliUnderTest() << " \"$@\"\n";
+  fs::permissions(slow, fs::perms::owner_all);
+  REQUIRE(test::runIn(dir, planWith("p", " --occsweep " + slow.string())).exit_code == 0);
+  const fs::path plan = dir / "p";
+  const pid_t first = startRunLocal(plan, dir / "first.log", 2);
+  auto until = std::chrono::steady_clock::now() + 10s;
+  while (processesIn(plan).size() < 2 && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(20ms);
+  std::this_thread::sleep_for(300ms);  // the `<(:)` of the delay, a short-lived subshell, is gone by then
+  REQUIRE(processesIn(plan).size() == 2);
+
+  auto r = test::runIn(dir, "cluster status p");
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.output, Contains("stage sweep: 4 tasks: 0 done, 2 running,"));
+  CHECK_THAT(r.output, Contains("run-local pid "));
+  r = test::runIn(dir, "cluster run-local p -j 2");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("another `cluster run-local` (pid " + std::to_string(first) + ")"));
+  CHECK(processesIn(plan).size() == 2);  // the second one started nothing
+
+  ::kill(first, SIGKILL);
+  CHECK(WTERMSIG(waitExit(first)) == SIGKILL);
+  const auto left = survivorsAfter(plan, 1500ms);  // well before the 3 s delay ends
+  CHECK(left.empty());
+  endLeftovers(plan);
+  r = test::runIn(dir, "cluster status p");
+  INFO(r.output);
+  CHECK_THAT(r.output, Contains("0 running"));
+}
+
+TEST_CASE("run-local killed 24 times at random moments: no task survives, no output is partial, same numbers") {
+  const fs::path dir = test::scratch("robust-cluster-kills");
+  makeScene(dir / "A", 1);
+  makeScene(dir / "B", 2);
+  writeSmallGrid(dir / "grids" / "small.json");
+  REQUIRE(test::runIn(dir, planWith("whole")).exit_code == 0);
+  const fs::path whole = dir / "whole", killed = dir / "killed";
+
+  // The uninterrupted run, and its duration: the kills fall within it.
+  const auto start = std::chrono::steady_clock::now();
+  REQUIRE(waitExit(startRunLocal(whole, dir / "whole.log", 2)) == 0);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  INFO("uninterrupted run: " << seconds << " s");
+
+  // Cycles: a fresh plan, killed and started again until a run finishes it, then its numbers checked; until 24
+  // kills have hit a running run-local.
+  SplitMix64 rng(13);
+  const int signals[] = {SIGTERM, SIGINT, SIGKILL};
+  int kills = 0;
+  for (int cycle = 0; kills < 24 && cycle < 40; ++cycle) {
+    fs::remove_all(killed);
+    REQUIRE(test::runIn(dir, planWith("killed")).exit_code == 0);
+    const ClusterPlan p = readPlan(killed);
+    for (int round = 0;; ++round) {
+      const int signal = signals[kills % 3];
+      const pid_t pid = startRunLocal(killed, dir / "killed.log", 2);
+      std::this_thread::sleep_for(std::chrono::duration<double>(rng.uniform() * seconds * 0.6));
+      ::kill(pid, signal);
+      const int status = waitExit(pid);
+      INFO("cycle " << cycle << " round " << round << ", signal " << signal << ", run-local wait status " << status);
+      // Stopped by SIGTERM or SIGINT, run-local ends its tasks and waits for them before it dies itself; after a
+      // SIGKILL the kernel sends them SIGTERM, which takes them a moment.
+      const auto left = survivorsAfter(killed, signal == SIGKILL ? 200ms : 0ms);
+      CHECK(left.empty());
+      endLeftovers(killed);
+      // Every output on disk is either absent or complete (Done or, once an input was redone, Stale).
+      for (const auto& row : planStatus(p, killed, {}, {}))
+        for (const auto& t : row) {
+          INFO(stateName(t.state) << ": " << t.detail);
+          CHECK((t.state == TaskState::Done || t.state == TaskState::Missing || t.state == TaskState::Stale));
+        }
+      if (WIFSIGNALED(status) && WTERMSIG(status) == signal) {
+        ++kills;
+        continue;
+      }
+      REQUIRE(WIFEXITED(status));  // finished before the signal came
+      REQUIRE(WEXITSTATUS(status) == 0);
+      break;
+    }
+    for (const char* d : {"A", "B"}) {
+      const fs::path file = fs::path("merged") / d / "small-octomap.json";
+      CHECK(resultDifferences(readResults(whole / file), readResults(killed / file)).empty());
+    }
+    CHECK(test::runIn(dir, "cluster status killed").exit_code == 0);
+  }
+  CHECK(kills >= 24);
+}

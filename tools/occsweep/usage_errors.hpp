@@ -1,0 +1,16 @@
+// Usage errors (unknown command or option, a refused value, a missing option) reported like every other error:
+// "occsweep CMD: error: ...", the nearest valid name for a typo, exit 2 (docs/robustness.md, "Messages, formats and
+// the cluster"). --help and --version keep CLI11's output and exit 0.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace occsweep::cli {
+
+/// Levenshtein distance between two names (for "did you mean").
+[[nodiscard]] std::size_t editDistance(const std::string& a, const std::string& b);
+
+/// Prints the error of a failed parse of `argv` by `app` and returns the exit code: 0 for --help/--version, else 2.
+int reportParseError(CLI::App& app, const CLI::ParseError& error, int argc, char** argv);
+
+}  // namespace occsweep::cli
