@@ -78,6 +78,9 @@ def main():
     put("pose", "quaternion.txt", "\0# tx ty tz qx qy qz qw\n0.1 0.2 -2.2 -0.001 0.0005 -0.0002 0.999999\n"
                                  "-0.228993 0.00645704 0.0287837 -0.0004327 -0.113131 -0.0326832 0.993042\n")
     put("pose", "matrix.txt", "\x011 0 0 0.5\n0 1 0 0\n0 0 1 2\n0 0 0 1\n0 -1 0 0 1 0 0 0 0 0 1 0 0 0 0 1\n")
+    put("pose", "tum.txt", "\x02# timestamp tx ty tz qx qy qz qw\n1305031102.175304 1 2 3 0 0 0.7071068 0.7071068\n"
+                          "1305031102.211214 -1 0 0.5 0 0 0 1\n")
+    put("pose", "kitti.txt", "\x031 0 0 4 0 0 -1 5 0 1 0 6\n1 0 0 0 0 1 0 0 0 0 1 0\n")
     r = 1 / math.sqrt(2)
     pts = [(1.0 + i, 0.5 * i, -0.25) for i in range(4)]
     put("graph", "two_nodes.graph", graph([(pts, (0, 0, 0), (1, 0, 0, 0)), (pts[:2], (1, 2, 3), (r, 0, 0, r))], [(0, 1)]))
