@@ -68,6 +68,7 @@ TEST_CASE("numeric flags are refused with their rule in plain numbers, exit 2, n
                     "--threads must be an integer >= 0, got -1", dir);
   requireUsageError("scene --out " + (dir / "s").string() + " --scans 0", "--scans must be an integer from 1 to 100000, got 0",
                     dir);
+  requireUsageError("scene --out " + (dir / "s").string() + " --seed abc", "--seed cannot take the value abc", dir);
   requireUsageError("grid count octomap-opt --groups 0", "--groups must be an integer >= 1, got 0", dir);
   requireUsageError("cluster run-local " + dir.string() + " -j 0", "--jobs must be an integer >= 1, got 0", dir);
 }
