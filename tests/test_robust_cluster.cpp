@@ -187,7 +187,7 @@ TEST_CASE("run-local killed 24 times at random moments: no task survives, no out
       INFO("cycle " << cycle << " round " << round << ", signal " << signal << ", run-local wait status " << status);
       // Stopped by SIGTERM or SIGINT, run-local ends its tasks and waits for them before it dies itself; after a
       // SIGKILL the kernel sends them SIGTERM, which takes them a moment.
-      const auto left = survivorsAfter(killed, signal == SIGKILL ? 200ms : 0ms);
+      const auto left = survivorsAfter(killed, signal == SIGKILL ? 1000ms : 0ms);
       CHECK(left.empty());
       endLeftovers(killed);
       // Every output on disk is either absent or complete (Done or, once an input was redone, Stale).
