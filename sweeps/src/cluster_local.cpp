@@ -119,6 +119,77 @@ fs::path logOf(const fs::path& dir, const ClusterStage& stage, const ClusterTask
   return dir / "logs" / ("local-" + stage.name + "-" + std::to_string(t.index) + ".log");
 }
 
+/// Runs the tasks `ids` of one stage, `jobs` at a time; returns how many failed (none counted once stopped).
+std::size_t runStage(const ClusterStage& stage, const std::vector<std::uint64_t>& ids, const fs::path& dir, int jobs,
+                     TaskStopper& stopper) {
+  const auto start = std::chrono::steady_clock::now();
+  auto last_print = start;
+  struct Running {
+    std::uint64_t task;
+    std::size_t slot;
+  };
+  std::map<pid_t, Running> running;
+  std::vector<std::size_t> free_slots;
+  for (std::size_t i = std::size_t(jobs); i-- > 0;) free_slots.push_back(i);
+  std::size_t next = 0, finished = 0, stage_failed = 0;
+  auto reap = [&] {
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno == EINTR) return;
+      throw std::runtime_error(std::string("waitpid failed: ") + std::strerror(errno));
+    }
+    const auto it = running.find(pid);
+    if (it == running.end()) return;
+    const ClusterTask& t = stage.tasks[it->second.task];
+    stopper.forget(it->second.slot);
+    free_slots.push_back(it->second.slot);
+    std::error_code ec;
+    fs::remove(runningMarker(dir, stage.name, t.index), ec);
+    running.erase(it);
+    if (stopper.signal()) return;  // stopped: the task did not fail, it was ended
+    ++finished;
+    const int code = exitCodeOf(status);
+    std::string why = code == 0 ? checkOutput(t, dir) : "exit code " + std::to_string(code);
+    if (!why.empty()) {
+      ++stage_failed;
+      std::cerr << "stage " << stage.name << ": task " << t.index << " (" << t.label << ") failed: " << why
+                << "; log " << logOf(dir, stage, t).string() << '\n';
+    }
+    // A line every few seconds, not one per task: paper-scale stages have hundreds.
+    const auto now = std::chrono::steady_clock::now();
+    if (finished == ids.size() || now - last_print > std::chrono::seconds(5)) {
+      std::cerr << "stage " << stage.name << ": " << finished << "/" << ids.size() << " tasks finished\n";
+      last_print = now;
+    }
+  };
+  for (auto t : ids) {  // outputs rewritten now must not count as done meanwhile
+    std::error_code ec;
+    if (fs::is_regular_file(dir / stage.tasks[t].output, ec)) fs::remove(dir / stage.tasks[t].output, ec);
+  }
+  while ((next < ids.size() && !stopper.signal()) || !running.empty()) {
+    while (next < ids.size() && running.size() < std::size_t(jobs) && !stopper.signal()) {
+      const ClusterTask& t = stage.tasks[ids[next]];
+      const fs::path log = logOf(dir, stage, t);
+      fs::remove(log);
+      const pid_t pid = spawnLogged(t.argv, dir, log);
+      const std::size_t slot = free_slots.back();
+      free_slots.pop_back();
+      stopper.track(slot, pid);
+      running[pid] = {t.index, slot};
+      std::ofstream(runningMarker(dir, stage.name, t.index)) << pid << '\n';
+      ++next;
+    }
+    if (stopper.signal()) stopper.stopAll();
+    reap();
+  }
+  if (stopper.signal()) return 0;
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cerr << "stage " << stage.name << ": " << ids.size() - stage_failed << " of " << ids.size()
+            << " tasks succeeded in " << secs << " s\n";
+  return stage_failed;
+}
+
 }  // namespace
 
 std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs) {
@@ -140,71 +211,8 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
       std::cerr << "stage " << stage.name << ": all " << stage.tasks.size() << " tasks done\n";
       continue;
     }
-    const auto start = std::chrono::steady_clock::now();
-    auto last_print = start;
-    struct Running {
-      std::uint64_t task;
-      std::size_t slot;
-    };
-    std::map<pid_t, Running> running;
-    std::vector<std::size_t> free_slots;
-    for (std::size_t i = std::size_t(jobs); i-- > 0;) free_slots.push_back(i);
-    std::size_t next = 0, finished = 0, stage_failed = 0;
-    auto reap = [&] {
-      int status = 0;
-      const pid_t pid = ::waitpid(-1, &status, 0);
-      if (pid < 0) {
-        if (errno == EINTR) return;
-        throw std::runtime_error(std::string("waitpid failed: ") + std::strerror(errno));
-      }
-      const auto it = running.find(pid);
-      if (it == running.end()) return;
-      const ClusterTask& t = stage.tasks[it->second.task];
-      stopper.forget(it->second.slot);
-      free_slots.push_back(it->second.slot);
-      std::error_code ec;
-      fs::remove(runningMarker(dir, stage.name, t.index), ec);
-      running.erase(it);
-      if (stopper.signal()) return;  // stopped: the task did not fail, it was ended
-      ++finished;
-      const int code = exitCodeOf(status);
-      std::string why = code == 0 ? checkOutput(t, dir) : "exit code " + std::to_string(code);
-      if (!why.empty()) {
-        ++stage_failed;
-        std::cerr << "stage " << stage.name << ": task " << t.index << " (" << t.label << ") failed: " << why
-                  << "; log " << logOf(dir, stage, t).string() << '\n';
-      }
-      // A line every few seconds, not one per task: paper-scale stages have hundreds.
-      const auto now = std::chrono::steady_clock::now();
-      if (finished == ids.size() || now - last_print > std::chrono::seconds(5)) {
-        std::cerr << "stage " << stage.name << ": " << finished << "/" << ids.size() << " tasks finished\n";
-        last_print = now;
-      }
-    };
-    for (auto t : ids) {  // outputs rewritten now must not count as done meanwhile
-      std::error_code ec;
-      if (fs::is_regular_file(dir / stage.tasks[t].output, ec)) fs::remove(dir / stage.tasks[t].output, ec);
-    }
-    while ((next < ids.size() && !stopper.signal()) || !running.empty()) {
-      while (next < ids.size() && running.size() < std::size_t(jobs) && !stopper.signal()) {
-        const ClusterTask& t = stage.tasks[ids[next]];
-        const fs::path log = logOf(dir, stage, t);
-        fs::remove(log);
-        const pid_t pid = spawnLogged(t.argv, dir, log);
-        const std::size_t slot = free_slots.back();
-        free_slots.pop_back();
-        stopper.track(slot, pid);
-        running[pid] = {t.index, slot};
-        std::ofstream(runningMarker(dir, stage.name, t.index)) << pid << '\n';
-        ++next;
-      }
-      if (stopper.signal()) stopper.stopAll();
-      reap();
-    }
+    const std::size_t stage_failed = runStage(stage, ids, dir, jobs, stopper);
     if (stopper.signal()) break;
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::cerr << "stage " << stage.name << ": " << ids.size() - stage_failed << " of " << ids.size()
-              << " tasks succeeded in " << secs << " s\n";
     failed += stage_failed;
     if (stage_failed) {  // like afterok: later stages would read missing inputs
       std::cerr << "stopping: later stages need this one\n";
