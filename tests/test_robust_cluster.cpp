@@ -122,9 +122,9 @@ TEST_CASE("status sees run-local's running shards, a second run-local is refused
   makeScene(dir / "A", 1);
   makeScene(dir / "B", 2);
   writeSmallGrid(dir / "grids" / "small.json");
-  // Every task starts 3 s late (bash's read with a timeout, then exec: one process, which keeps the death signal).
+  // Every task starts 10 s late (bash's read with a timeout, then exec: one process, which keeps the death signal).
   const fs::path slow = dir / "slow-occsweep.sh";
-  std::ofstream(slow) << "#!/bin/bash\nread -t 3 <> <(:)\nexec " << test::cliUnderTest() << " \"$@\"\n";
+  std::ofstream(slow) << "#!/bin/bash\nread -t 10 <> <(:)\nexec " << test::cliUnderTest() << " \"$@\"\n";
   fs::permissions(slow, fs::perms::owner_all);
   REQUIRE(test::runIn(dir, planWith("p", " --occsweep " + slow.string())).exit_code == 0);
   const fs::path plan = dir / "p";
@@ -147,7 +147,7 @@ TEST_CASE("status sees run-local's running shards, a second run-local is refused
 
   ::kill(first, SIGKILL);
   CHECK(WTERMSIG(waitExit(first)) == SIGKILL);
-  const auto left = survivorsAfter(plan, 1500ms);  // well before the 3 s delay ends
+  const auto left = survivorsAfter(plan, 1500ms);  // well before the 10 s delay ends
   CHECK(left.empty());
   endLeftovers(plan);
   r = test::runIn(dir, "cluster status p");
