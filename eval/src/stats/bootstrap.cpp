@@ -37,7 +37,7 @@ std::vector<double> sortedResampledMeans(const std::vector<double>& values, std:
 }
 
 /// Bias correction z0 = Phi^-1(share of resampled means below the estimate), ties counted half (Efron &
-/// Tibshirani 1993, eq. 14.14, with mid-p ties), the share kept within [1/(2B), 1 - 1/(2B)] so z0 stays finite.
+/// Tibshirani 1993, ch. 14, with mid-p ties), the share kept within [1/(2B), 1 - 1/(2B)] so z0 stays finite.
 double biasCorrection(const std::vector<double>& sorted_means, double estimate) {
   const auto below = std::lower_bound(sorted_means.begin(), sorted_means.end(), estimate);
   const auto not_above = std::upper_bound(sorted_means.begin(), sorted_means.end(), estimate);
@@ -46,7 +46,7 @@ double biasCorrection(const std::vector<double>& sorted_means, double estimate) 
   return normalQuantile(std::clamp(share, 0.5 / count, 1.0 - 0.5 / count));
 }
 
-/// Acceleration from the jackknife means (Efron & Tibshirani 1993, eq. 14.15); 0 when they are all equal.
+/// Acceleration from the jackknife means (Efron & Tibshirani 1993, ch. 14); 0 when they are all equal.
 double jackknifeAcceleration(const std::vector<double>& values) {
   const double n = double(values.size());
   const double sum = std::accumulate(values.begin(), values.end(), 0.0);
@@ -62,7 +62,7 @@ double jackknifeAcceleration(const std::vector<double>& values) {
   return squares > 0.0 ? cubes / (6.0 * std::pow(squares, 1.5)) : 0.0;
 }
 
-/// The BCa-adjusted tail probability for the normal quantile z_alpha (Efron & Tibshirani 1993, eq. 14.10).
+/// The BCa-adjusted tail probability for the normal quantile z_alpha (Efron & Tibshirani 1993, ch. 14).
 double adjustedTail(double z0, double acceleration, double z_alpha) {
   const double shifted = z0 + z_alpha;
   return normalCdf(z0 + shifted / (1.0 - acceleration * shifted));
