@@ -10,7 +10,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD_DIR:-$root/build}
 
 packages=(g++ cmake make git pkg-config liboctomap-dev libnanoflann-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
-          catch2 libcli11-dev libpng-dev python3-matplotlib python3-numpy
+          catch2 libcli11-dev libpng-dev python3-matplotlib python3-numpy python3-scipy
           libopencv-calib3d-dev libopencv-imgproc-dev)
 missing=()
 for p in "${packages[@]}"; do
