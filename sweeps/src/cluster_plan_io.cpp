@@ -102,14 +102,7 @@ std::string shellQuote(const std::string& a) {
 }
 
 void writeTextAtomically(const std::string& text, const std::filesystem::path& file) {
-  const std::filesystem::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
-  }
-  std::filesystem::rename(tmp, file);
+  writeFileAtomically(file, text);
 }
 
 }  // namespace

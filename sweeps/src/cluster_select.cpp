@@ -67,9 +67,8 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
   std::stable_sort(sets.begin(), sets.end(), better);
   // Built beside `out` and renamed into place: a killed task leaves no half folder.
   const fs::path target = fs::absolute(out);
-  const fs::path tmp = target.string() + ".tmp-" + std::to_string(::getpid());
-  fs::remove_all(tmp);
-  fs::create_directories(tmp);
+  OutputFolder folder(target);
+  const fs::path& tmp = folder.path();
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t r = 0; r < sets.size(); ++r) {
     const fs::path link = fs::relative(sets[r].path, target);
@@ -78,8 +77,7 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
     list.push_back({{"rank", r + 1}, {"id", sets[r].id}, {"folder", sets[r].folder}, {"path", link.string()}});
   }
   writeJsonAtomically({{"format", "occsweep-selected-sets"}, {"sets", list}}, tmp / "sets.json");
-  fs::remove_all(target);
-  fs::rename(tmp, target);
+  folder.commit();
   return sets.size();
 }
 

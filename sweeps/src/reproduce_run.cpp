@@ -48,16 +48,6 @@ std::string findPython(const std::string& configured) {
 
 namespace {
 
-void writeText(const std::string& text, const fs::path& file) {
-  const fs::path tmp = file.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out) throw std::runtime_error(file.string() + ": cannot write");
-  }
-  fs::rename(tmp, file);
-}
-
 }  // namespace
 
 double runReproduction(const ReproduceConfig& c) {
@@ -85,7 +75,7 @@ double runReproduction(const ReproduceConfig& c) {
   writeJsonAtomically(curves, c.out / "curves.json");
   const json runtime = step("runtime", [&] { return runRuntimeModels(c, datasets); });
   writeJsonAtomically(runtime, c.out / "runtime.json");
-  writeText(reproductionReport(c, fits, nca, comparison, curves, runtime), c.out / "report.md");
+  writeFileAtomically(c.out / "report.md", reproductionReport(c, fits, nca, comparison, curves, runtime));
   if (c.figures) {
     step("figures", [&] {
       const std::string cmd = "'" + python + "' '" + std::string(OCCSWEEP_SOURCE_DIR) +

@@ -137,6 +137,7 @@ DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c,
     d.source = sourceJson(name, c, cam, grid, id, params);
     d.source["keyframes_dropped_empty"] = dropped;
     if (d.scans.empty()) throw std::runtime_error(name.str() + " " + pcs.folder + ": no keyframe produced a point");
+    checkOutputTarget(dir / pcs.folder, true, datasetOutput());  // a regenerated set replaces only its own folder
     writeDataset(d, dir / pcs.folder);
     pcs.seconds = secondsSince(start);
     std::cerr << "  " << name.str() << " " << pcs.folder << " (" << s + 1 << "/" << sets.size() << "): " << pcs.points
