@@ -20,7 +20,7 @@ inline std::string cliBinary() {
   return env && *env ? env : OCCSWEEP_CLI;
 }
 
-inline std::string quoted(const std::filesystem::path& p) {
+inline std::string shellQuoted(const std::filesystem::path& p) {
   std::string q = "'";
   for (char c : p.string()) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
@@ -28,7 +28,7 @@ inline std::string quoted(const std::filesystem::path& p) {
 
 /// Runs `occsweep ARGS` in folder `cwd` through the shell (`prefix` first, e.g. "ulimit -f 4;").
 inline CommandResult runIn(const std::filesystem::path& cwd, const std::string& args, const std::string& prefix = "") {
-  const std::string cmd = "cd " + quoted(cwd) + " && " + prefix + " " + quoted(cliBinary()) + " " + args + " 2>&1";
+  const std::string cmd = "cd " + shellQuoted(cwd) + " && " + prefix + " " + shellQuoted(cliBinary()) + " " + args + " 2>&1";
   CommandResult r;
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return r;

@@ -57,6 +57,7 @@ TEST_CASE("every command writing to a full disk says no space left, names the fi
   }
   struct Case {
     std::string args, file;  // the command (output under disk/) and the file its message must name
+    bool over_a_page = true;  // false: the output fits the one free page, and is written (the comparison)
   };
   const std::vector<Case> cases = {
       {"scene --scans 8 --width 64 --height 48 --out disk/out", "disk/out"},
@@ -64,11 +65,12 @@ TEST_CASE("every command writing to a full disk says no space left, names the fi
       {"map --dataset scene --method octomap --out disk/m.ot", "disk/m.ot"},
       {"sweep --dataset scene --grid tiny.json --quiet --out disk/r.json", "disk/r.json"},
       {"merge r.json --out disk/m.json", "disk/m.json"},
-      {"compare r.json --json disk/c.json", "disk/c.json"},
+      {"compare r.json --json disk/c.json", "disk/c.json", false},
   };
   // Full, then one page free: the write fails at its first byte, or in the middle of the output.
   for (const std::size_t free_bytes : {std::size_t(0), std::size_t(4096)}) {
     for (const auto& c : cases) {
+      if (free_bytes > 0 && !c.over_a_page) continue;
       disk.fill(free_bytes);
       const CommandResult r = runIn(dir, c.args);
       INFO(c.args << " with " << free_bytes << " bytes free\n" << r.output);

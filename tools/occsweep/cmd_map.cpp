@@ -109,6 +109,12 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
                                              {"parameters", params}, {"build_seconds", seconds}}
                                   .dump(1)
                            << '\n';
+    // Both written out before either is renamed: a failed write (a full disk, `ulimit -f`) leaves neither. On a
+    // failed stream, commit() throws its error by name and renames nothing.
+    map_file.stream().flush();
+    settings_file.stream().flush();
+    for (OutputFile* file : {&map_file, &settings_file})
+      if (!file->stream()) file->commit();
     settings_file.commit();
     map_file.commit();
     std::cout << "method " << o->method << ", " << d.scans.size() << " scans, " << pointCount(d.scans)
