@@ -223,3 +223,20 @@ TEST_CASE("a sweep's own unfinished work is resumed without --force: resuming is
   CHECK(again.exit_code == 0);
   CHECK(fileBytes(dir / "r.json") == first);  // the complete file is returned as it is
 }
+
+TEST_CASE("cluster select replaces its own folder of links, never a user's folder", "[outputs]") {
+  const fs::path dir = scratch("robust_outputs/select");
+  fs::create_directories(dir / "ds/pcs-0000");
+  std::ofstream(dir / "ds/ranking.json") << R"({"format": "occsweep-pointcloud-ranking",
+    "sets": [{"folder": "pcs-0000", "id": 0, "naive": {"fdr": 0.1, "tpr": 0.9}}]})";
+  REQUIRE(runIn(dir, "cluster select ds/ranking.json --out sel").exit_code == 0);
+  CHECK(runIn(dir, "cluster select ds/ranking.json --out sel").exit_code == 0);  // a re-run task: its own folder
+  userFolder(dir / "w");
+  const auto before = snapshot(dir);
+  const CommandResult r = runIn(dir, "cluster select ds/ranking.json --out w");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "w: exists and is not occsweep's"));
+  CHECK(snapshot(dir) == before);
+  CHECK(leftovers(dir).empty());
+}

@@ -35,6 +35,14 @@ bool better(const RankedSet& a, const RankedSet& b) {
   return a.id < b.id;
 }
 
+// A folder `selectRanked` wrote: sets.json of its format and links only. A re-run replaces it; nothing else.
+bool isSelectionFolder(const fs::path& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().filename() != "sets.json" && !it->is_symlink()) return false;
+  return !ec && jsonOutput("", "occsweep-selected-sets").is_own(dir / "sets.json");
+}
+
 }  // namespace
 
 std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& out) {
@@ -67,6 +75,7 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
   std::stable_sort(sets.begin(), sets.end(), better);
   // Built beside `out` and renamed into place: a killed task leaves no half folder.
   const fs::path target = fs::absolute(out);
+  checkOutputTarget(target, true, {"folder of selected point cloud sets", isSelectionFolder});
   OutputFolder folder(target);
   const fs::path& tmp = folder.path();
   nlohmann::json list = nlohmann::json::array();
