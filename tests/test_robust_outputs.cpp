@@ -240,3 +240,18 @@ TEST_CASE("cluster select replaces its own folder of links, never a user's folde
   CHECK(snapshot(dir) == before);
   CHECK(leftovers(dir).empty());
 }
+
+TEST_CASE("reproduce --out refuses a folder holding a user's file before any work", "[outputs]") {
+  const fs::path dir = scratch("robust_outputs/reproduce");
+  if (runIn(dir, "reproduce --help").exit_code != 0) {
+    WARN("occsweep built without the stereo tools: no reproduce command, case skipped");
+    return;
+  }
+  userFolder(dir / "w");
+  const auto before = snapshot(dir);
+  const CommandResult r = runIn(dir, "reproduce --scale ci --no-figures --quiet --datasets parking-plain-I --out w");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "w: exists and is not occsweep's reproduction folder"));
+  CHECK(snapshot(dir) == before);
+}

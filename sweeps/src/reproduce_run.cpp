@@ -48,11 +48,26 @@ std::string findPython(const std::string& configured) {
 
 namespace {
 
+// What a reproduction folder holds (data/, sweeps/, maps/, and *.json, *.md, *.png files at the top): a re-run
+// resumes in it; any other folder (a user's thesis.tex) is refused, so that no file of the user's is replaced.
+bool isReproductionFolder(const fs::path& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::path name = it->path().filename();
+    const bool own = it->is_directory() ? name == "data" || name == "sweeps" || name == "maps"
+                                        : name.extension() == ".json" || name.extension() == ".md" ||
+                                              name.extension() == ".png" || name.string().find(".tmp-") != std::string::npos;
+    if (!own) return false;
+  }
+  return !ec;
+}
+
 }  // namespace
 
 double runReproduction(const ReproduceConfig& c) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
+  checkOutputTarget(c.out, true, {"reproduction folder", isReproductionFolder});
   fs::create_directories(c.out);
   // Before hours of work: fail now if the figures cannot be drawn.
   const std::string python = c.figures ? findPython(c.python) : std::string();
