@@ -46,6 +46,7 @@ TEST_CASE("every command writing to a full disk says no space left, names the fi
   REQUIRE(runIn(dir, "scene --scans 8 --width 64 --height 48 --out scene").exit_code == 0);
   writeTinyGrid(dir / "tiny.json");
   REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json").exit_code == 0);
+  std::ofstream(dir / "truth.json") << R"({"boxes": [{"min": [0, 0, 0], "max": [1, 1, 1]}]})";
   {
     std::ofstream out(dir / "a.xyz");
     for (int i = 0; i < 3000; ++i) out << 1 + 0.001 * i << ' ' << 0.5 << ' ' << 0.0007 * i << '\n';
@@ -66,6 +67,9 @@ TEST_CASE("every command writing to a full disk says no space left, names the fi
       {"sweep --dataset scene --grid tiny.json --quiet --out disk/r.json", "disk/r.json"},
       {"merge r.json --out disk/m.json", "disk/m.json"},
       {"compare r.json --json disk/c.json", "disk/c.json", false},
+      {"import truth truth.json --dataset scene --out disk/out", "disk/out"},
+      {"cluster plan --out disk/plan --experiment sweep --datasets scene --sets . --grids tiny.json:1", "disk/plan",
+       false},
   };
   // Full, then one page free: the write fails at its first byte, or in the middle of the output.
   for (const std::size_t free_bytes : {std::size_t(0), std::size_t(4096)}) {

@@ -139,14 +139,21 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool r
     if (planJson(old) != j)
       throw std::runtime_error(manifest.string() + ": a different plan is already there (use --replace, or another --out)");
   }
-  fs::create_directories(dir / "slurm");
-  fs::create_directories(dir / "logs");
-  for (const auto& st : plan.stages) {
-    const fs::path script = dir / "slurm" / (st.name + ".sbatch");
-    writeTextAtomically(sbatchScript(plan, st), script);
-    fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+  const bool new_folder = !fs::exists(dir);
+  try {
+    fs::create_directories(dir / "slurm");
+    fs::create_directories(dir / "logs");
+    for (const auto& st : plan.stages) {
+      const fs::path script = dir / "slurm" / (st.name + ".sbatch");
+      writeTextAtomically(sbatchScript(plan, st), script);
+      fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+    }
+    writeJsonAtomically(j, manifest);  // last: a plan folder with plan.json is complete
+  } catch (...) {
+    std::error_code ec;
+    if (new_folder) fs::remove_all(dir, ec);  // a failed write (a full disk) leaves no half plan folder it made
+    throw;
   }
-  writeJsonAtomically(j, manifest);  // last: a plan folder with plan.json is complete
 }
 
 ClusterPlan readPlan(const std::filesystem::path& dir) {
