@@ -23,14 +23,15 @@ namespace {
 
 // ---- temporaries removed on SIGINT/SIGTERM/SIGHUP ----
 
+// Never destroyed: the cleaning thread may still use them while static objects are destroyed at exit.
 std::mutex& registryMutex() {
-  static std::mutex m;
-  return m;
+  static auto* m = new std::mutex;
+  return *m;
 }
 
 std::set<fs::path>& registry() {
-  static std::set<fs::path> paths;
-  return paths;
+  static auto* paths = new std::set<fs::path>;
+  return *paths;
 }
 
 void registerTemporary(const fs::path& p) {
