@@ -46,6 +46,9 @@ TEST_CASE("every command writing to a full disk says no space left, names the fi
   REQUIRE(runIn(dir, "scene --scans 8 --width 64 --height 48 --out scene").exit_code == 0);
   writeTinyGrid(dir / "tiny.json");
   REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json").exit_code == 0);
+  fs::create_directories(dir / "ds/pcs-0000");
+  std::ofstream(dir / "ds/ranking.json") << R"({"format": "occsweep-pointcloud-ranking",
+    "sets": [{"folder": "pcs-0000", "id": 0, "naive": {"fdr": 0.1, "tpr": 0.9}}]})";
   std::ofstream(dir / "truth.json") << R"({"boxes": [{"min": [0, 0, 0], "max": [1, 1, 1]}]})";
   {
     std::ofstream out(dir / "a.xyz");
@@ -68,6 +71,7 @@ TEST_CASE("every command writing to a full disk says no space left, names the fi
       {"merge r.json --out disk/m.json", "disk/m.json"},
       {"compare r.json --json disk/c.json", "disk/c.json", false},
       {"import truth truth.json --dataset scene --out disk/out", "disk/out"},
+      {"cluster select ds/ranking.json --out disk/sel", "disk/sel", false},
       {"cluster plan --out disk/plan --experiment sweep --datasets scene --sets . --grids tiny.json:1", "disk/plan",
        false},
   };
