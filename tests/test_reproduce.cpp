@@ -85,7 +85,7 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
     const auto sweeps = dir / "sweeps" / row.at("dataset").get<std::string>();
     const std::string set = row.at("point_cloud_set");
     const auto c = test::runCli("compare " + (sweeps / (set + "-octomap-opt.json")).string() + " " +
-                                (sweeps / (set + "-knn-opt.json")).string() + " --json " + (dir / "c.json").string());
+                                (sweeps / (set + "-knn-opt.json")).string() + " --force --json " + (dir / "c.json").string());
     REQUIRE(c.exit_code == 0);
     const json expected = readJsonFile(dir / "c.json").at("rows").at(0);
     CHECK(row.at("octomap").at("auc") == expected.at("octomap").at("auc"));

@@ -186,6 +186,7 @@ ClusterPlan buildPlan(const PlanConfig& c) {
       m.output = "merged/" + s.key + "/" + names[gi] + ".json";
       m.argv.push_back("--out");
       m.argv.push_back(m.output);
+      m.argv.push_back("--force");  // a re-run merge replaces its own earlier result (never another file)
       m.kind = OutputKind::Results;
       m.expect_grid = names[gi];
       all_merged.push_back(m.output);
@@ -203,6 +204,7 @@ ClusterPlan buildPlan(const PlanConfig& c) {
       compare.inputs.push_back(f);
     }
   compare.output = "report/comparison.json";
+  compare.argv.push_back("--force");  // a re-run replaces its own earlier comparison (never another file)
   compare.argv.push_back("--json");
   compare.argv.push_back(compare.output);
   compare.kind = OutputKind::Comparison;

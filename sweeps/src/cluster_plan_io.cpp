@@ -102,14 +102,7 @@ std::string shellQuote(const std::string& a) {
 }
 
 void writeTextAtomically(const std::string& text, const std::filesystem::path& file) {
-  const std::filesystem::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
-  }
-  std::filesystem::rename(tmp, file);
+  writeFileAtomically(file, text);
 }
 
 }  // namespace
@@ -146,14 +139,21 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool r
     if (planJson(old) != j)
       throw std::runtime_error(manifest.string() + ": a different plan is already there (use --replace, or another --out)");
   }
-  fs::create_directories(dir / "slurm");
-  fs::create_directories(dir / "logs");
-  for (const auto& st : plan.stages) {
-    const fs::path script = dir / "slurm" / (st.name + ".sbatch");
-    writeTextAtomically(sbatchScript(plan, st), script);
-    fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+  const bool new_folder = !fs::exists(dir);
+  try {
+    fs::create_directories(dir / "slurm");
+    fs::create_directories(dir / "logs");
+    for (const auto& st : plan.stages) {
+      const fs::path script = dir / "slurm" / (st.name + ".sbatch");
+      writeTextAtomically(sbatchScript(plan, st), script);
+      fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+    }
+    writeJsonAtomically(j, manifest);  // last: a plan folder with plan.json is complete
+  } catch (...) {
+    std::error_code ec;
+    if (new_folder) fs::remove_all(dir, ec);  // a failed write (a full disk) leaves no half plan folder it made
+    throw;
   }
-  writeJsonAtomically(j, manifest);  // last: a plan folder with plan.json is complete
 }
 
 ClusterPlan readPlan(const std::filesystem::path& dir) {

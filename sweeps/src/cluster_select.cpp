@@ -35,6 +35,14 @@ bool better(const RankedSet& a, const RankedSet& b) {
   return a.id < b.id;
 }
 
+// A folder `selectRanked` wrote: sets.json of its format and links only. A re-run replaces it; nothing else.
+bool isSelectionFolder(const fs::path& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().filename() != "sets.json" && !it->is_symlink()) return false;
+  return !ec && jsonOutput("", "occsweep-selected-sets").is_own(dir / "sets.json");
+}
+
 }  // namespace
 
 std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& out) {
@@ -67,9 +75,9 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
   std::stable_sort(sets.begin(), sets.end(), better);
   // Built beside `out` and renamed into place: a killed task leaves no half folder.
   const fs::path target = fs::absolute(out);
-  const fs::path tmp = target.string() + ".tmp-" + std::to_string(::getpid());
-  fs::remove_all(tmp);
-  fs::create_directories(tmp);
+  checkOutputTarget(target, true, {"folder of selected point cloud sets", isSelectionFolder});
+  OutputFolder folder(target);
+  const fs::path& tmp = folder.path();
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t r = 0; r < sets.size(); ++r) {
     const fs::path link = fs::relative(sets[r].path, target);
@@ -78,8 +86,7 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
     list.push_back({{"rank", r + 1}, {"id", sets[r].id}, {"folder", sets[r].folder}, {"path", link.string()}});
   }
   writeJsonAtomically({{"format", "occsweep-selected-sets"}, {"sets", list}}, tmp / "sets.json");
-  fs::remove_all(target);
-  fs::rename(tmp, target);
+  folder.commit();
   return sets.size();
 }
 

@@ -1,3 +1,4 @@
+#include <set>
 #include <algorithm>
 #include <map>
 #include <stdexcept>
@@ -58,6 +59,10 @@ ResultsFile mergeResults(const std::vector<std::filesystem::path>& files) {
   std::map<std::uint64_t, std::size_t> owner;
   ResultsFile out;
   out.header = in.front().header;
+  std::set<std::string> engines;  // provenance: every engine of every shard
+  for (const auto& f : in) engines.insert(f.header.engines.begin(), f.header.engines.end());
+  out.header.engines.assign(engines.begin(), engines.end());
+  if (engines.size() > 1) out.header.engine = "mixed";
   out.header.selection.shard_index = 0;
   out.header.selection.shard_count = 1;
   GridEnumeration shape;  // only the count is needed for the expected ids

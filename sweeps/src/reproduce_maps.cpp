@@ -10,6 +10,7 @@
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/data/dataset.hpp"
 #include "occsweep/eval/confusion.hpp"
+#include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "reproduce_internal.hpp"
 
@@ -64,9 +65,9 @@ ConfusionCounts writeClassifiedPly(const octomap::OcTree& map, const GroundTruth
     else if (truly) ++c.fn, voxels.emplace_back(map.keyToCoord(key), 2);
     else ++c.tn;
   });
-  const fs::path tmp = file.string() + ".tmp-" + std::to_string(::getpid());
   {
-    std::ofstream out(tmp);
+    OutputFile ply(file);
+    std::ostream& out = ply.stream();
     out << "ply\nformat ascii 1.0\ncomment occsweep reproduce: TP blue, FP red, FN yellow (paper Fig. 6)\n"
         << "comment resolution " << truth.resolution << "\nelement vertex " << voxels.size()
         << "\nproperty float x\nproperty float y\nproperty float z\n"
@@ -75,9 +76,8 @@ ConfusionCounts writeClassifiedPly(const octomap::OcTree& map, const GroundTruth
     for (const auto& [p, kind] : voxels)
       out << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << colour[kind][0] << ' ' << colour[kind][1] << ' '
           << colour[kind][2] << '\n';
-    if (!out) throw std::runtime_error(file.string() + ": cannot write");
+    ply.commit();
   }
-  fs::rename(tmp, file);
   return c;
 }
 

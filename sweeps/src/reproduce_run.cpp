@@ -48,14 +48,18 @@ std::string findPython(const std::string& configured) {
 
 namespace {
 
-void writeText(const std::string& text, const fs::path& file) {
-  const fs::path tmp = file.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out) throw std::runtime_error(file.string() + ": cannot write");
+// What a reproduction folder holds (data/, sweeps/, maps/, and *.json, *.md, *.png files at the top): a re-run
+// resumes in it; any other folder (a user's thesis.tex) is refused, so that no file of the user's is replaced.
+bool isReproductionFolder(const fs::path& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::path name = it->path().filename();
+    const bool own = it->is_directory() ? name == "data" || name == "sweeps" || name == "maps"
+                                        : name.extension() == ".json" || name.extension() == ".md" ||
+                                              name.extension() == ".png" || name.string().find(".tmp-") != std::string::npos;
+    if (!own) return false;
   }
-  fs::rename(tmp, file);
+  return !ec;
 }
 
 }  // namespace
@@ -63,6 +67,7 @@ void writeText(const std::string& text, const fs::path& file) {
 double runReproduction(const ReproduceConfig& c) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
+  checkOutputTarget(c.out, true, {"reproduction folder", isReproductionFolder});
   fs::create_directories(c.out);
   // Before hours of work: fail now if the figures cannot be drawn.
   const std::string python = c.figures ? findPython(c.python) : std::string();
@@ -85,7 +90,7 @@ double runReproduction(const ReproduceConfig& c) {
   writeJsonAtomically(curves, c.out / "curves.json");
   const json runtime = step("runtime", [&] { return runRuntimeModels(c, datasets); });
   writeJsonAtomically(runtime, c.out / "runtime.json");
-  writeText(reproductionReport(c, fits, nca, comparison, curves, runtime), c.out / "report.md");
+  writeFileAtomically(c.out / "report.md", reproductionReport(c, fits, nca, comparison, curves, runtime));
   if (c.figures) {
     step("figures", [&] {
       const std::string cmd = "'" + python + "' '" + std::string(OCCSWEEP_SOURCE_DIR) +

@@ -85,7 +85,8 @@ json toJson(const ResultsHeader& h) {
           {"dataset", {{"name", h.dataset_name}, {"content_hash", h.dataset_hash},
                        {"point_cloud_set", h.point_cloud_set}}},
           {"map", {{"resolution", h.resolution}, {"s_c", h.s_c}, {"variant", h.variant}, {"stats", h.stats},
-                   {"engine", h.engine}}}};
+                   {"engine", h.engine},
+                   {"engines", h.engines.empty() ? std::vector<std::string>{h.engine} : h.engines}}}};
 }
 
 json toJson(const MapResult& m, GridMethod method) {
@@ -158,6 +159,16 @@ ResultsHeader parseHeader(const json& j, const std::string& file) {
   h.variant = r.str(m, "variant", "map");
   h.stats = r.str(m, "stats", "map");
   h.engine = r.str(m, "engine", "map");
+  h.engines = {h.engine};
+  if (m.contains("engines")) {
+    const json& list = m.at("engines");
+    if (!list.is_array() || list.empty()) r.fail("map.engines", "must be a non-empty array of engine names");
+    h.engines.clear();
+    for (const auto& e : list) {
+      if (!e.is_string()) r.fail("map.engines", "must be a non-empty array of engine names");
+      h.engines.push_back(e.get<std::string>());
+    }
+  }
   return h;
 }
 
@@ -235,17 +246,24 @@ ResultsFile readResults(const std::filesystem::path& file) {
 }
 
 void writeJsonAtomically(const json& j, const std::filesystem::path& file) {
-  namespace fs = std::filesystem;
-  if (file.has_parent_path()) fs::create_directories(file.parent_path());
-  const fs::path tmp = file.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp);
-    out << j.dump(1) << '\n';
-    out.flush();
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
-  }
-  fs::rename(tmp, file);
+  writeFileAtomically(file, j.dump(1) + '\n');
 }
+
+ReplaceableOutput jsonOutput(const std::string& name, const std::string& format) {
+  return {name, [format](const std::filesystem::path& file) {
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(file, ec)) return false;
+            std::ifstream in(file);
+            try {
+              const json j = json::parse(in);
+              return j.is_object() && j.value("format", "") == format;
+            } catch (const std::exception&) {
+              return false;
+            }
+          }};
+}
+
+ReplaceableOutput resultsOutput() { return jsonOutput("results file", kFormat); }
 
 void writeResults(const ResultsFile& f, const std::filesystem::path& file) { writeJsonAtomically(toJson(f), file); }
 

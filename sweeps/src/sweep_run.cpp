@@ -1,5 +1,7 @@
 // A sweep: each selected map replayed from recorded events (default) or built directly (liboctomap for OctoMap,
 // the k-NN mapper), then thresholded at every p_t.
+#include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -7,6 +9,7 @@
 #include <map>
 #include <tuple>
 #include <mutex>
+#include <set>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -30,7 +33,8 @@ using Clock = std::chrono::steady_clock;
 
 // Finished maps of an interrupted run: OUT.partial.jsonl, a header line then one map per line. A line cut by
 // a kill is ignored (its map is simply done again).
-std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const ResultsHeader& header) {
+std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const ResultsHeader& header, bool force,
+                                               std::map<std::uint64_t, std::string>& engine_of) {
   std::map<std::uint64_t, MapResult> done;
   std::ifstream in(partial);
   std::string line;
@@ -42,12 +46,17 @@ std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const Re
     return done;  // header cut short: nothing finished yet
   }
   std::string why;
-  if (!sameWork(old, header, true, &why))
+  if (!sameWork(old, header, true, &why)) {
+    if (force) return done;  // replaced: the log is truncated below
     throw std::runtime_error(partial.string() + ": an interrupted sweep of other work (" + why +
-                             "); remove it or choose another --out");
+                             "); --force replaces it, or choose another --out");
+  }
   while (std::getline(in, line)) {
     try {
-      MapResult m = parseMapResult(json::parse(line), header.method, partial.string(), "line");
+      const json j = json::parse(line);
+      MapResult m = parseMapResult(j, header.method, partial.string(), "line");
+      // Lines written before maps recorded their engine were made by the engine of the header's run.
+      engine_of[m.map_index] = j.is_object() && j.contains("engine") ? j.at("engine").get<std::string>() : old.engine;
       done[m.map_index] = std::move(m);
     } catch (const std::exception&) {
     }
@@ -85,17 +94,25 @@ ResultsFile runSweep(const SweepConfig& c) {
   h.stats = c.stats == StatsMode::Online ? "online" : "batch";
   h.engine = c.engine;
 
-  if (fs::exists(c.out)) {
+  // The same sweep's own file is resumed (or, complete, returned); anything else is refused unless --force, and
+  // only occsweep's results are replaced even then (docs/robustness.md, "Outputs, temporaries and --force").
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(c.out, ec))) {
+    checkOutputTarget(c.out, true, resultsOutput());
     ResultsFile old = readResults(c.out);
     std::string why;
-    if (!sameWork(old.header, h, true, &why))
+    if (!sameWork(old.header, h, true, &why) && !c.force)
       throw std::runtime_error(c.out.string() + ": holds results of other work (" + why +
-                               "); remove it or choose another --out");
-    if (old.complete) return old;
+                               "); --force replaces it, or choose another --out");
+    if (why.empty() && old.complete) {
+      fs::remove(c.out.string() + ".partial.jsonl", ec);  // superseded: a kill came between the rename and this
+      return old;
+    }
   }
 
   const fs::path partial = c.out.string() + ".partial.jsonl";
-  std::map<std::uint64_t, MapResult> done = loadPartial(partial, h);
+  std::map<std::uint64_t, std::string> engine_of;  // provenance of every finished map
+  std::map<std::uint64_t, MapResult> done = loadPartial(partial, h, c.force, engine_of);
   std::vector<const SweepItem*> todo;
   for (const auto& item : items)
     if (!done.count(item.map_index)) todo.push_back(&item);
@@ -104,12 +121,28 @@ ResultsFile runSweep(const SweepConfig& c) {
               << " maps done before\n";
   if (c.out.has_parent_path()) fs::create_directories(c.out.parent_path());
   std::ofstream log(partial, std::ios::app);
+  // The log is what a killed sweep resumes from, so an error keeps it, unless it holds no finished map or a write
+  // failed (a full disk): then it is removed rather than leave the disk full (docs/robustness.md).
+  std::atomic<std::size_t> logged{done.size()};
+  struct DropLog {
+    const fs::path& file;
+    const std::atomic<std::size_t>& maps;
+    std::atomic<bool> write_failed{false};
+    ~DropLog() {
+      std::error_code ec;
+      if (maps == 0 || write_failed) fs::remove(file, ec);
+    }
+  } drop_log{partial, logged};
+  auto writeFailed = [&] {
+    drop_log.write_failed = true;
+    return OutputError(writeFailure(partial, errno));
+  };
   if (done.empty()) {
     log.close();
     log.open(partial, std::ios::trunc);
     log << toJson(h).dump() << '\n' << std::flush;
   }
-  if (!log) throw std::runtime_error(partial.string() + ": cannot write");
+  if (!log) throw writeFailed();
 
   tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
   const bool knn = grid.method == GridMethod::Knn;
@@ -200,10 +233,13 @@ ResultsFile runSweep(const SweepConfig& c) {
                                     e.thresholds[item.map_index][item.thresholds[t]], counts[j][t]});
           r.area = mapArea(r.thresholds);
           r.seconds = seconds;  // a batch's time shared by its maps
-          const std::string line = toJson(r, grid.method).dump();
+          json line = toJson(r, grid.method);
+          line["engine"] = c.engine;  // provenance across resumes (docs/results-format.md)
           {
             std::lock_guard lock(log_mutex);
-            log << line << '\n' << std::flush;
+            log << line.dump() << '\n' << std::flush;
+            if (!log) throw writeFailed();
+            ++logged;
           }
           fresh[batch[j]] = std::move(r);
           progress.advance();
@@ -211,11 +247,22 @@ ResultsFile runSweep(const SweepConfig& c) {
       });
     });
   }
-  for (auto& r : fresh) done[r.map_index] = std::move(r);
+  for (auto& r : fresh) engine_of[r.map_index] = c.engine, done[r.map_index] = std::move(r);
+  std::set<std::string> engines;
+  for (const auto& [index, engine] : engine_of)
+    if (done.count(index)) engines.insert(engine);
+  if (engines.empty()) engines.insert(c.engine);
+  h.engines.assign(engines.begin(), engines.end());
+  h.engine = engines.size() == 1 ? *engines.begin() : "mixed";
   for (auto& [_, r] : done) f.maps.push_back(std::move(r));
   f.complete = true;
   f.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  writeResults(f, c.out);
+  try {
+    writeResults(f, c.out);
+  } catch (const OutputError&) {
+    drop_log.write_failed = true;
+    throw;
+  }
   log.close();
   fs::remove(partial);
   return f;

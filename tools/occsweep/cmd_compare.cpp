@@ -29,9 +29,12 @@ const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data
                                [](CLI::App& app) {
   auto files = std::make_shared<std::vector<std::string>>();
   auto json_out = std::make_shared<std::string>();
+  auto force = std::make_shared<bool>(false);
   app.add_option("files", *files, "Complete results files (any mix of methods and data sets)")->required();
   app.add_option("--json", *json_out, "Also write the table as JSON");
-  return [files, json_out] {
+  app.add_flag("--force", *force, "Replace occsweep's own previous comparison at --json (nothing else)");
+  return [files, json_out, force] {
+    if (!json_out->empty()) checkOutputTarget(*json_out, *force, jsonOutput("comparison", "occsweep-comparison"));
     std::vector<ResultsFile> in;
     for (const auto& f : *files) {
       in.push_back(readResults(f));

@@ -18,13 +18,13 @@ struct ImportOptions {
   std::string out, name, poses, pose_format = "quaternion", dataset;
   DepthImportConfig depth;
   std::vector<double> origin{0, 0, 0}, region;
-  bool skip_empty = false;
+  bool skip_empty = false, force = false;
 };
 
 std::vector<fs::path> paths(const std::vector<std::string>& files) { return {files.begin(), files.end()}; }
 
 int finish(Dataset d, const ImportOptions& o) {
-  d.name = !o.name.empty() ? o.name : fs::path(o.out).filename().string();
+  d.name = !o.name.empty() ? o.name : outputTarget(o.out).filename().string();  // "ds/" is named ds
   if (d.name.empty()) d.name = "imported";
   writeDataset(d, o.out);  // atomic: built beside the target, then renamed
   std::cout << "wrote " << o.out << ": data set \"" << d.name << "\", " << d.scans.size() << " scans, " << pointCount(d.scans) << " points";
@@ -53,7 +53,8 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
   CLI::App* truth = app.add_subcommand("truth", "Add ground truth (PLY mesh or cloud, PCD, JSON boxes) to a data set");
   for (CLI::App* sub : {depth, graph, cloud, truth}) {
     sub->add_option("files", o->files, "Input files, in scan order")->required();
-    sub->add_option("--out", o->out, "Output data-set folder (written atomically)")->required();
+    sub->add_option("--out", o->out, "Output data-set folder (written atomically; a new one, or occsweep's own with --force)")->required();
+    sub->add_flag("--force", o->force, "Replace occsweep's own previous data set at --out (nothing else)");
     if (sub != truth) sub->add_option("--name", o->name, "Data-set name (default: the output folder's name)");
   }
   truth->add_option("--name", o->name, "Data-set name (default: the name of --dataset, kept)");
@@ -76,6 +77,7 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
   truth->add_option("--region", o->region, "Evaluation region: minx miny minz maxx maxy maxz (default: keep)")->expected(6);
   app.require_subcommand(1);
   return [=] {
+    checkOutputTarget(o->out, o->force, datasetOutput());  // before any file is read
     return runChosen({
         {depth, [o] {
            o->depth.pose_format = poseFormatNamed(o->pose_format);

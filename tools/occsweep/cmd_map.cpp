@@ -1,6 +1,7 @@
 // occsweep map: one map of a data set with OctoMap or the k-NN model, written as OctoMap's .ot.
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
 #include <unistd.h>
@@ -19,9 +20,34 @@ namespace {
 
 struct MapOptions {
   std::string dataset, out, method = "knn", variant = "default", stats = "batch";
+  bool force = false;
   KnnParams knn;
   double p_h = OctoMapParams{}.p_h;
 };
+
+constexpr const char* kSettingsFormat = "occsweep-map-settings";
+
+bool isOccsweepSettings(const std::filesystem::path& file) {
+  if (jsonOutput("", kSettingsFormat).is_own(file)) return true;
+  try {  // written before the format field existed: occsweep's keys
+    std::ifstream in(file);
+    const auto j = nlohmann::json::parse(in);
+    return j.is_object() && j.contains("method") && j.contains("parameters") && j.contains("dataset_hash");
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+// A .ot is occsweep's own when it is an OctoMap .ot with occsweep's settings beside it (a .ot from another tool has
+// no .ot.json, and is refused even with --force).
+ReplaceableOutput mapOutput() {
+  return {"map (.ot with its .ot.json)", [](const std::filesystem::path& ot) {
+            std::ifstream in(ot, std::ios::binary);
+            std::string head(21, '\0');
+            in.read(head.data(), std::streamsize(head.size()));
+            return in && head == "# Octomap OcTree file" && isOccsweepSettings(ot.string() + ".json");
+          }};
+}
 
 void addProbability(CLI::App& app, const std::string& flag, double& value, const std::string& help) {
   app.add_option(flag, value, help)->capture_default_str()->check(probability());
@@ -32,7 +58,8 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
   auto o = std::make_shared<MapOptions>();
   KnnParams& k = o->knn;
   app.add_option("--dataset", o->dataset, "Data-set folder")->required();
-  app.add_option("--out", o->out, "Output map, .ot")->required();
+  app.add_option("--out", o->out, "Output map, .ot (written with MAP.ot.json; .bt is refused)")->required();
+  app.add_flag("--force", o->force, "Replace occsweep's own previous map and settings at --out (nothing else)");
   app.add_option("--method", o->method, "Mapping method")->check(CLI::IsMember({"octomap", "knn"}))->capture_default_str();
   addProbability(app, "--p-h", o->p_h, "OctoMap: probability of a hit");
   addProbability(app, "--p-m", k.p_m, "Miss probability (k-NN: rays to points within s_c)");
@@ -56,6 +83,12 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     const OctoMapParams om{o->p_h, k.p_m, k.p_max, k.p_min, k.p_t, k.resolution, k.s_c};
     // Refuse broken parameters before reading anything.
     if (o->method == "octomap") validate(om); else validate(k);
+    namespace fs = std::filesystem;
+    if (fs::path(o->out).extension() == ".bt")
+      throw std::invalid_argument("--out " + o->out + ": .bt keeps only occupied/free, not the log-odds the " +
+                                  "evaluation reads: write .ot (octovis opens it; octomap's convert_octree makes a .bt)");
+    checkOutputTarget(o->out, o->force, mapOutput());
+    checkOutputTarget(o->out + ".json", o->force, jsonOutput("map settings (.ot.json)", kSettingsFormat));
     const Dataset d = readDataset(o->dataset);
     // Before the map is built and written: a region the truth cannot use is refused with nothing written.
     std::optional<GroundTruth> gt;
@@ -64,11 +97,8 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     const auto start = std::chrono::steady_clock::now();
     auto tree = o->method == "octomap" ? buildOctoMap(d.scans, om) : KnnInverseSensorModel(k).buildMap(d.scans);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    namespace fs = std::filesystem;
-    const fs::path out = o->out, tmp = o->out + ".tmp-" + std::to_string(::getpid());
-    if (out.has_parent_path()) fs::create_directories(out.parent_path());
-    if (!tree->write(tmp.string())) throw std::runtime_error(o->out + ": cannot write the map");
-    fs::rename(tmp, out);
+    OutputFile map_file(o->out);
+    if (!tree->write(map_file.stream())) throw OutputError(o->out + ": liboctomap could not write the map");
     // The .ot format keeps resolution and log-odds only: the resolved settings go beside it.
     nlohmann::json params = {{"p_m", k.p_m}, {"p_max", k.p_max}, {"p_min", k.p_min}, {"p_t", k.p_t},
                              {"resolution", k.resolution}, {"s_c", k.s_c}};
@@ -78,10 +108,22 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
       params.update({{"p_m_out", k.p_m_out}, {"p_u", k.p_u}, {"p_l", k.p_l}, {"k", k.k}, {"variant", o->variant},
                      {"stats", o->stats}});
     }
-    writeJsonAtomically({{"method", o->method}, {"dataset", o->dataset}, {"dataset_name", d.name},
-                         {"dataset_hash", datasetContentHash(o->dataset)}, {"parameters", params},
-                         {"build_seconds", seconds}},
-                        o->out + ".json");
+    // Both written in full before either is renamed: a failure leaves the previous pair (or nothing).
+    OutputFile settings_file(o->out + ".json");
+    settings_file.stream() << nlohmann::json{{"format", kSettingsFormat}, {"method", o->method},
+                                             {"dataset", o->dataset}, {"dataset_name", d.name},
+                                             {"dataset_hash", datasetContentHash(o->dataset)},
+                                             {"parameters", params}, {"build_seconds", seconds}}
+                                  .dump(1)
+                           << '\n';
+    // Both written out before either is renamed: a failed write (a full disk, `ulimit -f`) leaves neither. On a
+    // failed stream, commit() throws its error by name and renames nothing.
+    map_file.stream().flush();
+    settings_file.stream().flush();
+    for (OutputFile* file : {&map_file, &settings_file})
+      if (!file->stream()) file->commit();
+    settings_file.commit();
+    map_file.commit();
     std::cout << "method " << o->method << ", " << d.scans.size() << " scans, " << pointCount(d.scans)
               << " points, built in " << seconds << " s\n"
               << "map " << o->out << ": " << tree->getNumLeafNodes() << " leaves (settings in " << o->out << ".json)\n";

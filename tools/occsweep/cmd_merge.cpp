@@ -11,9 +11,12 @@ const RegisterCommand kMerge{"merge", "Merge the shards of one sweep (refuses mi
                              [](CLI::App& app) {
   auto files = std::make_shared<std::vector<std::string>>();
   auto out = std::make_shared<std::string>();
+  auto force = std::make_shared<bool>(false);
   app.add_option("files", *files, "Results files of one sweep's shards")->required();
   app.add_option("--out", *out, "Merged results file")->required();
-  return [files, out] {
+  app.add_flag("--force", *force, "Replace occsweep's own previous results file at --out (nothing else)");
+  return [files, out, force] {
+    checkOutputTarget(*out, *force, resultsOutput());
     const ResultsFile merged = mergeResults({files->begin(), files->end()});
     writeResults(merged, *out);
     std::cout << "wrote " << *out << ": " << merged.maps.size() << " maps from " << files->size() << " files\n";

@@ -14,9 +14,11 @@ const RegisterCommand kScene{"scene", "Write the built-in scene (four boxes in a
   struct Options {
     std::string out;
     BuiltinSceneConfig config;
+    bool force = false;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("--out", o->out, "Output data-set folder")->required();
+  app.add_option("--out", o->out, "Output data-set folder (a new one, or occsweep's own with --force)")->required();
+  app.add_flag("--force", o->force, "Replace occsweep's own previous data set at --out (nothing else)");
   app.add_option("--seed", o->config.seed, "Seed of noise and outliers")->capture_default_str();
   app.add_option("--scans", o->config.scans, "Keyframes over both orbits")->capture_default_str()->check(integerIn<int>(1, 100000));
   app.add_option("--width", o->config.width, "Rays per row")->capture_default_str()->check(integerIn<int>(1, 100000));
@@ -24,6 +26,7 @@ const RegisterCommand kScene{"scene", "Write the built-in scene (four boxes in a
   app.add_option("--noise", o->config.noise_sigma, "Range noise sigma, metres")->capture_default_str()->check(numberAtLeast(0));
   app.add_option("--outliers", o->config.outlier_fraction, "Outlier fraction")->capture_default_str()->check(numberIn(0, 1));
   return [o] {
+    checkOutputTarget(o->out, o->force, datasetOutput());
     const Dataset d = makeBuiltinScene(o->config);
     writeDataset(d, o->out);
     std::cout << "wrote " << o->out << ": " << d.scans.size() << " scans, " << pointCount(d.scans) << " points\n";

@@ -15,11 +15,13 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
     SweepConfig config;
     std::string dataset, out, shard, group, variant = "default", stats = "batch";
     std::uint64_t seed = 0;
+    bool force = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("--dataset", o->dataset, "Data-set folder")->required();
   app.add_option("--grid", o->config.grid, "Grid name (sweeps/grids) or path")->required();
-  app.add_option("--out", o->out, "Results file (JSON)")->required();
+  app.add_option("--out", o->out, "Results file (JSON); the same sweep's own file or OUT.partial.jsonl resumes")->required();
+  app.add_flag("--force", o->force, "Replace occsweep's own results of other work at --out (nothing else)");
   app.add_option("--shard", o->shard, "I/N: the I-th of N contiguous blocks of the grid's maps (I from 0)");
   app.add_option("--group", o->group, "G/N: only the G-th Eq. 16 group of the seeded permutation");
   app.add_option("--seed", o->seed, "Seed of the Eq. 16 permutation (with --group)")->capture_default_str();
@@ -35,6 +37,7 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
     SweepConfig c = o->config;
     c.dataset = o->dataset;
     c.out = o->out;
+    c.force = o->force;
     if (!o->shard.empty()) std::tie(c.selection.shard_index, c.selection.shard_count) = parseFraction(o->shard, "--shard");
     if (!o->group.empty()) {
       const auto [g, n] = parseFraction(o->group, "--group");

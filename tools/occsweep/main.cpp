@@ -4,11 +4,13 @@
 #include <map>
 
 #include "command_registry.hpp"
+#include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/version.hpp"
 #include "usage_errors.hpp"
 
 int main(int argc, char** argv) {
   using namespace occsweep::cli;
+  occsweep::removeTemporariesOnInterrupt();  // before any thread: SIGINT/SIGTERM remove unfinished outputs
   CLI::App app{"occsweep " + std::string(occsweep::kVersion) +
                ": occupancy mapping with OctoMap and the k-NN inverse sensor model (Miao et al., Sensors 2022)"};
   app.require_subcommand(1);

@@ -1,13 +1,16 @@
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "occsweep/data/data_error.hpp"
 #include "occsweep/data/dataset.hpp"
 #include "occsweep/data/fnv1a.hpp"
+#include "occsweep/eval/output_file.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
@@ -20,12 +23,13 @@ constexpr int kVersion = 1;
 constexpr std::uint64_t kMaxPointsPerFile = std::uint64_t(1) << 31;  // 24 GiB of float32: refuse beyond
 
 void writeFloats(const fs::path& file, const std::vector<octomap::point3d>& pts) {
-  std::ofstream out(file, std::ios::binary);
+  std::string bytes;
+  bytes.reserve(pts.size() * 12);
   for (const auto& p : pts) {
     const float xyz[3] = {p.x(), p.y(), p.z()};
-    out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);  // little-endian hosts only (x86-64, arm64)
+    bytes.append(reinterpret_cast<const char*>(xyz), sizeof xyz);  // little-endian hosts only (x86-64, arm64)
   }
-  if (!out) throw DataError(file, "", "cannot write");
+  writeFileChecked(file, bytes);
 }
 
 std::vector<octomap::point3d> readFloats(const fs::path& file, std::uint64_t expected, const std::string& field) {
@@ -126,9 +130,9 @@ std::vector<fs::path> binaryFiles(const json& m) {
 }  // namespace
 
 void writeDataset(const Dataset& d, const fs::path& dir) {
-  const fs::path tmp = dir.string() + ".tmp-" + std::to_string(::getpid());
-  fs::remove_all(tmp);
-  fs::create_directories(tmp / "scans");
+  OutputFolder folder(dir);
+  const fs::path& tmp = folder.path();
+  if (::mkdir((tmp / "scans").c_str(), 0777) != 0) throw OutputError(writeFailure(tmp / "scans", errno));
   json m;
   m["format"] = kFormat;
   m["version"] = kVersion;
@@ -157,17 +161,31 @@ void writeDataset(const Dataset& d, const fs::path& dir) {
   m["truth"] = truth;
   m["region"] = {{"min", vec(d.region.min)}, {"max", vec(d.region.max)}};
   m["source"] = d.source;
-  {
-    std::ofstream out(tmp / "manifest.json");
-    out << m.dump(1) << '\n';
-    if (!out) throw DataError(tmp / "manifest.json", "", "cannot write");
-  }
-  if (dir.has_parent_path()) fs::create_directories(dir.parent_path());
-  const fs::path old = dir.string() + ".old-" + std::to_string(::getpid());
-  if (fs::exists(dir)) fs::rename(dir, old);
-  fs::rename(tmp, dir);
-  fs::remove_all(old);
+  writeFileChecked(tmp / "manifest.json", m.dump(1) + '\n');
+  folder.commit();
 }
+
+static bool isDatasetFolder(const fs::path& dir) {
+  // Only what writeDataset writes: a folder that also holds a user's file is not occsweep's to replace.
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name == "scans") {
+      for (fs::directory_iterator s(it->path(), ec); !ec && s != end; s.increment(ec))
+        if (s->path().extension() != ".f32" || !s->is_regular_file()) return false;
+    } else if (name != "manifest.json" && name != "truth_mesh.f32" && name != "truth_points.f32") {
+      return false;
+    }
+  }
+  if (ec) return false;
+  try {
+    return readJson(dir / "manifest.json").value("format", "") == kFormat;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+ReplaceableOutput datasetOutput() { return {"data set folder", isDatasetFolder}; }
 
 Dataset readDataset(const fs::path& dir) {
   const fs::path file = dir / "manifest.json";

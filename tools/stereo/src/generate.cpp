@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <cstdio>
 #include <iostream>
 #include <mutex>
@@ -77,6 +78,18 @@ DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c,
       sets.push_back({std::int64_t(id), grid.at(id)});
 
   const fs::path dir = out_root / name.str();
+  // A generation that fails (a full disk) removes the folders this run made: no half data-set folder is left.
+  struct RemoveMadeOnFailure {
+    fs::path first_made;
+    ~RemoveMadeOnFailure() {
+      std::error_code ec;
+      if (!first_made.empty() && std::uncaught_exceptions() > 0) fs::remove_all(first_made, ec);
+    }
+  } cleanup;
+  for (fs::path p = dir; !p.empty() && !fs::exists(p); p = p.parent_path()) {
+    cleanup.first_made = p;
+    if (p == p.parent_path()) break;
+  }
   fs::create_directories(dir);
   DatasetSummary summary{name.str(), c.scale.name, {}, 0};
   auto start = std::chrono::steady_clock::now();
@@ -137,6 +150,7 @@ DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c,
     d.source = sourceJson(name, c, cam, grid, id, params);
     d.source["keyframes_dropped_empty"] = dropped;
     if (d.scans.empty()) throw std::runtime_error(name.str() + " " + pcs.folder + ": no keyframe produced a point");
+    checkOutputTarget(dir / pcs.folder, true, datasetOutput());  // a regenerated set replaces only its own folder
     writeDataset(d, dir / pcs.folder);
     pcs.seconds = secondsSince(start);
     std::cerr << "  " << name.str() << " " << pcs.folder << " (" << s + 1 << "/" << sets.size() << "): " << pcs.points

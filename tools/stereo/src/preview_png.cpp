@@ -9,6 +9,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "occsweep/eval/output_file.hpp"
 #include "occsweep/stereo/generate.hpp"
 
 namespace occsweep::stereo {
@@ -18,17 +19,21 @@ namespace {
 void writeAtomically(const cv::Mat& image, const std::filesystem::path& file) {
   if (!image.isContinuous() || (image.type() != CV_8UC1 && image.type() != CV_8UC3))
     throw std::logic_error("writeAtomically: 8-bit grey or BGR, continuous");
-  const std::filesystem::path tmp = file.string() + ".tmp-" + std::to_string(::getpid()) + ".png";
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
   png.width = png_uint_32(image.cols);
   png.height = png_uint_32(image.rows);
   png.format = image.channels() == 1 ? PNG_FORMAT_GRAY : PNG_FORMAT_BGR;
-  if (!png_image_write_to_file(&png, tmp.c_str(), 0, image.data, png_int_32(image.step[0]), nullptr)) {
-    std::filesystem::remove(tmp);
-    throw std::runtime_error(file.string() + ": cannot write the PNG: " + png.message);
-  }
-  std::filesystem::rename(tmp, file);
+  // Encoded in memory, then one checked atomic write (writeFileAtomically).
+  png_alloc_size_t size = 0;
+  const auto row_stride = png_int_32(image.step[0]);
+  if (!png_image_write_to_memory(&png, nullptr, &size, 0, image.data, row_stride, nullptr))
+    throw std::runtime_error(file.string() + ": cannot encode the PNG: " + png.message);
+  std::string bytes(size, '\0');
+  if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, image.data, row_stride, nullptr))
+    throw std::runtime_error(file.string() + ": cannot encode the PNG: " + png.message);
+  bytes.resize(size);
+  writeFileAtomically(file, bytes);
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "occsweep/eval/output_file.hpp"
+
 namespace occsweep::stereo {
 namespace {
 
@@ -75,13 +77,7 @@ void rankSets(std::vector<PointCloudSetSummary>& sets) {
 }
 
 void writeJsonAtomically(const nlohmann::json& j, const std::filesystem::path& file) {
-  const std::filesystem::path tmp = file.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << j.dump(1) << '\n';
-    if (!out) throw std::runtime_error(file.string() + ": cannot write");
-  }
-  std::filesystem::rename(tmp, file);
+  writeFileAtomically(file, j.dump(1) + '\n');
 }
 
 void writeRanking(const DatasetSummary& s, const GenerateConfig& c, const PointCloudGrid& grid,

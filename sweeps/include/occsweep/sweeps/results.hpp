@@ -11,6 +11,7 @@
 
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/curve.hpp"
+#include "occsweep/eval/output_file.hpp"
 #include "grid.hpp"
 
 namespace occsweep {
@@ -37,6 +38,9 @@ struct ResultsHeader {
   nlohmann::json point_cloud_set = nlohmann::json::object();  ///< the data set's `source`: its parameters
   double resolution = 0.1, s_c = 4.0;
   std::string variant = "default", stats = "batch", engine = "direct";
+  /// Every engine that produced maps of this file, sorted: a sweep resumed under another engine, or merged shards
+  /// of different engines, list both (and `engine` is then "mixed"). Files without the field: {engine}.
+  std::vector<std::string> engines;
 };
 
 struct ThresholdResult {
@@ -76,9 +80,14 @@ struct ResultsFile {
 [[nodiscard]] ResultsFile parseResults(const nlohmann::json& j, const std::string& file);
 [[nodiscard]] ResultsFile readResults(const std::filesystem::path& file);
 
-/// Written to a temporary name beside `file` and renamed.
+/// Written to a temporary name beside `file` and renamed (writeFileAtomically).
 void writeResults(const ResultsFile& f, const std::filesystem::path& file);
 void writeJsonAtomically(const nlohmann::json& j, const std::filesystem::path& file);
+
+/// A JSON file whose "format" field is `format`: occsweep's own output of that kind, which --force may replace.
+[[nodiscard]] ReplaceableOutput jsonOutput(const std::string& name, const std::string& format);
+/// An occsweep results file (sweep, merge).
+[[nodiscard]] ReplaceableOutput resultsOutput();
 
 /// Differences that matter between two results of the same work: any TP/FP/FN/TN, or an AUC further apart than
 /// `auc_tolerance`. Timings, version and commit are ignored. Empty when they agree.

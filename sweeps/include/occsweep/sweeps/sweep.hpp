@@ -22,7 +22,8 @@ struct SweepConfig {
   int threads = 0;                ///< 0: all cores
   std::string engine = "replay";  ///< "replay" (record events once, replay each combination) or "direct"
                                   ///< (build every map: liboctomap for OctoMap, the k-NN mapper): the reference
-  bool quiet = false;             ///< no progress on stderr
+  bool quiet = false;
+  bool force = false;             ///< replace occsweep's own results (or partial) of other work at `out`             ///< no progress on stderr
 };
 
 /// One work item: a map of the grid and the thresholds of it that the selection asks for.

@@ -8,6 +8,7 @@
 
 #include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/eval/ground_truth.hpp"
+#include "occsweep/eval/output_file.hpp"
 
 namespace occsweep {
 
@@ -20,8 +21,13 @@ struct Dataset {
 };
 
 /// Writes DIR/manifest.json and DIR/scans/NNNNNN.f32 (+ truth files). Built in a temporary folder beside DIR
-/// and renamed into place, so a killed write never leaves a half data set. Replaces an existing DIR.
+/// and renamed into place (OutputFolder), so a killed write never leaves a half data set. Replaces an existing DIR:
+/// callers check it first with checkOutputTarget(dir, force, datasetOutput()).
 void writeDataset(const Dataset& dataset, const std::filesystem::path& dir);
+
+/// A data-set folder as writeDataset writes it (manifest with the data-set format, nothing else): what --force
+/// may replace.
+[[nodiscard]] ReplaceableOutput datasetOutput();
 
 /// Reads and checks a data set. Throws DataError naming the file and field: missing or truncated files,
 /// NaN or infinite coordinates, empty scans, bad manifest fields.

@@ -1,0 +1,91 @@
+// Every file and folder occsweep writes goes through here: built under a temporary name in the target's folder,
+// checked, and renamed into place only when complete; an existing output is replaced only when it is occsweep's
+// own output of the same kind and --force was given (docs/robustness.md, "Outputs, temporaries and --force").
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace occsweep {
+
+/// A refused or failed output. The message names the file and says why ("no space left on device", ...).
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// `file: reason` for an errno value: ENOSPC is "no space left on device", EFBIG the file-size limit.
+[[nodiscard]] std::string writeFailure(const std::filesystem::path& file, int error_number);
+
+/// What a command writes, and how occsweep recognises its own previous output of that kind.
+struct ReplaceableOutput {
+  std::string name;  ///< "data set folder", "results file", ...
+  std::function<bool(const std::filesystem::path&)> is_own;
+};
+
+/// The target as a clean path: a trailing slash dropped, `.` and `..` resolved against the current folder.
+[[nodiscard]] std::filesystem::path outputTarget(const std::filesystem::path& target);
+
+/// Refuses an existing `target` (exit 2 through OutputError) unless `force` and `kind.is_own(target)`. An empty
+/// folder is not an output and is replaced. The current folder or one of its parents is always refused.
+void checkOutputTarget(const std::filesystem::path& target, bool force, const ReplaceableOutput& kind);
+
+/// Removes temporaries of `target` (`.NAME.tmp-PID`, and the older `NAME.tmp-PID`) left by a killed process.
+void removeStaleTemporaries(const std::filesystem::path& target);
+
+/// One file written under `.NAME.tmp-PID` beside `target`; `commit()` flushes, checks and renames it into place.
+/// Destroyed uncommitted (an exception), it removes the temporary. Every write is checked: the first failure throws
+/// OutputError at the latest in `commit()`.
+class OutputFile {
+ public:
+  explicit OutputFile(const std::filesystem::path& target);
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  [[nodiscard]] std::ostream& stream();
+  [[nodiscard]] const std::filesystem::path& temporary() const { return temporary_; }
+  void commit();
+
+ private:
+  struct Buffer;
+  std::filesystem::path target_, temporary_;
+  std::unique_ptr<Buffer> buffer_;
+  std::unique_ptr<std::ostream> stream_;
+  bool committed_ = false;
+};
+
+/// One folder built under `.NAME.tmp-PID` beside `target`; `commit()` renames it into place, replacing an existing
+/// target (already allowed by checkOutputTarget). Destroyed uncommitted, it removes the temporary folder.
+class OutputFolder {
+ public:
+  explicit OutputFolder(const std::filesystem::path& target);
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+
+  [[nodiscard]] const std::filesystem::path& path() const { return temporary_; }
+  void commit();
+
+ private:
+  std::filesystem::path target_, temporary_;
+  bool committed_ = false;
+};
+
+/// `bytes` as `target`, atomically (OutputFile).
+void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes);
+
+/// `bytes` as `file` directly, every write checked: for files inside an OutputFolder's temporary folder.
+void writeFileChecked(const std::filesystem::path& file, std::string_view bytes);
+
+/// Removes every registered temporary then exits 128 + signal on SIGINT, SIGTERM or SIGHUP; makes SIGXFSZ a
+/// write error (EFBIG) instead of a kill. Call once at the start of main(). A SIGKILL cannot be caught: the next
+/// run writing the same target removes what it left (removeStaleTemporaries).
+void removeTemporariesOnInterrupt();
+
+}  // namespace occsweep

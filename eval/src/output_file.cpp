@@ -1,0 +1,328 @@
+// Atomic outputs, refusal of existing ones, and removal of temporaries on errors, signals and after kills
+// (docs/robustness.md, "Outputs, temporaries and --force").
+#include "occsweep/eval/output_file.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <mutex>
+#include <set>
+#include <streambuf>
+#include <sys/stat.h>
+#include <thread>
+#include <vector>
+#include <unistd.h>
+
+namespace occsweep {
+namespace fs = std::filesystem;
+
+namespace {
+
+// ---- temporaries removed on SIGINT/SIGTERM/SIGHUP ----
+
+// Never destroyed: the cleaning thread may still use them while static objects are destroyed at exit.
+std::mutex& registryMutex() {
+  static auto* m = new std::mutex;
+  return *m;
+}
+
+std::set<fs::path>& registry() {
+  static auto* paths = new std::set<fs::path>;
+  return *paths;
+}
+
+void registerTemporary(const fs::path& p) {
+  std::lock_guard lock(registryMutex());
+  registry().insert(p);
+}
+
+void unregisterTemporary(const fs::path& p) {
+  std::lock_guard lock(registryMutex());
+  registry().erase(p);
+}
+
+int interrupt_pipe[2] = {-1, -1};
+
+// Async-signal-safe: only write(2). The cleaning happens in an ordinary thread (cleanOnInterrupt).
+extern "C" void forwardSignal(int sig) {
+  const unsigned char byte = static_cast<unsigned char>(sig);
+  [[maybe_unused]] const ssize_t n = ::write(interrupt_pipe[1], &byte, 1);
+}
+
+void cleanOnInterrupt() {
+  unsigned char sig = 0;
+  while (::read(interrupt_pipe[0], &sig, 1) != 1) {
+  }
+  {
+    std::lock_guard lock(registryMutex());
+    for (const auto& p : registry()) {
+      std::error_code ec;
+      fs::remove_all(p, ec);
+    }
+  }
+  ::_exit(128 + sig);
+}
+
+// ---- names ----
+
+fs::path temporaryName(const fs::path& target) {
+  return target.parent_path() / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
+}
+
+[[noreturn]] void fail(const fs::path& file, int error_number) { throw OutputError(writeFailure(file, error_number)); }
+
+[[noreturn]] void fail(const fs::filesystem_error& e) {
+  throw OutputError(writeFailure(e.path1().empty() ? fs::path("?") : e.path1(), e.code().value()));
+}
+
+void createParent(const fs::path& target) {
+  if (!target.has_parent_path()) return;
+  try {
+    fs::create_directories(target.parent_path());
+  } catch (const fs::filesystem_error& e) {
+    fail(e);
+  }
+}
+
+bool pidAlive(long pid) { return pid > 0 && (::kill(pid_t(pid), 0) == 0 || errno != ESRCH); }
+
+// The PID after `prefix` in `name`, or -1 when `name` is not a temporary of that prefix.
+long temporaryPid(const std::string& name, const std::string& prefix) {
+  if (name.rfind(prefix, 0) != 0) return -1;
+  std::size_t end = prefix.size();
+  while (end < name.size() && name[end] >= '0' && name[end] <= '9') ++end;
+  if (end == prefix.size() || end - prefix.size() > 9) return -1;
+  const std::string rest = name.substr(end);
+  if (!rest.empty() && rest != ".png") return -1;  // the old preview_png.cpp's NAME.tmp-PID.png
+  return std::stol(name.substr(prefix.size(), end - prefix.size()));
+}
+
+bool isEmptyFolder(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_directory(fs::symlink_status(p, ec)) && fs::is_empty(p, ec);
+}
+
+// The name the user knows: a temporary `.NAME.tmp-PID` component shown as `NAME` (the output being written).
+std::string userVisible(const fs::path& file) {
+  fs::path shown;
+  for (const auto& part : file) {
+    const std::string s = part.string();
+    const std::size_t tmp = s.rfind(".tmp-");
+    const bool temporary = s.size() > 1 && s[0] == '.' && tmp != std::string::npos && tmp > 1 &&
+                           temporaryPid(s, s.substr(0, tmp + 5)) > 0;
+    shown /= temporary ? s.substr(1, tmp - 1) : s;
+  }
+  return shown.string();
+}
+
+}  // namespace
+
+std::string writeFailure(const fs::path& file, int error_number) {
+  const std::string name = userVisible(file);
+  switch (error_number) {
+    case ENOSPC: return name + ": no space left on device";
+    case EDQUOT: return name + ": disk quota exceeded";
+    case EFBIG: return name + ": file size limit exceeded (ulimit -f)";
+    default: return name + ": cannot write: " + std::strerror(error_number);
+  }
+}
+
+fs::path outputTarget(const fs::path& target) {
+  fs::path p = target.lexically_normal();
+  if (!p.has_filename() && p.has_parent_path()) p = p.parent_path();  // "s1/" is "s1"
+  const std::string name = p.filename().string();
+  if (p.empty() || name == "." || name == ".." || p.begin()->string() == "..") {
+    p = (fs::current_path() / target).lexically_normal();
+    if (!p.has_filename() && p != p.root_path()) p = p.parent_path();
+  }
+  return p;
+}
+
+void checkOutputTarget(const fs::path& target, bool force, const ReplaceableOutput& kind) {
+  const fs::path t = outputTarget(target);
+  std::error_code ec;
+  const fs::path here = fs::weakly_canonical(fs::current_path(), ec), there = fs::weakly_canonical(t, ec);
+  const auto [mismatch, _] = std::mismatch(there.begin(), there.end(), here.begin(), here.end());
+  if (!there.empty() && mismatch == there.end())
+    throw OutputError(target.string() + ": is the current folder or holds it: choose a new folder for the " +
+                      kind.name);
+  const auto status = fs::symlink_status(t, ec);
+  if (!fs::exists(status) || isEmptyFolder(t)) return;
+  if (!force)
+    throw OutputError(target.string() + ": exists: occsweep replaces nothing unless asked (--force replaces " +
+                      "occsweep's own previous " + kind.name + "; or choose another path)");
+  if (!kind.is_own(t))
+    throw OutputError(target.string() + ": exists and is not occsweep's " + kind.name +
+                      ": refused even with --force (nothing was changed)");
+}
+
+void removeStaleTemporaries(const fs::path& target) {
+  const fs::path t = outputTarget(target);
+  const fs::path dir = t.has_parent_path() ? t.parent_path() : fs::path(".");
+  const std::string name = t.filename().string();
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string entry = it->path().filename().string();
+    for (const std::string& prefix : {"." + name + ".tmp-", name + ".tmp-", name + ".old-"}) {
+      const long pid = temporaryPid(entry, prefix);
+      if (pid == long(::getpid()) || (pid > 0 && !pidAlive(pid))) stale.push_back(it->path());
+    }
+  }
+  for (const auto& p : stale) fs::remove_all(p, ec);
+}
+
+// ---- OutputFile ----
+
+// A stream buffer on a file descriptor that keeps the errno of the first failed write (ENOSPC, EFBIG, ...),
+// which std::ofstream loses.
+struct OutputFile::Buffer : std::streambuf {
+  int fd = -1;
+  int error = 0;
+  char data[1 << 16];
+
+  explicit Buffer(int descriptor) : fd(descriptor) { setp(data, data + sizeof data); }
+
+  bool drain() {
+    for (char* p = pbase(); p < pptr();) {
+      const ssize_t n = ::write(fd, p, std::size_t(pptr() - p));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        error = n < 0 ? errno : EIO;
+        return false;
+      }
+      p += n;
+    }
+    setp(data, data + sizeof data);
+    return true;
+  }
+  int_type overflow(int_type c) override {
+    if (error != 0 || !drain()) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return error == 0 && drain() ? 0 : -1; }
+};
+
+OutputFile::OutputFile(const fs::path& target) : target_(outputTarget(target)), temporary_(temporaryName(target_)) {
+  createParent(target_);
+  removeStaleTemporaries(target_);
+  registerTemporary(temporary_);
+  const int fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int e = errno;
+    unregisterTemporary(temporary_);
+    fail(target_, e);
+  }
+  buffer_ = std::make_unique<Buffer>(fd);
+  stream_ = std::make_unique<std::ostream>(buffer_.get());
+}
+
+OutputFile::~OutputFile() {
+  if (buffer_ && buffer_->fd >= 0) ::close(buffer_->fd);
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove(temporary_, ec);
+  }
+  unregisterTemporary(temporary_);
+}
+
+std::ostream& OutputFile::stream() { return *stream_; }
+
+void OutputFile::commit() {
+  stream_->flush();
+  if (buffer_->error != 0 || !*stream_) fail(target_, buffer_->error != 0 ? buffer_->error : EIO);
+  // fsync: a rename is only as durable as the data it points at (a crash right after it must not leave zeros).
+  if (::fsync(buffer_->fd) != 0 && errno != EINVAL) fail(target_, errno);
+  const int fd = buffer_->fd;
+  buffer_->fd = -1;
+  if (::close(fd) != 0) fail(target_, errno);
+  std::error_code ec;
+  if (isEmptyFolder(target_)) fs::remove(target_, ec);  // an empty folder holds nothing of the user's
+  if (::rename(temporary_.c_str(), target_.c_str()) != 0) fail(target_, errno);
+  committed_ = true;
+}
+
+// ---- OutputFolder ----
+
+OutputFolder::OutputFolder(const fs::path& target) : target_(outputTarget(target)), temporary_(temporaryName(target_)) {
+  createParent(target_);
+  removeStaleTemporaries(target_);
+  registerTemporary(temporary_);
+  if (::mkdir(temporary_.c_str(), 0777) != 0) {
+    const int e = errno;
+    unregisterTemporary(temporary_);
+    fail(target_, e);
+  }
+}
+
+OutputFolder::~OutputFolder() {
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove_all(temporary_, ec);
+  }
+  unregisterTemporary(temporary_);
+}
+
+void OutputFolder::commit() {
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(target_, ec))) {
+    // Swapped in one step (renameat2 RENAME_EXCHANGE): no moment without either the old or the new folder; the old
+    // one, now under the registered temporary name, is then removed.
+    if (::renameat2(AT_FDCWD, temporary_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) == 0) {
+      fs::remove_all(temporary_, ec);
+      committed_ = true;
+      return;
+    }
+    if (isEmptyFolder(target_)) fs::remove(target_, ec);
+    else fs::remove_all(target_, ec);  // no RENAME_EXCHANGE on this file system: checked by checkOutputTarget
+  }
+  if (::rename(temporary_.c_str(), target_.c_str()) != 0) fail(target_, errno);
+  committed_ = true;
+}
+
+// ---- one-call writers ----
+
+void writeFileAtomically(const fs::path& target, std::string_view bytes) {
+  OutputFile out(target);
+  out.stream().write(bytes.data(), std::streamsize(bytes.size()));
+  out.commit();
+}
+
+void writeFileChecked(const fs::path& file, std::string_view bytes) {
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) fail(file, errno);
+  for (std::size_t done = 0; done < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int e = n < 0 ? errno : EIO;
+      ::close(fd);
+      fail(file, e);
+    }
+    done += std::size_t(n);
+  }
+  if (::close(fd) != 0) fail(file, errno);
+}
+
+void removeTemporariesOnInterrupt() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (::pipe2(interrupt_pipe, O_CLOEXEC) != 0) return;
+    std::thread(cleanOnInterrupt).detach();
+    struct sigaction action {};
+    action.sa_handler = forwardSignal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &action, nullptr);
+    std::signal(SIGXFSZ, SIG_IGN);  // past `ulimit -f`, write(2) fails with EFBIG: a message instead of a core
+  });
+}
+
+}  // namespace occsweep

@@ -1,0 +1,75 @@
+// Helpers of the output tests (test_robust_outputs, test_robust_faults, test_robust_disk): running the command in
+// a folder, snapshots of folders to show files byte-identical, and the search for leftover temporaries.
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_helpers.hpp"
+
+namespace occsweep::test {
+
+/// The binary under test: OCCSWEEP_TEST_CLI when set (e.g. the original binary, to see these tests fail on it).
+inline std::string cliBinary() {
+  const char* env = std::getenv("OCCSWEEP_TEST_CLI");
+  return env && *env ? env : OCCSWEEP_CLI;
+}
+
+inline std::string shellQuoted(const std::filesystem::path& p) {
+  std::string q = "'";
+  for (char c : p.string()) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// Runs `occsweep ARGS` in folder `cwd` through the shell (`prefix` first, e.g. "ulimit -f 4;").
+inline CommandResult runIn(const std::filesystem::path& cwd, const std::string& args, const std::string& prefix = "") {
+  const std::string cmd = "cd " + shellQuoted(cwd) + " && " + prefix + " " + shellQuoted(cliBinary()) + " " + args + " 2>&1";
+  CommandResult r;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+inline std::string fileBytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+inline void writeBytes(const std::filesystem::path& file, const std::string& bytes) {
+  std::ofstream(file, std::ios::binary) << bytes;
+}
+
+/// Every file under `dir` (relative path -> bytes): two equal snapshots mean nothing was changed, added or removed.
+inline std::map<std::string, std::string> snapshot(const std::filesystem::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+    files[std::filesystem::relative(e.path(), dir).string()] = e.is_regular_file() ? fileBytes(e.path()) : "<dir>";
+  return files;
+}
+
+/// Temporaries anywhere under `dir`: names holding ".tmp-" or ".old-" (both ever used by occsweep).
+inline std::vector<std::string> leftovers(const std::filesystem::path& dir) {
+  std::vector<std::string> found;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.find(".tmp-") != std::string::npos || name.find(".old-") != std::string::npos || name.ends_with(".tmp"))
+      found.push_back(e.path().string());
+  }
+  return found;
+}
+
+/// A tiny scene: four scans of 16 x 12 rays (milliseconds).
+inline const char* kTinyScene = "scene --scans 4 --width 16 --height 12";
+
+}  // namespace occsweep::test

@@ -1,0 +1,95 @@
+// Issue 13, full disk: every command that writes, with its output on a small full tmpfs, exits 2 saying "no space
+// left on device" and naming the file, and leaves nothing behind: no temporary, nothing under the final name
+// (docs/robustness.md, "Outputs, temporaries and --force"). Needs `mount` (CI runs as root); skipped otherwise.
+#include <catch2/catch.hpp>
+#include <sys/mount.h>
+
+#include "robust_outputs_helpers.hpp"
+
+namespace fs = std::filesystem;
+using namespace occsweep::test;
+
+namespace {
+
+/// A 256 KiB tmpfs at `dir`, unmounted at the end of the scope.
+struct SmallDisk {
+  fs::path dir;
+  bool mounted = false;
+  explicit SmallDisk(fs::path d) : dir(std::move(d)) {
+    fs::create_directories(dir);
+    mounted = ::mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=256k") == 0;
+  }
+  ~SmallDisk() {
+    if (mounted) ::umount(dir.c_str());
+  }
+  /// Fills the disk but `free_bytes` with a file of the test's own (`filler`).
+  void fill(std::size_t free_bytes) {
+    fs::remove(dir / "filler");
+    std::ofstream out(dir / "filler", std::ios::binary);
+    const std::string block(4096, 'x');
+    while (out.write(block.data(), std::streamsize(block.size()))) out.flush();
+    out.close();
+    fs::resize_file(dir / "filler", fs::file_size(dir / "filler") - free_bytes);
+  }
+};
+
+void writeTinyGrid(const fs::path& file) {
+  std::ofstream(file) << R"({"name": "tiny", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
+    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.24},
+    "p_m": {"min": 0.02, "max": 0.38, "step": 0.18}, "p_t": {"step": 0.12}}})";
+}
+
+}  // namespace
+
+TEST_CASE("every command writing to a full disk says no space left, names the file and leaves nothing", "[disk]") {
+  const fs::path dir = scratch("robust_disk");
+  REQUIRE(runIn(dir, "scene --scans 8 --width 64 --height 48 --out scene").exit_code == 0);
+  writeTinyGrid(dir / "tiny.json");
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json").exit_code == 0);
+  fs::create_directories(dir / "ds/pcs-0000");
+  std::ofstream(dir / "ds/ranking.json") << R"({"format": "occsweep-pointcloud-ranking",
+    "sets": [{"folder": "pcs-0000", "id": 0, "naive": {"fdr": 0.1, "tpr": 0.9}}]})";
+  std::ofstream(dir / "truth.json") << R"({"boxes": [{"min": [0, 0, 0], "max": [1, 1, 1]}]})";
+  {
+    std::ofstream out(dir / "a.xyz");
+    for (int i = 0; i < 3000; ++i) out << 1 + 0.001 * i << ' ' << 0.5 << ' ' << 0.0007 * i << '\n';
+  }
+  SmallDisk disk(dir / "disk");
+  if (!disk.mounted) {
+    WARN("mount -t tmpfs is not permitted here (not root?): full-disk test skipped");
+    return;
+  }
+  struct Case {
+    std::string args, file;  // the command (output under disk/) and the file its message must name
+    bool over_a_page = true;  // false: the output fits the one free page, and is written (the comparison)
+    bool stereo = false;      // a command of the stereo tools (absent when occsweep is built without them)
+  };
+  const bool have_stereo = runIn(dir, "dataset --help").exit_code == 0;
+  const std::vector<Case> cases = {
+      {"scene --scans 8 --width 64 --height 48 --out disk/out", "disk/out"},
+      {"import cloud a.xyz --out disk/out", "disk/out"},
+      {"map --dataset scene --method octomap --out disk/m.ot", "disk/m.ot"},
+      {"sweep --dataset scene --grid tiny.json --quiet --out disk/r.json", "disk/r.json"},
+      {"merge r.json --out disk/m.json", "disk/m.json"},
+      {"compare r.json --json disk/c.json", "disk/c.json", false},
+      {"import truth truth.json --dataset scene --out disk/out", "disk/out"},
+      {"dataset generate --name parking-plain-I --scale ci --out disk/gen", "disk/gen", true, true},
+      {"cluster select ds/ranking.json --out disk/sel", "disk/sel", false},
+      {"cluster plan --out disk/plan --experiment sweep --datasets scene --sets . --grids tiny.json:1", "disk/plan",
+       false},
+  };
+  // Full, then one page free: the write fails at its first byte, or in the middle of the output.
+  for (const std::size_t free_bytes : {std::size_t(0), std::size_t(4096)}) {
+    for (const auto& c : cases) {
+      if ((free_bytes > 0 && !c.over_a_page) || (c.stereo && !have_stereo)) continue;
+      disk.fill(free_bytes);
+      const CommandResult r = runIn(dir, c.args);
+      INFO(c.args << " with " << free_bytes << " bytes free\n" << r.output);
+      CHECK(r.exit_code == 2);
+      CHECK(r.output.find("no space left on device") != std::string::npos);
+      CHECK(r.output.find(c.file) != std::string::npos);
+      fs::remove(disk.dir / "filler");
+      CHECK(fs::is_empty(disk.dir));  // no temporary, no partial output, no partial log
+    }
+  }
+}

@@ -1,0 +1,257 @@
+// Issue 13, "Data loss and corruption": no command replaces what a user owns, outputs appear whole or not at all,
+// temporaries do not outlive their run, and a resumed sweep records every engine that made its maps
+// (docs/robustness.md, "Outputs, temporaries and --force"). OCCSWEEP_TEST_CLI=/path/to/occsweep runs these claims
+// against another binary (the original one fails them).
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include "occsweep/sweeps/results.hpp"
+#include "robust_outputs_helpers.hpp"
+
+namespace fs = std::filesystem;
+using namespace occsweep;
+using namespace occsweep::test;
+
+namespace {
+
+const std::string kThesis = "\\documentclass{article} my thesis, five years of work\n";
+
+// A folder holding a user's file.
+fs::path userFolder(const fs::path& dir) {
+  fs::create_directories(dir);
+  writeBytes(dir / "thesis.tex", kThesis);
+  return dir;
+}
+
+void writeCloud(const fs::path& file) {
+  std::ofstream out(file);
+  for (int i = 0; i < 50; ++i) out << 1 + 0.01 * i << ' ' << 0.5 << ' ' << 0.02 * i << '\n';
+}
+
+void writeTinyGrid(const fs::path& file) {
+  std::ofstream(file) << R"({"name": "tiny", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
+    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.24},
+    "p_m": {"min": 0.02, "max": 0.38, "step": 0.18}, "p_t": {"step": 0.12}}})";
+}
+
+// The scratch folder with a tiny scene `scene` and a tiny grid `tiny.json` (made with the binary under test).
+fs::path withScene(const std::string& name) {
+  const fs::path dir = scratch(name);
+  REQUIRE(runIn(dir, std::string(kTinyScene) + " --out scene").exit_code == 0);
+  writeTinyGrid(dir / "tiny.json");
+  return dir;
+}
+
+bool mentions(const CommandResult& r, const std::string& what) { return r.output.find(what) != std::string::npos; }
+
+}  // namespace
+
+TEST_CASE("scene and import --out refuse a folder holding a user's file, even with --force", "[outputs]") {
+  const fs::path dir = scratch("robust_outputs/user_folder");
+  const fs::path w = userFolder(dir / "w");
+  writeCloud(dir / "a.xyz");
+  const auto before = snapshot(dir);
+  for (const std::string args : {std::string(kTinyScene) + " --out w", std::string(kTinyScene) + " --out w --force",
+                                 std::string("import cloud a.xyz --out w"),
+                                 std::string("import cloud a.xyz --out w --force")}) {
+    const CommandResult r = runIn(dir, args);
+    INFO(args << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "w: exists"));
+  }
+  CHECK(snapshot(dir) == before);  // thesis.tex byte-identical, nothing added (no temporary)
+}
+
+TEST_CASE("every --out refuses to replace a user's file, even with --force", "[outputs]") {
+  const fs::path dir = withScene("robust_outputs/user_file");
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json").exit_code == 0);
+  writeBytes(dir / "notes.txt", kThesis);
+  const auto before = snapshot(dir);
+  for (const std::string args :
+       {std::string(kTinyScene) + " --out notes.txt", std::string("map --dataset scene --out notes.txt"),
+        std::string("sweep --dataset scene --grid tiny.json --quiet --out notes.txt"),
+        std::string("merge r.json --out notes.txt"), std::string("compare r.json --json notes.txt")}) {
+    for (const std::string force : {"", " --force"}) {
+      const CommandResult r = runIn(dir, args + force);
+      INFO(args + force << "\n" << r.output);
+      CHECK(r.exit_code == 2);
+      CHECK(mentions(r, "notes.txt"));
+    }
+  }
+  CHECK(snapshot(dir) == before);
+}
+
+TEST_CASE("occsweep's own output is replaced with --force only", "[outputs]") {
+  const fs::path dir = withScene("robust_outputs/own");
+  REQUIRE(runIn(dir, "map --dataset scene --method octomap --out m.ot").exit_code == 0);
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json").exit_code == 0);
+  REQUIRE(runIn(dir, "merge r.json --out merged.json").exit_code == 0);
+  REQUIRE(runIn(dir, "compare merged.json --json c.json").exit_code == 0);
+  const auto before = snapshot(dir);
+  const std::vector<std::string> commands = {std::string(kTinyScene) + " --seed 2 --out scene",
+                                             "map --dataset scene --method knn --out m.ot",
+                                             "merge r.json --out merged.json", "compare merged.json --json c.json"};
+  for (const auto& args : commands) {
+    const CommandResult r = runIn(dir, args);
+    INFO(args << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "--force"));
+  }
+  CHECK(snapshot(dir) == before);
+  for (const auto& args : commands) {
+    const CommandResult r = runIn(dir, args + " --force");
+    INFO(args << " --force\n" << r.output);
+    CHECK(r.exit_code == 0);
+  }
+  CHECK(fileBytes(dir / "scene/manifest.json") != before.at("scene/manifest.json"));  // really replaced
+  CHECK(nlohmann::json::parse(fileBytes(dir / "m.ot.json"))["method"] == "knn");
+  CHECK(leftovers(dir).empty());
+}
+
+TEST_CASE("a .ot from another tool (no occsweep .ot.json) is not replaced, even with --force", "[outputs]") {
+  const fs::path dir = withScene("robust_outputs/foreign_ot");
+  REQUIRE(runIn(dir, "map --dataset scene --method octomap --out m.ot").exit_code == 0);
+  fs::remove(dir / "m.ot.json");
+  const auto before = snapshot(dir);
+  const CommandResult r = runIn(dir, "map --dataset scene --method octomap --out m.ot --force");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "m.ot: exists and is not occsweep's"));
+  CHECK(snapshot(dir) == before);
+}
+
+TEST_CASE("scene --out . is refused by name and leaves nothing behind", "[outputs]") {
+  const fs::path dir = scratch("robust_outputs/dot");
+  const fs::path here = userFolder(dir / "here");
+  const auto before = snapshot(dir);
+  const CommandResult r = runIn(here, std::string(kTinyScene) + " --out .");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, ".: is the current folder"));
+  CHECK(snapshot(dir) == before);
+}
+
+TEST_CASE("--out with a trailing slash writes that folder, with no temporary inside or beside it", "[outputs]") {
+  const fs::path dir = scratch("robust_outputs/slash");
+  const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out s1/");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(fs::is_regular_file(dir / "s1/manifest.json"));
+  CHECK(leftovers(dir).empty());
+  CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 1);
+}
+
+TEST_CASE("an empty folder is not a user's output: scene writes into it", "[outputs]") {
+  const fs::path dir = scratch("robust_outputs/empty");
+  fs::create_directories(dir / "w");
+  const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out w");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(fs::is_regular_file(dir / "w/manifest.json"));
+}
+
+TEST_CASE("map --out x.bt is refused with a reason, and writes nothing", "[outputs]") {
+  const fs::path dir = withScene("robust_outputs/bt");
+  const auto before = snapshot(dir);
+  const CommandResult r = runIn(dir, "map --dataset scene --method octomap --out x.bt");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "x.bt"));
+  CHECK(mentions(r, ".ot"));
+  CHECK(snapshot(dir) == before);
+}
+
+TEST_CASE("a map write past the file-size limit fails by name, exit 2, with no partial .ot", "[outputs]") {
+  const fs::path dir = withScene("robust_outputs/ulimit");
+  const auto before = snapshot(dir);
+  // `ulimit -f 2`: 2 KiB, less than the tiny scene's .ot; without SIGXFSZ ignored the process would be killed.
+  const CommandResult r = runIn(dir, "map --dataset scene --method octomap --out m.ot", "ulimit -f 2;");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "m.ot: file size limit exceeded"));
+  CHECK(snapshot(dir) == before);
+}
+
+TEST_CASE("temporaries left by a killed run (dead PID) are removed by the next run writing that target",
+          "[outputs]") {
+  const fs::path dir = scratch("robust_outputs/stale");
+  // A PID that is surely dead: a child that has exited and been reaped.
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  const std::string pid = std::to_string(child);
+  fs::create_directories(dir / (".w.tmp-" + pid) / "scans");
+  writeBytes(dir / (".w.tmp-" + pid) / "manifest.json", "{");
+  fs::create_directories(dir / ("w.tmp-" + pid));  // the name the original code used
+  writeBytes(dir / ("m.ot.tmp-" + pid), "# Octomap OcTree file\ncut");
+  writeBytes(dir / "keep.tmp-notapid", "user's");
+  REQUIRE(runIn(dir, std::string(kTinyScene) + " --out w").exit_code == 0);
+  REQUIRE(runIn(dir, "map --dataset w --method octomap --out m.ot").exit_code == 0);
+  const auto left = leftovers(dir);
+  CHECK(left == std::vector<std::string>{(dir / "keep.tmp-notapid").string()});
+}
+
+TEST_CASE("a sweep begun under --engine direct and resumed under replay records both engines", "[outputs]") {
+  const fs::path dir = withScene("robust_outputs/engines");
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --engine direct --quiet --out direct.json").exit_code == 0);
+  // The state a kill leaves: OUT.partial.jsonl with the header of the direct run and its first finished maps.
+  const auto full = nlohmann::json::parse(fileBytes(dir / "direct.json"));
+  nlohmann::json header = full;
+  for (const char* key : {"maps", "complete", "seconds"}) header.erase(key);
+  std::ofstream partial(dir / "resumed.json.partial.jsonl");
+  partial << header.dump() << '\n';
+  for (std::size_t i = 0; i < 4; ++i) partial << full["maps"][i].dump() << '\n';
+  partial.close();
+  const CommandResult r = runIn(dir, "sweep --dataset scene --grid tiny.json --engine replay --quiet --out resumed.json");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const auto resumed = nlohmann::json::parse(fileBytes(dir / "resumed.json"));
+  CHECK(resumed["map"]["engines"] == nlohmann::json::array({"direct", "replay"}));
+  CHECK(resumed["map"]["engine"] == "mixed");
+  CHECK(resultDifferences(readResults(dir / "direct.json"), readResults(dir / "resumed.json")).empty());
+  CHECK(readResults(dir / "resumed.json").header.engines == std::vector<std::string>{"direct", "replay"});
+  CHECK(!fs::exists(dir / "resumed.json.partial.jsonl"));
+}
+
+TEST_CASE("a sweep's own unfinished work is resumed without --force: resuming is not replacing", "[outputs]") {
+  const fs::path dir = withScene("robust_outputs/resume");
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json").exit_code == 0);
+  const std::string first = fileBytes(dir / "r.json");
+  const CommandResult again = runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json");
+  INFO(again.output);
+  CHECK(again.exit_code == 0);
+  CHECK(fileBytes(dir / "r.json") == first);  // the complete file is returned as it is
+}
+
+TEST_CASE("cluster select replaces its own folder of links, never a user's folder", "[outputs]") {
+  const fs::path dir = scratch("robust_outputs/select");
+  fs::create_directories(dir / "ds/pcs-0000");
+  std::ofstream(dir / "ds/ranking.json") << R"({"format": "occsweep-pointcloud-ranking",
+    "sets": [{"folder": "pcs-0000", "id": 0, "naive": {"fdr": 0.1, "tpr": 0.9}}]})";
+  REQUIRE(runIn(dir, "cluster select ds/ranking.json --out sel").exit_code == 0);
+  CHECK(runIn(dir, "cluster select ds/ranking.json --out sel").exit_code == 0);  // a re-run task: its own folder
+  userFolder(dir / "w");
+  const auto before = snapshot(dir);
+  const CommandResult r = runIn(dir, "cluster select ds/ranking.json --out w");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "w: exists and is not occsweep's"));
+  CHECK(snapshot(dir) == before);
+  CHECK(leftovers(dir).empty());
+}
+
+TEST_CASE("reproduce --out refuses a folder holding a user's file before any work", "[outputs]") {
+  const fs::path dir = scratch("robust_outputs/reproduce");
+  if (runIn(dir, "reproduce --help").exit_code != 0) {
+    WARN("occsweep built without the stereo tools: no reproduce command, case skipped");
+    return;
+  }
+  userFolder(dir / "w");
+  const auto before = snapshot(dir);
+  const CommandResult r = runIn(dir, "reproduce --scale ci --no-figures --quiet --datasets parking-plain-I --out w");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "w: exists and is not occsweep's reproduction folder"));
+  CHECK(snapshot(dir) == before);
+}
