@@ -13,6 +13,7 @@
 
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
+#include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/dataset.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "occsweep/sweeps/replay.hpp"
@@ -64,6 +65,7 @@ ResultsFile runSweep(const SweepConfig& c) {
   if (c.engine != "replay" && c.engine != "direct") throw std::invalid_argument("engine must be replay or direct");
   const bool replaying = c.engine == "replay";
   Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
+  requireInKeyRange(data, c.dataset, c.resolution);
 
   ResultsFile f;
   ResultsHeader& h = f.header;

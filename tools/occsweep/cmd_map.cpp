@@ -1,12 +1,15 @@
 // occsweep map: one map of a data set with OctoMap or the k-NN model, written as OctoMap's .ot.
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <unistd.h>
 
 #include "command_registry.hpp"
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
+#include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/dataset.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/sweeps/results.hpp"
@@ -19,6 +22,17 @@ struct MapOptions {
   KnnParams knn;
   double p_h = OctoMapParams{}.p_h;
 };
+
+// Every point beyond s_c only frees space (OctoMap's maxrange, Algorithm 1's out-of-range branch): say so, since
+// the map then cannot hold an occupied voxel (docs/robustness.md, "Numbers that must not be wrong").
+void warnWhenAllBeyondRange(const PointCloudSet& scans, double s_c) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& scan : scans)
+    for (const auto& p : scan.points) nearest = std::min(nearest, rangeFromOrigin(p, scan.origin));
+  if (nearest > s_c)
+    std::cerr << "occsweep map: warning: every point is beyond s_c = " << s_c << " m (the nearest is " << nearest
+              << " m from its sensor origin): no voxel can become occupied; raise --s-c\n";
+}
 
 void addProbability(CLI::App& app, const std::string& flag, double& value, const std::string& help) {
   app.add_option(flag, value, help)->capture_default_str()->check(CLI::Range(0.0, 1.0));
@@ -38,7 +52,7 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
   addProbability(app, "--p-l", k.p_l, "k-NN: lower bound of p(s) (Eq. 6)");
   addProbability(app, "--p-max", k.p_max, "Upper clamping threshold");
   addProbability(app, "--p-min", k.p_min, "Lower clamping threshold");
-  addProbability(app, "--p-t", k.p_t, "Occupancy threshold (stored in the .ot, used for the summary)");
+  addProbability(app, "--p-t", k.p_t, "Occupancy threshold of the TP/FP/FN/TN summary (recorded in MAP.ot.json; the .ot keeps log-odds only)");
   app.add_option("--k", k.k, "k-NN: neighbours averaged")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--s-c", k.s_c, "Maximum range s_c, metres")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--resolution", k.resolution, "Voxel edge, metres")->capture_default_str()->check(CLI::PositiveNumber);
@@ -54,6 +68,8 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     // Refuse broken parameters before reading anything.
     if (o->method == "octomap") validate(om); else validate(k);
     const Dataset d = readDataset(o->dataset);
+    requireInKeyRange(d, o->dataset, k.resolution);
+    warnWhenAllBeyondRange(d.scans, k.s_c);
     const auto start = std::chrono::steady_clock::now();
     auto tree = o->method == "octomap" ? buildOctoMap(d.scans, om) : KnnInverseSensorModel(k).buildMap(d.scans);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
