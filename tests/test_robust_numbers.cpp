@@ -388,6 +388,19 @@ TEST_CASE("compare refuses results that do not compare, names the file behind ev
     const fs::path other = sweep(grid.string(), "--stats online", fx.dir / "online.json");
     requireRefused(run("compare " + other.string() + " " + fx.knn.string()), {"online.json", "statistics mode"});
   }
+  SECTION("one data set name with another truth: never compared, and the row says why") {
+    writeFile(fx.dir / "other_truth.json", R"({"boxes": [{"min": [1.85, -0.5, 0], "max": [2.05, 0.5, 1]}]})");
+    REQUIRE(run("import truth " + (fx.dir / "other_truth.json").string() + " --dataset " + fx.wall.string() +
+                " --out " + (fx.dir / "wall_other").string()).exit_code == 0);
+    REQUIRE(run("sweep --dataset " + (fx.dir / "wall_other").string() + " --grid " + grid.string() +
+                " --quiet --out " + (fx.dir / "k_other.json").string()).exit_code == 0);
+    const auto r = run("compare " + fx.octomap.string() + " " + (fx.dir / "k_other.json").string());
+    INFO(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(!has(r.output, "nan"));
+    CHECK(has(r.output, "k_other.json is of data set"));
+    CHECK(has(r.output, "other contents"));
+  }
   SECTION("sweeps without ground truth (old: nan nan nan, exit 0, no reason)") {
     const fs::path raw = fx.dir / "wall-raw";  // the data set before `import truth`
     REQUIRE(run("sweep --dataset " + raw.string() + " --grid octomap-opt --quiet --out " +

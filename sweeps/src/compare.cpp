@@ -53,7 +53,7 @@ std::string settingsText(const ResultsHeader& h) {
 
 std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, const std::vector<std::string>& names) {
   std::vector<std::string> problems;
-  std::map<std::string, std::size_t> first_of_hash, first_of_name, first_knn_of_hash;
+  std::map<std::string, std::size_t> first_of_hash, first_knn_of_hash;
   for (std::size_t i = 0; i < files.size(); ++i) {
     const ResultsHeader& h = files[i].header;
     if (h.selection.shard_count != 1)
@@ -73,12 +73,6 @@ std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, co
         problems.push_back(names[i] + " (" + settingsText(h) + ") and " + names[k->second] + " (" + settingsText(ko) +
                            "): another k-NN variant or statistics mode on the same data set");
     }
-    const std::string pcs = h.point_cloud_set.contains("pcs_id") ? h.point_cloud_set.at("pcs_id").dump() : "-";
-    const auto [n, n_fresh] = first_of_name.try_emplace(h.dataset_name + "\n" + pcs, i);
-    if (!n_fresh && files[n->second].header.dataset_hash != h.dataset_hash)
-      problems.push_back(names[i] + " and " + names[n->second] + ": data set " + h.dataset_name +
-                         " with different contents (hash " + h.dataset_hash + " vs " +
-                         files[n->second].header.dataset_hash + ": other scans, region or truth)");
   }
   return problems;
 }
@@ -88,7 +82,16 @@ std::string missingReason(const ComparisonRow& row, bool knn, const std::vector<
   if (knn ? row.knn.has_value() : row.octomap.has_value()) return "";
   const auto& given = knn ? row.knn_files : row.octomap_files;
   const std::string method = knn ? "k-NN" : "OctoMap";
-  if (given.empty()) return method + ": no results file of this method given for data set " + row.dataset;
+  if (given.empty()) {
+    // Rows are data-set contents (hash): a file of the same name but other scans, region or truth is not compared.
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      const ResultsHeader& h = files[i].header;
+      if (h.dataset_name == row.dataset && h.dataset_hash != row.dataset_hash && (h.method == GridMethod::Knn) == knn)
+        return method + ": " + names[i] + " is of data set " + row.dataset + " with other contents (hash " +
+               h.dataset_hash + ", not " + row.dataset_hash + ": other scans, region or truth), so not compared";
+    }
+    return method + ": no results file of this method given for data set " + row.dataset;
+  }
   std::string why = method + ": no AUC in " + names[given.front()];
   const auto& maps = files[given.front()].maps;
   const bool no_truth = !maps.empty() && maps.front().thresholds.front().counts.tp == 0 &&

@@ -40,12 +40,13 @@ struct ComparisonRow {
 
 /// Why `files` (named by `names`) cannot be compared as they are, one sentence each naming the files: a shard
 /// instead of a whole grid or Eq. 16 group, another resolution or s_c within a data set, another k-NN variant or
-/// statistics mode, one data-set name with different contents (scans, region or truth). Empty when comparable.
+/// statistics mode. Empty when comparable. (Rows are data-set contents, by hash: files of one name with other
+/// scans, region or truth are never compared with each other; missingReason says so.)
 [[nodiscard]] std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files,
                                                      const std::vector<std::string>& names);
 
-/// Why a row has no number for a method (OctoMap when `knn` is false): no file of it given, or no AUC in any
-/// of its files because the data set has no ground truth. Empty when the row has one.
+/// Why a row has no number for a method (OctoMap when `knn` is false): no file of it given (or only for a data set
+/// of the same name with other contents), or no AUC because the data set has no ground truth. Empty when it has one.
 [[nodiscard]] std::string missingReason(const ComparisonRow& row, bool knn, const std::vector<ResultsFile>& files,
                                         const std::vector<std::string>& names);
 
