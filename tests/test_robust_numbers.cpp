@@ -437,3 +437,11 @@ TEST_CASE("help text claims only what is true") {
   CHECK(has(run("import cloud --help").output, "--shift"));
   CHECK(has(run("compare --help").output, "--allow-mixed"));
 }
+
+TEST_CASE("map --out x.bt is refused: the map is written as .ot, never .ot bytes under a .bt name") {
+  const fs::path dir = test::scratch("robust_numbers_bt");
+  const fs::path wall = wallDataset(dir, "wall");
+  const auto r = run("map --dataset " + wall.string() + " --out " + (dir / "x.bt").string());
+  requireRefused(r, {"--out", "x.bt", ".ot"});
+  CHECK(!fs::exists(dir / "x.bt"));
+}

@@ -52,8 +52,8 @@ const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data
   app.add_option("files", *files, "Complete results files of whole grids (any mix of methods and data sets; "
                                   "each passes `results check`)")->required();
   app.add_option("--json", *json_out, "Also write the table as JSON");
-  app.add_flag("--allow-mixed", *allow_mixed, "Compare anyway when files differ in resolution, s_c, k-NN variant or "
-                                              "statistics mode, data-set contents, or are shards (each is listed)");
+  app.add_flag("--allow-mixed", *allow_mixed, "Compare anyway when files of one data set differ in resolution, s_c, "
+                                              "k-NN variant or statistics mode, or are shards (each is listed on stderr)");
   return [files, json_out, allow_mixed] {
     const std::vector<ResultsFile> in = readChecked(*files);
     const auto mixed = mixedSettings(in, *files);

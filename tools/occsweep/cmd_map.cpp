@@ -65,7 +65,11 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     k.variant = o->variant == "literal" ? UpdateVariant::Literal : UpdateVariant::Default;
     k.stats = o->stats == "online" ? StatsMode::Online : StatsMode::Batch;
     const OctoMapParams om{o->p_h, k.p_m, k.p_max, k.p_min, k.p_t, k.resolution, k.s_c};
-    // Refuse broken parameters before reading anything.
+    // Refuse broken parameters before reading anything. liboctomap writes .ot whatever the name; a .bt name
+    // would hold .ot bytes that octovis and readBinary misread.
+    if (std::filesystem::path(o->out).extension() != ".ot")
+      throw std::invalid_argument("--out " + o->out + ": must end in .ot (the map is written as OctoMap .ot, "
+                                  "log-odds kept; .bt is not written)");
     if (o->method == "octomap") validate(om); else validate(k);
     const Dataset d = readDataset(o->dataset);
     requireInKeyRange(d, o->dataset, k.resolution);
