@@ -343,6 +343,23 @@ TEST_CASE("results check and compare refuse results files that claim more than t
   e = octomap;
   e["selection"]["group"] = {{"index", 0}, {"count", ~std::uint64_t(0)}, {"seed", 0}};
   refusedEdit("group_count_max", e, {"selection.group.count"});
+
+  // Counts that agree with each other but not with the data set: only the data set can tell.
+  auto r = run("results check " + fx.octomap.string() + " --dataset " + fx.wall.string());
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(has(r.output, "counts match the region and truth"));
+  e = octomap;
+  for (auto& m : e["maps"]) {
+    for (auto& t : m["thresholds"]) t["tn"] = t["tn"].get<std::uint64_t>() + 1000;
+    recomputeFpr(m);
+  }
+  writeJson(fx.dir / "tn_plus_1000.json", e);
+  CHECK(run("results check " + (fx.dir / "tn_plus_1000.json").string()).exit_code == 0);  // consistent in itself
+  requireRefused(run("results check " + (fx.dir / "tn_plus_1000.json").string() + " --dataset " + fx.wall.string()),
+                 {"tn_plus_1000.json", "TP+FP+FN+TN", "voxels"});
+  requireRefused(run("results check " + fx.octomap.string() + " --dataset " + (fx.dir / "wall-raw").string()),
+                 {"octomap.json", "dataset.content_hash", "another data set"});
 }
 
 TEST_CASE("compare refuses results that do not compare, names the file behind every number, prints no NaN") {

@@ -8,6 +8,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "occsweep/data/coordinates.hpp"
+#include "occsweep/data/dataset.hpp"
 #include "occsweep/sweeps/sharding.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 
@@ -151,6 +153,29 @@ void verifyCoverage(const ResultsFile& f, const GridSpec& grid, const GridEnumer
                              ": not in this file's selection (shard " +
                              std::to_string(f.header.selection.shard_index) + "/" +
                              std::to_string(f.header.selection.shard_count) + ")");
+}
+
+void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const std::filesystem::path& dir) {
+  const std::string hash = datasetContentHash(dir);
+  if (hash != f.header.dataset_hash)
+    throw std::runtime_error(file + ": dataset.content_hash: is " + f.header.dataset_hash + ", " + dir.string() +
+                             " has " + hash + ": results of another data set (or of an edited one)");
+  const Dataset d = readDataset(dir);
+  requireInKeyRange(d, dir, f.header.resolution);
+  const GroundTruth gt = makeGroundTruth(d.truth, d.region, f.header.resolution);
+  const std::uint64_t region = gt.regionVoxelCount(), truth = gt.occupied.size();
+  for (std::size_t i = 0; i < f.maps.size(); ++i)
+    for (std::size_t t = 0; t < f.maps[i].thresholds.size(); ++t) {
+      const auto& c = f.maps[i].thresholds[t].counts;
+      const std::string where = file + ": maps[" + std::to_string(i) + "].thresholds[" + std::to_string(t) + "]: ";
+      if (c.tp + c.fp + c.fn + c.tn != region)
+        throw std::runtime_error(where + "TP+FP+FN+TN is " + std::to_string(c.tp + c.fp + c.fn + c.tn) + ", the region of " +
+                                 dir.string() + " holds " + std::to_string(region) + " voxels at resolution " +
+                                 std::to_string(f.header.resolution) + " m");
+      if (c.tp + c.fn != truth)
+        throw std::runtime_error(where + "TP+FN is " + std::to_string(c.tp + c.fn) + ", the truth of " + dir.string() +
+                                 " fills " + std::to_string(truth) + " voxels of the region");
+    }
 }
 
 }  // namespace occsweep

@@ -1,6 +1,7 @@
 // What `results check` verifies beyond each field's type: everything a results file claims (docs/results-format.md).
 #pragma once
 
+#include <filesystem>
 #include <string>
 
 #include "results.hpp"
@@ -22,5 +23,9 @@ void verifyClaims(const ResultsFile& f, const std::string& file);
 /// With the grid enumerated (its file found, same hash): every map of the selection, cut to the shard, exactly
 /// once with exactly its thresholds, and no other.
 void verifyCoverage(const ResultsFile& f, const GridSpec& grid, const GridEnumeration& e, const std::string& file);
+
+/// With the data set the file names (`results check --dataset DIR`): its content hash is the file's, and every
+/// threshold counts the region's voxels at the file's resolution (TP+FP+FN+TN) and the truth's voxels (TP+FN).
+void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const std::filesystem::path& dataset);
 
 }  // namespace occsweep
