@@ -1,6 +1,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <sstream>
 
 #include "occsweep/sweeps/merge.hpp"
 
@@ -25,16 +26,79 @@ std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files) {
       const auto& pcs = h.point_cloud_set;
       row.point_cloud_set = pcs.contains("pcs_id") ? pcs.at("pcs_id").dump() : "-";
     }
-    auto& best = h.method == GridMethod::Knn ? row.knn : row.octomap;
+    const bool knn = h.method == GridMethod::Knn;
+    auto& best = knn ? row.knn : row.octomap;
+    (knn ? row.knn_files : row.octomap_files).push_back(std::size_t(&f - files.data()));
     for (const auto& m : f.maps) {
       // Ties keep the first (lowest map index): stable across runs.
       if (std::isnan(m.area.anchored) || (best && !(m.area.anchored > best->auc))) continue;
-      best = BestMap{m.area.anchored, m.area.observed, m.params, m.map_index};
+      best = BestMap{m.area.anchored, m.area.observed, m.params, m.map_index, std::size_t(&f - files.data())};
     }
   }
   std::vector<ComparisonRow> out;
   for (const auto& hash : order) out.push_back(rows.at(hash));
   return out;
+}
+
+namespace {
+
+std::string settingsText(const ResultsHeader& h) {
+  std::ostringstream s;
+  s << "resolution " << h.resolution << " m, s_c " << h.s_c << " m";
+  if (h.method == GridMethod::Knn) s << ", variant " << h.variant << ", stats " << h.stats;
+  return s.str();
+}
+
+}  // namespace
+
+std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, const std::vector<std::string>& names) {
+  std::vector<std::string> problems;
+  std::map<std::string, std::size_t> first_of_hash, first_knn_of_hash;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const ResultsHeader& h = files[i].header;
+    if (h.selection.shard_count != 1)
+      problems.push_back(names[i] + ": shard " + std::to_string(h.selection.shard_index) + "/" +
+                         std::to_string(h.selection.shard_count) + " of grid " + h.grid_name +
+                         ", not the whole grid: its best AUC is the best of part of the grid (occsweep merge the "
+                         "shards first)");
+    const auto [same, fresh] = first_of_hash.try_emplace(h.dataset_hash, i);
+    const ResultsHeader& o = files[same->second].header;
+    if (!fresh && (o.resolution != h.resolution || o.s_c != h.s_c))
+      problems.push_back(names[i] + " (" + settingsText(h) + ") and " + names[same->second] + " (" + settingsText(o) +
+                         "): another resolution or s_c on the same data set");
+    if (h.method == GridMethod::Knn) {
+      const auto [k, k_fresh] = first_knn_of_hash.try_emplace(h.dataset_hash, i);
+      const ResultsHeader& ko = files[k->second].header;
+      if (!k_fresh && (ko.variant != h.variant || ko.stats != h.stats))
+        problems.push_back(names[i] + " (" + settingsText(h) + ") and " + names[k->second] + " (" + settingsText(ko) +
+                           "): another k-NN variant or statistics mode on the same data set");
+    }
+  }
+  return problems;
+}
+
+std::string missingReason(const ComparisonRow& row, bool knn, const std::vector<ResultsFile>& files,
+                          const std::vector<std::string>& names) {
+  if (knn ? row.knn.has_value() : row.octomap.has_value()) return "";
+  const auto& given = knn ? row.knn_files : row.octomap_files;
+  const std::string method = knn ? "k-NN" : "OctoMap";
+  if (given.empty()) {
+    // Rows are data-set contents (hash): a file of the same name but other scans, region or truth is not compared.
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      const ResultsHeader& h = files[i].header;
+      if (h.dataset_name == row.dataset && h.dataset_hash != row.dataset_hash && (h.method == GridMethod::Knn) == knn)
+        return method + ": " + names[i] + " is of data set " + row.dataset + " with other contents (hash " +
+               h.dataset_hash + ", not " + row.dataset_hash + ": other scans, region or truth), so not compared";
+    }
+    return method + ": no results file of this method given for data set " + row.dataset;
+  }
+  std::string why = method + ": no AUC in " + names[given.front()];
+  const auto& maps = files[given.front()].maps;
+  const bool no_truth = !maps.empty() && maps.front().thresholds.front().counts.tp == 0 &&
+                        maps.front().thresholds.front().counts.fn == 0;
+  return why + (no_truth ? ": data set " + row.dataset + " has no ground truth (TP+FN = 0), so TPR and AUC are "
+                                                         "undefined (add it with occsweep import truth)"
+                         : ": every map's AUC is undefined");
 }
 
 }  // namespace occsweep

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/results_verify.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 
 namespace occsweep {
@@ -41,6 +42,7 @@ bool checkAgainstGrid(const ResultsFile& f, const std::string& file) {
         throw std::runtime_error(where + ": id " + std::to_string(t.id) + " is not this map's or has another p_t");
     }
   }
+  verifyCoverage(f, grid, e, file);
   return true;
 }
 

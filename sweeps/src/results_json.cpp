@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "occsweep/sweeps/results.hpp"
+#include "occsweep/sweeps/results_verify.hpp"
 
 namespace occsweep {
 namespace {
@@ -185,7 +186,9 @@ MapResult parseMapResult(const json& j, GridMethod method, const std::string& fi
     m.params.p_m_out = r.fixed(p, "p_m_out", pw);
     m.params.p_u = r.fixed(p, "p_u", pw);
     m.params.p_l = r.fixed(p, "p_l", pw);
-    m.params.k = int(r.count(p, "k", pw));
+    const std::uint64_t k = r.count(p, "k", pw);
+    if (k < 1 || k > std::uint64_t(std::numeric_limits<int>::max())) r.fail(pw + ".k", "must be an integer in [1, 2^31-1]");
+    m.params.k = int(k);
   } else {
     m.params.p_h = r.fixed(p, "p_h", pw);
   }
@@ -200,11 +203,16 @@ MapResult parseMapResult(const json& j, GridMethod method, const std::string& fi
     t.counts = {r.count(ts[i], "tp", tw), r.count(ts[i], "fp", tw), r.count(ts[i], "fn", tw),
                 r.count(ts[i], "tn", tw)};
     const auto& c = t.counts;
-    const std::uint64_t sum = c.tp + c.fp + c.fn + c.tn;
+    std::uint64_t sum = 0;
+    if (__builtin_add_overflow(c.tp, c.fp, &sum) || __builtin_add_overflow(sum, c.fn, &sum) ||
+        __builtin_add_overflow(sum, c.tn, &sum))
+      r.fail(tw, "TP+FP+FN+TN overflows 64 bits (edited by hand?)");
     if (i == 0) total = sum;
     if (sum != total) r.fail(tw, "TP+FP+FN+TN differs between thresholds of one map (edited by hand?)");
     r.agrees(r.real(ts[i], "tpr", tw, true), c.tpr(), tw + ".tpr");
     r.agrees(r.real(ts[i], "fdr", tw, true), c.fdr(), tw + ".fdr");
+    r.agrees(r.real(ts[i], "precision", tw, true), c.precision(), tw + ".precision");
+    r.agrees(r.real(ts[i], "fpr", tw, true), c.fpr(), tw + ".fpr");
     m.thresholds.push_back(t);
   }
   const json& auc = r.at(j, "auc", where);
@@ -230,6 +238,7 @@ ResultsFile parseResults(const json& j, const std::string& file) {
   if (!maps.is_array()) r.fail("maps", "must be an array");
   for (std::size_t i = 0; i < maps.size(); ++i)
     f.maps.push_back(parseMapResult(maps[i], f.header.method, file, "maps[" + std::to_string(i) + "]"));
+  verifyClaims(f, file);
   return f;
 }
 

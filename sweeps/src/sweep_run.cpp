@@ -16,6 +16,7 @@
 
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
+#include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/dataset.hpp"
 #include "occsweep/data/dataset_truth.hpp"
 #include "occsweep/sweeps/progress.hpp"
@@ -74,6 +75,7 @@ ResultsFile runSweep(const SweepConfig& c) {
   if (c.engine != "replay" && c.engine != "direct") throw std::invalid_argument("engine must be replay or direct");
   const bool replaying = c.engine == "replay";
   Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
+  requireInKeyRange(data, c.dataset, c.resolution);
   const GroundTruth truth = datasetGroundTruth(data, c.dataset, c.resolution);  // refused before any file is written
 
   ResultsFile f;

@@ -102,6 +102,19 @@ def main():
     put("results_json", "octomap-opt-full.json", json.dumps(res))
     res["maps"] = res["maps"][:2]  # a small complete-looking file: short inputs fuzz faster
     put("results_json", "octomap-opt-2maps.json", json.dumps(res))
+    # What `results check` verifies (docs/results-format.md): a valid incomplete file and one edit per claim.
+    put("results_json", "octomap-opt-2maps-incomplete.json", json.dumps(dict(res, complete=False)))
+    put("results_json", "duplicated-map.json", json.dumps(dict(res, maps=[res["maps"][0], res["maps"][0]])))
+    put("results_json", "no-maps.json", json.dumps(dict(res, maps=[])))
+    put("results_json", "negative-resolution.json", json.dumps(dict(res, map=dict(res["map"], resolution=-0.1))))
+    put("results_json", "group.json", json.dumps(dict(res, complete=False, selection={
+        "shard": {"index": 0, "count": 1}, "group": {"index": 0, "count": 18446744073709551615, "seed": 0}})))
+    knn = json.load(open(os.path.join(ROOT, "results", "builtin", "knn-opt.json")))
+    knn["maps"] = knn["maps"][:2]
+    knn["complete"] = False
+    put("results_json", "knn-opt-2maps-incomplete.json", json.dumps(knn))
+    knn["maps"][0]["params"]["k"] = 2**32 + 1
+    put("results_json", "knn-k-wraps.json", json.dumps(knn))
 
 
 if __name__ == "__main__":

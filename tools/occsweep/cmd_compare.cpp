@@ -19,10 +19,29 @@ std::string paramsText(const MapParams& p, bool knn) {
   return buf;
 }
 
-nlohmann::json bestJson(const std::optional<BestMap>& b, bool knn) {
+nlohmann::json bestJson(const std::optional<BestMap>& b, bool knn, const std::vector<std::string>& names) {
   if (!b) return nullptr;
   return {{"auc", b->auc}, {"auc_observed", b->observed}, {"map_index", b->map_index},
-          {"params", paramsText(b->params, knn)}};
+          {"params", paramsText(b->params, knn)}, {"file", names[b->file]}};
+}
+
+// A number occsweep prints is either right or not printed (docs/robustness.md): "-" where there is none.
+std::string cell(double v, const char* format) {
+  if (!std::isfinite(v)) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+// Only complete files that pass every check of `results check` (docs/results-format.md).
+std::vector<ResultsFile> readChecked(const std::vector<std::string>& files) {
+  std::vector<ResultsFile> in;
+  for (const auto& f : files) {
+    in.push_back(readResults(f));
+    if (!in.back().complete) throw std::runtime_error(f + ": incomplete results (the sweep did not finish)");
+    (void)checkAgainstGrid(in.back(), f);
+  }
+  return in;
 }
 
 const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data set, and the improvement in percent",
@@ -30,32 +49,55 @@ const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data
   auto files = std::make_shared<std::vector<std::string>>();
   auto json_out = std::make_shared<std::string>();
   auto force = std::make_shared<bool>(false);
-  app.add_option("files", *files, "Complete results files (any mix of methods and data sets)")->required();
+  auto allow_mixed = std::make_shared<bool>(false);
+  app.add_option("files", *files, "Complete results files of whole grids (any mix of methods and data sets; "
+                                  "each passes `results check`)")->required();
   app.add_option("--json", *json_out, "Also write the table as JSON");
   app.add_flag("--force", *force, "Replace occsweep's own previous comparison at --json (nothing else)");
-  return [files, json_out, force] {
+  app.add_flag("--allow-mixed", *allow_mixed, "Compare anyway when files of one data set differ in resolution, s_c, "
+                                              "k-NN variant or statistics mode, or are shards (each is listed on stderr)");
+  return [files, json_out, force, allow_mixed] {
     if (!json_out->empty()) checkOutputTarget(*json_out, *force, jsonOutput("comparison", "occsweep-comparison"));
-    std::vector<ResultsFile> in;
-    for (const auto& f : *files) {
-      in.push_back(readResults(f));
-      if (!in.back().complete) throw std::runtime_error(f + ": incomplete results");
-    }
+    const std::vector<ResultsFile> in = readChecked(*files);
+    const auto mixed = mixedSettings(in, *files);
+    if (!mixed.empty() && !*allow_mixed)
+      throw std::runtime_error("cannot compare: " + mixed.front() +
+                               (mixed.size() > 1 ? " (and " + std::to_string(mixed.size() - 1) + " more)" : "") +
+                               "; pass --allow-mixed to compare anyway");
+    for (const auto& m : mixed) std::cerr << "occsweep compare: warning (--allow-mixed): " << m << '\n';
     const auto rows = compareBest(in);
-    std::printf("%-28s %-8s %9s %9s %9s  %s | %s\n", "data set", "pcs", "OctoMap", "k-NN", "improve%",
-                "OctoMap best", "k-NN best");
+    std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s\n", "data set", "pcs", "OctoMap", "k-NN", "improve%",
+                "OctoMap best", "k-NN best", "OctoMap file", "k-NN file");
     nlohmann::json j = nlohmann::json::array();
+    std::vector<std::string> notes;
     for (const auto& r : rows) {
       auto auc = [](const std::optional<BestMap>& b) { return b ? b->auc : std::nan(""); };
-      std::printf("%-28s %-8s %9.4f %9.4f %9.2f  %s | %s\n", r.dataset.c_str(), r.point_cloud_set.c_str(),
-                  auc(r.octomap), auc(r.knn), r.improvementPercent(),
-                  r.octomap ? paramsText(r.octomap->params, false).c_str() : "-",
-                  r.knn ? paramsText(r.knn->params, true).c_str() : "-");
+      auto file = [&](const std::optional<BestMap>& b) { return b ? (*files)[b->file] : std::string("-"); };
       const double imp = r.improvementPercent();
+      std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s\n", r.dataset.c_str(), r.point_cloud_set.c_str(),
+                  cell(auc(r.octomap), "%.4f").c_str(), cell(auc(r.knn), "%.4f").c_str(), cell(imp, "%.2f").c_str(),
+                  r.octomap ? paramsText(r.octomap->params, false).c_str() : "-",
+                  r.knn ? paramsText(r.knn->params, true).c_str() : "-", file(r.octomap).c_str(), file(r.knn).c_str());
+      nlohmann::json row_notes = nlohmann::json::array();
+      for (const bool knn : {false, true})
+        if (const std::string why = missingReason(r, knn, in, *files); !why.empty()) {
+          row_notes.push_back(why);
+          notes.push_back(r.dataset + ": " + why);
+        }
+      if (r.octomap && r.knn && !std::isfinite(imp)) {
+        row_notes.push_back("no improvement: the OctoMap AUC is 0");
+        notes.push_back(r.dataset + ": no improvement in percent: the OctoMap AUC is 0");
+      }
       j.push_back({{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
-                   {"octomap", bestJson(r.octomap, false)}, {"knn", bestJson(r.knn, true)},
-                   {"improvement_percent", std::isfinite(imp) ? nlohmann::json(imp) : nlohmann::json(nullptr)}});
+                   {"octomap", bestJson(r.octomap, false, *files)}, {"knn", bestJson(r.knn, true, *files)},
+                   {"improvement_percent", std::isfinite(imp) ? nlohmann::json(imp) : nlohmann::json(nullptr)},
+                   {"notes", row_notes}});
     }
-    if (!json_out->empty()) writeJsonAtomically({{"format", "occsweep-comparison"}, {"rows", j}}, *json_out);
+    for (const auto& n : notes) std::cout << "note: " << n << '\n';
+    if (!json_out->empty())
+      writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", *files}, {"allow_mixed", *allow_mixed},
+                           {"mixed", mixed}, {"rows", j}},
+                          *json_out);
     return 0;
   };
 }};

@@ -3,6 +3,8 @@
 
 #include "command_registry.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
+#include "occsweep/data/coordinates.hpp"
+#include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_depth.hpp"
 #include "occsweep/data/import_graph.hpp"
@@ -17,11 +19,28 @@ struct ImportOptions {
   std::vector<std::string> files;
   std::string out, name, poses, pose_format = "quaternion", dataset;
   DepthImportConfig depth;
-  std::vector<double> origin{0, 0, 0}, region;
+  std::vector<double> origin{0, 0, 0}, region, shift;
   bool skip_empty = false, force = false;
 };
 
 std::vector<fs::path> paths(const std::vector<std::string>& files) { return {files.begin(), files.end()}; }
+
+// Far-away (georeferenced) coordinates: moved by --shift, or a warning with the shift to pass, since map and
+// sweep refuse coordinates outside OctoMap's key range (docs/robustness.md, "Numbers that must not be wrong").
+void shiftOrWarn(Dataset& d, const ImportOptions& o) {
+  if (!o.shift.empty()) applyShift(d, {o.shift[0], o.shift[1], o.shift[2]});
+  const KeyRange range = keyRange(0.1);
+  const AxisBox b = boundingBox(d.scans);
+  for (std::size_t a = 0; a < 3; ++a)
+    if (!range.holds(b.min[a]) || !range.holds(b.max[a])) {
+      const auto s = centringShift(d.scans, range);
+      std::cerr << "occsweep import: warning: " << o.out << ": the scans reach [" << b.min[a] << ", " << b.max[a]
+                << "] m on axis " << "xyz"[a] << ", outside OctoMap's key range " << range.text()
+                << ": map and sweep will refuse them at that resolution; import with --shift " << s[0] << ' ' << s[1]
+                << ' ' << s[2] << " to centre them\n";
+      return;
+    }
+}
 
 int finish(Dataset d, const ImportOptions& o) {
   d.name = !o.name.empty() ? o.name : outputTarget(o.out).filename().string();  // "ds/" is named ds
@@ -58,8 +77,12 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
     if (sub != truth) sub->add_option("--name", o->name, "Data-set name (default: the output folder's name)");
   }
   truth->add_option("--name", o->name, "Data-set name (default: the name of --dataset, kept)");
-  for (CLI::App* sub : {depth, graph, cloud})
+  for (CLI::App* sub : {depth, graph, cloud}) {
     sub->add_flag("--skip-empty", o->skip_empty, "Drop scans without a valid point instead of refusing them");
+    sub->add_option("--shift", o->shift, "X Y Z metres added to every point and origin after the poses (far-away, "
+                                         "e.g. UTM, clouds into OctoMap's key range); recorded as source.shift")
+        ->expected(3);
+  }
   DepthImportConfig& c = o->depth;
   depth->add_option("--poses", o->poses, "Pose file, camera-to-world, one pose per image")->required();
   addPoseOptions(depth, *o);
@@ -82,11 +105,15 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
         {depth, [o] {
            o->depth.pose_format = poseFormatNamed(o->pose_format);
            o->depth.skip_empty = o->skip_empty;
-           return finish(importDepthSequence(paths(o->files), o->poses, o->depth), *o);
+           Dataset d = importDepthSequence(paths(o->files), o->poses, o->depth);
+           shiftOrWarn(d, *o);
+           return finish(std::move(d), *o);
          }},
         {graph, [o] {
            if (o->files.size() != 1) throw std::invalid_argument("give exactly one .graph file");
-           return finish(importScanGraph(o->files[0], o->skip_empty), *o);
+           Dataset d = importScanGraph(o->files[0], o->skip_empty);
+           shiftOrWarn(d, *o);
+           return finish(std::move(d), *o);
          }},
         {cloud, [o] {
            CloudImportConfig cc;
@@ -94,19 +121,24 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
            cc.pose_format = poseFormatNamed(o->pose_format);
            cc.origin = {o->origin[0], o->origin[1], o->origin[2]};
            cc.skip_empty = o->skip_empty;
-           return finish(importClouds(paths(o->files), cc), *o);
+           Dataset d = importClouds(paths(o->files), cc);
+           shiftOrWarn(d, *o);
+           return finish(std::move(d), *o);
          }},
         {truth, [o] {
            Dataset d = readDataset(o->dataset);
            d.truth = {};
            for (const auto& f : o->files) {
-             const TruthSources t = readTruth(f);
+             TruthSources t = readTruth(f);
+             shiftTruth(t, recordedShift(d), f);  // truth in the recording's frame, like the scans before the shift
              d.truth.boxes.insert(d.truth.boxes.end(), t.boxes.begin(), t.boxes.end());
              d.truth.mesh.insert(d.truth.mesh.end(), t.mesh.begin(), t.mesh.end());
              d.truth.points.insert(d.truth.points.end(), t.points.begin(), t.points.end());
            }
            if (!o->region.empty()) {
-             d.region = {{o->region[0], o->region[1], o->region[2]}, {o->region[3], o->region[4], o->region[5]}};
+             const auto s = recordedShift(d);  // --region in the recording's frame too
+             d.region = {{o->region[0] + s[0], o->region[1] + s[1], o->region[2] + s[2]},
+                         {o->region[3] + s[0], o->region[4] + s[1], o->region[5] + s[2]}};
              for (int a = 0; a < 3; ++a)
                if (!(d.region.min[std::size_t(a)] <= d.region.max[std::size_t(a)]))
                  throw std::invalid_argument("--region: min must be <= max on every axis");

@@ -1,15 +1,18 @@
 // occsweep map: one map of a data set with OctoMap or the k-NN model, written as OctoMap's .ot.
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <limits>
 #include <unistd.h>
 
 #include "command_registry.hpp"
 #include "option_checks.hpp"
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
+#include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/dataset.hpp"
 #include "occsweep/data/dataset_truth.hpp"
 #include "occsweep/eval/confusion.hpp"
@@ -49,6 +52,17 @@ ReplaceableOutput mapOutput() {
           }};
 }
 
+// Every point beyond s_c only frees space (OctoMap's maxrange, Algorithm 1's out-of-range branch): say so, since
+// the map then cannot hold an occupied voxel (docs/robustness.md, "Numbers that must not be wrong").
+void warnWhenAllBeyondRange(const PointCloudSet& scans, double s_c) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& scan : scans)
+    for (const auto& p : scan.points) nearest = std::min(nearest, rangeFromOrigin(p, scan.origin));
+  if (nearest > s_c)
+    std::cerr << "occsweep map: warning: every point is beyond s_c = " << s_c << " m (the nearest is " << nearest
+              << " m from its sensor origin): no voxel can become occupied; raise --s-c\n";
+}
+
 void addProbability(CLI::App& app, const std::string& flag, double& value, const std::string& help) {
   app.add_option(flag, value, help)->capture_default_str()->check(probability());
 }
@@ -68,7 +82,7 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
   addProbability(app, "--p-l", k.p_l, "k-NN: lower bound of p(s) (Eq. 6)");
   addProbability(app, "--p-max", k.p_max, "Upper clamping threshold");
   addProbability(app, "--p-min", k.p_min, "Lower clamping threshold");
-  addProbability(app, "--p-t", k.p_t, "Occupancy threshold (stored in the .ot, used for the summary)");
+  addProbability(app, "--p-t", k.p_t, "Occupancy threshold of the TP/FP/FN/TN summary (recorded in MAP.ot.json; the .ot keeps log-odds only)");
   app.add_option("--k", k.k, "k-NN: neighbours averaged")->capture_default_str()->check(integerAtLeast<int>(1));
   app.add_option("--s-c", k.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
   app.add_option("--resolution", k.resolution, "Voxel edge, metres")->capture_default_str()->check(numberAbove(0));
@@ -81,15 +95,21 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     k.variant = o->variant == "literal" ? UpdateVariant::Literal : UpdateVariant::Default;
     k.stats = o->stats == "online" ? StatsMode::Online : StatsMode::Batch;
     const OctoMapParams om{o->p_h, k.p_m, k.p_max, k.p_min, k.p_t, k.resolution, k.s_c};
-    // Refuse broken parameters before reading anything.
-    if (o->method == "octomap") validate(om); else validate(k);
+    // Refuse broken parameters before reading anything. liboctomap writes .ot whatever the name; a .bt name
+    // would hold .ot bytes that octovis and readBinary misread.
     namespace fs = std::filesystem;
     if (fs::path(o->out).extension() == ".bt")
       throw std::invalid_argument("--out " + o->out + ": .bt keeps only occupied/free, not the log-odds the " +
                                   "evaluation reads: write .ot (octovis opens it; octomap's convert_octree makes a .bt)");
+    if (fs::path(o->out).extension() != ".ot")
+      throw std::invalid_argument("--out " + o->out + ": must end in .ot (the map is written as OctoMap .ot, "
+                                  "log-odds kept)");
+    if (o->method == "octomap") validate(om); else validate(k);
     checkOutputTarget(o->out, o->force, mapOutput());
     checkOutputTarget(o->out + ".json", o->force, jsonOutput("map settings (.ot.json)", kSettingsFormat));
     const Dataset d = readDataset(o->dataset);
+    requireInKeyRange(d, o->dataset, k.resolution);
+    warnWhenAllBeyondRange(d.scans, k.s_c);
     // Before the map is built and written: a region the truth cannot use is refused with nothing written.
     std::optional<GroundTruth> gt;
     if (!d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty())

@@ -2,6 +2,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/import_bytes.hpp"
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_dataset.hpp"
@@ -67,6 +68,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
     }
     if (scan.points.empty() && c.skip_empty) continue;
     requireNonEmpty(scan, clouds[i].string(), "");
+    requireFiniteScan(scan, clouds[i].string(), "", c.pose_file ? "after the pose of " + c.pose_file->string() : "");
     scans.push_back(std::move(scan));
   }
   if (scans.empty()) throw std::invalid_argument("every point cloud is empty");

@@ -2,6 +2,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/data_error.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_depth.hpp"
@@ -51,6 +52,8 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const fs::path&
     files.push_back(images[i].filename().string());
     if (scan.points.empty() && c.skip_empty) continue;
     requireNonEmpty(scan, images[i].string(), "");
+    requireFiniteScan(scan, images[i].string(), "",
+                      "check --depth-scale, --fx, --fy and the pose in " + pose_file.string());
     scans.push_back(std::move(scan));
   }
   if (scans.empty()) throw std::invalid_argument("every depth image is empty");

@@ -7,6 +7,7 @@
 
 #include <octomap/math/Pose6D.h>
 
+#include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/import_bytes.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_graph.hpp"
@@ -73,6 +74,7 @@ PointCloudSet decodeScanGraph(std::string_view bytes, const std::filesystem::pat
       if (skip_empty) continue;
       in.fail(node, "has no points: data sets refuse empty scans (use --skip-empty)");
     }
+    requireFiniteScan(scan, file.string(), node, "after the node's pose");
     scans.push_back(std::move(scan));
   }
   const std::uint32_t edges = in.u32le("edge count");

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/import_bytes.hpp"
 #include "occsweep/data/import_cloud.hpp"
 
@@ -66,6 +67,10 @@ TruthSources decodeTruth(std::string_view bytes, const fs::path& file) {
     throw DataError(file, "", "unknown ground-truth format: expected .ply (mesh or points), .pcd or .json (boxes)");
   }
   if (t.boxes.empty() && t.mesh.empty() && t.points.empty()) throw DataError(file, "", "holds no ground truth");
+  std::vector<octomap::point3d> vertices;
+  for (const auto& triangle : t.mesh) vertices.insert(vertices.end(), triangle.v.begin(), triangle.v.end());
+  requireFinitePoints(vertices, file.string(), "mesh vertex");
+  requireFinitePoints(t.points, file.string(), "");
   return t;
 }
 

@@ -25,15 +25,29 @@ struct BestMap {
   double observed = 0.0;  ///< AUC over the observed span
   MapParams params;
   std::uint64_t map_index = 0;
+  std::size_t file = 0;  ///< index of the results file it comes from, in compareBest's input
 };
 
 /// One data set and point cloud set: the best map of each method.
 struct ComparisonRow {
   std::string dataset, point_cloud_set, dataset_hash;
   std::optional<BestMap> octomap, knn;
+  std::vector<std::size_t> octomap_files, knn_files;  ///< indices of the files of each method given for this row
   [[nodiscard]] double improvementPercent() const;  ///< (knn - octomap) / octomap * 100; NaN if one is missing
 };
 
 [[nodiscard]] std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files);
+
+/// Why `files` (named by `names`) cannot be compared as they are, one sentence each naming the files: a shard
+/// instead of a whole grid or Eq. 16 group, another resolution or s_c within a data set, another k-NN variant or
+/// statistics mode. Empty when comparable. (Rows are data-set contents, by hash: files of one name with other
+/// scans, region or truth are never compared with each other; missingReason says so.)
+[[nodiscard]] std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files,
+                                                     const std::vector<std::string>& names);
+
+/// Why a row has no number for a method (OctoMap when `knn` is false): no file of it given (or only for a data set
+/// of the same name with other contents), or no AUC because the data set has no ground truth. Empty when it has one.
+[[nodiscard]] std::string missingReason(const ComparisonRow& row, bool knn, const std::vector<ResultsFile>& files,
+                                        const std::vector<std::string>& names);
 
 }  // namespace occsweep
