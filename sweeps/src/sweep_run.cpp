@@ -14,6 +14,7 @@
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/data/dataset.hpp"
+#include "occsweep/data/import_bytes.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/sweep.hpp"
@@ -31,6 +32,7 @@ using Clock = std::chrono::steady_clock;
 // a kill is ignored (its map is simply done again).
 std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const ResultsHeader& header) {
   std::map<std::uint64_t, MapResult> done;
+  if (fs::exists(fs::symlink_status(partial))) requireRegularFile(partial);  // a FIFO would block the sweep
   std::ifstream in(partial);
   std::string line;
   if (!std::getline(in, line)) return done;
@@ -64,6 +66,8 @@ ResultsFile runSweep(const SweepConfig& c) {
   if (c.engine != "replay" && c.engine != "direct") throw std::invalid_argument("engine must be replay or direct");
   const bool replaying = c.engine == "replay";
   Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
+  // Before anything is written: a region past its limit leaves no partial file (issue 13).
+  const GroundTruth truth = groundTruthOf(data, c.dataset, c.resolution);
 
   ResultsFile f;
   ResultsHeader& h = f.header;
@@ -109,7 +113,6 @@ ResultsFile runSweep(const SweepConfig& c) {
   }
   if (!log) throw std::runtime_error(partial.string() + ": cannot write");
 
-  const GroundTruth truth = makeGroundTruth(data.truth, data.region, c.resolution);
   tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
   const bool knn = grid.method == GridMethod::Knn;
 

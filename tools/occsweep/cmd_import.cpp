@@ -2,6 +2,9 @@
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "limit_options.hpp"
+#include "occsweep/core/limits.hpp"
+#include "occsweep/core/mapping_params.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_depth.hpp"
@@ -21,11 +24,27 @@ struct ImportOptions {
   bool skip_empty = false;
 };
 
+constexpr const char* kPointsBox = "no truth: the bounding box of every point and origin";
+
 PoseFormat poseFormat(const std::string& s) { return s == "matrix" ? PoseFormat::Matrix : PoseFormat::Quaternion; }
 
 std::vector<fs::path> paths(const std::vector<std::string>& files) { return {files.begin(), files.end()}; }
 
-int finish(Dataset d, const ImportOptions& o) {
+// Which region the data set got and what it costs at the default resolution (issue 13: a region of 3.1e9
+// voxels went unnoticed until a sweep was killed).
+void printRegion(const AxisBox& r, const std::string& origin) {
+  const double resolution = KnnParams{}.resolution;
+  const std::uint64_t voxels = regionVoxelCount(r, resolution);
+  std::cout << "region (" << origin << "): [" << r.min[0] << ", " << r.max[0] << "] x [" << r.min[1] << ", "
+            << r.max[1] << "] x [" << r.min[2] << ", " << r.max[2] << "] m, " << voxels << " voxels at "
+            << resolution << " m\n";
+  if (voxels > limits().region_voxels)
+    std::cout << "note: more than the limit of " << limits().region_voxels
+              << " region voxels: map and sweep refuse it at this resolution (give --region, or "
+                 "--max-region-voxels to them)\n";
+}
+
+int finish(Dataset d, const ImportOptions& o, const std::string& region_origin) {
   d.name = !o.name.empty() ? o.name : fs::path(o.out).filename().string();
   if (d.name.empty()) d.name = "imported";
   writeDataset(d, o.out);  // atomic: built beside the target, then renamed
@@ -36,6 +55,7 @@ int finish(Dataset d, const ImportOptions& o) {
     std::cout << ", truth: " << d.truth.boxes.size() << " boxes, " << d.truth.mesh.size() << " triangles, "
               << d.truth.points.size() << " points";
   std::cout << '\n';
+  printRegion(d.region, region_origin);
   return 0;
 }
 
@@ -56,6 +76,8 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
     sub->add_option("--out", o->out, "Output data-set folder (written atomically)")->required();
     sub->add_option("--name", o->name, "Data-set name (default: the output folder's name)");
   }
+  addLimitOptions(*depth, {Limit::ImagePixels, Limit::Points});
+  for (CLI::App* sub : {graph, cloud, truth}) addLimitOptions(*sub, {Limit::Points});
   for (CLI::App* sub : {depth, graph, cloud})
     sub->add_flag("--skip-empty", o->skip_empty, "Drop scans without a valid point instead of refusing them");
   DepthImportConfig& c = o->depth;
@@ -72,18 +94,18 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
   addPoseOptions(cloud, *o);
   cloud->add_option("--origin", o->origin, "Sensor origin of every cloud when there is no pose file")->expected(3);
   truth->add_option("--dataset", o->dataset, "Data set to add the truth to")->required();
-  truth->add_option("--region", o->region, "Evaluation region: minx miny minz maxx maxy maxz (default: keep)")->expected(6);
+  truth->add_option("--region", o->region, "Evaluation region: minx miny minz maxx maxy maxz (default: the truth's bounding box grown by 0.5 m)")->expected(6);
   app.require_subcommand(1);
   return [=] {
     return runChosen({
         {depth, [o] {
            o->depth.pose_format = poseFormat(o->pose_format);
            o->depth.skip_empty = o->skip_empty;
-           return finish(importDepthSequence(paths(o->files), o->poses, o->depth), *o);
+           return finish(importDepthSequence(paths(o->files), o->poses, o->depth), *o, kPointsBox);
          }},
         {graph, [o] {
            if (o->files.size() != 1) throw std::invalid_argument("give exactly one .graph file");
-           return finish(importScanGraph(o->files[0], o->skip_empty), *o);
+           return finish(importScanGraph(o->files[0], o->skip_empty), *o, kPointsBox);
          }},
         {cloud, [o] {
            CloudImportConfig cc;
@@ -91,7 +113,7 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
            cc.pose_format = poseFormat(o->pose_format);
            cc.origin = {o->origin[0], o->origin[1], o->origin[2]};
            cc.skip_empty = o->skip_empty;
-           return finish(importClouds(paths(o->files), cc), *o);
+           return finish(importClouds(paths(o->files), cc), *o, kPointsBox);
          }},
         {truth, [o] {
            Dataset d = readDataset(o->dataset);
@@ -102,15 +124,18 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
              d.truth.mesh.insert(d.truth.mesh.end(), t.mesh.begin(), t.mesh.end());
              d.truth.points.insert(d.truth.points.end(), t.points.begin(), t.points.end());
            }
+           std::string region_origin = "the truth's bounding box grown by " + std::to_string(kTruthRegionMargin) + " m";
+           d.region = truthRegion(d.truth);
            if (!o->region.empty()) {
              d.region = {{o->region[0], o->region[1], o->region[2]}, {o->region[3], o->region[4], o->region[5]}};
+             region_origin = "--region";
              for (int a = 0; a < 3; ++a)
                if (!(d.region.min[std::size_t(a)] <= d.region.max[std::size_t(a)]))
                  throw std::invalid_argument("--region: min must be <= max on every axis");
            }
            d.source["truth"] = o->files;
            if (o->name.empty()) o->name = d.name;
-           return finish(std::move(d), *o);
+           return finish(std::move(d), *o, region_origin);
          }},
     });
   };

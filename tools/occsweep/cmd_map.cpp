@@ -2,9 +2,11 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <unistd.h>
 
 #include "command_registry.hpp"
+#include "limit_options.hpp"
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/data/dataset.hpp"
@@ -46,6 +48,7 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
       ->check(CLI::IsMember({"default", "literal"}))->capture_default_str();
   app.add_option("--stats", o->stats, "k-NN mu, sigma: batch (whole set, the paper's) or online (running)")
       ->check(CLI::IsMember({"batch", "online"}))->capture_default_str();
+  addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points});
   return [o] {
     KnnParams k = o->knn;
     k.variant = o->variant == "literal" ? UpdateVariant::Literal : UpdateVariant::Default;
@@ -54,6 +57,10 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     // Refuse broken parameters before reading anything.
     if (o->method == "octomap") validate(om); else validate(k);
     const Dataset d = readDataset(o->dataset);
+    const bool has_truth = !d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty();
+    // Checked before the map is built, so a region past its limit costs no build and leaves no map.
+    std::optional<GroundTruth> gt;
+    if (has_truth) gt = groundTruthOf(d, o->dataset, k.resolution);
     const auto start = std::chrono::steady_clock::now();
     auto tree = o->method == "octomap" ? buildOctoMap(d.scans, om) : KnnInverseSensorModel(k).buildMap(d.scans);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -78,9 +85,8 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     std::cout << "method " << o->method << ", " << d.scans.size() << " scans, " << pointCount(d.scans)
               << " points, built in " << seconds << " s\n"
               << "map " << o->out << ": " << tree->getNumLeafNodes() << " leaves (settings in " << o->out << ".json)\n";
-    if (!d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty()) {
-      const GroundTruth gt = makeGroundTruth(d.truth, d.region, k.resolution);
-      const ConfusionCounts c = classify(sampleRegion(*tree, gt), k.p_t);
+    if (gt) {
+      const ConfusionCounts c = classify(sampleRegion(*tree, *gt), k.p_t);
       std::cout << "at p_t " << k.p_t << ": TP " << c.tp << " FP " << c.fp << " FN " << c.fn << " TN " << c.tn
                 << "  TPR " << c.tpr() << " FDR " << c.fdr() << '\n';
     }

@@ -7,19 +7,18 @@
 #include <octomap/OcTree.h>
 
 #include "command_registry.hpp"
+#include "limit_options.hpp"
 #include "occsweep/core/log_odds.hpp"
+#include "occsweep/data/octree_file.hpp"
 
 namespace occsweep::cli {
 namespace {
 
+// readOcTree bounds the finest-depth voxels by limits().map_voxels, so expand() is bounded too (issue 13).
 std::unique_ptr<octomap::OcTree> readTree(const std::string& file) {
-  std::unique_ptr<octomap::AbstractOcTree> t(octomap::AbstractOcTree::read(file));
-  auto* tree = dynamic_cast<octomap::OcTree*>(t.get());
-  if (!tree) throw std::runtime_error(file + ": not an OcTree .ot file (missing, unreadable or another tree type)");
-  t.release();
-  std::unique_ptr<octomap::OcTree> out(tree);
-  out->expand();  // every leaf at the finest depth: voxel counts do not depend on pruning
-  return out;
+  auto tree = readOcTree(file);
+  tree->expand();  // every leaf at the finest depth: voxel counts do not depend on pruning
+  return tree;
 }
 
 // Occupied at p_t as SPEC §2: known and log-odds >= l(p_t) in float; unknown is not occupied.
@@ -56,6 +55,7 @@ const RegisterCommand kMapDiff{"mapdiff", "Count the voxels two maps (.ot) disag
   app.add_option("a", o->a, "First map, .ot")->required();
   app.add_option("b", o->b, "Second map, .ot (same resolution)")->required();
   app.add_option("--p-t", o->p_t, "Occupancy threshold")->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  addLimitOptions(app, {Limit::MapVoxels});
   return [o] {
     const auto a = readTree(o->a), b = readTree(o->b);
     if (a->getResolution() != b->getResolution())

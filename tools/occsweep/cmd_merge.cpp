@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "limit_options.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
 namespace occsweep::cli {
@@ -13,6 +14,7 @@ const RegisterCommand kMerge{"merge", "Merge the shards of one sweep (refuses mi
   auto out = std::make_shared<std::string>();
   app.add_option("files", *files, "Results files of one sweep's shards")->required();
   app.add_option("--out", *out, "Merged results file")->required();
+  addLimitOptions(app, {Limit::Combinations});
   return [files, out] {
     const ResultsFile merged = mergeResults({files->begin(), files->end()});
     writeResults(merged, *out);
