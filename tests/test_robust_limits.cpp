@@ -324,7 +324,7 @@ TEST_CASE("regions: the truth's box grown by a margin by default, and a region p
     const json region = readJson(dir / "ds" / "manifest.json").at("region");
     CHECK(region.at("min") == json::array({-0.5, -0.5, -0.5}));
     CHECK(region.at("max") == json::array({1.5, 1.5, 1.5}));
-    CHECK(r.output.find("region (the truth's bounding box grown by 0.5") != std::string::npos);
+    CHECK(r.output.find("region (the truth's bounding box grown by 0.5 m)") != std::string::npos);
     CHECK(r.output.find("8000 voxels at 0.1 m") != std::string::npos);
   }
   SECTION("a region of 1e12 voxels is refused at once by map and sweep, naming the manifest, size and limit") {
@@ -396,6 +396,12 @@ TEST_CASE("FIFOs, folders and symlink loops are refused by name wherever a file 
       checkRefused(loop, {"loop_a.json", "symbolic link loop"});
       CHECK(loop.output.find("missing") == std::string::npos);
     }
+  }
+  SECTION("a ranking given to cluster select that is a FIFO") {
+    checkRefused(runOccsweep("cluster select --out " + (dir / "selected").string() + " " + (dir / "fifo.json").string(),
+                             3072, 20),
+                 {"fifo.json", "is a FIFO"});
+    CHECK_FALSE(fs::exists(dir / "selected"));
   }
   SECTION("a grid file that is a FIFO or a folder") {
     checkRefused(runOccsweep("grid count " + (dir / "fifo.json").string(), 3072, 20), {"fifo.json", "is a FIFO"});

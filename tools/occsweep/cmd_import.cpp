@@ -1,5 +1,6 @@
 // occsweep import depth|graph|cloud|truth FILES... --out DIR: real recordings into the data-set format (issue 8).
 #include <iostream>
+#include <sstream>
 
 #include "command_registry.hpp"
 #include "limit_options.hpp"
@@ -124,7 +125,9 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
              d.truth.mesh.insert(d.truth.mesh.end(), t.mesh.begin(), t.mesh.end());
              d.truth.points.insert(d.truth.points.end(), t.points.begin(), t.points.end());
            }
-           std::string region_origin = "the truth's bounding box grown by " + std::to_string(kTruthRegionMargin) + " m";
+           std::ostringstream region_origin_text;
+           region_origin_text << "the truth's bounding box grown by " << kTruthRegionMargin << " m";
+           std::string region_origin = region_origin_text.str();
            d.region = truthRegion(d.truth);
            if (!o->region.empty()) {
              d.region = {{o->region[0], o->region[1], o->region[2]}, {o->region[3], o->region[4], o->region[5]}};
