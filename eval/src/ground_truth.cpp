@@ -6,6 +6,8 @@
 
 #include <octomap/OcTree.h>
 
+#include "occsweep/core/limits.hpp"
+
 namespace occsweep {
 namespace {
 
@@ -75,6 +77,17 @@ bool triangleTouchesBox(const Triangle& t, const std::array<double, 3>& centre, 
   return !separated(normal);
 }
 
+std::uint64_t regionVoxelCount(const AxisBox& region, double resolution) {
+  const octomap::OcTree grid(resolution);
+  std::uint64_t n = 1;
+  for (int a = 0; a < 3; ++a) {
+    auto [lo, hi] = centreKeyRange(grid, region.min[a], region.max[a]);
+    if (hi < lo) return 0;
+    n *= std::uint64_t(hi - lo + 1);
+  }
+  return n;
+}
+
 GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, double resolution) {
   if (!(resolution > 0.0)) throw std::invalid_argument("ground truth: resolution must be > 0");
   for (int a = 0; a < 3; ++a)
@@ -91,6 +104,9 @@ GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, 
     gt.region_max_key[a] = octomap::key_type(std::max(hi, lo - 1));
     if (hi < lo) throw std::invalid_argument("ground truth: the region holds no voxel centre");
   }
+  // Counted before any per-voxel allocation (classification and replay allocate per region voxel).
+  checkLimit("region: voxels at resolution " + std::to_string(resolution) + " m", gt.regionVoxelCount(), limits().region_voxels,
+             "--max-region-voxels");
   const double half = resolution / 2.0;
 
   auto visitRange = [&](const std::array<double, 3>& lo, const std::array<double, 3>& hi, auto&& test) {

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/data/import_bytes.hpp"
 #include "occsweep/sweeps/cluster_plan.hpp"
 #include "occsweep/sweeps/results.hpp"
 
@@ -158,11 +159,11 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool r
 
 ClusterPlan readPlan(const std::filesystem::path& dir) {
   const std::string file = (dir / "plan.json").string();
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file + ": cannot open (not a plan folder?)");
+  if (!std::filesystem::exists(file)) throw std::runtime_error(file + ": cannot open (not a plan folder?)");
+  const std::string text = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
   json j;
   try {
-    in >> j;
+    j = json::parse(text);
   } catch (const json::exception& e) {
     throw std::runtime_error(file + ": not JSON: " + e.what());
   }

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/data/import_bytes.hpp"
 #include "occsweep/sweeps/cluster_select.hpp"
 #include "occsweep/sweeps/results.hpp"
 
@@ -49,11 +50,10 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
   std::vector<RankedSet> sets;
   std::set<std::uint64_t> ids;
   for (const auto& file : rankings) {
-    std::ifstream in(file);
-    if (!in) throw std::runtime_error(file.string() + ": cannot open");
+    const std::string text = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
     nlohmann::json j;
     try {
-      in >> j;
+      j = nlohmann::json::parse(text);
       if (j.value("format", "") != "occsweep-pointcloud-ranking")
         throw std::runtime_error("format: expected \"occsweep-pointcloud-ranking\"");
       for (const auto& s : j.at("sets")) {

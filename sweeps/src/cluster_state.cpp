@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/data/import_bytes.hpp"
 #include "occsweep/sweeps/cluster_state.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
@@ -38,12 +39,14 @@ std::string checkOutput(const ClusterTask& task, const fs::path& dir) {
       case OutputKind::Exists:
         return "";
       case OutputKind::Dataset: {
+        if (!fs::exists(file / "manifest.json")) return "no manifest.json";
+        requireRegularFile(file / "manifest.json");  // a FIFO would block `cluster status`
         std::ifstream in(file / "manifest.json");
-        if (!in) return "no manifest.json";
         const auto manifest = nlohmann::json::parse(in);
         return manifest.is_object() ? "" : "manifest.json is not an object";
       }
       case OutputKind::Comparison: {
+        requireRegularFile(file);
         std::ifstream in(file);
         const auto j = nlohmann::json::parse(in);
         if (!j.is_object() || j.value("format", "") != "occsweep-comparison" || !j.contains("rows") ||

@@ -1,6 +1,8 @@
 // The canonical enumeration of a grid and Eq. 15's closed form for its size.
 #include "occsweep/sweeps/grid.hpp"
 
+#include "occsweep/core/limits.hpp"
+
 namespace occsweep {
 namespace {
 
@@ -38,6 +40,9 @@ std::int64_t ParamRange::count() const {
 }
 
 GridEnumeration enumerateGrid(const GridSpec& g) {
+  // Counted by Eq. 15 before anything is allocated (issue 13: a p_t step of 1e-6 took 3.9 GB, then aborted).
+  checkLimit("grid " + g.name + ": combinations (Eq. 15)", closedFormCount(g), limits().combinations,
+             "--max-combinations");
   GridEnumeration e;
   auto add = [&](const MapParams& m) {
     e.maps.push_back(m);

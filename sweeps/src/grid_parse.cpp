@@ -135,9 +135,7 @@ GridSpec parseGrid(const json& j, const std::string& file) {
 }
 
 GridSpec loadGrid(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": grid file is missing or unreadable");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
   json j;
   try {
     j = json::parse(bytes);
@@ -153,7 +151,12 @@ GridSpec loadGrid(const std::filesystem::path& file) {
 
 std::filesystem::path resolveGridPath(const std::string& name_or_path) {
   namespace fs = std::filesystem;
-  if (fs::is_regular_file(name_or_path)) return name_or_path;
+  const fs::path given = name_or_path;
+  // A path that exists but is no regular file (a folder, a FIFO, a link loop) goes to loadGrid, which says what it
+  // is (issue 13), unless it is a bare name that may be a grid of sweeps/grids.
+  if (fs::is_regular_file(given) ||
+      (fs::exists(fs::symlink_status(given)) && (given.has_parent_path() || given.extension() == ".json")))
+    return given;
   std::vector<fs::path> places;
   if (const char* env = std::getenv("OCCSWEEP_GRIDS")) places.emplace_back(env);
   places.emplace_back(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids");

@@ -3,6 +3,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "occsweep/core/limits.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 #include "occsweep/sweeps/sweep.hpp"
@@ -69,6 +70,13 @@ ResultsFile mergeResults(const std::vector<std::filesystem::path>& files) {
   out.header.selection.shard_count = 1;
   GridEnumeration shape;  // only the count is needed for the expected ids
   shape.combinations = out.header.grid_combinations;
+  // Without the grid file the count is only what the file claims (issue 13: a 15 KB file claiming 3e8 took
+  // 2.4 GB): bounded like an enumeration before the expected ids are listed.
+  try {
+    checkLimit("grid.combinations", shape.combinations, limits().combinations, "--max-combinations");
+  } catch (const LimitError& e) {
+    throw std::runtime_error(files.front().string() + ": " + e.what());
+  }
   const auto expected = expectedIds(shape, out.header.selection);
   for (std::size_t i = 0; i < in.size(); ++i) {
     for (std::uint64_t id : coveredIds(in[i])) {

@@ -1,6 +1,7 @@
 #include "occsweep/sweeps/replay.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -17,8 +18,11 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   const auto& hi = truth.region_max_key;
 
   const KeyWindow region{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
-  auto index = [&](const octomap::OcTreeKey& k) { return region.index(k); };
-  const std::uint32_t voxels = region.volume();
+  auto index = [&](const octomap::OcTreeKey& k) { return std::uint32_t(region.index(k)); };
+  // Voxels are indexed in 32 bits; makeGroundTruth has checked the region against limits().region_voxels.
+  checkLimit("evaluation region, voxels", region.volume(), std::numeric_limits<std::uint32_t>::max(),
+             "a smaller region");
+  const auto voxels = std::uint32_t(region.volume());
   r.truth.assign(voxels, 0);
   for (const auto& k : truth.occupied) r.truth[index(k)] = 1;
   r.positives = truth.occupied.size();

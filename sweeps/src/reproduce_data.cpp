@@ -6,6 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "occsweep/data/import_bytes.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "reproduce_internal.hpp"
 
@@ -112,10 +113,9 @@ std::size_t paperIndex(const std::string& name, std::size_t fallback) {
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 json readJson(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open");
+  const std::string text = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
   try {
-    return json::parse(in);
+    return json::parse(text);
   } catch (const json::exception& e) {
     throw std::runtime_error(file.string() + ": not valid JSON (" + e.what() + ")");
   }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "occsweep/data/import_bytes.hpp"
 #include "occsweep/sweeps/results.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
@@ -243,11 +244,10 @@ ResultsFile parseResults(const json& j, const std::string& file) {
 }
 
 ResultsFile readResults(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": results file is missing or unreadable");
+  const std::string text = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
   json j;
   try {
-    j = json::parse(in);
+    j = json::parse(text);
   } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
     throw std::runtime_error(file.string() + ": not valid JSON (truncated?): " + e.what());
   }

@@ -18,7 +18,7 @@
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/dataset.hpp"
-#include "occsweep/data/dataset_truth.hpp"
+#include "occsweep/data/import_bytes.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/sweep.hpp"
@@ -37,6 +37,7 @@ using Clock = std::chrono::steady_clock;
 std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const ResultsHeader& header, bool force,
                                                std::map<std::uint64_t, std::string>& engine_of) {
   std::map<std::uint64_t, MapResult> done;
+  if (fs::exists(fs::symlink_status(partial))) requireRegularFile(partial);  // a FIFO would block the sweep
   std::ifstream in(partial);
   std::string line;
   if (!std::getline(in, line)) return done;
@@ -76,7 +77,8 @@ ResultsFile runSweep(const SweepConfig& c) {
   const bool replaying = c.engine == "replay";
   Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
   requireInKeyRange(data, c.dataset, c.resolution);
-  const GroundTruth truth = datasetGroundTruth(data, c.dataset, c.resolution);  // refused before any file is written
+  // Before anything is written: a region refused (past its limit, or holding no voxel) leaves no partial file.
+  const GroundTruth truth = groundTruthOf(data, c.dataset, c.resolution);
 
   ResultsFile f;
   ResultsHeader& h = f.header;

@@ -66,6 +66,22 @@ def pcd(data, pts):
     return h.encode() + b"".join(struct.pack("<fffI", x, y, z, 7) for x, y, z in pts)
 
 
+def ot(nodes):
+    """An OctoMap .ot file: liboctomap's header, then (log-odds float, child bits byte) per node in pre-order."""
+    h = (f"# Octomap OcTree file\n# (feel free to add / change comments, but leave the first line as it is!)\n#\n"
+         f"id OcTree\nsize {len(nodes)}\nres 0.1\ndata\n")
+    return h.encode() + b"".join(struct.pack("<fB", v, c) for v, c in nodes)
+
+
+def ot_chain(depth=0):
+    """One leaf at the finest depth (16) under a chain of inner nodes, and a pruned leaf beside it at depth 15."""
+    if depth == 16:
+        return [(0.85, 0)]
+    if depth == 14:
+        return [(0.85, 0b11)] + ot_chain(15) + [(-0.4, 0)]
+    return [(0.85, 0b1)] + ot_chain(depth + 1)
+
+
 def main():
     shutil.rmtree(OUT, ignore_errors=True)
     px = [(i * 977) % 65536 for i in range(6 * 4)]
@@ -95,6 +111,8 @@ def main():
     put("xyz", "scan.xyz", "# x y z\n-0.0434742 -4.82982 0.499645\n0.0295245 -4.82834 0.541775\n1e-3 +2 3 17\n")
     put("truth_json", "list.json", json.dumps([{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}]))
     put("truth_json", "object.json", json.dumps({"boxes": [{"min": [-1, -1, 0], "max": [1, 1, 2]}]}))
+    put("ot", "chain.ot", ot(ot_chain()))
+    put("ot", "root_leaf_pruned.ot", ot([(0.0, 0b10000001), (1.2, 0), (-2.0, 0)]))
     os.makedirs(os.path.join(OUT, "grid_json"))
     for g in sorted(os.listdir(os.path.join(ROOT, "sweeps", "grids"))):
         shutil.copy(os.path.join(ROOT, "sweeps", "grids", g), os.path.join(OUT, "grid_json", g))

@@ -3,6 +3,7 @@
 
 #include "command_registry.hpp"
 #include "option_checks.hpp"
+#include "limit_options.hpp"
 #include "occsweep/sweeps/grid.hpp"
 #include "occsweep/sweeps/sharding.hpp"
 
@@ -32,6 +33,7 @@ const RegisterCommand kGrid{"grid", "Count, list or shard a parameter grid (Tabl
   CLI::App* shards = app.add_subcommand("shards", "Print the Eq. 16 split: a seeded permutation in groups");
   for (CLI::App* sub : {count, list, shards})
     sub->add_option("grid", *grid, "Grid name (sweeps/grids) or path")->required();
+  for (CLI::App* sub : {count, list, shards}) addLimitOptions(*sub, {Limit::Combinations});
   for (CLI::App* sub : {count, shards})
     sub->add_option("--groups", *groups, "Number of groups N_d (Eq. 16)")->capture_default_str()->check(integerAtLeast<std::uint64_t>(1));
   shards->add_option("--seed", *seed, "Permutation seed")->capture_default_str();
@@ -41,10 +43,16 @@ const RegisterCommand kGrid{"grid", "Count, list or shard a parameter grid (Tabl
     return runChosen({
         {count, [=] {
            const GridSpec g = load();
-           const auto enumerated = enumerateGrid(g).combinations;
+           // Eq. 15 counts without allocating; the enumeration, a cross-check, only within the limit (issue 13).
            const auto closed = closedFormCount(g);
-           std::cout << g.name << ": " << enumerated << " combinations (enumerated), " << closed
-                     << " (Eq. 15 closed form)\n";
+           const bool enumerate = closed <= limits().combinations;
+           const auto enumerated = enumerate ? enumerateGrid(g).combinations : closed;
+           if (enumerate)
+             std::cout << g.name << ": " << enumerated << " combinations (enumerated), " << closed
+                       << " (Eq. 15 closed form)\n";
+           else
+             std::cout << g.name << ": " << closed << " combinations (Eq. 15 closed form; not enumerated: more than "
+                       << "the limit of " << limits().combinations << ", --max-combinations)\n";
            const auto base = enumerated / *groups, extra = enumerated % *groups;
            std::cout << "per group of " << *groups << " (Eq. 16): " << base;
            if (extra) std::cout << " (the first " << extra << " groups " << base + 1 << ")";

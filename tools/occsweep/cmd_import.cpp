@@ -1,7 +1,11 @@
 // occsweep import depth|graph|cloud|truth FILES... --out DIR: real recordings into the data-set format (issue 8).
 #include <iostream>
+#include <sstream>
 
 #include "command_registry.hpp"
+#include "limit_options.hpp"
+#include "occsweep/core/limits.hpp"
+#include "occsweep/core/mapping_params.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/import_dataset.hpp"
@@ -42,7 +46,23 @@ void shiftOrWarn(Dataset& d, const ImportOptions& o) {
     }
 }
 
-int finish(Dataset d, const ImportOptions& o) {
+constexpr const char* kPointsBox = "no truth: the bounding box of every point and origin";
+
+// Which region the data set got and what it costs at the default resolution (issue 13: a region of 3.1e9
+// voxels went unnoticed until a sweep was killed).
+void printRegion(const AxisBox& r, const std::string& origin) {
+  const double resolution = KnnParams{}.resolution;
+  const std::uint64_t voxels = regionVoxelCount(r, resolution);
+  std::cout << "region (" << origin << "): [" << r.min[0] << ", " << r.max[0] << "] x [" << r.min[1] << ", "
+            << r.max[1] << "] x [" << r.min[2] << ", " << r.max[2] << "] m, " << voxels << " voxels at "
+            << resolution << " m\n";
+  if (voxels > limits().region_voxels)
+    std::cout << "note: more than the limit of " << limits().region_voxels
+              << " region voxels: map and sweep refuse it at this resolution (give --region, or "
+                 "--max-region-voxels to them)\n";
+}
+
+int finish(Dataset d, const ImportOptions& o, const std::string& region_origin) {
   d.name = !o.name.empty() ? o.name : outputTarget(o.out).filename().string();  // "ds/" is named ds
   if (d.name.empty()) d.name = "imported";
   writeDataset(d, o.out);  // atomic: built beside the target, then renamed
@@ -53,6 +73,7 @@ int finish(Dataset d, const ImportOptions& o) {
     std::cout << ", truth: " << d.truth.boxes.size() << " boxes, " << d.truth.mesh.size() << " triangles, "
               << d.truth.points.size() << " points";
   std::cout << '\n';
+  printRegion(d.region, region_origin);
   return 0;
 }
 
@@ -77,6 +98,8 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
     if (sub != truth) sub->add_option("--name", o->name, "Data-set name (default: the output folder's name)");
   }
   truth->add_option("--name", o->name, "Data-set name (default: the name of --dataset, kept)");
+  addLimitOptions(*depth, {Limit::ImagePixels, Limit::Points});
+  for (CLI::App* sub : {graph, cloud, truth}) addLimitOptions(*sub, {Limit::Points});
   for (CLI::App* sub : {depth, graph, cloud}) {
     sub->add_flag("--skip-empty", o->skip_empty, "Drop scans without a valid point instead of refusing them");
     sub->add_option("--shift", o->shift, "X Y Z metres added to every point and origin after the poses (far-away, "
@@ -97,7 +120,7 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
   addPoseOptions(cloud, *o);
   cloud->add_option("--origin", o->origin, "Sensor origin of every cloud when there is no pose file")->expected(3);
   truth->add_option("--dataset", o->dataset, "Data set to add the truth to")->required();
-  truth->add_option("--region", o->region, "Evaluation region: minx miny minz maxx maxy maxz (default: keep)")->expected(6);
+  truth->add_option("--region", o->region, "Evaluation region: minx miny minz maxx maxy maxz (default: the truth's bounding box grown by 0.5 m)")->expected(6);
   app.require_subcommand(1);
   return [=] {
     checkOutputTarget(o->out, o->force, datasetOutput());  // before any file is read
@@ -107,13 +130,13 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
            o->depth.skip_empty = o->skip_empty;
            Dataset d = importDepthSequence(paths(o->files), o->poses, o->depth);
            shiftOrWarn(d, *o);
-           return finish(std::move(d), *o);
+           return finish(std::move(d), *o, kPointsBox);
          }},
         {graph, [o] {
            if (o->files.size() != 1) throw std::invalid_argument("give exactly one .graph file");
            Dataset d = importScanGraph(o->files[0], o->skip_empty);
            shiftOrWarn(d, *o);
-           return finish(std::move(d), *o);
+           return finish(std::move(d), *o, kPointsBox);
          }},
         {cloud, [o] {
            CloudImportConfig cc;
@@ -123,7 +146,7 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
            cc.skip_empty = o->skip_empty;
            Dataset d = importClouds(paths(o->files), cc);
            shiftOrWarn(d, *o);
-           return finish(std::move(d), *o);
+           return finish(std::move(d), *o, kPointsBox);
          }},
         {truth, [o] {
            Dataset d = readDataset(o->dataset);
@@ -135,17 +158,22 @@ const RegisterCommand kImport{"import", "Import real recordings (depth images, O
              d.truth.mesh.insert(d.truth.mesh.end(), t.mesh.begin(), t.mesh.end());
              d.truth.points.insert(d.truth.points.end(), t.points.begin(), t.points.end());
            }
+           std::ostringstream region_origin_text;
+           region_origin_text << "the truth's bounding box grown by " << kTruthRegionMargin << " m";
+           std::string region_origin = region_origin_text.str();
+           d.region = truthRegion(d.truth);
            if (!o->region.empty()) {
              const auto s = recordedShift(d);  // --region in the recording's frame too
              d.region = {{o->region[0] + s[0], o->region[1] + s[1], o->region[2] + s[2]},
                          {o->region[3] + s[0], o->region[4] + s[1], o->region[5] + s[2]}};
+             region_origin = "--region";
              for (int a = 0; a < 3; ++a)
                if (!(d.region.min[std::size_t(a)] <= d.region.max[std::size_t(a)]))
                  throw std::invalid_argument("--region: min must be <= max on every axis");
            }
            d.source["truth"] = o->files;
            if (o->name.empty()) o->name = d.name;
-           return finish(std::move(d), *o);
+           return finish(std::move(d), *o, region_origin);
          }},
     });
   };

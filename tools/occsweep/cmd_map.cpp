@@ -10,11 +10,11 @@
 
 #include "command_registry.hpp"
 #include "option_checks.hpp"
+#include "limit_options.hpp"
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/data/coordinates.hpp"
 #include "occsweep/data/dataset.hpp"
-#include "occsweep/data/dataset_truth.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/sweeps/results.hpp"
 
@@ -90,6 +90,7 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
       ->check(CLI::IsMember({"default", "literal"}))->capture_default_str();
   app.add_option("--stats", o->stats, "k-NN mu, sigma: batch (whole set, the paper's) or online (running)")
       ->check(CLI::IsMember({"batch", "online"}))->capture_default_str();
+  addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points});
   return [o] {
     KnnParams k = o->knn;
     k.variant = o->variant == "literal" ? UpdateVariant::Literal : UpdateVariant::Default;
@@ -110,10 +111,11 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     const Dataset d = readDataset(o->dataset);
     requireInKeyRange(d, o->dataset, k.resolution);
     warnWhenAllBeyondRange(d.scans, k.s_c);
-    // Before the map is built and written: a region the truth cannot use is refused with nothing written.
+    const bool has_truth = !d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty();
+    // Checked before the map is built: a region the truth cannot use (past its limit, no voxel) costs no build and
+    // leaves no map.
     std::optional<GroundTruth> gt;
-    if (!d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty())
-      gt = datasetGroundTruth(d, o->dataset, k.resolution);
+    if (has_truth) gt = groundTruthOf(d, o->dataset, k.resolution);
     const auto start = std::chrono::steady_clock::now();
     auto tree = o->method == "octomap" ? buildOctoMap(d.scans, om) : KnnInverseSensorModel(k).buildMap(d.scans);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -128,7 +130,6 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
       params.update({{"p_m_out", k.p_m_out}, {"p_u", k.p_u}, {"p_l", k.p_l}, {"k", k.k}, {"variant", o->variant},
                      {"stats", o->stats}});
     }
-    // Both written in full before either is renamed: a failure leaves the previous pair (or nothing).
     OutputFile settings_file(o->out + ".json");
     settings_file.stream() << nlohmann::json{{"format", kSettingsFormat}, {"method", o->method},
                                              {"dataset", o->dataset}, {"dataset_name", d.name},

@@ -9,14 +9,16 @@
 
 #include "command_registry.hpp"
 #include "option_checks.hpp"
+#include "limit_options.hpp"
 #include "occsweep/core/log_odds.hpp"
+#include "occsweep/data/octree_file.hpp"
 
 namespace occsweep::cli {
 namespace {
 
 /// Holds what liboctomap writes to std::cout and std::cerr ("Reading octree type OcTree", "Done (N nodes)": its
 /// OCTOMAP_DEBUG_STR and OCTOMAP_ERROR_STR macros) while alive, so that the output is occsweep's JSON alone; its
-/// error lines are kept for occsweep's own message (docs/robustness.md).
+/// errors are occsweep's own: readOcTree checks the bytes before liboctomap reads them (docs/robustness.md).
 class HeldLibraryChatter {
  public:
   HeldLibraryChatter() : out_(std::cout.rdbuf(held_.rdbuf())), err_(std::cerr.rdbuf(held_.rdbuf())) {}
@@ -26,36 +28,21 @@ class HeldLibraryChatter {
     std::cout.rdbuf(out_);
     std::cerr.rdbuf(err_);
   }
-  /// The lines starting with "ERROR:", joined with "; ".
-  [[nodiscard]] std::string errors() const {
-    std::istringstream in(held_.str());
-    std::string line, out;
-    while (std::getline(in, line))
-      if (line.rfind("ERROR: ", 0) == 0) out += (out.empty() ? "" : "; ") + line.substr(7);
-    return out;
-  }
 
  private:
   std::ostringstream held_;
   std::streambuf *out_, *err_;
 };
 
+// readOcTree bounds the finest-depth voxels by limits().map_voxels, so expand() is bounded too (issue 13).
 std::unique_ptr<octomap::OcTree> readTree(const std::string& file) {
-  std::unique_ptr<octomap::AbstractOcTree> t;
-  std::string library_errors;
+  std::unique_ptr<octomap::OcTree> tree;
   {
     HeldLibraryChatter quiet;
-    t.reset(octomap::AbstractOcTree::read(file));
-    library_errors = quiet.errors();
+    tree = readOcTree(file);
   }
-  auto* tree = dynamic_cast<octomap::OcTree*>(t.get());
-  if (!tree)
-    throw std::runtime_error(file + ": not an OcTree .ot file (missing, unreadable or another tree type)" +
-                             (library_errors.empty() ? "" : ": liboctomap: " + library_errors));
-  t.release();
-  std::unique_ptr<octomap::OcTree> out(tree);
-  out->expand();  // every leaf at the finest depth: voxel counts do not depend on pruning
-  return out;
+  tree->expand();  // every leaf at the finest depth: voxel counts do not depend on pruning
+  return tree;
 }
 
 // Occupied at p_t as SPEC §2: known and log-odds >= l(p_t) in float; unknown is not occupied.
@@ -92,6 +79,7 @@ const RegisterCommand kMapDiff{"mapdiff", "Count the voxels two maps (.ot) disag
   app.add_option("a", o->a, "First map, .ot")->required();
   app.add_option("b", o->b, "Second map, .ot (same resolution)")->required();
   app.add_option("--p-t", o->p_t, "Occupancy threshold")->capture_default_str()->check(probability());
+  addLimitOptions(app, {Limit::MapVoxels});
   return [o] {
     const auto a = readTree(o->a), b = readTree(o->b);
     if (a->getResolution() != b->getResolution())

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "limit_options.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
 namespace occsweep::cli {
@@ -15,6 +16,7 @@ const RegisterCommand kMerge{"merge", "Merge the shards of one sweep (refuses mi
   app.add_option("files", *files, "Results files of one sweep's shards")->required();
   app.add_option("--out", *out, "Merged results file")->required();
   app.add_flag("--force", *force, "Replace occsweep's own previous results file at --out (nothing else)");
+  addLimitOptions(app, {Limit::Combinations});
   return [files, out, force] {
     checkOutputTarget(*out, *force, resultsOutput());
     const ResultsFile merged = mergeResults({files->begin(), files->end()});

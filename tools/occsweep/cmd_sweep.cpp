@@ -3,6 +3,7 @@
 
 #include "command_registry.hpp"
 #include "option_checks.hpp"
+#include "limit_options.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "selection_options.hpp"
 
@@ -33,6 +34,7 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
   app.add_option("--engine", o->config.engine, "replay: record events once, replay every combination; direct: build every map (the reference)")
       ->check(CLI::IsMember({"replay", "direct"}))->capture_default_str();
   app.add_flag("--quiet", o->config.quiet, "No progress on stderr");
+  addLimitOptions(app, {Limit::WindowVoxels, Limit::Combinations, Limit::RegionVoxels, Limit::Points});
   return [o] {
     SweepConfig c = o->config;
     c.dataset = o->dataset;

@@ -51,6 +51,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
                                             std::to_string(clouds.size()) + " clouds: one pose per cloud needed");
   }
   PointCloudSet scans;
+  std::uint64_t total_points = 0;
   nlohmann::json files = nlohmann::json::array();
   ProgressLine progress("point cloud");
   for (std::size_t i = 0; i < clouds.size(); ++i) {
@@ -69,6 +70,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
     if (scan.points.empty() && c.skip_empty) continue;
     requireNonEmpty(scan, clouds[i].string(), "");
     requireFiniteScan(scan, clouds[i].string(), "", c.pose_file ? "after the pose of " + c.pose_file->string() : "");
+    countPoints(total_points, scan, clouds[i].string());
     scans.push_back(std::move(scan));
   }
   if (scans.empty()) throw std::invalid_argument("every point cloud is empty");

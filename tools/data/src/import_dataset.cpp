@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "occsweep/core/limits.hpp"
 #include "occsweep/data/data_error.hpp"
 
 namespace occsweep {
@@ -31,6 +32,15 @@ Dataset importedDataset(std::string name, PointCloudSet scans, nlohmann::json so
   source["truth"] = "none";
   d.source = std::move(source);
   return d;
+}
+
+void countPoints(std::uint64_t& total, const Scan& scan, const std::string& file) {
+  total += scan.points.size();
+  try {
+    checkLimit("points of the scans so far", total, limits().points, "--max-points");
+  } catch (const LimitError& e) {
+    throw DataError(file, "", e.what());
+  }
 }
 
 void requireNonEmpty(const Scan& scan, const std::string& file, const std::string& where) {

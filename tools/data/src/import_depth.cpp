@@ -20,6 +20,12 @@ void validate(const DepthImportConfig& c) {
   if (c.stride < 1) throw std::invalid_argument("pixel stride must be >= 1");
 }
 
+std::string tooManyPixels(std::uint64_t width, std::uint64_t height) {
+  return LimitError("pixels (" + std::to_string(width) + "x" + std::to_string(height) + ")",
+                    saturatingProduct(width, height), limits().image_pixels, "--max-image-pixels")
+      .what();
+}
+
 Scan depthToScan(const DepthImage& image, const RigidPose& pose, const DepthImportConfig& c) {
   Scan scan;
   scan.origin = pose.origin();
@@ -44,6 +50,7 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const fs::path&
     throw DataError(pose_file, "", "holds " + std::to_string(poses.size()) + " poses for " +
                                        std::to_string(images.size()) + " depth images: one pose per image needed");
   PointCloudSet scans;
+  std::uint64_t total_points = 0;
   nlohmann::json files = nlohmann::json::array();
   ProgressLine progress("depth image");
   for (std::size_t i = 0; i < images.size(); ++i) {
@@ -54,6 +61,7 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const fs::path&
     requireNonEmpty(scan, images[i].string(), "");
     requireFiniteScan(scan, images[i].string(), "",
                       "check --depth-scale, --fx, --fy and the pose in " + pose_file.string());
+    countPoints(total_points, scan, images[i].string());
     scans.push_back(std::move(scan));
   }
   if (scans.empty()) throw std::invalid_argument("every depth image is empty");

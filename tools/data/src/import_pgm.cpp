@@ -43,9 +43,8 @@ DepthImage decodePgm(std::string_view bytes, const std::filesystem::path& file) 
   PgmHeader h{bytes, file};
   const auto width = h.field("width"), height = h.field("height"), maxval = h.field("maxval");
   if (width == 0 || height == 0) throw DataError(file, "header", "width and height must be positive");
-  if (width > kMaxDepthPixels || height > kMaxDepthPixels || width * height > kMaxDepthPixels)
-    throw DataError(file, "header", "claims " + std::to_string(width) + "x" + std::to_string(height) +
-                                        " pixels, more than the " + std::to_string(kMaxDepthPixels) + " allowed");
+  if (saturatingProduct(width, height) > limits().image_pixels)
+    throw DataError(file, "header", tooManyPixels(width, height));
   if (maxval == 0 || maxval > 65535) throw DataError(file, "header maxval", "must be 1..65535");
   DepthImage img;
   img.width = int(width);

@@ -53,7 +53,7 @@ bool decodeRaw(PngJob& job) {
   png_set_chunk_malloc_max(png, 64u << 20);
   png_read_info(png, info);
   png_get_IHDR(png, info, &job.width, &job.height, &job.bit_depth, &job.color_type, &job.interlace, nullptr, nullptr);
-  if (std::uint64_t(job.width) * job.height > kMaxDepthPixels) {
+  if (std::uint64_t(job.width) * job.height > limits().image_pixels) {
     job.too_big = true;
     png_destroy_read_struct(&png, &info, nullptr);
     return false;
@@ -89,8 +89,7 @@ DepthImage decodePng(std::string_view bytes, const std::filesystem::path& file) 
   job.raw = &raw;
   if (!decodeRaw(job)) {
     if (job.too_big)
-      throw DataError(file, "header", "claims " + std::to_string(job.width) + "x" + std::to_string(job.height) +
-                                          " pixels, more than the " + std::to_string(kMaxDepthPixels) + " allowed");
+      throw DataError(file, "header", tooManyPixels(job.width, job.height));
     if (job.wrong_type)
       throw DataError(file, "header", "colour type " + std::to_string(job.color_type) + ", bit depth " +
                                           std::to_string(job.bit_depth) +

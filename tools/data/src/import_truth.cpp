@@ -1,7 +1,9 @@
 #include "occsweep/data/import_truth.hpp"
 
 #include <cctype>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
@@ -27,6 +29,24 @@ std::array<double, 3> triple(const json& v, const fs::path& file, const std::str
 }
 
 }  // namespace
+
+AxisBox truthRegion(const TruthSources& truth) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  AxisBox box{{inf, inf, inf}, {-inf, -inf, -inf}};
+  auto grow = [&box](std::size_t a, double lo, double hi) {
+    box.min[a] = std::min(box.min[a], lo);
+    box.max[a] = std::max(box.max[a], hi);
+  };
+  for (std::size_t a = 0; a < 3; ++a) {
+    for (const AxisBox& b : truth.boxes) grow(a, b.min[a], b.max[a]);
+    for (const Triangle& t : truth.mesh)
+      for (const auto& v : t.v) grow(a, v(int(a)), v(int(a)));
+    for (const auto& p : truth.points) grow(a, p(int(a)), p(int(a)));
+    box.min[a] -= kTruthRegionMargin;
+    box.max[a] += kTruthRegionMargin;
+  }
+  return box;
+}
 
 std::vector<AxisBox> decodeTruthBoxes(std::string_view text, const fs::path& file) {
   json j;

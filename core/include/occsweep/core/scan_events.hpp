@@ -5,11 +5,14 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <octomap/OcTree.h>
 
+#include "limits.hpp"
 #include "point_cloud_set.hpp"
 #include "ray_traversal.hpp"
 
@@ -34,12 +37,13 @@ struct KeyWindow {
   [[nodiscard]] bool contains(const octomap::OcTreeKey& k) const {
     return k[0] >= lo[0] && k[0] <= hi[0] && k[1] >= lo[1] && k[1] <= hi[1] && k[2] >= lo[2] && k[2] <= hi[2];
   }
-  [[nodiscard]] std::uint32_t volume() const {
-    return std::uint32_t(hi[0] - lo[0] + 1) * std::uint32_t(hi[1] - lo[1] + 1) * std::uint32_t(hi[2] - lo[2] + 1);
+  /// In 64 bits: a window of 65536^3 keys does not fit 32 (issue 13: a wrapped volume crashed k-NN maps).
+  [[nodiscard]] std::uint64_t volume() const {
+    return std::uint64_t(hi[0] - lo[0] + 1) * std::uint64_t(hi[1] - lo[1] + 1) * std::uint64_t(hi[2] - lo[2] + 1);
   }
-  [[nodiscard]] std::uint32_t index(const octomap::OcTreeKey& k) const {
-    return (std::uint32_t(k[0] - lo[0]) * std::uint32_t(hi[1] - lo[1] + 1) + std::uint32_t(k[1] - lo[1])) *
-               std::uint32_t(hi[2] - lo[2] + 1) + std::uint32_t(k[2] - lo[2]);
+  [[nodiscard]] std::uint64_t index(const octomap::OcTreeKey& k) const {
+    return (std::uint64_t(k[0] - lo[0]) * std::uint64_t(hi[1] - lo[1] + 1) + std::uint64_t(k[1] - lo[1])) *
+               std::uint64_t(hi[2] - lo[2] + 1) + std::uint64_t(k[2] - lo[2]);
   }
 };
 
@@ -54,10 +58,12 @@ class ScanEventRecorder {
   /// Keeps the voxels of `window` (rays that cannot reach it are skipped).
   void record(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c, const KeyWindow& window,
               ScanEvents& out);
-  /// Keeps every voxel the scan touches (the window is the cube of half-edge s_c around the origin).
+  /// Keeps every voxel the scan touches (the window: windowOf).
   void recordAll(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c, ScanEvents& out);
 
   [[nodiscard]] const octomap::OcTree& grid() const { return grid_; }
+  /// The smallest window recordAll needs; LimitError past limits().window_voxels.
+  [[nodiscard]] KeyWindow windowOf(const Scan& scan, double s_c) const;
 
  private:
   [[nodiscard]] bool mayReach(const octomap::point3d& a, const octomap::point3d& b, const KeyWindow& w) const;
@@ -96,16 +102,39 @@ inline bool ScanEventRecorder::mayReach(const octomap::point3d& a, const octomap
   return true;
 }
 
-inline void ScanEventRecorder::recordAll(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c,
-                                         ScanEvents& out) {
+// The cube of half-edge s_c around the origin, clipped to the keys of the scan's points and origin grown by two
+// voxels (float rounding of the traversal): every voxel a point or a ray touches lies in both, so the events are
+// the same, and the window's memory follows the scan's extent instead of the cube of s_c / resolution
+// (issue 13: --s-c 40 took 1 GB, --s-c 81.05 wrapped a 32-bit volume). Past the limit: LimitError.
+inline KeyWindow ScanEventRecorder::windowOf(const Scan& scan, double s_c) const {
+  const double factor = 1.0 / grid_.getResolution();
+  auto keyOf = [&](double c) {  // OctoMap's coordToKey, clamped to the key range, in 64 bits
+    return int(std::clamp<double>(std::floor(factor * c) + 32768.0, 0.0, 65535.0));
+  };
+  std::array<int, 3> lo, hi;
+  for (int i = 0; i < 3; ++i) lo[i] = hi[i] = keyOf(scan.origin(i));
+  for (const auto& p : scan.points)
+    for (int i = 0; i < 3; ++i) {
+      const int k = keyOf(p(i));
+      lo[i] = std::min(lo[i], k);
+      hi[i] = std::max(hi[i], k);
+    }
   const octomap::OcTreeKey o = grid_.coordToKey(scan.origin);
-  const int half = int(std::ceil(s_c / grid_.getResolution())) + 2;
+  const double half = std::ceil(s_c * factor) + 2.0;
   KeyWindow w;
   for (int i = 0; i < 3; ++i) {
-    w.lo[i] = std::max(0, int(o[i]) - half);
-    w.hi[i] = std::min(65535, int(o[i]) + half);
+    w.lo[i] = std::max({0, lo[i] - 2, int(std::max(0.0, double(o[i]) - half))});
+    w.hi[i] = std::min({65535, hi[i] + 2, int(std::min(65535.0, double(o[i]) + half))});
   }
-  record(scan, inner, s_c, w, out);
+  checkLimit("k-NN key window of a scan (s_c " + std::to_string(s_c) + " m at resolution " +
+                 std::to_string(grid_.getResolution()) + " m, clipped to the scan's extent), voxels",
+             w.volume(), limits().window_voxels, "--max-window-voxels, or a smaller --s-c or a larger --resolution");
+  return w;
+}
+
+inline void ScanEventRecorder::recordAll(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c,
+                                         ScanEvents& out) {
+  record(scan, inner, s_c, windowOf(scan, s_c), out);
 }
 
 inline void ScanEventRecorder::record(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c,
@@ -114,6 +143,8 @@ inline void ScanEventRecorder::record(const Scan& scan, const std::vector<std::u
   out.hit_points.clear();
   hits_.clear();
   touched_.clear();
+  // Cells are indexed in 32 bits: the limits (window, region) keep windows far below; this guards an override.
+  checkLimit("key window, voxels", window.volume(), std::numeric_limits<std::uint32_t>::max(), "a smaller window");
   if (cells_.size() < window.volume()) {
     cells_.assign(window.volume(), 0);
     generation_ = 0;
@@ -136,7 +167,7 @@ inline void ScanEventRecorder::record(const Scan& scan, const std::vector<std::u
     is_inner_[inner[j]] = 1;
     octomap::OcTreeKey key;
     if (!grid_.coordToKeyChecked(scan.points[inner[j]], key) || !window.contains(key)) continue;
-    const std::uint32_t cell = window.index(key);
+    const auto cell = std::uint32_t(window.index(key));
     mark(cell, kHit);
     hits_.emplace_back(cell, j);
   }
@@ -151,7 +182,7 @@ inline void ScanEventRecorder::record(const Scan& scan, const std::vector<std::u
     traverseRay(grid_, scan.origin, end, [&](const octomap::OcTreeKey& key) {
       if (!window.contains(key)) return !entered;
       entered = true;
-      mark(window.index(key), flag);
+      mark(std::uint32_t(window.index(key)), flag);
       return true;
     });
   }

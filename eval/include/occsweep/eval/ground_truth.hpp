@@ -43,7 +43,12 @@ struct GroundTruth {
 
 /// Rasterises the sources at `resolution` with OctoMap's key arithmetic. Throws std::invalid_argument for an
 /// empty or inverted region, or a non-positive resolution.
+/// Throws LimitError (occsweep/core/limits.hpp) when the region holds more than limits().region_voxels voxels,
+/// before allocating anything.
 [[nodiscard]] GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, double resolution);
+
+/// Voxels whose centre lies in `region` at `resolution` (the count makeGroundTruth checks), 0 when none.
+[[nodiscard]] std::uint64_t regionVoxelCount(const AxisBox& region, double resolution);
 
 /// Separating-axis test of a triangle against an axis-aligned cube (Akenine-Moeller 2001), closed sets.
 [[nodiscard]] bool triangleTouchesBox(const Triangle& t, const std::array<double, 3>& centre, double half);

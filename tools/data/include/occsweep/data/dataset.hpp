@@ -31,7 +31,12 @@ void writeDataset(const Dataset& dataset, const std::filesystem::path& dir);
 
 /// Reads and checks a data set. Throws DataError naming the file and field: missing or truncated files,
 /// NaN or infinite coordinates, empty scans, bad manifest fields.
+/// Scans' point counts are summed from the manifest and checked against limits().points before any is read.
 [[nodiscard]] Dataset readDataset(const std::filesystem::path& dir);
+
+/// makeGroundTruth of a data set read from `dir`; a region it refuses (past limits().region_voxels, no voxel centre
+/// at this resolution, min > max) is a DataError naming DIR/manifest.json (and the field `region`).
+[[nodiscard]] GroundTruth groundTruthOf(const Dataset& dataset, const std::filesystem::path& dir, double resolution);
 
 /// FNV-1a 64 over the manifest and every binary file in manifest order, as 16 hex digits: the data set's
 /// content hash recorded in results (SPEC §5).

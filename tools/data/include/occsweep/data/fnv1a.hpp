@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "data_error.hpp"
+#include "import_bytes.hpp"
 
 namespace occsweep {
 
@@ -19,8 +20,9 @@ class Fnv1a {
   }
   /// Feeds a whole file; DataError when it cannot be read.
   void feedFile(const std::filesystem::path& file) {
+    requireRegularFile(file);
     std::ifstream in(file, std::ios::binary);
-    if (!in) throw DataError(file, "", "file is missing or unreadable");
+    if (!in) throw DataError(file, "", "file is unreadable");
     char buf[1 << 16];
     while (in.read(buf, sizeof buf), in.gcount() > 0) feed(std::string_view(buf, std::size_t(in.gcount())));
   }

@@ -16,7 +16,12 @@ namespace occsweep {
 /// Largest input file the readers accept (a depth frame is ~1 MB, a big PLY a few hundred MB).
 inline constexpr std::uint64_t kMaxImportFileBytes = std::uint64_t(4) << 30;
 
-/// The whole file; DataError when it is missing, a folder, unreadable, or larger than `max_bytes`.
+/// Every reader of an input file calls this first (issue 13): DataError naming the file and what it is when it
+/// is not a regular file (missing, a folder, a FIFO, which would make a reader wait forever, a socket, a device,
+/// a symlink loop or a dangling link), so that no reader hangs or reports "file is missing" for a folder.
+void requireRegularFile(const std::filesystem::path& file);
+
+/// The whole file; DataError when requireRegularFile refuses it, it is unreadable, or larger than `max_bytes`.
 [[nodiscard]] std::string readFileBytes(const std::filesystem::path& file,
                                         std::uint64_t max_bytes = kMaxImportFileBytes);
 

@@ -54,4 +54,8 @@ class ProgressLine {
 /// Throws DataError(file, where, ...) when a scan has no point: data sets refuse empty scans.
 void requireNonEmpty(const Scan& scan, const std::string& file, const std::string& where);
 
+/// Adds a scan's points to `total`; past limits().points (--max-points) throws DataError naming `file`, the one
+/// whose points crossed the limit (issue 13: the imported set is held in memory, then by every reader).
+void countPoints(std::uint64_t& total, const Scan& scan, const std::string& file);
+
 }  // namespace occsweep

@@ -2,6 +2,7 @@
 // frame, turned into scans in the world frame.
 #pragma once
 
+#include "occsweep/core/limits.hpp"
 #include <cstdint>
 #include <filesystem>
 #include <string_view>
@@ -17,8 +18,9 @@ struct DepthImage {
   std::vector<std::uint16_t> values;  ///< row-major, raw sensor units (0 = no measurement)
 };
 
-/// Images with more pixels are refused before anything is allocated (a 640x480 frame has 0.3 M).
-inline constexpr std::uint64_t kMaxDepthPixels = std::uint64_t(1) << 26;
+/// Images with more pixels than limits().image_pixels (occsweep/core/limits.hpp) are refused before anything is
+/// allocated (a 640x480 frame has 0.3 M): the message of a refusal.
+[[nodiscard]] std::string tooManyPixels(std::uint64_t width, std::uint64_t height);
 
 /// 16-bit (or 8-bit) greyscale PNG through libpng. DataError for a bad signature, colour images, a truncated or
 /// corrupt stream, or absurd dimensions.

@@ -14,6 +14,14 @@ namespace occsweep {
 [[nodiscard]] TruthSources decodeTruth(std::string_view bytes, const std::filesystem::path& file);
 [[nodiscard]] TruthSources readTruth(const std::filesystem::path& file);
 
+/// Margin around the truth's bounding box of the default evaluation region, metres (docs/robustness.md).
+inline constexpr double kTruthRegionMargin = 0.5;
+
+/// The default evaluation region of a data set with truth: the bounding box of every box, triangle and point of
+/// the truth grown by kTruthRegionMargin on every side, so that a few far points of a real cloud (disparity near
+/// zero) do not make the region huge (issue 13).
+[[nodiscard]] AxisBox truthRegion(const TruthSources& truth);
+
 /// Boxes from JSON text (the fuzzable part of decodeTruth).
 [[nodiscard]] std::vector<AxisBox> decodeTruthBoxes(std::string_view text, const std::filesystem::path& file);
 

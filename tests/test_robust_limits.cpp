@@ -1,0 +1,430 @@
+// Issue 13, "no input crashes, hangs or exhausts memory": each small input that crashed occsweep, hung it or made
+// it allocate gigabytes, run through the real command. Each case checks the exit status, that the message names the
+// file or flag, the size and the limit, that nothing partial is left, and the command's own peak memory (wait4's
+// ru_maxrss of the child) below 200 MB. docs/robustness.md, "Limits and non-regular files".
+//
+// OCCSWEEP_TEST_CLI=/path/to/occsweep runs the same claims against another binary (the old one, to see them fail).
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+#include <fcntl.h>
+#include <png.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "test_helpers.hpp"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+constexpr long kPeakLimitKb = 200 * 1024;  // the issue's bound for every small input
+
+struct Run {
+  int exit_code = -1;    ///< -1 when killed by a signal or by the hang guard
+  int signal = 0;
+  bool hung = false;     ///< still running after the guard's timeout: killed
+  long peak_rss_kb = 0;  ///< the child's own peak resident set (ru_maxrss)
+  std::string output;    ///< stdout and stderr
+};
+
+std::string cli() {
+  const char* other = std::getenv("OCCSWEEP_TEST_CLI");
+  return other ? other : OCCSWEEP_CLI;
+}
+
+/// Runs occsweep ARGS (a shell string) as its own process (exec'd by the shell, so wait4 measures occsweep itself).
+/// `address_space_mb` caps the child's virtual memory so that an unbounded old binary fails fast instead of taking
+/// the machine (not under sanitizers, which reserve terabytes). The guard kills a child still running after
+/// `timeout_s`: a hang, reported as `hung`, never a timed assertion on a result.
+Run runOccsweep(const std::string& args, long address_space_mb = 3072, int timeout_s = 120) {
+  const fs::path out = occsweep::test::scratch("limits_run_output") / "out.txt";
+  const std::string cmd = "exec " + cli() + " " + args + " >" + out.string() + " 2>&1 </dev/null";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (!kSanitized && address_space_mb > 0) {
+      const rlimit as{rlim_t(address_space_mb) << 20, rlim_t(address_space_mb) << 20};
+      ::setrlimit(RLIMIT_AS, &as);
+    }
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  Run r;
+  int status = 0;
+  rusage usage{};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
+  while (::wait4(pid, &status, WNOHANG, &usage) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      r.hung = true;
+      ::kill(pid, SIGKILL);
+      ::wait4(pid, &status, 0, &usage);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  r.peak_rss_kb = usage.ru_maxrss;
+  std::ifstream in(out);
+  r.output.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return r;
+}
+
+/// The peak-memory claim; skipped under sanitizers, whose shadow memory makes any RSS bound meaningless.
+void checkPeak(const Run& r) {
+  INFO("peak RSS " << r.peak_rss_kb / 1024 << " MB");
+  if (!kSanitized) CHECK(r.peak_rss_kb < kPeakLimitKb);
+}
+
+/// A refusal: exit 2 (no signal, no hang), and the message holds every one of `words`.
+void checkRefused(const Run& r, std::initializer_list<std::string> words) {
+  INFO(r.output);
+  CHECK_FALSE(r.hung);
+  CHECK(r.signal == 0);
+  CHECK(r.exit_code == 2);
+  for (const auto& w : words) CHECK(r.output.find(w) != std::string::npos);
+  CHECK(r.output.find("Segmentation") == std::string::npos);
+  checkPeak(r);
+}
+
+/// Files in `dir` whose name holds `.tmp-` or `.partial` (what a failed command must not leave).
+std::vector<std::string> leftovers(const fs::path& dir) {
+  std::vector<std::string> found;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    const auto name = e.path().filename().string();
+    if (name.find(".tmp-") != std::string::npos || name.find(".partial") != std::string::npos) found.push_back(name);
+  }
+  return found;
+}
+
+/// The built-in scene, written once for the whole program (with the binary under test).
+const fs::path& scene() {
+  static const fs::path dir = [] {
+    const fs::path d = occsweep::test::scratch("limits_scene") / "scene";
+    const Run r = runOccsweep("scene --out " + d.string());
+    REQUIRE(r.exit_code == 0);
+    return d;
+  }();
+  return dir;
+}
+
+json readJson(const fs::path& file) { return json::parse(std::ifstream(file)); }
+void writeText(const fs::path& file, const std::string& text) { std::ofstream(file, std::ios::binary) << text; }
+
+/// A copy of the scene whose manifest is edited by `edit`.
+fs::path editedScene(const fs::path& dir, const std::function<void(json&)>& edit) {
+  const fs::path d = dir / "edited";
+  fs::copy(scene(), d, fs::copy_options::recursive);
+  json m = readJson(d / "manifest.json");
+  edit(m);
+  writeText(d / "manifest.json", m.dump());
+  return d;
+}
+
+/// A grid file: octomap-opt with one parameter replaced.
+fs::path gridFile(const fs::path& dir, const std::string& name, const std::function<void(json&)>& edit) {
+  json g = readJson(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "octomap-opt.json");
+  g["name"] = name;
+  edit(g);
+  const fs::path file = dir / (name + ".json");
+  writeText(file, g.dump(1));
+  return file;
+}
+
+/// A real 16-bit greyscale PNG of constant pixels written with libpng: tiny on disk, `w * h * 2` bytes decoded.
+void writeConstantPng(const fs::path& file, std::uint32_t w, std::uint32_t h, std::uint16_t value) {
+  FILE* f = std::fopen(file.c_str(), "wb");
+  REQUIRE(f);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  png_init_io(png, f);
+  png_set_compression_level(png, 9);
+  png_set_IHDR(png, info, w, h, 16, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  std::vector<png_byte> row(std::size_t(w) * 2);
+  for (std::uint32_t u = 0; u < w; ++u) {
+    row[2 * u] = png_byte(value >> 8);  // PNG is big-endian
+    row[2 * u + 1] = png_byte(value & 0xff);
+  }
+  for (std::uint32_t v = 0; v < h; ++v) png_write_row(png, row.data());
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  std::fclose(f);
+}
+
+}  // namespace
+
+TEST_CASE("k-NN maps with a large s_c or a fine resolution: a correct map or a refusal, never a crash, bounded memory") {
+  const fs::path dir = occsweep::test::scratch("limits_knn");
+  // Every scene point lies within 20 m of its origin, so s_c 20 and 81.05 must give the same map; 81.05 wrapped
+  // the old 32-bit window volume (SIGSEGV), and the window's memory grew with the cube of s_c / resolution.
+  const Run wide = runOccsweep("map --dataset " + scene().string() + " --method knn --s-c 81.05 --out " + (dir / "wide.ot").string());
+  INFO(wide.output);
+  CHECK(wide.signal == 0);
+  REQUIRE(wide.exit_code == 0);
+  checkPeak(wide);
+  const Run near = runOccsweep("map --dataset " + scene().string() + " --method knn --s-c 20 --out " + (dir / "near.ot").string());
+  REQUIRE(near.exit_code == 0);
+  const Run diff = runOccsweep("mapdiff " + (dir / "wide.ot").string() + " " + (dir / "near.ot").string());
+  REQUIRE(diff.exit_code == 0);
+  const json d = json::parse(diff.output.substr(diff.output.find('{')));
+  CHECK(d.at("disagree") == 0);
+  CHECK(d.at("known_only_a") == 0);
+  CHECK(d.at("known_only_b") == 0);
+  CHECK(d.at("known_both").get<std::uint64_t>() > 0);
+
+  // A resolution of 0.00493 m: the scene's extent holds too many voxels for a window (or the region): refused by
+  // name, with the size and the limit, before anything big is allocated; no map left.
+  const Run fine = runOccsweep("map --dataset " + scene().string() + " --method knn --resolution 0.00493 --out " +
+                            (dir / "fine.ot").string());
+  checkRefused(fine, {"is more than the limit of", "--max-"});
+  CHECK_FALSE(fs::exists(dir / "fine.ot"));
+  CHECK(leftovers(dir).empty());
+
+  // The same through sweep --engine direct on a one-map k-NN grid.
+  json g = readJson(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "knn-opt.json");
+  g["name"] = "knn-one";
+  for (const char* p : {"p_m", "p_m_out"}) g["parameters"][p] = {{"value", 0.38}};
+  for (const char* p : {"p_u", "p_l"}) g["parameters"][p] = {{"value", 0.5}};
+  writeText(dir / "knn-one.json", g.dump());
+  const Run sweep = runOccsweep("sweep --dataset " + scene().string() + " --grid " + (dir / "knn-one.json").string() +
+                             " --engine direct --s-c 81.05 --threads 1 --out " + (dir / "sweep.json").string());
+  INFO(sweep.output);
+  CHECK(sweep.signal == 0);
+  CHECK(sweep.exit_code == 0);
+  checkPeak(sweep);
+}
+
+TEST_CASE("grids past the combination limit are counted by Eq. 15 and refused before enumeration") {
+  const fs::path dir = occsweep::test::scratch("limits_grid");
+  // p_t by 1e-6 on octomap-opt: 19.2 M combinations (20 maps of 960,001 thresholds) (old: 3.9 GB, then SIGABRT).
+  const fs::path fine = gridFile(dir, "fine-pt", [](json& g) { g["parameters"]["p_t"]["step"] = 0.000001; });
+  const Run count = runOccsweep("grid count " + fine.string());
+  INFO(count.output);
+  CHECK(count.signal == 0);
+  CHECK(count.exit_code == 0);
+  CHECK(count.output.find("19200020 combinations (Eq. 15 closed form; not enumerated") != std::string::npos);
+  checkPeak(count);
+
+  const Run sweep = runOccsweep("sweep --dataset " + scene().string() + " --grid " + fine.string() + " --out " +
+                             (dir / "r.json").string());
+  checkRefused(sweep, {"grid fine-pt", "19200020", "is more than the limit of 2000000", "--max-combinations"});
+  CHECK_FALSE(fs::exists(dir / "r.json"));
+  CHECK(leftovers(dir).empty());
+
+  // k-NN k = 1..100000 (old: 3.9 GB, then bad_alloc naming no file).
+  json g = readJson(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "knn-opt.json");
+  g["name"] = "many-k";
+  std::vector<int> k(100000);
+  for (int i = 0; i < 100000; ++i) k[std::size_t(i)] = i + 1;
+  g["parameters"]["k"] = k;
+  writeText(dir / "many-k.json", g.dump());
+  const Run list = runOccsweep("grid list " + (dir / "many-k.json").string());
+  checkRefused(list, {"grid many-k", "405000000", "is more than the limit of", "--max-combinations"});
+  const Run count_k = runOccsweep("grid count " + (dir / "many-k.json").string());
+  INFO(count_k.output);
+  CHECK(count_k.exit_code == 0);
+  CHECK(count_k.output.find("405000000 combinations (Eq. 15 closed form") != std::string::npos);
+  checkPeak(count_k);
+}
+
+TEST_CASE("merge does not trust grid.combinations of a results file whose grid is not found") {
+  const fs::path dir = occsweep::test::scratch("limits_merge");
+  // A real one-map sweep, then its header edited: an unknown grid claiming 3e8 combinations (old: 2.4 GB).
+  const fs::path grid = gridFile(dir, "tiny", [](json& g) {
+    g["parameters"]["p_h"] = {{"value", 0.74}};
+    g["parameters"]["p_m"] = {{"value", 0.38}};
+  });
+  const Run sweep = runOccsweep("sweep --dataset " + scene().string() + " --grid " + grid.string() + " --threads 1 --out " +
+                             (dir / "r.json").string());
+  REQUIRE(sweep.exit_code == 0);
+  json r = readJson(dir / "r.json");
+  r["grid"]["name"] = "no-such-grid";
+  r["grid"]["combinations"] = 300000000;
+  writeText(dir / "claims.json", r.dump());
+  const Run merge = runOccsweep("merge " + (dir / "claims.json").string() + " --out " + (dir / "merged.json").string());
+  checkRefused(merge, {"claims.json", "300000000", "is more than the limit of", "--max-combinations"});
+  CHECK_FALSE(fs::exists(dir / "merged.json"));
+}
+
+TEST_CASE("mapdiff refuses truncated, corrupt and explosive .ot files by name, in bounded memory") {
+  const fs::path dir = occsweep::test::scratch("limits_ot");
+  const Run map = runOccsweep("map --dataset " + scene().string() + " --method octomap --out " + (dir / "good.ot").string());
+  REQUIRE(map.exit_code == 0);
+  std::ifstream in(dir / "good.ot", std::ios::binary);
+  const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t data = good.find("\ndata\n") + 6;
+  REQUIRE(data > 6);
+
+  SECTION("a good map against itself: no disagreement") {
+    const Run same = runOccsweep("mapdiff " + (dir / "good.ot").string() + " " + (dir / "good.ot").string());
+    INFO(same.output);
+    REQUIRE(same.exit_code == 0);
+    CHECK(same.output.find("\"disagree\": 0") != std::string::npos);
+    CHECK(same.output.find("Reading") == std::string::npos);
+  }
+  SECTION("truncated in the node stream") {
+    writeText(dir / "cut.ot", good.substr(0, data + (good.size() - data) / 2));
+    checkRefused(runOccsweep("mapdiff " + (dir / "good.ot").string() + " " + (dir / "cut.ot").string()),
+                 {"cut.ot", "truncated"});
+  }
+  SECTION("0xff bytes after the header (every node claims 8 children)") {
+    writeText(dir / "ff.ot", good.substr(0, data) + std::string(1 << 20, '\xff'));
+    checkRefused(runOccsweep("mapdiff " + (dir / "ff.ot").string() + " " + (dir / "good.ot").string()), {"ff.ot"});
+  }
+  SECTION("a root without children: one node that expand() would make 8^16 voxels") {
+    writeText(dir / "root.ot", good.substr(0, data) + std::string("\0\0\0\0\0", 5));
+    checkRefused(runOccsweep("mapdiff " + (dir / "root.ot").string() + " " + (dir / "good.ot").string()),
+                 {"root.ot", "281474976710656", "is more than the limit of", "--max-map-voxels"});
+  }
+  SECTION("a folder and a FIFO given as maps") {
+    fs::create_directories(dir / "folder.ot");
+    checkRefused(runOccsweep("mapdiff " + (dir / "folder.ot").string() + " " + (dir / "good.ot").string(), 3072, 20),
+                 {"folder.ot", "is a folder"});
+    REQUIRE(::mkfifo((dir / "fifo.ot").c_str(), 0600) == 0);
+    checkRefused(runOccsweep("mapdiff " + (dir / "fifo.ot").string() + " " + (dir / "good.ot").string(), 3072, 20),
+                 {"fifo.ot", "FIFO"});
+  }
+}
+
+TEST_CASE("regions: the truth's box grown by a margin by default, and a region past the voxel limit is refused") {
+  const fs::path dir = occsweep::test::scratch("limits_region");
+  SECTION("import truth chooses the truth's bounding box grown by 0.5 m, and says so") {
+    // A cloud with one far point (as a stereo cloud's disparity near zero): the points' box is 1 km long.
+    writeText(dir / "cloud.xyz", "0 0 0\n1 1 1\n0.5 0.2 0.3\n0 0 1000\n");
+    REQUIRE(runOccsweep("import cloud " + (dir / "cloud.xyz").string() + " --out " + (dir / "raw").string()).exit_code == 0);
+    writeText(dir / "boxes.json", R"([{"min": [0, 0, 0], "max": [1, 1, 1]}])");
+    const Run r = runOccsweep("import truth " + (dir / "boxes.json").string() + " --dataset " + (dir / "raw").string() +
+                           " --out " + (dir / "ds").string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    const json region = readJson(dir / "ds" / "manifest.json").at("region");
+    CHECK(region.at("min") == json::array({-0.5, -0.5, -0.5}));
+    CHECK(region.at("max") == json::array({1.5, 1.5, 1.5}));
+    CHECK(r.output.find("region (the truth's bounding box grown by 0.5 m)") != std::string::npos);
+    CHECK(r.output.find("8000 voxels at 0.1 m") != std::string::npos);
+  }
+  SECTION("a region of 1e12 voxels is refused at once by map and sweep, naming the manifest, size and limit") {
+    const fs::path d = editedScene(dir, [](json& m) {
+      m["region"] = {{"min", {-500.0, -500.0, -500.0}}, {"max", {499.99, 499.99, 499.99}}};
+    });
+    const Run map = runOccsweep("map --dataset " + d.string() + " --method octomap --out " + (dir / "m.ot").string(), 3072, 60);
+    checkRefused(map, {"manifest.json", "region", "1000000000000", "is more than the limit of", "--max-region-voxels"});
+    CHECK_FALSE(fs::exists(dir / "m.ot"));
+    const Run sweep = runOccsweep("sweep --dataset " + d.string() + " --grid octomap-opt --out " + (dir / "s.json").string(), 3072, 60);
+    checkRefused(sweep, {"manifest.json", "1000000000000", "--max-region-voxels"});
+    CHECK_FALSE(fs::exists(dir / "s.json"));
+    CHECK(leftovers(dir).empty());
+  }
+}
+
+TEST_CASE("images and manifests are bounded by pixels and points, counted before allocating") {
+  const fs::path dir = occsweep::test::scratch("limits_pixels");
+  SECTION("a real 8192 x 8192 16-bit PNG of ~130 KB that decodes to 128 MB") {
+    writeConstantPng(dir / "big.png", 8192, 8192, 1000);
+    CHECK(fs::file_size(dir / "big.png") < 200 * 1024);
+    writeText(dir / "pose.txt", "0 0 0 0 0 0 1\n");
+    const Run r = runOccsweep("import depth " + (dir / "big.png").string() + " --poses " + (dir / "pose.txt").string() +
+                           " --fx 500 --fy 500 --cx 4096 --cy 4096 --out " + (dir / "ds").string());
+    checkRefused(r, {"big.png", "8192x8192", "67108864", "is more than the limit of 8388608", "--max-image-pixels"});
+    CHECK_FALSE(fs::exists(dir / "ds"));
+    CHECK(leftovers(dir).empty());
+  }
+  SECTION("20,000 manifest entries naming one 24 KB scan") {
+    const fs::path d = editedScene(dir, [](json& m) {
+      json entry = m["scans"][0];
+      entry["points"] = 2000;
+      entry["file"] = "scans/one.f32";
+      m["scans"] = json::array();
+      for (int i = 0; i < 20000; ++i) m["scans"].push_back(entry);
+    });
+    std::vector<float> xyz;
+    for (int i = 0; i < 2000; ++i) xyz.insert(xyz.end(), {float(i % 10) * 0.1f, float(i / 10 % 10) * 0.1f, 0.5f});
+    std::ofstream(d / "scans" / "one.f32", std::ios::binary)
+        .write(reinterpret_cast<const char*>(xyz.data()), std::streamsize(xyz.size() * sizeof(float)));
+    REQUIRE(fs::file_size(d / "scans" / "one.f32") == 24000);
+    const Run r = runOccsweep("map --dataset " + d.string() + " --method octomap --out " + (dir / "m.ot").string());
+    checkRefused(r, {"manifest.json", "scans", "40000000", "is more than the limit of", "--max-points"});
+    CHECK_FALSE(fs::exists(dir / "m.ot"));
+  }
+}
+
+TEST_CASE("FIFOs, folders and symlink loops are refused by name wherever a file is read, never waited on") {
+  const fs::path dir = occsweep::test::scratch("limits_fifo");
+  REQUIRE(::mkfifo((dir / "fifo.json").c_str(), 0600) == 0);
+  fs::create_directories(dir / "folder.json");
+  fs::create_symlink("loop_b.json", dir / "loop_a.json");
+  fs::create_symlink("loop_a.json", dir / "loop_b.json");
+
+  SECTION("manifest.json a FIFO: map") {
+    const fs::path d = editedScene(dir, [](json&) {});
+    fs::remove(d / "manifest.json");
+    REQUIRE(::mkfifo((d / "manifest.json").c_str(), 0600) == 0);
+    checkRefused(runOccsweep("map --dataset " + d.string() + " --method octomap --out " + (dir / "m.ot").string(), 3072, 20),
+                 {"manifest.json", "is a FIFO"});
+  }
+  SECTION("results files: FIFO, folder, symlink loop for results check and compare") {
+    for (const char* cmd : {"results check", "compare"}) {
+      checkRefused(runOccsweep(std::string(cmd) + " " + (dir / "fifo.json").string(), 3072, 20), {"fifo.json", "is a FIFO"});
+      const Run folder = runOccsweep(std::string(cmd) + " " + (dir / "folder.json").string(), 3072, 20);
+      checkRefused(folder, {"folder.json", "is a folder"});
+      CHECK(folder.output.find("underflow") == std::string::npos);
+      const Run loop = runOccsweep(std::string(cmd) + " " + (dir / "loop_a.json").string(), 3072, 20);
+      checkRefused(loop, {"loop_a.json", "symbolic link loop"});
+      CHECK(loop.output.find("missing") == std::string::npos);
+    }
+  }
+  SECTION("a ranking given to cluster select that is a FIFO") {
+    checkRefused(runOccsweep("cluster select --out " + (dir / "selected").string() + " " + (dir / "fifo.json").string(),
+                             3072, 20),
+                 {"fifo.json", "is a FIFO"});
+    CHECK_FALSE(fs::exists(dir / "selected"));
+  }
+  SECTION("a grid file that is a FIFO or a folder") {
+    checkRefused(runOccsweep("grid count " + (dir / "fifo.json").string(), 3072, 20), {"fifo.json", "is a FIFO"});
+    checkRefused(runOccsweep("grid count " + (dir / "folder.json").string(), 3072, 20), {"folder.json", "is a folder"});
+  }
+}
+
+TEST_CASE("bad_alloc never escapes as an abort: a raised limit meeting a memory cap ends in a message, exit 2") {
+  if (kSanitized) {
+    WARN("skipped under sanitizers: they cannot run under an address-space cap");
+    return;
+  }
+  const fs::path dir = occsweep::test::scratch("limits_bad_alloc");
+  json g = readJson(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "knn-opt.json");
+  g["name"] = "many-k";
+  std::vector<int> k(100000);
+  for (int i = 0; i < 100000; ++i) k[std::size_t(i)] = i + 1;
+  g["parameters"]["k"] = k;
+  writeText(dir / "many-k.json", g.dump());
+  // 1 GB of address space: 45 M maps (405 M combinations) cannot be enumerated once the limit is raised past them.
+  const Run r = runOccsweep("grid list --max-combinations 1000000000 " + (dir / "many-k.json").string(), 1024);
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.signal == 0);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("out of memory while running `occsweep grid`") != std::string::npos);
+}
