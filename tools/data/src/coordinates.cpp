@@ -83,7 +83,13 @@ bool KeyRange::holds(double c) const {
 }
 
 std::string KeyRange::text() const {
-  return "[" + number(lowest) + ", " + number(highest) + ") m at resolution " + number(resolution) + " m";
+  std::string text = "[";  // appended piece by piece: "[" + std::string trips GCC 12's -Wrestrict false positive
+  text += number(lowest);
+  text += ", ";
+  text += number(highest);
+  text += ") m at resolution ";
+  text += number(resolution);
+  return text + " m";
 }
 
 KeyRange keyRange(double resolution) { return {resolution, -kKeyHalf * resolution, kKeyHalf * resolution}; }
