@@ -21,6 +21,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <octomap/AbstractOcTree.h>
+
+#include "occsweep/data/octree_file.hpp"
 #include "test_helpers.hpp"
 
 namespace fs = std::filesystem;
@@ -285,6 +288,22 @@ TEST_CASE("mapdiff refuses truncated, corrupt and explosive .ot files by name, i
     REQUIRE(same.exit_code == 0);
     CHECK(same.output.find("\"disagree\": 0") != std::string::npos);
     CHECK(same.output.find("Reading") == std::string::npos);
+  }
+  SECTION("the bounded reader reads a good map exactly as liboctomap does") {
+    const auto ours = occsweep::readOcTree(dir / "good.ot");
+    std::unique_ptr<octomap::AbstractOcTree> theirs(octomap::AbstractOcTree::read((dir / "good.ot").string()));
+    const auto* reference = dynamic_cast<const octomap::OcTree*>(theirs.get());
+    REQUIRE(reference);
+    CHECK(ours->getResolution() == reference->getResolution());
+    CHECK(ours->size() == reference->size());
+    std::size_t leaves = 0, differing = 0;
+    for (auto it = reference->begin_leafs(); it != reference->end_leafs(); ++it, ++leaves) {
+      const auto* node = ours->search(it.getKey(), it.getDepth());
+      if (!node || node->getLogOdds() != it->getLogOdds()) ++differing;
+    }
+    CHECK(differing == 0);
+    CHECK(leaves == ours->getNumLeafNodes());
+    CHECK(leaves > 1000);
   }
   SECTION("truncated in the node stream") {
     writeText(dir / "cut.ot", good.substr(0, data + (good.size() - data) / 2));
