@@ -180,11 +180,12 @@ void writeConstantPng(const fs::path& file, std::uint32_t w, std::uint32_t h, st
 
 }  // namespace
 
-TEST_CASE("k-NN maps with a large s_c or a fine resolution: a correct map or a refusal, never a crash, bounded memory") {
+TEST_CASE("k-NN maps with a large s_c or a fine resolution: a correct map or a refusal, never a crash") {
   const fs::path dir = occsweep::test::scratch("limits_knn");
   // Every scene point lies within 20 m of its origin, so s_c 20 and 81.05 must give the same map; 81.05 wrapped
   // the old 32-bit window volume (SIGSEGV), and the window's memory grew with the cube of s_c / resolution.
-  const Run wide = runOccsweep("map --dataset " + scene().string() + " --method knn --s-c 81.05 --out " + (dir / "wide.ot").string());
+  const Run wide =
+      runOccsweep("map --dataset " + scene().string() + " --method knn --s-c 81.05 --out " + (dir / "wide.ot").string());
   INFO(wide.output);
   CHECK(wide.signal == 0);
   REQUIRE(wide.exit_code == 0);
