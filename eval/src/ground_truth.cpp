@@ -105,8 +105,8 @@ GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, 
     if (hi < lo) throw std::invalid_argument("ground truth: the region holds no voxel centre");
   }
   // Counted before any per-voxel allocation (classification and replay allocate per region voxel).
-  checkLimit("region: voxels at resolution " + std::to_string(resolution) + " m", gt.regionVoxelCount(), limits().region_voxels,
-             "--max-region-voxels");
+  checkLimit("region: voxels at resolution " + std::to_string(resolution) + " m", gt.regionVoxelCount(),
+             limits().region_voxels, "--max-region-voxels");
   const double half = resolution / 2.0;
 
   auto visitRange = [&](const std::array<double, 3>& lo, const std::array<double, 3>& hi, auto&& test) {
