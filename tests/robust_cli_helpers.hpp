@@ -1,6 +1,5 @@
-// Helpers of the "Messages, formats and the cluster" tests (docs/robustness.md): the occsweep under test, which
-// OCCSWEEP_UNDER_TEST can point at another build (to see a test fail on the code before a fix), and commands run
-// in a given folder.
+// Helpers of the "Messages, formats and the cluster" tests (docs/robustness.md); the occsweep under test and
+// commands run in a folder are test_helpers.hpp's (OCCSWEEP_TEST_CLI points at another build).
 #pragma once
 
 #include <algorithm>
@@ -14,25 +13,6 @@
 #include "test_helpers.hpp"
 
 namespace occsweep::test {
-
-/// The occsweep binary the robustness tests run: $OCCSWEEP_UNDER_TEST, else this build's.
-inline std::string cliUnderTest() {
-  const char* other = std::getenv("OCCSWEEP_UNDER_TEST");
-  return other && *other ? std::string(other) : std::string(OCCSWEEP_CLI);
-}
-
-/// Runs `occsweep ARGS` (a shell string) in `cwd`, stdout and stderr together.
-inline CommandResult runIn(const std::filesystem::path& cwd, const std::string& args) {
-  const std::string cmd = "cd '" + cwd.string() + "' && " + cliUnderTest() + " " + args + " 2>&1";
-  CommandResult r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
 
 inline CommandResult run(const std::string& args) { return runIn(std::filesystem::current_path(), args); }
 

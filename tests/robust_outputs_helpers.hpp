@@ -14,31 +14,6 @@
 
 namespace occsweep::test {
 
-/// The binary under test: OCCSWEEP_TEST_CLI when set (e.g. the original binary, to see these tests fail on it).
-inline std::string cliBinary() {
-  const char* env = std::getenv("OCCSWEEP_TEST_CLI");
-  return env && *env ? env : OCCSWEEP_CLI;
-}
-
-inline std::string shellQuoted(const std::filesystem::path& p) {
-  std::string q = "'";
-  for (char c : p.string()) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-/// Runs `occsweep ARGS` in folder `cwd` through the shell (`prefix` first, e.g. "ulimit -f 4;").
-inline CommandResult runIn(const std::filesystem::path& cwd, const std::string& args, const std::string& prefix = "") {
-  const std::string cmd = "cd " + shellQuoted(cwd) + " && " + prefix + " " + shellQuoted(cliBinary()) + " " + args + " 2>&1";
-  CommandResult r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
 inline std::string fileBytes(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::ostringstream s;

@@ -36,9 +36,22 @@ struct CommandResult {
   std::string output;  ///< stdout and stderr together
 };
 
-/// Runs the occsweep binary with arguments (a shell string) and captures what it prints.
-inline CommandResult runCli(const std::string& args) {
-  const std::string cmd = std::string(OCCSWEEP_CLI) + " " + args + " 2>&1";
+/// The occsweep binary the tests run: $OCCSWEEP_TEST_CLI when set (e.g. the build before a fix, to see a test fail
+/// on it), else this build's.
+inline std::string cliUnderTest() {
+  const char* other = std::getenv("OCCSWEEP_TEST_CLI");
+  return other && *other ? std::string(other) : std::string(OCCSWEEP_CLI);
+}
+
+/// `p` in single quotes for the shell.
+inline std::string shellQuoted(const std::filesystem::path& p) {
+  std::string q = "'";
+  for (char c : p.string()) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// Runs a shell command line and captures what it prints.
+inline CommandResult runShell(const std::string& cmd) {
   CommandResult r;
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return r;
@@ -47,6 +60,17 @@ inline CommandResult runCli(const std::string& args) {
   const int status = ::pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+/// Runs the occsweep binary with arguments (a shell string), stdout and stderr together.
+inline CommandResult runCli(const std::string& args) {
+  return runShell(shellQuoted(cliUnderTest()) + " " + args + " 2>&1");
+}
+
+/// runCli in folder `cwd`, with `prefix` first (e.g. "ulimit -f 4;").
+inline CommandResult runIn(const std::filesystem::path& cwd, const std::string& args, const std::string& prefix = "") {
+  return runShell("cd " + shellQuoted(cwd) + " && " + prefix + " " + shellQuoted(cliUnderTest()) + " " + args +
+                  " 2>&1");
 }
 
 }  // namespace occsweep::test

@@ -25,7 +25,7 @@ constexpr int kKills = 20;
 
 /// Starts `occsweep ARGS...` in `cwd` without a shell (so that the signal reaches occsweep itself).
 pid_t start(const fs::path& cwd, const std::vector<std::string>& args) {
-  const std::string binary = cliBinary();
+  const std::string binary = cliUnderTest();
   const pid_t pid = ::fork();
   if (pid == 0) {
     if (::chdir(cwd.c_str()) != 0) ::_exit(127);

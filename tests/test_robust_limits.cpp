@@ -53,18 +53,13 @@ struct Run {
   std::string output;    ///< stdout and stderr
 };
 
-std::string cli() {
-  const char* other = std::getenv("OCCSWEEP_TEST_CLI");
-  return other ? other : OCCSWEEP_CLI;
-}
-
 /// Runs occsweep ARGS (a shell string) as its own process (exec'd by the shell, so wait4 measures occsweep itself).
 /// `address_space_mb` caps the child's virtual memory so that an unbounded old binary fails fast instead of taking
 /// the machine (not under sanitizers, which reserve terabytes). The guard kills a child still running after
 /// `timeout_s`: a hang, reported as `hung`, never a timed assertion on a result.
 Run runOccsweep(const std::string& args, long address_space_mb = 3072, int timeout_s = 120) {
   const fs::path out = occsweep::test::scratch("limits_run_output") / "out.txt";
-  const std::string cmd = "exec " + cli() + " " + args + " >" + out.string() + " 2>&1 </dev/null";
+  const std::string cmd = "exec " + occsweep::test::cliUnderTest() + " " + args + " >" + out.string() + " 2>&1 </dev/null";
   const pid_t pid = ::fork();
   if (pid == 0) {
     if (!kSanitized && address_space_mb > 0) {

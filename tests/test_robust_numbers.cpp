@@ -22,18 +22,7 @@ namespace {
 
 const fs::path kSource = OCCSWEEP_SOURCE_DIR;
 
-test::CommandResult run(const std::string& args) {
-  const char* other = std::getenv("OCCSWEEP_TEST_CLI");
-  const std::string cmd = std::string(other ? other : OCCSWEEP_CLI) + " " + args + " 2>&1";
-  test::CommandResult r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+test::CommandResult run(const std::string& args) { return test::runCli(args); }
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
