@@ -74,6 +74,7 @@ TEST_CASE("every command writing to a full disk says no space left, names the fi
       {"compare r.json --json disk/c.json", "disk/c.json", false},
       {"import truth truth.json --dataset scene --out disk/out", "disk/out"},
       {"dataset generate --name parking-plain-I --scale ci --out disk/gen", "disk/gen", true, true},
+      {"reproduce --scale ci --no-figures --out disk/repro", "disk/repro", true, true},
       {"cluster select ds/ranking.json --out disk/sel", "disk/sel", false},
       {"cluster plan --out disk/plan --experiment sweep --datasets scene --sets . --grids tiny.json:1", "disk/plan",
        false},

@@ -1,6 +1,7 @@
 // The reproduction in order: data, Fig. 3-7 step files, report.md, then the figures drawn by Python.
 #include <chrono>
 #include <cstdlib>
+#include <exception>
 #include <fstream>
 #include <stdexcept>
 #include <unistd.h>
@@ -68,6 +69,15 @@ double runReproduction(const ReproduceConfig& c) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   checkOutputTarget(c.out, true, {"reproduction folder", isReproductionFolder});
+  // A run that fails before it finishes anything (a full disk) leaves no empty folder of its own behind; a folder
+  // holding finished steps stays, for the next run to resume from (docs/robustness.md).
+  struct RemoveIfEmptyOnFailure {
+    fs::path made;
+    ~RemoveIfEmptyOnFailure() {
+      std::error_code ec;
+      if (!made.empty() && std::uncaught_exceptions() > 0) fs::remove(made, ec);  // refuses a non-empty folder
+    }
+  } cleanup{fs::exists(c.out) ? fs::path() : c.out};
   fs::create_directories(c.out);
   // Before hours of work: fail now if the figures cannot be drawn.
   const std::string python = c.figures ? findPython(c.python) : std::string();
