@@ -245,7 +245,8 @@ TEST_CASE("property: an import that succeeds yields a data set that every reader
       ++succeeded;
       CHECK_NOTHROW((void)readDataset(out));
       // map either builds it or refuses by the key-range rule; never a reader error on what import wrote
-      const auto m = run("map --dataset " + out.string() + " --method octomap --out " + (dir / "m.ot").string());
+      const auto m = run("map --dataset " + out.string() + " --method octomap --out " +
+                         (dir / ("m" + std::to_string(trial) + ".ot")).string());
       INFO(m.output);
       CHECK((m.exit_code == 0 || (m.exit_code == 2 && has(m.output, "key range"))));
     } else {
