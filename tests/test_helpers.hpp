@@ -23,6 +23,12 @@ inline std::filesystem::path scratch(const std::string& name) {
   return dir;
 }
 
+/// scratch(name) of this process alone: ctest runs each test case as its own process, two at a time, so a folder
+/// shared by a program's cases (a scene written once) must not be shared between processes.
+inline std::filesystem::path processScratch(const std::string& name) {
+  return scratch(name + "-pid" + std::to_string(::getpid()));
+}
+
 inline std::vector<octomap::point3d> randomCloud(SplitMix64& rng, std::size_t n, double extent) {
   std::vector<octomap::point3d> pts;
   for (std::size_t i = 0; i < n; ++i)

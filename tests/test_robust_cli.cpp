@@ -19,7 +19,7 @@ namespace {
 /// A small built-in scene, written once per test program.
 fs::path tinyScene() {
   static const fs::path dir = [] {
-    const fs::path d = test::scratch("robust-cli-scene") / "scene";
+    const fs::path d = test::processScratch("robust-cli-scene") / "scene";
     const auto r = test::runCli("scene --out " + d.string() + " --scans 4 --width 24 --height 12");
     REQUIRE(r.exit_code == 0);
     return d;
@@ -90,7 +90,7 @@ TEST_CASE("a typo in a command or an option is exit 2 with the nearest valid nam
   requireUsageError("map --dataset " + ds, "--out is required", dir);
 }
 
-TEST_CASE("--help and --version still exit 0") {
+TEST_CASE("help and version (--help, --version) still exit 0") {
   for (const std::string args : {"--help", "--version", "map --help", "import truth --help", "cluster run-local --help"}) {
     INFO(args);
     const auto r = test::run(args);
@@ -199,7 +199,7 @@ TEST_CASE("a manifest whose truth is not an object is refused by name") {
 // TUM RGB-D (cvg.cit.tum.de/data/datasets/rgbd-dataset/file_formats): "timestamp tx ty tz qx qy qz qw".
 // A quarter turn about z (qz = qw = sqrt(1/2)) at (1, 2, 3): sensor point (1, 0, 0) -> world (1, 3, 3),
 // (0, 2, 0) -> (-1, 2, 3). Worked by hand: R = [0 -1 0; 1 0 0; 0 0 1].
-TEST_CASE("--pose-format tum reads TUM trajectories, timestamp first") {
+TEST_CASE("pose format tum (--pose-format tum) reads TUM trajectories, timestamp first") {
   const fs::path dir = test::scratch("robust-cli-tum");
   std::ofstream(dir / "c0.xyz") << "1 0 0\n0 2 0\n";
   std::ofstream(dir / "c1.xyz") << "1 0 0\n";
@@ -235,7 +235,7 @@ TEST_CASE("--pose-format tum reads TUM trajectories, timestamp first") {
 // KITTI odometry (devkit readme.txt of the odometry benchmark): a line holds the first three rows of the 4x4
 // camera-to-world pose, row-major: r11 r12 r13 tx r21 r22 r23 ty r31 r32 r33 tz. A quarter turn about x,
 // R = [1 0 0; 0 0 -1; 0 1 0], t = (4, 5, 6): sensor (0, 1, 0) -> (4, 5, 7), (1, 0, 0) -> (5, 5, 6).
-TEST_CASE("--pose-format kitti reads KITTI's 12 numbers a line") {
+TEST_CASE("pose format kitti (--pose-format kitti) reads KITTI's 12 numbers a line") {
   const fs::path dir = test::scratch("robust-cli-kitti");
   std::ofstream(dir / "c0.xyz") << "0 1 0\n1 0 0\n";
   std::ofstream(dir / "poses.txt") << "1 0 0 4 0 0 -1 5 0 1 0 6\n";
@@ -301,11 +301,12 @@ TEST_CASE("progress into a log is whole lines, and mapdiff prints its JSON alone
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.output, !Contains("Reading octree type"));
   CHECK_NOTHROW(nlohmann::json::parse(r.output));  // stdout and stderr together: nothing but the JSON
-  // A file that is not a map: occsweep's message, with liboctomap's reason, not its raw lines.
+  // A file that is not a map: occsweep's own message naming the file (its reader checks the bytes before
+  // liboctomap sees them), not liboctomap's raw lines.
   std::ofstream(dir / "junk.ot") << "not an octree\n";
   r = test::run("mapdiff " + (dir / "junk.ot").string() + " " + (dir / "knn.ot").string());
   INFO(r.output);
   CHECK(r.exit_code == 2);
-  CHECK_THAT(r.output, Contains("junk.ot: not an OcTree .ot file"));
+  CHECK_THAT(r.output, Contains("junk.ot: magic: not an OctoMap .ot file"));
   CHECK_THAT(r.output, !Contains("\nERROR: "));
 }

@@ -132,7 +132,7 @@ TEST_CASE("scene --out . is refused by name and leaves nothing behind", "[output
   CHECK(snapshot(dir) == before);
 }
 
-TEST_CASE("--out with a trailing slash writes that folder, with no temporary inside or beside it", "[outputs]") {
+TEST_CASE("an --out with a trailing slash writes that folder, with no temporary inside or beside it", "[outputs]") {
   const fs::path dir = scratch("robust_outputs/slash");
   const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out s1/");
   INFO(r.output);
