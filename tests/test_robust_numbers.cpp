@@ -266,7 +266,7 @@ namespace {
 struct ResultsFixture {
   fs::path dir, wall, octomap, knn;
   ResultsFixture() {
-    dir = test::scratch("robust_numbers_results");
+    dir = test::processScratch("robust_numbers_results");  // two cases run it at once
     wall = wallDataset(dir, "wall");
     octomap = dir / "octomap.json";
     knn = dir / "knn.json";

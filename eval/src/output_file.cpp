@@ -56,12 +56,12 @@ void cleanOnInterrupt() {
   unsigned char sig = 0;
   while (::read(interrupt_pipe[0], &sig, 1) != 1) {
   }
-  {
-    std::lock_guard lock(registryMutex());
-    for (const auto& p : registry()) {
-      std::error_code ec;
-      fs::remove_all(p, ec);
-    }
+  // The lock is held until _exit: a commit (which takes it too) cannot rename a temporary into place after, or
+  // while, its files are removed here (a SIGTERM'd `scene` once renamed a folder holding only manifest.json).
+  registryMutex().lock();
+  for (const auto& p : registry()) {
+    std::error_code ec;
+    fs::remove_all(p, ec);
   }
   ::_exit(128 + sig);
 }
@@ -244,6 +244,7 @@ void OutputFile::commit() {
   buffer_->fd = -1;
   if (::close(fd) != 0) fail(target_, errno);
   std::error_code ec;
+  std::unique_lock lock(registryMutex());  // no rename once an interrupt's cleaning has begun (cleanOnInterrupt)
   if (isEmptyFolder(target_)) fs::remove(target_, ec);  // an empty folder holds nothing of the user's
   if (::rename(temporary_.c_str(), target_.c_str()) != 0) fail(target_, errno);
   committed_ = true;
@@ -272,6 +273,7 @@ OutputFolder::~OutputFolder() {
 
 void OutputFolder::commit() {
   std::error_code ec;
+  std::unique_lock lock(registryMutex());  // no rename once an interrupt's cleaning has begun (cleanOnInterrupt)
   if (fs::exists(fs::symlink_status(target_, ec))) {
     // Swapped in one step (renameat2 RENAME_EXCHANGE): no moment without either the old or the new folder; the old
     // one, now under the registered temporary name, is then removed.

@@ -31,6 +31,7 @@ struct MapOptions {
 constexpr const char* kSettingsFormat = "occsweep-map-settings";
 
 bool isOccsweepSettings(const std::filesystem::path& file) {
+  if (!std::filesystem::is_regular_file(file)) return false;  // a FIFO would block the read below
   if (jsonOutput("", kSettingsFormat).is_own(file)) return true;
   try {  // written before the format field existed: occsweep's keys
     std::ifstream in(file);
@@ -107,7 +108,11 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
                                   "log-odds kept)");
     if (o->method == "octomap") validate(om); else validate(k);
     checkOutputTarget(o->out, o->force, mapOutput());
-    checkOutputTarget(o->out + ".json", o->force, jsonOutput("map settings (.ot.json)", kSettingsFormat));
+    // occsweep's own settings without their map are what a kill between the two renames leaves (the .ot.json is
+    // renamed first): a leftover of occsweep's, replaced like a stale temporary (docs/robustness.md).
+    const bool orphan_settings = !fs::exists(fs::symlink_status(o->out)) && isOccsweepSettings(o->out + ".json");
+    checkOutputTarget(o->out + ".json", o->force || orphan_settings,
+                      jsonOutput("map settings (.ot.json)", kSettingsFormat));
     const Dataset d = readDataset(o->dataset);
     requireInKeyRange(d, o->dataset, k.resolution);
     warnWhenAllBeyondRange(d.scans, k.s_c);
