@@ -131,6 +131,16 @@ const fs::path& scene() {
 json readJson(const fs::path& file) { return json::parse(std::ifstream(file)); }
 void writeText(const fs::path& file, const std::string& text) { std::ofstream(file, std::ios::binary) << text; }
 
+/// knn-opt with k = 1..100000: 405 M combinations from a 1 MB file (old: 3.9 GB, then bad_alloc naming no file).
+void writeManyKGrid(const fs::path& file) {
+  json g = readJson(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "knn-opt.json");
+  g["name"] = "many-k";
+  std::vector<int> k(100000);
+  for (int i = 0; i < 100000; ++i) k[std::size_t(i)] = i + 1;
+  g["parameters"]["k"] = k;
+  writeText(file, g.dump());
+}
+
 /// A copy of the scene whose manifest is edited by `edit`.
 fs::path editedScene(const fs::path& dir, const std::function<void(json&)>& edit) {
   const fs::path d = dir / "edited";
@@ -235,12 +245,7 @@ TEST_CASE("grids past the combination limit are counted by Eq. 15 and refused be
   CHECK(leftovers(dir).empty());
 
   // k-NN k = 1..100000 (old: 3.9 GB, then bad_alloc naming no file).
-  json g = readJson(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "knn-opt.json");
-  g["name"] = "many-k";
-  std::vector<int> k(100000);
-  for (int i = 0; i < 100000; ++i) k[std::size_t(i)] = i + 1;
-  g["parameters"]["k"] = k;
-  writeText(dir / "many-k.json", g.dump());
+  writeManyKGrid(dir / "many-k.json");
   const Run list = runOccsweep("grid list " + (dir / "many-k.json").string());
   checkRefused(list, {"grid many-k", "405000000", "is more than the limit of", "--max-combinations"});
   const Run count_k = runOccsweep("grid count " + (dir / "many-k.json").string());
@@ -432,12 +437,7 @@ TEST_CASE("bad_alloc never escapes as an abort: a raised limit meeting a memory 
     return;
   }
   const fs::path dir = occsweep::test::scratch("limits_bad_alloc");
-  json g = readJson(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "knn-opt.json");
-  g["name"] = "many-k";
-  std::vector<int> k(100000);
-  for (int i = 0; i < 100000; ++i) k[std::size_t(i)] = i + 1;
-  g["parameters"]["k"] = k;
-  writeText(dir / "many-k.json", g.dump());
+  writeManyKGrid(dir / "many-k.json");
   // 1 GB of address space: 45 M maps (405 M combinations) cannot be enumerated once the limit is raised past them.
   const Run r = runOccsweep("grid list --max-combinations 1000000000 " + (dir / "many-k.json").string(), 1024);
   INFO(r.output.substr(0, 2000));
