@@ -69,7 +69,11 @@ void cleanOnInterrupt() {
 // ---- names ----
 
 fs::path temporaryName(const fs::path& target) {
-  return target.parent_path() / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  std::string name = ".";  // appended piece by piece: "." + std::string trips GCC 12's -Wrestrict false positive
+  name += target.filename().string();
+  name += ".tmp-";
+  name += std::to_string(::getpid());
+  return target.parent_path() / name;
 }
 
 [[noreturn]] void fail(const fs::path& file, int error_number) { throw OutputError(writeFailure(file, error_number)); }
