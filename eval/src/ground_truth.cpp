@@ -79,6 +79,11 @@ bool triangleTouchesBox(const Triangle& t, const std::array<double, 3>& centre, 
 
 std::uint64_t regionVoxelCount(const AxisBox& region, double resolution) {
   const octomap::OcTree grid(resolution);
+  // Beyond OctoMap's 16-bit keys coordToKey's int conversion is undefined (an import may hold such coordinates,
+  // with a warning): such a region saturates, more voxels than any limit.
+  const double key_reach = 32768.0 * resolution;
+  for (int a = 0; a < 3; ++a)
+    if (!(std::abs(region.min[a]) < key_reach && std::abs(region.max[a]) < key_reach)) return UINT64_MAX;
   std::uint64_t n = 1;
   for (int a = 0; a < 3; ++a) {
     auto [lo, hi] = centreKeyRange(grid, region.min[a], region.max[a]);

@@ -1,4 +1,5 @@
 // occsweep import depth|graph|cloud|truth FILES... --out DIR: real recordings into the data-set format (issue 8).
+#include <cstdint>
 #include <iostream>
 #include <sstream>
 
@@ -54,8 +55,9 @@ void printRegion(const AxisBox& r, const std::string& origin) {
   const double resolution = KnnParams{}.resolution;
   const std::uint64_t voxels = regionVoxelCount(r, resolution);
   std::cout << "region (" << origin << "): [" << r.min[0] << ", " << r.max[0] << "] x [" << r.min[1] << ", "
-            << r.max[1] << "] x [" << r.min[2] << ", " << r.max[2] << "] m, " << voxels << " voxels at "
-            << resolution << " m\n";
+            << r.max[1] << "] x [" << r.min[2] << ", " << r.max[2] << "] m, ";
+  if (voxels == UINT64_MAX) std::cout << "outside OctoMap's key range at " << resolution << " m\n";
+  else std::cout << voxels << " voxels at " << resolution << " m\n";
   if (voxels > limits().region_voxels)
     std::cout << "note: more than the limit of " << limits().region_voxels
               << " region voxels: map and sweep refuse it at this resolution (give --region, or "

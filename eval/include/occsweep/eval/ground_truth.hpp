@@ -47,7 +47,8 @@ struct GroundTruth {
 /// before allocating anything.
 [[nodiscard]] GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, double resolution);
 
-/// Voxels whose centre lies in `region` at `resolution` (the count makeGroundTruth checks), 0 when none.
+/// Voxels whose centre lies in `region` at `resolution` (the count makeGroundTruth checks), 0 when none;
+/// UINT64_MAX when the region reaches beyond OctoMap's 16-bit keys at this resolution.
 [[nodiscard]] std::uint64_t regionVoxelCount(const AxisBox& region, double resolution);
 
 /// Separating-axis test of a triangle against an axis-aligned cube (Akenine-Moeller 2001), closed sets.
