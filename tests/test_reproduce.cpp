@@ -110,6 +110,23 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
     for (const char* png : {"fig3_distribution_fits.png", "fig4_nca_weights.png", "fig5_improvement.png",
                             "fig6_curves_maps.png", "fig7_runtime.png"})
       CHECK(std::filesystem::file_size(dir / png) > 10000);
+
+  // --steps comparison again in the same folder: the sweeps are reused, only that step runs, the same numbers come
+  // out, and the report says which findings were not looked at rather than printing stale ones.
+  const auto again = test::runCli("reproduce --scale ci --datasets building-voronoi-I,parking-voronoi-O --steps comparison "
+                                  "--no-figures --quiet --out " + dir.string());
+  INFO(again.output);
+  REQUIRE(again.exit_code == 0);
+  CHECK(readJsonFile(dir / "comparison.json") == comparison);
+  CHECK(readJsonFile(dir / "run.json").at("steps") == json::array({"comparison"}));
+  const std::string partial = readText(dir / "report.md");
+  CHECK(partial.find("--steps comparison") != std::string::npos);
+  for (const char* heading : {"## 1.", "## 2.", "## 5.", "## 6."}) {
+    const auto at = partial.find(heading);
+    REQUIRE(at != std::string::npos);
+    CHECK(partial.find("Not run in this reproduction", at) < partial.find("\n## ", at + 1));
+  }
+  CHECK(partial.find("Pearson correlation") != std::string::npos);  // the comparison's own section is there
 }
 
 TEST_CASE("reproduce refuses bad input with the field named") {
@@ -124,4 +141,12 @@ TEST_CASE("reproduce refuses bad input with the field named") {
                    " --out " + (dir / "out").string());
   CHECK(r.exit_code != 0);
   CHECK(r.output.find("ranking.json") != std::string::npos);
+
+  for (const char* steps : {"bogus", "comparison,comparison", "curves,fits"}) {
+    INFO(steps);
+    r = test::runCli(std::string("reproduce --no-figures --steps ") + steps + " --out " + (dir / "steps").string());
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("--steps") != std::string::npos);
+    CHECK(!std::filesystem::exists(dir / "steps"));
+  }
 }

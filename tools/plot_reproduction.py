@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Figures of `occsweep reproduce` (issue 6): Fig. 3-7 of Miao et al. (Sensors 2022) from the step files.
 
-usage: plot_reproduction.py OUT     (reads OUT/{fits,nca,comparison,curves,runtime}.json and OUT/maps/*.ply,
-                                     writes OUT/fig3_distribution_fits.png ... OUT/fig7_runtime.png)
+usage: plot_reproduction.py OUT [STEP...]
+       (reads OUT/{fits,nca,comparison,curves,runtime}.json and OUT/maps/*.ply, writes OUT/fig3_distribution_fits.png
+        ... OUT/fig7_runtime.png; with STEPs, as `reproduce --steps`, only their figures)
 Every number drawn comes from those files; nothing is typed in here except the paper's 0.1 line of Fig. 4.
 """
 import json
@@ -175,12 +176,15 @@ def fig7(out):
     save(fig, out, "fig7_runtime.png")
 
 
+FIGURES = {"fits": fig3, "nca": fig4, "comparison": fig5, "curves": fig6, "runtime": fig7}
+
+
 def main():
-    if len(sys.argv) != 2:
+    if len(sys.argv) < 2 or any(step not in FIGURES for step in sys.argv[2:]):
         sys.exit(__doc__)
     out = sys.argv[1]
-    for fn in (fig3, fig4, fig5, fig6, fig7):
-        fn(out)
+    for step in sys.argv[2:] or FIGURES:
+        FIGURES[step](out)
 
 
 if __name__ == "__main__":

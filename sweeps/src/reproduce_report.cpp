@@ -74,19 +74,7 @@ void ncaSection(std::ostringstream& o, const json& nca) {
     << verdict(all_least) << ".\n\n";
 }
 
-}  // namespace
-
-std::string reproductionReport(const ReproduceConfig& c, const json& fits, const json& nca, const json& comparison,
-                               const json& curves, const json& runtime) {
-  std::ostringstream o;
-  o << "# Reproduction of Miao, Hunter, Georgilas (Sensors 2022), Section 4\n\n"
-    << "Written by `occsweep reproduce --scale " << c.scale << "`; every number below comes from the JSON files "
-    << "beside this report (fits.json, nca.json, comparison.json, curves.json, runtime.json). Data: "
-    << comparison.at("rows").size() << " point cloud sets of " << nca.at("datasets").size()
-    << " rendered data sets (docs/datasets.md), not the paper's recordings. See docs/reproduction.md.\n\n";
-  fitsSection(o, fits);
-  ncaSection(o, nca);
-  reproduce::comparisonSection(o, comparison);
+void curvesSection(std::ostringstream& o, const json& curves) {
   o << "## 5. Curves and maps (Fig. 6, `fig6_curves_maps.png`)\n\n" << "Best curves on "
     << curves.at("dataset").get<std::string>() << " " << curves.at("point_cloud_set").get<std::string>()
     << ": OctoMap AUC " << num(get(curves.at("octomap").at("auc"))) << ", k-NN AUC "
@@ -98,6 +86,9 @@ std::string reproductionReport(const ReproduceConfig& c, const json& fits, const
     << num(get(curves.at("knn").at("map_counts").at("fdr"))) << "): maps/octomap.ply, maps/knn.ply (TP blue, FP red, "
     << "FN yellow). Directly built maps give the sweep's counts: "
     << (curves.at("direct_build_matches_sweep").get<bool>() ? "yes" : "**no**") << ".\n\n";
+}
+
+void runtimeSection(std::ostringstream& o, const json& runtime) {
   const json& f17 = runtime.at("octomap").at("fit");
   const json& f18 = runtime.at("knn").at("fit");
   double worst_r2 = INFINITY;
@@ -125,6 +116,35 @@ std::string reproductionReport(const ReproduceConfig& c, const json& fits, const
     << ". Across data sets (pooled R^2 > 0.9): " << verdict(f17.at("r_squared").get<double>() > 0.9 &&
                                                              f18.at("r_squared").get<double>() > 0.9)
     << ". Time grows with k (Eq. 18 a > 0, pooled and per data set): " << verdict(k_slope) << ".\n";
+}
+
+// A step left out by --steps: its section says so, with no number.
+void notRun(std::ostringstream& o, const char* title) {
+  o << "## " << title << "\n\nNot run in this reproduction (`--steps`).\n\n";
+}
+
+}  // namespace
+
+std::string reproductionReport(const ReproduceConfig& c, const ReproductionResults& r) {
+  std::ostringstream o;
+  std::string steps;
+  for (const auto& s : c.steps) steps += (steps.empty() ? "" : ",") + s;
+  o << "# Reproduction of Miao, Hunter, Georgilas (Sensors 2022), Section 4\n\n"
+    << "Written by `occsweep reproduce --scale " << c.scale
+    << (c.steps == reproductionSteps() ? std::string() : " --steps " + steps)
+    << "`; every number below comes from the JSON files beside this report (fits.json, nca.json, comparison.json, "
+    << "curves.json, runtime.json). Data: " << r.datasets
+    << " rendered data sets (docs/datasets.md), not the paper's recordings. See docs/reproduction.md.\n\n";
+  if (r.fits.is_null()) notRun(o, "1. The CDF of the average distance is insensitive to the distribution (Fig. 3)");
+  else fitsSection(o, r.fits);
+  if (r.nca.is_null()) notRun(o, "2. k is the least important k-NN parameter, weight below 0.1 (Fig. 4)");
+  else ncaSection(o, r.nca);
+  if (r.comparison.is_null()) notRun(o, "3-4. k-NN against the optimal OctoMap, by texture and environment (Fig. 5)");
+  else reproduce::comparisonSection(o, r.comparison);
+  if (r.curves.is_null()) notRun(o, "5. Curves and maps (Fig. 6)");
+  else curvesSection(o, r.curves);
+  if (r.runtime.is_null()) notRun(o, "6. Run time is linear in the points, and grows with k (Fig. 7)");
+  else runtimeSection(o, r.runtime);
   return o.str();
 }
 

@@ -1,4 +1,5 @@
 // The reproduction in order: data, Fig. 3-7 step files, report.md, then the figures drawn by Python.
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <exception>
@@ -30,6 +31,20 @@ ReproduceConfig reproduceDefaults(const std::string& scale) {
     throw std::invalid_argument("scale '" + scale + "': must be ci, small or paper");
   }
   return c;
+}
+
+void checkReproductionSteps(const std::vector<std::string>& steps) {
+  const auto known = reproductionSteps();
+  auto has = [&](const std::string& name) { return std::find(steps.begin(), steps.end(), name) != steps.end(); };
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    if (std::find(known.begin(), known.end(), steps[i]) == known.end())
+      throw std::invalid_argument("--steps: '" + steps[i] + "' is not a step (fits, nca, comparison, curves, runtime)");
+    if (std::find(steps.begin(), steps.begin() + std::ptrdiff_t(i), steps[i]) != steps.begin() + std::ptrdiff_t(i))
+      throw std::invalid_argument("--steps: '" + steps[i] + "' is given twice");
+  }
+  if (steps.empty()) throw std::invalid_argument("--steps: no step given");
+  if (has("curves") && !has("comparison"))
+    throw std::invalid_argument("--steps: curves needs comparison (Fig. 6 draws the best maps of Fig. 5's sweeps)");
 }
 
 std::string findPython(const std::string& configured) {
@@ -90,21 +105,26 @@ double runReproduction(const ReproduceConfig& c) {
     return result;
   };
   const auto datasets = step("data", [&] { return prepareDatasets(c); });
-  const json fits = step("fits", [&] { return runDistributionFits(c, datasets); });
-  writeJsonAtomically(fits, c.out / "fits.json");
-  const json nca = step("nca", [&] { return runNcaWeights(c, datasets); });
-  writeJsonAtomically(nca, c.out / "nca.json");
-  const json comparison = step("comparison", [&] { return runOptimalComparison(c, datasets); });
-  writeJsonAtomically(comparison, c.out / "comparison.json");
-  const json curves = step("curves", [&] { return runCurvesAndMaps(c, datasets, comparison); });
-  writeJsonAtomically(curves, c.out / "curves.json");
-  const json runtime = step("runtime", [&] { return runRuntimeModels(c, datasets); });
-  writeJsonAtomically(runtime, c.out / "runtime.json");
-  writeFileAtomically(c.out / "report.md", reproductionReport(c, fits, nca, comparison, curves, runtime));
+  ReproductionResults r;
+  r.datasets = datasets.size();
+  auto runs = [&](const std::string& name) { return std::find(c.steps.begin(), c.steps.end(), name) != c.steps.end(); };
+  auto stepFile = [&](const char* name, auto&& fn) {
+    if (!runs(name)) return json();
+    const json result = step(name, fn);
+    writeJsonAtomically(result, c.out / (std::string(name) + ".json"));
+    return result;
+  };
+  r.fits = stepFile("fits", [&] { return runDistributionFits(c, datasets); });
+  r.nca = stepFile("nca", [&] { return runNcaWeights(c, datasets); });
+  r.comparison = stepFile("comparison", [&] { return runOptimalComparison(c, datasets); });
+  r.curves = stepFile("curves", [&] { return runCurvesAndMaps(c, datasets, r.comparison); });
+  r.runtime = stepFile("runtime", [&] { return runRuntimeModels(c, datasets); });
+  writeFileAtomically(c.out / "report.md", reproductionReport(c, r));
   if (c.figures) {
     step("figures", [&] {
-      const std::string cmd = "'" + python + "' '" + std::string(OCCSWEEP_SOURCE_DIR) +
-                              "/tools/plot_reproduction.py' '" + c.out.string() + "'";
+      std::string cmd = "'" + python + "' '" + std::string(OCCSWEEP_SOURCE_DIR) + "/tools/plot_reproduction.py' '" +
+                        c.out.string() + "'";
+      for (const auto& name : c.steps) cmd += " " + name;
       if (std::system(cmd.c_str()) != 0) throw std::runtime_error("reproduce: `" + cmd + "` failed");
       return 0;
     });
@@ -113,7 +133,7 @@ double runReproduction(const ReproduceConfig& c) {
   timing["total"] = seconds;
   writeJsonAtomically({{"format", "occsweep-reproduce-run"}, {"scale", c.scale}, {"seconds", timing},
                        {"datasets", datasets.size()}, {"nca_samples", c.nca_samples}, {"nca_folds", c.nca_folds},
-                       {"seed", c.seed}, {"figures", c.figures}},
+                       {"seed", c.seed}, {"figures", c.figures}, {"steps", c.steps}},
                       c.out / "run.json");
   return seconds;
 }

@@ -13,6 +13,7 @@ namespace {
 struct ReproduceOptions {
   std::string scale = "ci", out, data, python;
   std::vector<std::string> datasets;
+  std::vector<std::string> steps = reproductionSteps();
   std::uint64_t seed = 1;
   long nca_samples = -1;
   int runtime_repeats = 0;
@@ -30,6 +31,8 @@ const RegisterCommand kReproduce{"reproduce",
   app.add_option("--out", o->out, "Output folder: *.json, report.md, fig*.png, maps/, sweeps/, data/")->required();
   app.add_option("--data", o->data, "Generated data sets to use (default OUT/data; missing ones are generated)");
   app.add_option("--datasets", o->datasets, "Only these data sets (default: the paper's 20)")->delimiter(',');
+  app.add_option("--steps", o->steps, "Only these steps: fits, nca, comparison, curves (needs comparison), runtime "
+                 "(default all; docs/reproduction.md)")->delimiter(',');
   app.add_option("--seed", o->seed, "Eq. 16 split of the reduction grid, NCA subsample and folds")->capture_default_str();
   app.add_option("--nca-samples", o->nca_samples, "NCA samples per data set and response (0: all; default per scale)")
       ->check(integerAtLeast<long>(0));
@@ -45,6 +48,8 @@ const RegisterCommand kReproduce{"reproduce",
     c.data = o->data;
     c.datasets = o->datasets;
     c.seed = o->seed;
+    checkReproductionSteps(o->steps);
+    c.steps = o->steps;
     if (o->nca_samples >= 0) c.nca_samples = std::size_t(o->nca_samples);
     c.threads = o->threads;
     if (o->runtime_repeats > 0) c.runtime_repeats = o->runtime_repeats;

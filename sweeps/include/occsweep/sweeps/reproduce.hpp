@@ -12,6 +12,12 @@
 
 namespace occsweep {
 
+/// The steps of a reproduction in their order: fits (Fig. 3), nca (Fig. 4), comparison (Fig. 5), curves (Fig. 6),
+/// runtime (Fig. 7).
+[[nodiscard]] inline std::vector<std::string> reproductionSteps() {
+  return {"fits", "nca", "comparison", "curves", "runtime"};
+}
+
 struct ReproduceConfig {
   std::string scale = "ci";                  ///< ci | small | paper: the data sets' scale (docs/datasets.md)
   std::filesystem::path out;                 ///< results, figures and report.md
@@ -35,6 +41,9 @@ struct ReproduceConfig {
   int threads = 0;                           ///< sweeps and NCA; 0: all cores (timed builds always use 1)
   std::string python;                        ///< interpreter for the figures; empty: search (see findPython)
   bool figures = true;                       ///< false: JSON and report only
+  /// The steps to run, a subset of reproductionSteps() (`--steps`): curves needs comparison. Steps left out write
+  /// no JSON, no figure and a "not run" line in report.md.
+  std::vector<std::string> steps = reproductionSteps();
   bool quiet = false;                        ///< no progress on stderr
 };
 
@@ -70,10 +79,18 @@ nlohmann::json runCurvesAndMaps(const ReproduceConfig& c, const std::vector<Rank
 /// Fig. 7: timed builds, Eq. 17 and Eq. 18 fits.
 nlohmann::json runRuntimeModels(const ReproduceConfig& c, const std::vector<RankedDataset>& d);
 
-/// report.md: each finding of the paper beside ours, every number from the step files.
-[[nodiscard]] std::string reproductionReport(const ReproduceConfig& c, const nlohmann::json& fits,
-                                             const nlohmann::json& nca, const nlohmann::json& comparison,
-                                             const nlohmann::json& curves, const nlohmann::json& runtime);
+/// The step files of one reproduction; a step that was not run is null.
+struct ReproductionResults {
+  std::size_t datasets = 0;
+  nlohmann::json fits, nca, comparison, curves, runtime;
+};
+
+/// report.md: each finding of the paper beside ours, every number from the step files; a step not run is said so.
+[[nodiscard]] std::string reproductionReport(const ReproduceConfig& c, const ReproductionResults& r);
+
+/// Checks `steps` against reproductionSteps() (each known, none twice, curves with comparison); throws
+/// std::invalid_argument naming the step and the rule.
+void checkReproductionSteps(const std::vector<std::string>& steps);
 
 /// A Python 3 that imports matplotlib: `configured` if given, else $OCCSWEEP_PYTHON, /usr/bin/python3, python3.
 /// Throws std::runtime_error saying what to install when none does.
