@@ -114,7 +114,8 @@ DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c,
         if (key.frames[i].target_mask[p]) target_pixels[i] += 1, target_valid[i] += disparity[p] > 0;
       scans[i].origin = octomap::point3d(float(key.mapping[i].position.x()), float(key.mapping[i].position.y()),
                                          float(key.mapping[i].position.z()));
-      scans[i].points = voxelFilter(reprojectDisparity(disparity, cam, key.mapping[i], c.max_depth), c.leaf);
+      const auto points = reprojectDisparity(disparity, cam, key.mapping[i], c.max_depth);
+      scans[i].points = c.voxel_filter ? voxelFilter(points, c.leaf) : toPoint3d(points);
       if (i == 0 && c.preview) preview_disparity = disparity;
     });
     if (c.preview)

@@ -30,6 +30,13 @@ struct ScaleConfig {
 /// Throws std::invalid_argument for another name.
 [[nodiscard]] ScaleConfig scaleConfig(const std::string& name);
 
+/// Which presets of docs/datasets.md "Realism and experiment options" were asked for (recorded, not applied: the
+/// caller applies them to the settings below, see realism.hpp).
+struct RealismPresets {
+  std::string pose_error, exposure;  ///< empty: none (raw knobs, if any, are recorded as numbers)
+  bool realistic = false;            ///< --realistic: all realism options at their presets
+};
+
 struct GenerateConfig {
   ScaleConfig scale = scaleConfig("ci");
   std::vector<std::uint64_t> pcs_ids;  ///< grid ids; empty: the scale's even subset
@@ -40,6 +47,8 @@ struct GenerateConfig {
   RenderConfig render;
   SceneConfig scene;
   double leaf = 0.1;                   ///< voxel filter and ground-truth resolution, metres (Section 4.2)
+  bool voxel_filter = true;            ///< --no-voxel-filter: the raw reprojected points (truth stays at `leaf`)
+  RealismPresets presets;
   double max_depth = 20.0;             ///< a ZED reports no depth beyond 20 m
   bool preview = true;                 ///< write preview/ PNGs of keyframe 0 (left image, disparities)
 };
