@@ -31,10 +31,7 @@ std::string folderName(std::int64_t id) {
   return buf;
 }
 
-struct Keyframes {
-  std::vector<CameraPose> truth, mapping;
-  std::vector<StereoFrame> frames;
-};
+}  // namespace
 
 Keyframes renderKeyframes(const Scene& scene, const StereoCamera& cam, const GenerateConfig& c, std::uint64_t base_seed) {
   Keyframes k;
@@ -57,8 +54,6 @@ Keyframes renderKeyframes(const Scene& scene, const StereoCamera& cam, const Gen
   });
   return k;
 }
-
-}  // namespace
 
 DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c, const PointCloudGrid& grid,
                                const std::filesystem::path& out_root) {

@@ -79,6 +79,16 @@ struct DatasetSummary {
   [[nodiscard]] const PointCloudSetSummary& medianRanked() const;  ///< rank (n + 1) / 2
 };
 
+/// One data set's keyframes: true poses (images are rendered from these), the poses the clouds are placed with
+/// (`config.drift` applied), and the rendered pairs.
+struct Keyframes {
+  std::vector<CameraPose> truth, mapping;
+  std::vector<StereoFrame> frames;
+};
+/// Keyframes of the orbit for `config.scale.keyframes`; `base_seed` seeds the sensor noise and the pose error.
+[[nodiscard]] Keyframes renderKeyframes(const Scene& scene, const StereoCamera& camera, const GenerateConfig& config,
+                                        std::uint64_t base_seed);
+
 /// Renders, runs SGBM per set, writes OUT/<name>/pcs-*/ data sets, OUT/<name>/ranking.json (deterministic) and
 /// OUT/<name>/timing.json; progress on stderr. Folders are written under temporary names and renamed.
 [[nodiscard]] DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& config,
