@@ -18,7 +18,7 @@ std::uint8_t expose(double linear, const RenderConfig& c, SplitMix64& rng, const
   if (exposure) linear *= exposure->gain * (1.0 - exposure->vignetting * vignette_r2);
   if (c.noise) {
     const double sigma = std::sqrt(c.shot_noise * std::max(linear, 0.0) + c.read_noise * c.read_noise);
-    linear += c.noise_scale == 1.0 ? g * sigma : g * (c.noise_scale * sigma);
+    linear += g * (c.noise_scale * sigma);  // 1.0 * sigma is sigma exactly: the default's bytes are unchanged
   }
   if (!exposure) return std::uint8_t(std::lround(255.0 * std::pow(std::clamp(linear, 0.0, 1.0), 1.0 / 2.2)));
   linear += exposure->offset;
