@@ -10,6 +10,7 @@
 
 #include "occsweep/stereo/generate.hpp"
 #include "occsweep/stereo/ranking.hpp"
+#include "occsweep/stereo/realism.hpp"
 #include "occsweep/sweeps/grid.hpp"
 #endif
 
@@ -22,6 +23,12 @@ struct DatasetOptions {
   std::uint64_t seed = 1;
   double drift_m = 0, drift_yaw = 0;
   int threads = 0;
+  // docs/datasets.md, "Realism and experiment options"
+  std::string pose_error, exposure;
+  double jitter_m = 0, jitter_deg = 0;
+  double right_gain = 1, right_offset = 0, right_gamma = 1, right_vignetting = 0;
+  bool far_clutter = false, no_voxel_filter = false, realistic = false;
+  double box_height = 0.5, noise_scale = 1;
 };
 
 #ifdef OCCSWEEP_HAVE_STEREO
@@ -46,6 +53,21 @@ std::vector<std::uint64_t> parseIds(const std::string& text, std::uint64_t size)
   return ids;
 }
 
+/// The realism and experiment options onto the configuration; presets resolved for the scale's keyframe count.
+void applyRealism(const DatasetOptions& o, stereo::GenerateConfig& c) {
+  using namespace stereo;
+  c.presets = {o.realistic ? "orbslam2" : o.pose_error, o.realistic ? "mismatch" : o.exposure, o.realistic};
+  c.drift.jitter_metres = o.jitter_m;
+  c.drift.jitter_deg = o.jitter_deg;
+  if (c.presets.pose_error == "orbslam2") c.drift = orbslam2PoseError(c.scale.keyframes);
+  c.render.right = {o.right_gain, o.right_offset, o.right_gamma, o.right_vignetting};
+  if (c.presets.exposure == "mismatch") c.render.right = exposureMismatchPreset();
+  c.scene.far_clutter = o.far_clutter || o.realistic;
+  c.scene.box_height = o.box_height;
+  c.voxel_filter = !o.no_voxel_filter;
+  c.render.noise_scale = o.noise_scale;
+}
+
 int runGenerate(const DatasetOptions& o) {
   if (o.all == !o.name.empty()) throw std::invalid_argument("give either --name ENV-TEXTURE-LAYOUT or --all");
   if (!o.sgbm.empty() && !o.pcs.empty()) throw std::invalid_argument("--sgbm and --pcs exclude each other");
@@ -56,6 +78,7 @@ int runGenerate(const DatasetOptions& o) {
   c.drift.metres_per_keyframe = o.drift_m;
   c.drift.yaw_deg_per_keyframe = o.drift_yaw;
   c.preview = !o.no_preview;
+  applyRealism(o, c);
   const PointCloudGrid grid = loadPointCloudGrid(resolveGridPath(o.grid));
   if (!o.sgbm.empty()) c.custom = parseSgbmParams(o.sgbm);
   if (!o.pcs.empty()) c.pcs_ids = parseIds(o.pcs, grid.size());
@@ -77,6 +100,39 @@ int runGenerate(const DatasetOptions& o) {
 }
 #endif
 
+/// docs/datasets.md, "Realism and experiment options": each preset excludes its raw knobs, --realistic all of them.
+void addRealismOptions(CLI::App& gen, DatasetOptions& o) {
+  auto* pose = gen.add_option("--pose-error", o.pose_error, "Keyframe pose error preset: orbslam2 (ORB-SLAM2 stereo "
+                              "accuracy, drift and jitter)")->check(CLI::IsMember({"orbslam2"}));
+  auto* jitter = gen.add_option("--pose-jitter", o.jitter_m, "Pose jitter: position noise per keyframe, metres "
+                                "(sigma per axis, not accumulating)")->capture_default_str()->check(numberIn(0, 1));
+  auto* rot = gen.add_option("--rot-jitter", o.jitter_deg, "Pose jitter: rotation noise per keyframe, degrees "
+                             "(sigma about each axis)")->capture_default_str()->check(numberIn(0, 10));
+  auto* exposure = gen.add_option("--exposure", o.exposure, "Right camera exposure preset: mismatch (gain 1.06, "
+                                  "offset 0.002, gamma 1.03, vignetting 0.1)")->check(CLI::IsMember({"mismatch"}));
+  auto* gain = gen.add_option("--right-gain", o.right_gain, "Right camera: gain on linear intensity")
+                   ->capture_default_str()->check(numberRule(0, 10, true));
+  auto* offset = gen.add_option("--right-offset", o.right_offset, "Right camera: black level offset, linear")
+                     ->capture_default_str()->check(numberIn(-0.5, 0.5));
+  auto* gamma = gen.add_option("--right-gamma", o.right_gamma, "Right camera: gamma relative to the left's 2.2")
+                    ->capture_default_str()->check(numberRule(0, 5, true));
+  auto* vignetting = gen.add_option("--right-vignetting", o.right_vignetting, "Right camera: extra darkening at the "
+                                    "corners, fraction")->capture_default_str()->check(numberIn(0, 1));
+  gen.add_flag("--far-clutter", o.far_clutter, "Buildings and trees 15-60 m away and clouds in the images (not truth)");
+  gen.add_option("--box-height", o.box_height, "Height of the boxes, metres (0.47: tops off the 0.1 m voxel grid)")
+      ->capture_default_str()->check(numberRule(0, 1, true));
+  gen.add_flag("--no-voxel-filter", o.no_voxel_filter, "Write the raw reprojected points (truth stays at 0.1 m)");
+  gen.add_option("--noise-scale", o.noise_scale, "Multiplier of the renderer's read and shot noise (0: noiseless)")
+      ->capture_default_str()->check(numberIn(0, 10));
+  auto* realistic = gen.add_flag("--realistic", o.realistic, "All realism options at their presets: --pose-error "
+                                 "orbslam2 --exposure mismatch --far-clutter");
+  for (auto* raw : {jitter, rot, gen.get_option("--pose-drift"), gen.get_option("--yaw-drift")}) pose->excludes(raw);
+  for (auto* raw : {gain, offset, gamma, vignetting}) exposure->excludes(raw);
+  for (auto* any : {pose, jitter, rot, exposure, gain, offset, gamma, vignetting, gen.get_option("--pose-drift"),
+                    gen.get_option("--yaw-drift")})
+    realistic->excludes(any);
+}
+
 const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data sets (rendered pairs, StereoSGBM)",
                                [](CLI::App& app) {
   auto o = std::make_shared<DatasetOptions>();
@@ -96,6 +152,7 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
       ->capture_default_str()->check(numberAtLeast(0));
   gen->add_option("--yaw-drift", o->drift_yaw, "SLAM-like drift: yaw random walk, degrees per keyframe (sigma)")
       ->capture_default_str()->check(numberAtLeast(0));
+  addRealismOptions(*gen, *o);
   gen->add_flag("--no-preview", o->no_preview, "Do not write OUT/NAME/preview/*.png");
   gen->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
   return [o, gen]() -> int {

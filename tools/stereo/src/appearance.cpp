@@ -97,6 +97,28 @@ double brickFacade(const Eigen::Vector3d& p, const Hit& hit, double fp, std::uin
   return 0.55 * mortar + brick * (1 - mortar);
 }
 
+/// Far clutter: buildings with a grid of windows (2 x 3 m, 1.0 x 1.4 m panes), tree rows of mottled foliage.
+double farClutter(const Eigen::Vector3d& p, const Scene& scene, const Hit& hit, double fp) {
+  const ClutterSector sector = clutterSector(scene, hit.index, p);
+  const double along = kClutterRings[hit.index] * std::atan2(p.y() - scene.centre.y(), p.x() - scene.centre.x());
+  const std::uint64_t seed = scene.seed + 601 + std::uint64_t(hit.index);
+  if (sector.kind == ClutterSector::Trees)
+    return 0.1 + 0.05 * fade(0.6, fp) * valueNoise(along / 0.6, p.z() / 0.6, seed) +
+           0.04 * fade(2.5, fp) * valueNoise(along / 2.5, p.z() / 2.5, seed + 1);
+  const double ws = along - 2.0 * std::floor(along / 2.0), wz = p.z() - 3.0 * std::floor(p.z() / 3.0);
+  const double pane = lineCoverage(std::abs(ws - 1.0), 0.5, fp) * lineCoverage(std::abs(wz - 1.5), 0.7, fp);
+  const double wall = 0.22 + 0.3 * sector.shade + 0.04 * fade(1.0, fp) * valueNoise(along, p.z(), seed + 2);
+  return 0.08 * pane + wall * (1 - pane);
+}
+
+/// Sky: brighter at the horizon; with far clutter, soft clouds (directional only: they are at infinity).
+double sky(const Scene& scene, const Eigen::Vector3d& d) {
+  const double base = 0.62 + 0.2 * std::clamp(1.0 - d.z(), 0.0, 1.0);
+  if (!scene.config.far_clutter || d.z() <= 0) return base;
+  const double u = d.x() / (d.z() + 0.15), v = d.y() / (d.z() + 0.15);
+  return base + 0.05 * valueNoise(3 * u, 3 * v, scene.seed + 701) + 0.025 * valueNoise(7 * u, 7 * v, scene.seed + 702);
+}
+
 }  // namespace
 
 double valueNoise(double x, double y, std::uint64_t seed) {
@@ -133,7 +155,7 @@ double voronoiBorderDistance(double x, double y, std::uint64_t seed) {
 }
 
 double radiance(const Scene& scene, const Hit& hit, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double fp) {
-  if (hit.surface == Surface::Sky) return 0.62 + 0.2 * std::clamp(1.0 - d.z(), 0.0, 1.0);  // brighter at the horizon
+  if (hit.surface == Surface::Sky) return sky(scene, d);
   const Eigen::Vector3d p = o + hit.t * d;
   double albedo = 0;
   switch (hit.surface) {
@@ -150,6 +172,7 @@ double radiance(const Scene& scene, const Hit& hit, const Eigen::Vector3d& o, co
       break;
     }
     case Surface::Facade: albedo = brickFacade(p, hit, fp, scene.seed); break;
+    case Surface::Clutter: albedo = farClutter(p, scene, hit, fp); break;
     case Surface::Sky: break;
   }
   return albedo * shade(hit.normal);

@@ -44,7 +44,32 @@ std::vector<CameraPose> orbitPoses(const OrbitConfig& c, const Eigen::Vector3d& 
   return poses;
 }
 
+namespace {
+
+/// Jitter on top of the drifted poses, from its own random stream: turning jitter on never shifts the drift's.
+std::vector<CameraPose> jittered(std::vector<CameraPose> poses, const PoseDrift& drift) {
+  SplitMix64 rng(drift.seed ^ 0x7177E5ull);
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    Eigen::Vector3d dp, dr;
+    for (int a = 0; a < 3; ++a) dp[a] = rng.gaussian();
+    for (int a = 0; a < 3; ++a) dr[a] = rng.gaussian();
+    if (k == 0) continue;  // the first keyframe defines the map frame of a SLAM system
+    poses[k].position += drift.jitter_metres * dp;
+    const Eigen::Vector3d angle = drift.jitter_deg * M_PI / 180.0 * dr;
+    if (angle.norm() > 0)
+      poses[k].rotation = Eigen::AngleAxisd(angle.norm(), angle.normalized()).toRotationMatrix() * poses[k].rotation;
+  }
+  return poses;
+}
+
+}  // namespace
+
 std::vector<CameraPose> driftedPoses(const std::vector<CameraPose>& truth, const PoseDrift& drift) {
+  if (drift.hasJitter()) {
+    PoseDrift drift_only = drift;
+    drift_only.jitter_metres = drift_only.jitter_deg = 0.0;
+    return jittered(driftedPoses(truth, drift_only), drift);
+  }
   if (drift.metres_per_keyframe == 0.0 && drift.yaw_deg_per_keyframe == 0.0) return truth;
   SplitMix64 rng(drift.seed);
   std::vector<CameraPose> out;

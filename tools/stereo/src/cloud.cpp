@@ -48,4 +48,11 @@ std::vector<octomap::point3d> voxelFilter(const std::vector<Eigen::Vector3d>& po
   return out;
 }
 
+std::vector<octomap::point3d> toPoint3d(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<octomap::point3d> out;
+  out.reserve(points.size());
+  for (const auto& p : points) out.emplace_back(float(p.x()), float(p.y()), float(p.z()));
+  return out;
+}
+
 }  // namespace occsweep::stereo

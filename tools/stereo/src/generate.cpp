@@ -31,10 +31,7 @@ std::string folderName(std::int64_t id) {
   return buf;
 }
 
-struct Keyframes {
-  std::vector<CameraPose> truth, mapping;
-  std::vector<StereoFrame> frames;
-};
+}  // namespace
 
 Keyframes renderKeyframes(const Scene& scene, const StereoCamera& cam, const GenerateConfig& c, std::uint64_t base_seed) {
   Keyframes k;
@@ -57,8 +54,6 @@ Keyframes renderKeyframes(const Scene& scene, const StereoCamera& cam, const Gen
   });
   return k;
 }
-
-}  // namespace
 
 DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c, const PointCloudGrid& grid,
                                const std::filesystem::path& out_root) {
@@ -114,7 +109,8 @@ DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c,
         if (key.frames[i].target_mask[p]) target_pixels[i] += 1, target_valid[i] += disparity[p] > 0;
       scans[i].origin = octomap::point3d(float(key.mapping[i].position.x()), float(key.mapping[i].position.y()),
                                          float(key.mapping[i].position.z()));
-      scans[i].points = voxelFilter(reprojectDisparity(disparity, cam, key.mapping[i], c.max_depth), c.leaf);
+      const auto points = reprojectDisparity(disparity, cam, key.mapping[i], c.max_depth);
+      scans[i].points = c.voxel_filter ? voxelFilter(points, c.leaf) : toPoint3d(points);
       if (i == 0 && c.preview) preview_disparity = disparity;
     });
     if (c.preview)

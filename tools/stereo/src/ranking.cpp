@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/stereo/realism.hpp"
 
 namespace occsweep::stereo {
 namespace {
@@ -61,6 +62,7 @@ nlohmann::json sourceJson(const DatasetName& name, const GenerateConfig& c, cons
   j["pointcloud_grid"] = {{"name", grid.name}, {"file_hash", grid.file_hash}, {"size", grid.size()}};
   j["voxel_filter_leaf"] = c.leaf;
   j["max_depth"] = c.max_depth;
+  if (const auto options = realismOptionsJson(c); !options.empty()) j["options"] = options;
   return j;
 }
 
@@ -89,6 +91,7 @@ void writeRanking(const DatasetSummary& s, const GenerateConfig& c, const PointC
                             {"sets", nlohmann::json::array()}};
   nlohmann::json timing = {{"dataset", s.name}, {"scale", s.scale}, {"render_seconds", s.render_seconds},
                            {"keyframes", c.scale.keyframes}, {"sets", nlohmann::json::array()}};
+  if (const auto options = realismOptionsJson(c); !options.empty()) ranking["options"] = options;
   for (const auto& set : s.sets) {
     ranking["sets"].push_back(setJson(set));
     timing["sets"].push_back({{"folder", set.folder}, {"seconds", set.seconds}});

@@ -3,10 +3,53 @@
 #include <cmath>
 #include <limits>
 
+#include "occsweep/core/splitmix64.hpp"
+#include "occsweep/stereo/appearance.hpp"
+
 namespace occsweep::stereo {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Distance along the unit ray to the vertical cylinder of radius r about `c` (the origin is inside it).
+double rayCylinderDistance(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& c, double r) {
+  const double qx = o.x() - c.x(), qy = o.y() - c.y();
+  const double a = d.x() * d.x() + d.y() * d.y(), b = 2 * (qx * d.x() + qy * d.y()), cc = qx * qx + qy * qy - r * r;
+  if (a == 0.0 || cc >= 0.0) return kInf;
+  return (-b + std::sqrt(b * b - 4 * a * cc)) / (2 * a);
+}
+
+/// The nearest clutter ring the ray meets below the clutter's top, or a Sky hit.
+Hit castClutter(const Scene& scene, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  for (int ring = 0; ring < 4; ++ring) {
+    const double t = rayCylinderDistance(o, d, scene.centre, kClutterRings[ring]);
+    const Eigen::Vector3d p = o + t * d;
+    if (!(t < kInf) || p.z() < 0 || p.z() > clutterTop(scene, ring, p)) continue;
+    const Eigen::Vector3d n = Eigen::Vector3d(scene.centre.x() - p.x(), scene.centre.y() - p.y(), 0).normalized();
+    return Hit{Surface::Clutter, t, n, ring};
+  }
+  return Hit{Surface::Sky, kInf, {0, 0, 1}, -1};
+}
+
+}  // namespace
+
+ClutterSector clutterSector(const Scene& scene, int ring, const Eigen::Vector3d& p) {
+  const double r = kClutterRings[ring];
+  const int sectors = int(std::lround(2 * M_PI * r / 8.0));
+  const double azimuth = std::atan2(p.y() - scene.centre.y(), p.x() - scene.centre.x());
+  const auto index = std::uint64_t(std::floor((azimuth + M_PI) / (2 * M_PI) * sectors)) % std::uint64_t(sectors);
+  SplitMix64 rng(scene.seed ^ 0xC1077E4ull ^ (std::uint64_t(ring) << 40) ^ (index * 0x9E3779B97F4A7C15ull));
+  const double kind = rng.uniform(), height = rng.uniform(), shade = rng.uniform();
+  if (kind < 0.3) return {};
+  if (kind < 0.7) return {ClutterSector::Building, 5.0 + 17.0 * height, shade};
+  return {ClutterSector::Trees, 6.0 + 6.0 * height, shade};
+}
+
+double clutterTop(const Scene& scene, int ring, const Eigen::Vector3d& p) {
+  const ClutterSector s = clutterSector(scene, ring, p);
+  if (s.kind != ClutterSector::Trees) return s.height;
+  const double along = kClutterRings[ring] * std::atan2(p.y() - scene.centre.y(), p.x() - scene.centre.x());
+  return s.height + 1.5 * valueNoise(along / 2.0, ring, scene.seed + 501);
 }
 
 double rayBoxDistance(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const AxisBox& b) {
@@ -63,6 +106,10 @@ Hit castRay(const Scene& scene, const Eigen::Vector3d& o, const Eigen::Vector3d&
       n[axis] = -sign;
       hit = Hit{Surface::Facade, t, n, wall};
     }
+  }
+  if (scene.config.far_clutter) {
+    const Hit far = castClutter(scene, o, d);
+    if (far.t < hit.t) hit = far;
   }
   return hit;
 }

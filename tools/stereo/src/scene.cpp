@@ -75,11 +75,12 @@ Scene makeScene(const DatasetName& name, const SceneConfig& c) {
   const double e = c.box_edge;
   for (const auto& [i, j] : cells) {
     const double x0 = c.offset_x + (i - shift_i) * e, y0 = c.offset_y + (j - shift_j) * e;
-    s.boxes.push_back(AxisBox{{x0, y0, 0.0}, {x0 + e, y0 + e, e}});
+    s.boxes.push_back(AxisBox{{x0, y0, 0.0}, {x0 + e, y0 + e, c.box_height}});
   }
   AxisBox bounds = s.boxes.front();
   for (const auto& b : s.boxes)
     for (int a = 0; a < 3; ++a) bounds.min[a] = std::min(bounds.min[a], b.min[a]), bounds.max[a] = std::max(bounds.max[a], b.max[a]);
+  // The camera looks at half the cube edge whatever --box-height says: a height change moves no camera.
   s.centre = {(bounds.min[0] + bounds.max[0]) / 2, (bounds.min[1] + bounds.max[1]) / 2, e / 2};
   // Above the ground layer: voxel centres from 0.15 m up at 0.1 m resolution (the ground voxels [0, 0.1] are out).
   s.region = AxisBox{{bounds.min[0] - c.region_margin, bounds.min[1] - c.region_margin, 0.1},

@@ -1,5 +1,6 @@
 // What the camera sees at a hit: procedural albedo (cardboard, Voronoi lines, asphalt, parking markings, brick
-// facades), Lambertian shading from a fixed sun plus a weak fill light, and a smooth, textureless sky.
+// facades), Lambertian shading from a fixed sun plus a weak fill light, and a smooth, textureless sky (with far clutter: soft
+// clouds, and buildings and trees 15-60 m away, docs/datasets.md "Realism and experiment options").
 // Texture detail fades with the pixel footprint (an analytic box filter): without it, detail finer than a
 // pixel aliases differently in the left and right images and adds texture that is not there.
 #pragma once

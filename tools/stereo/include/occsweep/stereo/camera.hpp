@@ -39,12 +39,18 @@ struct OrbitConfig {
 /// Keyframe poses: keyframe k of K at angle 2 pi (2k / K) (+ half a step on the second orbit).
 [[nodiscard]] std::vector<CameraPose> orbitPoses(const OrbitConfig& config, const Eigen::Vector3d& target);
 
-/// SLAM-like drift: a random walk of the position (sigma `metres_per_keyframe` per axis and keyframe) and of the
-/// yaw about the world z axis (sigma `yaw_deg_per_keyframe`), about the first keyframe. Both 0: the true poses.
+/// SLAM-like pose error (docs/datasets.md, "Realism and experiment options"). Drift: a random walk of the position
+/// (sigma `metres_per_keyframe` per axis and keyframe) and of the yaw about the world z axis (sigma
+/// `yaw_deg_per_keyframe`), about the first keyframe. Jitter: independent per keyframe after the first, not
+/// accumulating: position (sigma `jitter_metres` per axis) and a small rotation about the camera centre (sigma
+/// `jitter_deg` about each world axis). All 0: the true poses.
 struct PoseDrift {
   double metres_per_keyframe = 0.0;
   double yaw_deg_per_keyframe = 0.0;
+  double jitter_metres = 0.0;
+  double jitter_deg = 0.0;
   std::uint64_t seed = 1;
+  [[nodiscard]] bool hasJitter() const { return jitter_metres != 0.0 || jitter_deg != 0.0; }
 };
 
 /// The poses a SLAM front end would report for `truth`; the clouds are placed with these.

@@ -21,4 +21,7 @@ namespace occsweep::stereo {
 /// of its points; output ordered by voxel (z, then y, then x), so the result does not depend on input order.
 [[nodiscard]] std::vector<octomap::point3d> voxelFilter(const std::vector<Eigen::Vector3d>& points, double leaf);
 
+/// The points unfiltered, in input order (--no-voxel-filter), as the data-set format stores them (float).
+[[nodiscard]] std::vector<octomap::point3d> toPoint3d(const std::vector<Eigen::Vector3d>& points);
+
 }  // namespace occsweep::stereo

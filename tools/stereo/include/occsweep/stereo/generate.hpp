@@ -30,6 +30,13 @@ struct ScaleConfig {
 /// Throws std::invalid_argument for another name.
 [[nodiscard]] ScaleConfig scaleConfig(const std::string& name);
 
+/// Which presets of docs/datasets.md "Realism and experiment options" were asked for (recorded, not applied: the
+/// caller applies them to the settings below, see realism.hpp).
+struct RealismPresets {
+  std::string pose_error, exposure;  ///< empty: none (raw knobs, if any, are recorded as numbers)
+  bool realistic = false;            ///< --realistic: all realism options at their presets
+};
+
 struct GenerateConfig {
   ScaleConfig scale = scaleConfig("ci");
   std::vector<std::uint64_t> pcs_ids;  ///< grid ids; empty: the scale's even subset
@@ -40,6 +47,8 @@ struct GenerateConfig {
   RenderConfig render;
   SceneConfig scene;
   double leaf = 0.1;                   ///< voxel filter and ground-truth resolution, metres (Section 4.2)
+  bool voxel_filter = true;            ///< --no-voxel-filter: the raw reprojected points (truth stays at `leaf`)
+  RealismPresets presets;
   double max_depth = 20.0;             ///< a ZED reports no depth beyond 20 m
   bool preview = true;                 ///< write preview/ PNGs of keyframe 0 (left image, disparities)
 };
@@ -69,6 +78,16 @@ struct DatasetSummary {
   double render_seconds = 0;
   [[nodiscard]] const PointCloudSetSummary& medianRanked() const;  ///< rank (n + 1) / 2
 };
+
+/// One data set's keyframes: true poses (images are rendered from these), the poses the clouds are placed with
+/// (`config.drift` applied), and the rendered pairs.
+struct Keyframes {
+  std::vector<CameraPose> truth, mapping;
+  std::vector<StereoFrame> frames;
+};
+/// Keyframes of the orbit for `config.scale.keyframes`; `base_seed` seeds the sensor noise and the pose error.
+[[nodiscard]] Keyframes renderKeyframes(const Scene& scene, const StereoCamera& camera, const GenerateConfig& config,
+                                        std::uint64_t base_seed);
 
 /// Renders, runs SGBM per set, writes OUT/<name>/pcs-*/ data sets, OUT/<name>/ranking.json (deterministic) and
 /// OUT/<name>/timing.json; progress on stderr. Folders are written under temporary names and renamed.

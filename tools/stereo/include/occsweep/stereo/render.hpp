@@ -11,11 +11,21 @@
 
 namespace occsweep::stereo {
 
+/// How the right camera's exposure differs from the left's (docs/datasets.md, "Realism and experiment options"):
+/// linear intensity x becomes gain * (1 - vignetting r^2) * x before the sensor noise, plus `offset` (black level)
+/// after it, encoded with exponent 1 / (2.2 gamma); r is the distance from the principal point, 1 at a corner.
+struct RightExposure {
+  double gain = 1.0, offset = 0.0, gamma = 1.0, vignetting = 0.0;
+  [[nodiscard]] bool isIdentity() const { return gain == 1.0 && offset == 0.0 && gamma == 1.0 && vignetting == 0.0; }
+};
+
 struct RenderConfig {
   int supersample = 2;            ///< samples per pixel along each axis (2: 2x2)
   double read_noise = 0.003;      ///< sigma of read noise, linear intensity
   double shot_noise = 2.2e-4;     ///< variance per unit linear intensity: about 2 grey levels at mid-grey
   bool noise = true;
+  double noise_scale = 1.0;       ///< multiplies the sigma of read and shot noise together (0: noiseless)
+  RightExposure right;            ///< the right image only; identity by default
 };
 
 /// Row-major 8-bit grey image.

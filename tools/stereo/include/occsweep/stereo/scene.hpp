@@ -31,12 +31,14 @@ struct DatasetName {
 
 struct SceneConfig {
   double box_edge = 0.5;              ///< cubes, metres (the paper's boxes are about this size)
+  double box_height = 0.5;            ///< --box-height: 0.47 puts the tops off the 0.1 m voxel boundaries
   double offset_x = 0.02;             ///< layout shifted off the 0.1 m voxel grid, so faces cut voxels as real
   double offset_y = 0.03;             ///< ones would (same as the built-in scene)
   double facade_distance = 5.0;       ///< building: walls of a square courtyard this far from the targets' centre
   double facade_height = 8.0;         ///< tall enough to fill the view above the targets
   double region_margin = 1.0;         ///< evaluation region: the boxes' bounds grown by this in x and y
   double region_top_margin = 0.5;     ///< and up to this above the boxes; it starts above the ground layer
+  bool far_clutter = false;           ///< --far-clutter: buildings and trees 15-60 m away, clouds (not truth)
 };
 
 /// The geometry and appearance of one data set's scene. Voxel ground truth is `boxes` inside `region`.
