@@ -11,7 +11,7 @@ build=${BUILD_DIR:-$root/build}
 
 packages=(g++ cmake make git pkg-config liboctomap-dev libnanoflann-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
           catch2 libcli11-dev libpng-dev python3-matplotlib python3-numpy python3-scipy
-          libopencv-calib3d-dev libopencv-imgproc-dev)
+          libopencv-calib3d-dev libopencv-imgproc-dev libjpeg-dev opencv-doc)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
