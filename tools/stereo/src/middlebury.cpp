@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 #include <png.h>
 
@@ -68,8 +70,13 @@ StereoCamera middleburyStereoCamera(const MiddleburyCamera& c, int width, int he
 std::vector<std::int16_t> withDisparityOffset(const std::vector<std::int16_t>& disparity, double doffs_px) {
   const int offset = int(std::lround(16.0 * doffs_px));
   std::vector<std::int16_t> out(disparity);
-  for (auto& d : out)
-    if (d > 0) d = std::int16_t(std::min(int(d) + offset, 32767));
+  for (auto& d : out) {
+    if (d <= 0) continue;
+    if (int(d) + offset > 32767)
+      throw std::invalid_argument("disparity offset " + std::to_string(doffs_px) + " px: disparity + offset must stay "
+                                  "below 2048 px (OpenCV's fixed point, 1/16 px in 16 bits)");
+    d = std::int16_t(int(d) + offset);
+  }
   return out;
 }
 

@@ -44,6 +44,7 @@ struct MiddleburyPair {
 
 /// Disparities in OpenCV's fixed point (1/16 px) with doffs added to the valid ones (> 0), so that
 /// reprojectDisparity's z = fx B / d is the data set's Z = f B / (d + doffs). Invalid ones stay as they are.
+/// Throws std::invalid_argument when a sum leaves the 16-bit fixed point (2048 px).
 [[nodiscard]] std::vector<std::int16_t> withDisparityOffset(const std::vector<std::int16_t>& disparity, double doffs_px);
 
 /// The ground truth's points (each known pixel reprojected with the camera model, left camera at the origin).
