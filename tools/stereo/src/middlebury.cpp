@@ -109,6 +109,46 @@ std::vector<std::uint64_t> middleburyPointCloudIds(const PointCloudGrid& grid) {
   return evenSubset(grid.size(), scaleConfig("ci").subset);
 }
 
+namespace {
+
+// What to repeat the set: camera and the SGBM block as generate's sourceJson records them.
+nlohmann::json sourceOf(const StereoCamera& cam, const MiddleburyCamera& camera, const SgbmParams& params,
+                        int num_disparities, double leaf) {
+  nlohmann::json j = {
+      {"generator", "occsweep dataset middlebury"},
+      {"camera", {{"width", cam.width}, {"height", cam.height}, {"fx", cam.fx}, {"cx", cam.cx}, {"cy", cam.cy},
+                  {"baseline", cam.baseline}, {"doffs", camera.doffs_px}}},
+      {"scan", "one: the left camera at the origin, camera axes (x right, y down, z forward)"},
+      {"truth", "voxel centres of the ground-truth disparity's points at voxel_filter_leaf"},
+      {"voxel_filter_leaf", leaf}, {"max_depth", kMaxDepth}};
+  j["sgbm"] = params.toJson();
+  j["sgbm"]["mode"] = "MODE_SGBM";
+  j["sgbm"]["minDisparity"] = 0;
+  j["sgbm"]["numDisparities"] = num_disparities;
+  j["sgbm"]["channels"] = 1;
+  return j;
+}
+
+MiddleburySetSummary summarise(const MiddleburyPair& pair, const std::vector<std::int16_t>& disparity,
+                               const Dataset& d, double leaf) {
+  MiddleburySetSummary s;
+  std::uint64_t valid = 0, bad = 0;
+  for (std::size_t i = 0; i < disparity.size(); ++i) {
+    if (pair.truth_disparity[i] == 0) continue;
+    s.truth_pixels += 1;
+    if (disparity[i] <= 0) continue;
+    valid += 1;
+    bad += std::abs(disparity[i] / 16.0 - pair.truth_disparity[i]) > 1.0;
+  }
+  s.points = pointCount(d.scans);
+  s.valid_fraction = s.truth_pixels ? double(valid) / double(s.truth_pixels) : 0.0;
+  s.bad1_fraction = valid ? double(bad) / double(valid) : 0.0;
+  s.naive = naiveConfusion(d.scans, makeGroundTruth(d.truth, d.region, leaf));
+  return s;
+}
+
+}  // namespace
+
 Dataset middleburyDataset(const MiddleburyPair& pair, const MiddleburyCamera& camera, const SgbmParams& params,
                           int num_disparities, double leaf, MiddleburySetSummary* summary) {
   const StereoCamera cam = middleburyStereoCamera(camera, pair.left.width, pair.left.height);
@@ -116,43 +156,18 @@ Dataset middleburyDataset(const MiddleburyPair& pair, const MiddleburyCamera& ca
   frame.left = pair.left;
   frame.right = pair.right;
   const std::vector<std::int16_t> disparity = computeDisparity(frame, params, num_disparities);
-  Dataset d;
   Scan scan;  // the left camera at the origin, camera axes (x right, y down, z forward)
   scan.origin = octomap::point3d(0, 0, 0);
   scan.points = voxelFilter(reprojectDisparity(withDisparityOffset(disparity, camera.doffs_px), cam, CameraPose{},
                                                kMaxDepth), leaf);
   if (scan.points.empty()) throw std::runtime_error("SGBM found no valid disparity in the pair");
+  Dataset d;
   d.scans.push_back(std::move(scan));
   d.truth = voxelCentreTruth(truthPoints(pair, camera), leaf);
   if (d.truth.points.empty()) throw std::runtime_error("the ground truth has no known disparity");
   d.region = truthRegion(d.truth);
-  d.source = {{"generator", "occsweep dataset middlebury"},
-              {"camera", {{"width", cam.width}, {"height", cam.height}, {"fx", cam.fx}, {"cx", cam.cx}, {"cy", cam.cy},
-                          {"baseline", cam.baseline}, {"doffs", camera.doffs_px}}},
-              {"scan", "one: the left camera at the origin, camera axes (x right, y down, z forward)"},
-              {"truth", "voxel centres of the ground-truth disparity's points at voxel_filter_leaf"},
-              {"voxel_filter_leaf", leaf}, {"max_depth", kMaxDepth}};
-  d.source["sgbm"] = params.toJson();
-  d.source["sgbm"]["mode"] = "MODE_SGBM";
-  d.source["sgbm"]["minDisparity"] = 0;
-  d.source["sgbm"]["numDisparities"] = num_disparities;
-  d.source["sgbm"]["channels"] = 1;
-  if (summary) {
-    MiddleburySetSummary& s = *summary;
-    std::uint64_t valid = 0, bad = 0;
-    s.truth_pixels = 0;
-    for (std::size_t i = 0; i < disparity.size(); ++i) {
-      if (pair.truth_disparity[i] == 0) continue;
-      s.truth_pixels += 1;
-      if (disparity[i] <= 0) continue;
-      valid += 1;
-      bad += std::abs(disparity[i] / 16.0 - pair.truth_disparity[i]) > 1.0;
-    }
-    s.points = pointCount(d.scans);
-    s.valid_fraction = s.truth_pixels ? double(valid) / double(s.truth_pixels) : 0.0;
-    s.bad1_fraction = valid ? double(bad) / double(valid) : 0.0;
-    s.naive = naiveConfusion(d.scans, makeGroundTruth(d.truth, d.region, leaf));
-  }
+  d.source = sourceOf(cam, camera, params, num_disparities, leaf);
+  if (summary) *summary = summarise(pair, disparity, d, leaf);
   return d;
 }
 
