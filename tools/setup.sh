@@ -9,9 +9,10 @@ mode=${1:-}
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD_DIR:-$root/build}
 
+# opencv-doc: the Middlebury Aloe stereo pair of `occsweep dataset middlebury` and its test (docs/datasets.md)
 packages=(g++ cmake make git pkg-config liboctomap-dev libnanoflann-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
           catch2 libcli11-dev libpng-dev python3-matplotlib python3-numpy python3-scipy
-          libopencv-calib3d-dev libopencv-imgproc-dev)
+          libopencv-calib3d-dev libopencv-imgproc-dev libjpeg-dev opencv-doc)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

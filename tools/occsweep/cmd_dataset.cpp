@@ -2,6 +2,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "cmd_dataset_middlebury.hpp"
 #include "command_registry.hpp"
 #include "option_checks.hpp"
 
@@ -155,7 +156,9 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
   addRealismOptions(*gen, *o);
   gen->add_flag("--no-preview", o->no_preview, "Do not write OUT/NAME/preview/*.png");
   gen->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
-  return [o, gen]() -> int {
+  const auto middlebury = addDatasetMiddlebury(app);  // `dataset middlebury`: cmd_dataset_middlebury.cpp
+  return [o, gen, middlebury]() -> int {
+    if (middlebury.first->parsed()) return middlebury.second();
     if (!gen->parsed()) throw CLI::CallForHelp();
 #ifdef OCCSWEEP_HAVE_STEREO
     return runGenerate(*o);
