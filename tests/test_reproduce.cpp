@@ -150,3 +150,60 @@ TEST_CASE("reproduce refuses bad input with the field named") {
     CHECK(!std::filesystem::exists(dir / "steps"));
   }
 }
+
+namespace {
+
+// A generated data set as reproduce reads it before any sweep: ranking.json (with the generator's `options`, if
+// any) and one listed point cloud set.
+void writeRankedStub(const std::filesystem::path& root, const json& options) {
+  std::filesystem::create_directories(root / "pcs-0000");
+  std::ofstream(root / "pcs-0000" / "manifest.json") << "{}";
+  json ranking = {{"sets", json::array({{{"folder", "pcs-0000"}, {"id", 0}}})}};
+  if (!options.empty()) ranking["options"] = options;
+  std::ofstream(root / "ranking.json") << ranking.dump();
+}
+
+}  // namespace
+
+TEST_CASE("a reproduction uses data of one kind: --realistic needs realistic data, and mixed data is refused") {
+  const auto dir = test::scratch("reproduce-data-kind");
+  const json realistic = {{"realistic", true}, {"far_clutter", true}};
+  writeRankedStub(dir / "plain" / "building-plain-I", json::object());
+  writeRankedStub(dir / "mixed" / "building-plain-I", json::object());
+  writeRankedStub(dir / "mixed" / "building-plain-O", realistic);
+  writeRankedStub(dir / "half" / "building-plain-I", realistic);
+
+  auto r = test::runCli("reproduce --realistic --datasets building-plain-I --steps comparison --no-figures --quiet --data " +
+                        (dir / "plain").string() + " --out " + (dir / "out1").string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("plain/building-plain-I/ranking.json: generated without `dataset generate --realistic`") != std::string::npos);
+
+  r = test::runCli("reproduce --datasets building-plain-I,building-plain-O --steps comparison --no-figures --quiet --data " +
+                   (dir / "mixed").string() + " --out " + (dir / "out2").string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("mixed/building-plain-O/ranking.json: generated with options") != std::string::npos);
+  CHECK(r.output.find("one reproduction uses data of one kind") != std::string::npos);
+
+  // The plain reproduction refuses realistic data before it generates the missing set beside it.
+  r = test::runCli("reproduce --datasets building-plain-I,building-plain-O --steps comparison --no-figures --quiet --data " +
+                   (dir / "half").string() + " --out " + (dir / "out3").string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("half/building-plain-I/ranking.json: generated with options") != std::string::npos);
+  CHECK(r.output.find("would be generated with the defaults") != std::string::npos);
+  CHECK(!std::filesystem::exists(dir / "half" / "building-plain-O"));
+}
+
+TEST_CASE("report.md states which data was reproduced: the plain one or the realistic one with its options") {
+  ReproduceConfig c = reproduceDefaults("ci");
+  c.steps = {"comparison"};
+  ReproductionResults r;
+  r.datasets = 20;
+  const std::string plain = reproductionReport(c, r);
+  CHECK(plain.find("made with the generator's defaults (the plain reproduction)") != std::string::npos);
+  c.realistic = true;
+  r.generator_options = {{"realistic", true}, {"far_clutter", true}};
+  const std::string realistic = reproductionReport(c, r);
+  CHECK(realistic.find(R"(made with the generator options `{"far_clutter":true,"realistic":true}` (`--realistic`)") !=
+        std::string::npos);
+  CHECK(realistic.find("plain reproduction") == std::string::npos);
+}

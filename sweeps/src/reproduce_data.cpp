@@ -49,7 +49,22 @@ RankedDataset readRanking(const std::string& name, const fs::path& root) {
     if (!fs::exists(root / d.folders.back() / "manifest.json"))
       throw std::runtime_error(file.string() + ": set " + d.folders.back() + " is listed but missing");
   }
+  if (j.contains("options")) d.generator_options = j.at("options");
   return d;
+}
+
+// One reproduction, one kind of data: the report states the options once, so data sets made differently are refused.
+void checkSameGeneratorOptions(const ReproduceConfig& c, const std::vector<RankedDataset>& d) {
+  for (const auto& x : d) {
+    const auto file = (x.root / "ranking.json").string();
+    if (c.realistic && !x.generator_options.value(RealisticData::kRankingKey, false))
+      throw std::runtime_error(file + ": generated without `dataset generate " + RealisticData::kGenerateOptions +
+                               "`, which --realistic needs (use another --out or --data, or leave out --realistic)");
+    if (x.generator_options != d.front().generator_options)
+      throw std::runtime_error(file + ": generated with options " + x.generator_options.dump() + ", but " +
+                               (d.front().root / "ranking.json").string() + " with " +
+                               d.front().generator_options.dump() + ": one reproduction uses data of one kind");
+  }
 }
 
 std::string shellQuote(const std::string& s) {
@@ -63,6 +78,22 @@ std::string shellQuote(const std::string& s) {
 std::vector<RankedDataset> prepareDatasets(const ReproduceConfig& c) {
   const fs::path data = c.data.empty() ? c.out / "data" : c.data;
   const auto names = c.datasets.empty() ? paperDatasetNames() : c.datasets;
+  // Before generating anything: the data sets already there must be of the kind the missing ones will be.
+  std::string first_missing;
+  for (const auto& name : names)
+    if (first_missing.empty() && !fs::exists(data / name / "ranking.json")) first_missing = name;
+  for (const auto& name : names) {
+    if (first_missing.empty() || !fs::exists(data / name / "ranking.json")) continue;
+    const RankedDataset there = readRanking(name, data / name);
+    const bool same_kind = c.realistic ? there.generator_options.value(RealisticData::kRankingKey, false)
+                                       : there.generator_options.empty();
+    if (!same_kind)
+      throw std::runtime_error((there.root / "ranking.json").string() + ": generated with options " +
+                               there.generator_options.dump() + ", but the missing data sets (" + first_missing +
+                               ", ...) would be generated " +
+                               (c.realistic ? std::string("with ") + RealisticData::kGenerateOptions : "with the defaults") +
+                               ": one reproduction uses data of one kind (use another --out or --data)");
+  }
   std::vector<RankedDataset> out;
   for (std::size_t i = 0; i < names.size(); ++i) {
     const fs::path root = data / names[i];
@@ -72,11 +103,14 @@ std::vector<RankedDataset> prepareDatasets(const ReproduceConfig& c) {
                                  i + 1, names.size(), c.scale.c_str());
       const std::string cmd = shellQuote(c.occsweep_binary.string()) + " dataset generate --name " +
                               shellQuote(names[i]) + " --scale " + shellQuote(c.scale) + " --out " +
-                              shellQuote(data.string()) + " --no-preview" + (c.quiet ? " 2>/dev/null" : "");
+                              shellQuote(data.string()) + " --no-preview" +
+                              (c.realistic ? std::string(" ") + RealisticData::kGenerateOptions : std::string()) +
+                              (c.quiet ? " 2>/dev/null" : "");
       if (std::system(cmd.c_str()) != 0) throw std::runtime_error("reproduce: `" + cmd + "` failed");
     }
     out.push_back(readRanking(names[i], root));
   }
+  checkSameGeneratorOptions(c, out);
   return out;
 }
 

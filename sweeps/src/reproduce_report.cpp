@@ -134,7 +134,11 @@ std::string reproductionReport(const ReproduceConfig& c, const ReproductionResul
     << (c.steps == reproductionSteps() ? std::string() : " --steps " + steps)
     << "`; every number below comes from the JSON files beside this report (fits.json, nca.json, comparison.json, "
     << "curves.json, runtime.json). Data: " << r.datasets
-    << " rendered data sets (docs/datasets.md), not the paper's recordings. See docs/reproduction.md.\n\n";
+    << " rendered data sets (docs/datasets.md), not the paper's recordings, "
+    << (r.generator_options.empty() ? std::string("made with the generator's defaults (the plain reproduction)")
+                                    : "made with the generator options `" + r.generator_options.dump() + "`" +
+                                          (c.realistic ? " (`--realistic`: docs/fidelity.md)" : ""))
+    << ". See docs/reproduction.md.\n\n";
   if (r.fits.is_null()) notRun(o, "1. The CDF of the average distance is insensitive to the distribution (Fig. 3)");
   else fitsSection(o, r.fits);
   if (r.nca.is_null()) notRun(o, "2. k is the least important k-NN parameter, weight below 0.1 (Fig. 4)");

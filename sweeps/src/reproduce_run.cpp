@@ -107,6 +107,7 @@ double runReproduction(const ReproduceConfig& c) {
   const auto datasets = step("data", [&] { return prepareDatasets(c); });
   ReproductionResults r;
   r.datasets = datasets.size();
+  if (!datasets.empty()) r.generator_options = datasets.front().generator_options;
   auto runs = [&](const std::string& name) { return std::find(c.steps.begin(), c.steps.end(), name) != c.steps.end(); };
   auto stepFile = [&](const char* name, auto&& fn) {
     if (!runs(name)) return json();
@@ -133,7 +134,8 @@ double runReproduction(const ReproduceConfig& c) {
   timing["total"] = seconds;
   writeJsonAtomically({{"format", "occsweep-reproduce-run"}, {"scale", c.scale}, {"seconds", timing},
                        {"datasets", datasets.size()}, {"nca_samples", c.nca_samples}, {"nca_folds", c.nca_folds},
-                       {"seed", c.seed}, {"figures", c.figures}, {"steps", c.steps}},
+                       {"seed", c.seed}, {"figures", c.figures}, {"steps", c.steps},
+                       {"realistic", c.realistic}, {"generator_options", r.generator_options}},
                       c.out / "run.json");
   return seconds;
 }

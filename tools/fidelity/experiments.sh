@@ -28,10 +28,12 @@ while IFS=$'\t' read -r name options question; do
   echo "experiments: $name ($question): dataset generate $options"
   t0=$SECONDS
   mkdir -p "$dir"
-  # --force: a generation killed part-way left occsweep's own partial output, which it may replace.
-  # shellcheck disable=SC2086 # the options are words
-  [[ -f $dir/data/summary.json ]] ||
-    "$bin" dataset generate --all --scale ci --no-preview --force $options --out "$dir/data" 2>"$dir/generate.log"
+  if [[ ! -f $dir/data/summary.json ]]; then
+    # dataset generate writes each data set whole or not at all, but refuses to add to a folder it did not finish.
+    [[ ! -e $dir/data ]] || { echo "experiments: $dir/data is an unfinished generation: delete it to redo" >&2; exit 2; }
+    # shellcheck disable=SC2086 # the options are words
+    "$bin" dataset generate --all --scale ci --no-preview $options --out "$dir/data" 2>"$dir/generate.log"
+  fi
   "$bin" reproduce --scale ci --data "$dir/data" --out "$dir/repro" --steps comparison --no-figures --quiet
   printf '%s\t%s\t%s\t%d\n' "$name" "$options" "$question" $((SECONDS - t0)) >"$dir/experiment.tsv"
   echo "experiments: $name done in $((SECONDS - t0)) s"

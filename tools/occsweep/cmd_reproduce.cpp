@@ -18,7 +18,7 @@ struct ReproduceOptions {
   long nca_samples = -1;
   int runtime_repeats = 0;
   int threads = 0;
-  bool no_figures = false, quiet = false;
+  bool no_figures = false, quiet = false, realistic = false;
 };
 
 const RegisterCommand kReproduce{"reproduce",
@@ -31,6 +31,8 @@ const RegisterCommand kReproduce{"reproduce",
   app.add_option("--out", o->out, "Output folder: *.json, report.md, fig*.png, maps/, sweeps/, data/")->required();
   app.add_option("--data", o->data, "Generated data sets to use (default OUT/data; missing ones are generated)");
   app.add_option("--datasets", o->datasets, "Only these data sets (default: the paper's 20)")->delimiter(',');
+  app.add_flag("--realistic", o->realistic, "Data with the realism options the experiments of docs/fidelity.md point "
+               "to (dataset generate --realistic); report.md says which data was used");
   app.add_option("--steps", o->steps, "Only these steps: fits, nca, comparison, curves (needs comparison), runtime "
                  "(default all; docs/reproduction.md)")->delimiter(',');
   app.add_option("--seed", o->seed, "Eq. 16 split of the reduction grid, NCA subsample and folds")->capture_default_str();
@@ -47,6 +49,7 @@ const RegisterCommand kReproduce{"reproduce",
     c.out = o->out;
     c.data = o->data;
     c.datasets = o->datasets;
+    c.realistic = o->realistic;
     c.seed = o->seed;
     checkReproductionSteps(o->steps);
     c.steps = o->steps;

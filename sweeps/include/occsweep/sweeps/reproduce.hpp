@@ -18,12 +18,21 @@ namespace occsweep {
   return {"fits", "nca", "comparison", "curves", "runtime"};
 }
 
+/// `reproduce --realistic`: the `dataset generate` options that the experiments of docs/fidelity.md point to, and
+/// the key every such data set's ranking.json `options` must then hold. One home: the report and the check read it.
+struct RealisticData {
+  static constexpr const char* kGenerateOptions = "--realistic";
+  static constexpr const char* kRankingKey = "realistic";
+};
+
 struct ReproduceConfig {
   std::string scale = "ci";                  ///< ci | small | paper: the data sets' scale (docs/datasets.md)
   std::filesystem::path out;                 ///< results, figures and report.md
   std::filesystem::path data;                ///< generated data sets; empty: OUT/data. Existing ones are reused
   std::filesystem::path occsweep_binary;     ///< run as `dataset generate` for missing data sets
   std::vector<std::string> datasets;         ///< empty: the paper's 20, in allDatasetNames() order
+  /// Missing data sets are generated with RealisticData's options, and existing ones must have been (--realistic).
+  bool realistic = false;
   std::uint64_t seed = 1;                    ///< Eq. 16 split of the reduction grid, NCA subsample and folds
   /// Section 4.4 / Fig. 3: the 800th (median-ranked) set of building-voronoi-I; falls back to the first data set.
   std::string fit_dataset = "building-voronoi-I";
@@ -60,11 +69,14 @@ struct RankedDataset {
   std::filesystem::path root;              ///< DATA/NAME
   std::vector<std::string> folders;        ///< pcs-NNNN in rank order
   std::vector<std::int64_t> ids;           ///< point cloud parameter ids, same order
+  nlohmann::json generator_options = nlohmann::json::object();  ///< ranking.json `options`: {} for the defaults
   /// Rank positions (0-based) standing for the paper's 1st, 800th and 1,600th of 1,600: first, (n+1)/2-th, last.
   [[nodiscard]] std::vector<std::size_t> paperRanks() const;
 };
 
-/// Generates the missing data sets (running the occsweep binary) and reads every ranking.json.
+/// Generates the missing data sets (running the occsweep binary) and reads every ranking.json. Every data set of one
+/// reproduction must come from the same generator options (the report states them); with c.realistic they must be
+/// RealisticData's. Throws std::runtime_error naming the ranking.json that differs.
 [[nodiscard]] std::vector<RankedDataset> prepareDatasets(const ReproduceConfig& c);
 
 /// Fig. 3: fits of the s_i of the fit data set's median-ranked set. Returns the fits.json content.
@@ -82,6 +94,7 @@ nlohmann::json runRuntimeModels(const ReproduceConfig& c, const std::vector<Rank
 /// The step files of one reproduction; a step that was not run is null.
 struct ReproductionResults {
   std::size_t datasets = 0;
+  nlohmann::json generator_options = nlohmann::json::object();  ///< of every data set (prepareDatasets checks)
   nlohmann::json fits, nca, comparison, curves, runtime;
 };
 
