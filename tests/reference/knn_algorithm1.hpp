@@ -72,7 +72,7 @@ inline double averageDistance(const std::vector<octomap::point3d>& z_in, std::si
 }
 
 /// The points of one scan that lie within s_c (Algorithm 1 line 1), in their order.
-inline std::vector<octomap::point3d> innerPoints(const Scan& scan, double s_c) {
+inline std::vector<octomap::point3d> innerPointsOf(const Scan& scan, double s_c) {
   std::vector<octomap::point3d> z_in;
   for (const auto& p : scan.points)
     if (isInner(p, scan.origin, s_c)) z_in.push_back(p);
@@ -95,21 +95,31 @@ struct NormalStats {
   double mu = 0, sigma = 0;
 };
 
+/// Line 5 for every point of z_in of every scan: s[t][i] is s_i of the i-th inner point of scan t.
+using SetDistances = std::vector<std::vector<double>>;
+
+inline SetDistances averageDistances(const PointCloudSet& set, int k, double s_c) {
+  SetDistances s;
+  for (const auto& scan : set) {
+    const auto z_in = innerPointsOf(scan, s_c);
+    s.emplace_back();
+    for (std::size_t i = 0; i < z_in.size(); ++i) s.back().push_back(averageDistance(z_in, i, k));
+  }
+  return s;
+}
+
 /// mu and sigma (Eq. 8-10) to use for each scan. Batch (the paper, Section 3.2: "all the points within range s_c in
 /// a point cloud set"): the values after every s_i of the set, the same for all scans. Online: the values after the
 /// s_i of scans 0..t. The s_i enter in scan order then point order; infinite s_i are left out (docs/design.md).
-inline std::vector<NormalStats> statsPerScan(const PointCloudSet& set, const KnnParams& params) {
+inline std::vector<NormalStats> statsPerScan(const SetDistances& s, StatsMode mode) {
   WelfordEq9 welford;
   std::vector<NormalStats> per_scan;
-  for (const auto& scan : set) {
-    const auto z_in = innerPoints(scan, params.s_c);
-    for (std::size_t i = 0; i < z_in.size(); ++i) {
-      const double s = averageDistance(z_in, i, params.k);
-      if (std::isfinite(s)) welford.add(s);
-    }
+  for (const auto& scan_s : s) {
+    for (double s_i : scan_s)
+      if (std::isfinite(s_i)) welford.add(s_i);
     per_scan.push_back({welford.mu, welford.sigma()});
   }
-  if (params.stats == StatsMode::Batch)
+  if (mode == StatsMode::Batch)
     for (auto& stats : per_scan) stats = per_scan.back();
   return per_scan;
 }
@@ -132,8 +142,8 @@ inline void addRayKeys(const octomap::OcTree& grid, const octomap::point3d& orig
 }
 
 /// One scan z_t from x_t into m: Algorithm 1, line by line.
-inline void algorithm1(LogOddsMap& m, const Scan& scan, const NormalStats& stats, const KnnParams& params,
-                       const octomap::OcTree& grid) {
+inline void algorithm1(LogOddsMap& m, const Scan& scan, const std::vector<double>& s, const NormalStats& stats,
+                       const KnnParams& params, const octomap::OcTree& grid) {
   const float l_min = logOddsEq2(params.p_min), l_max = logOddsEq2(params.p_max);
   // Lines 1-2: z_in and z_out.
   std::vector<octomap::point3d> z_in, z_out;
@@ -142,10 +152,8 @@ inline void algorithm1(LogOddsMap& m, const Scan& scan, const NormalStats& stats
   // Lines 3-6: m' accumulates l(p(s_i)) per voxel holding points (Eq. 7, first case: sum_j l[p(s_j)]), in float
   // and in point order, as a map of OctoMap's float log-odds would.
   LogOddsMap m_prime;
-  for (std::size_t i = 0; i < z_in.size(); ++i) {
-    const double s_i = averageDistance(z_in, i, params.k);
-    m_prime[grid.coordToKey(z_in[i])] += logOddsEq2(probabilityEq6(s_i, stats, params));
-  }
+  for (std::size_t i = 0; i < z_in.size(); ++i)  // s[i] = GetAverageDistance(z_in, P_i, k), line 5
+    m_prime[grid.coordToKey(z_in[i])] += logOddsEq2(probabilityEq6(s[i], stats, params));
   // Lines 7-10: each voxel of m' updates m once (Eq. 3). Its sum is clamped to [l_min, l_max] once before the
   // update, as docs/design.md reads line 6's m'.UpdateNode, then Eq. 5 clamps the result.
   for (const auto& [key, sum] : m_prime) updateNodeEq5(m, key, std::max(std::min(sum, l_max), l_min), l_min, l_max);
@@ -172,13 +180,18 @@ inline void algorithm1(LogOddsMap& m, const Scan& scan, const NormalStats& stats
       updateNodeEq5(m, key, logOddsEq2(params.p_m_out), l_min, l_max);
 }
 
-/// The whole point cloud set, scan after scan (Eq. 3: the map carries over from z_{1:t-1} to z_{1:t}).
-inline LogOddsMap buildMap(const PointCloudSet& set, const KnnParams& params) {
+/// The whole point cloud set, scan after scan (Eq. 3: the map carries over from z_{1:t-1} to z_{1:t}), with the
+/// s_i of averageDistances(set, params.k, params.s_c).
+inline LogOddsMap buildMap(const PointCloudSet& set, const KnnParams& params, const SetDistances& s) {
   const octomap::OcTree grid(params.resolution);  // only for OctoMap's keys and ray keys
-  const auto stats = statsPerScan(set, params);
+  const auto stats = statsPerScan(s, params.stats);
   LogOddsMap m;
-  for (std::size_t t = 0; t < set.size(); ++t) algorithm1(m, set[t], stats[t], params, grid);
+  for (std::size_t t = 0; t < set.size(); ++t) algorithm1(m, set[t], s[t], stats[t], params, grid);
   return m;
+}
+
+inline LogOddsMap buildMap(const PointCloudSet& set, const KnnParams& params) {
+  return buildMap(set, params, averageDistances(set, params.k, params.s_c));
 }
 
 }  // namespace occsweep::reference
