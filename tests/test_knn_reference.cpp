@@ -338,3 +338,32 @@ TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 r
   CHECK(cov.at_l_min > 0);
   CHECK(cov.clamped_hit_sums > 0);
 }
+
+// Lines 3-10 leave one choice open: Eq. 7 with Eq. 5 adds sum_j l(p(s_j)) to the map and clamps the result, while
+// docs/design.md clamps the voxel's sum to [l_min, l_max] before adding it (line 6's m'.UpdateNode). They differ
+// only when l(p(s)) leaves [l_min, l_max], which knn-opt's p_max = 0.98, p_min = 0.02 rule out for a lone point
+// but the reduction grid allows (p_u up to 0.98 with p_max down to 0.5). Pinned on a hand-computed case: both
+// implementations follow docs/design.md.
+TEST_CASE("a hit whose l(p(s)) exceeds l_max adds only l_max to a voxel freed before (docs/design.md's reading)") {
+  KnnParams p;
+  p.k = 2, p.p_u = 0.9, p.p_l = 0.8, p.p_m = 0.3, p.p_m_out = 0.4, p.p_max = 0.6, p.p_min = 0.12, p.p_t = 0.5;
+  const octomap::point3d origin(0.05f, 0.05f, 0.05f), in_v(0.55f, 0.05f, 0.05f);
+  const PointCloudSet set = {
+      {origin, {{1.05f, 0.05f, 0.05f}}},  // scan 0: its ray frees voxel V (the one holding in_v) with l(p_m)
+      {origin, {in_v, {0.55f, 0.55f, 0.05f}}},  // scan 1: a point in V, its neighbour 0.5 m away; F = 1, p = p_l
+  };
+  const octomap::OcTree grid(p.resolution);
+  const octomap::OcTreeKey v = grid.coordToKey(in_v);
+  // l(p_m) + clamp(l(p_l)) in float: l(0.8) = 1.386 > l_max = l(0.6) = 0.405, so V ends at -0.442 (free at 0.5);
+  // Eq. 7 with Eq. 5 alone would give min(-0.847 + 1.386, 0.405) = l_max (occupied).
+  const float expected = logOdds(0.3) + logOdds(0.6);
+  REQUIRE(expected < logOdds(p.p_t));
+  for (const auto variant : {UpdateVariant::Default, UpdateVariant::Literal}) {
+    p.variant = variant;
+    const LogOddsMap ref = reference::buildMap(set, p);
+    REQUIRE(ref.at(v) == expected);
+    const auto lib = voxelLogOdds(*KnnInverseSensorModel(p).buildMap(set));
+    REQUIRE(lib.at(v) == expected);
+    REQUIRE(mapDifferences(ref, lib).empty());
+  }
+}

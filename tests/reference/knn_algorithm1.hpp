@@ -88,7 +88,7 @@ struct WelfordEq9 {
     mu = (n - 1) / n * mu_prev + s / n;
     Q = Q + (s - mu_prev) * (s - mu);
   }
-  [[nodiscard]] double sigma() const { return std::sqrt(Q / n); }  // Eq. 10
+  [[nodiscard]] double sigma() const { return n > 0 ? std::sqrt(Q / n) : 0.0; }  // Eq. 10 (no s_i yet: unused)
 };
 
 struct NormalStats {
