@@ -214,7 +214,7 @@ std::string paramsText(const KnnParams& p) {
 /// What the scenes exercised, so that the test fails if the generator stops reaching a case it claims to cover.
 struct Coverage {
   std::size_t maps = 0, voxels = 0, thresholds = 0, multi_point_voxels = 0, points_beyond = 0, lone_scans = 0,
-              at_l_max = 0, at_l_min = 0, clamped_hit_sums = 0, ks_seen = 0;
+              online_steps = 0, at_l_max = 0, at_l_min = 0, clamped_hit_sums = 0, ks_seen = 0;
   bool k_seen[11] = {};
 };
 
@@ -228,6 +228,9 @@ void countSceneCoverage(const Scene& scene, Coverage& cov) {
     for (const auto& p : z_in) ++per_voxel[grid.coordToKey(p)];
     for (const auto& [_, n] : per_voxel) cov.multi_point_voxels += n > 1;
   }
+  const auto online = reference::statsPerScan(reference::averageDistances(scene.set, 2, scene.s_c), StatsMode::Online);
+  for (std::size_t t = 0; t < scene.set.size(); ++t)  // sigma = 0 over finite s_i: F is a step at mu
+    cov.online_steps += online[t].sigma == 0.0 && reference::innerPointsOf(scene.set[t], scene.s_c).size() >= 2;
 }
 
 void countMapCoverage(const LogOddsMap& m, const KnnParams& p, Coverage& cov) {
@@ -255,12 +258,67 @@ std::size_t clampedHitSums(const Scene& scene, const KnnParams& p, const referen
   return n;
 }
 
+/// The direct build that `occsweep map --method knn` runs, and the library's plain path, voxel for voxel.
+void requireLibraryMapsEqual(const LogOddsMap& ref, const KnnParams& p, const Scene& scene,
+                             const KnnSetDistances& distances) {
+  const KnnInverseSensorModel model(p);
+  for (const std::string path : {"buildMap", "buildMapReference"}) {
+    INFO("library path " << path);
+    const auto tree = path == "buildMap" ? model.buildMap(scene.set) : model.buildMapReference(scene.set, distances);
+    const auto diffs = mapDifferences(ref, voxelLogOdds(*tree));
+    for (std::size_t i = 0; i < std::min<std::size_t>(diffs.size(), 5); ++i) UNSCOPED_INFO(diffs[i]);
+    REQUIRE(diffs.empty());
+  }
+}
+
+/// The replay engine's counts (all lanes in one pass, and one lane alone) against the reference maps' counts.
+void requireReplayEqual(const RecordedSet& recorded, const std::vector<ReplayRule>& rules,
+                        const std::vector<std::vector<double>>& p_t,
+                        const std::vector<std::vector<RegionVoxel>>& reference_regions,
+                        const std::vector<std::string>& lane_names, Coverage& cov) {
+  const auto replayed = replayCounts(recorded, rules, p_t);
+  REQUIRE(replayed.size() == rules.size());
+  for (std::size_t lane = 0; lane < rules.size(); ++lane) {
+    INFO(lane_names[lane]);
+    const RegionSample one_map = replay(recorded, rules[lane]);
+    REQUIRE(replayed[lane].size() == p_t[lane].size());
+    for (std::size_t t = 0; t < p_t[lane].size(); ++t) {
+      const ConfusionCounts expected = countsOf(reference_regions[lane], p_t[lane][t]);
+      INFO("p_t " << p_t[lane][t] << ": reference " << countsText(expected) << "; replayCounts "
+                  << countsText(replayed[lane][t]) << "; replay " << countsText(classify(one_map, p_t[lane][t])));
+      REQUIRE(replayed[lane][t] == expected);
+      REQUIRE(classify(one_map, p_t[lane][t]) == expected);
+      ++cov.thresholds;
+    }
+  }
+}
+
+void printAndRequireCoverage(Coverage& cov) {
+  for (bool seen : cov.k_seen) cov.ks_seen += seen;
+  std::cout << "test_knn_reference: " << kScenes << " scenes, " << cov.maps << " maps, " << cov.voxels
+            << " voxels compared per library path, " << cov.thresholds << " thresholds compared with replay; "
+            << cov.ks_seen << " values of k; " << cov.multi_point_voxels << " scan-voxels with several points, "
+            << cov.points_beyond << " points beyond s_c, " << cov.lone_scans << " scans with a lone in-range point, "
+            << cov.online_steps << " scans with online sigma = 0; " << cov.at_l_max << " voxels at l_max, "
+            << cov.at_l_min << " at l_min, " << cov.clamped_hit_sums << " clamped hit sums\n";
+  // The claim covers these cases only if the scenes reached them.
+  CHECK(cov.ks_seen >= 6);
+  CHECK(cov.multi_point_voxels > 0);
+  CHECK(cov.points_beyond > 0);
+  CHECK(cov.lone_scans > 0);
+  CHECK(cov.online_steps > 0);
+  CHECK(cov.at_l_max > 0);
+  CHECK(cov.at_l_min > 0);
+  CHECK(cov.clamped_hit_sums > 0);
+}
+
 }  // namespace
 
 TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 random scenes, k > 1") {
   Coverage cov;
   for (std::uint64_t seed = 1; seed <= kScenes; ++seed) {
     const Scene scene = randomScene(1000 + seed);
+    INFO("scene seed " << 1000 + seed);
     countSceneCoverage(scene, cov);
     const GroundTruth truth = makeGroundTruth({scene.boxes, {}, {}}, scene.region, scene.resolution);
     const RecordedSet recorded = recordSet(scene.set, truth, scene.resolution, scene.s_c);
@@ -282,61 +340,25 @@ TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 r
           std::vector<ReplayRule> rules;
           std::vector<std::vector<double>> p_t;
           std::vector<std::vector<RegionVoxel>> reference_regions;
+          std::vector<std::string> lane_names;
           for (const MapParams& m : lanes) {
             const KnnParams p = knnParams(m, scene, variant, stats);
-            INFO("scene seed " << 1000 + seed << ", " << paramsText(p));
+            lane_names.push_back(paramsText(p));
+            INFO(lane_names.back());
             const LogOddsMap ref = reference::buildMap(scene.set, p, reference_s);
-            reference_regions.push_back(regionOf(ref, truth));
             countMapCoverage(ref, p, cov);
             cov.clamped_hit_sums += clampedHitSums(scene, p, reference_s);
-
-            const KnnInverseSensorModel model(p);
-            for (const auto* path : {"buildMap", "buildMapReference"}) {
-              INFO("library path " << path);
-              const auto tree = std::string(path) == "buildMap" ? model.buildMap(scene.set)
-                                                                : model.buildMapReference(scene.set, distances);
-              const auto diffs = mapDifferences(ref, voxelLogOdds(*tree));
-              for (std::size_t i = 0; i < std::min<std::size_t>(diffs.size(), 5); ++i) UNSCOPED_INFO(diffs[i]);
-              REQUIRE(diffs.empty());
-            }
+            requireLibraryMapsEqual(ref, p, scene, distances);
+            reference_regions.push_back(regionOf(ref, truth));
             rules.push_back(knnRule(m, sums, variant));
             p_t.push_back(thresholds(p));
           }
-          const auto replayed = replayCounts(recorded, rules, p_t);
-          REQUIRE(replayed.size() == lanes.size());
-          for (std::size_t lane = 0; lane < lanes.size(); ++lane) {
-            INFO("scene seed " << 1000 + seed << ", " << paramsText(knnParams(lanes[lane], scene, variant, stats)));
-            const RegionSample one_map = replay(recorded, rules[lane]);
-            REQUIRE(replayed[lane].size() == p_t[lane].size());
-            for (std::size_t t = 0; t < p_t[lane].size(); ++t) {
-              INFO("p_t " << p_t[lane][t]);
-              const ConfusionCounts expected = countsOf(reference_regions[lane], p_t[lane][t]);
-              INFO("reference " << countsText(expected) << "; replayCounts " << countsText(replayed[lane][t])
-                                << "; replay " << countsText(classify(one_map, p_t[lane][t])));
-              REQUIRE(replayed[lane][t] == expected);
-              REQUIRE(classify(one_map, p_t[lane][t]) == expected);
-              ++cov.thresholds;
-            }
-          }
+          requireReplayEqual(recorded, rules, p_t, reference_regions, lane_names, cov);
         }
       }
     }
   }
-  for (bool seen : cov.k_seen) cov.ks_seen += seen;
-  std::cout << "test_knn_reference: " << kScenes << " scenes, " << cov.maps << " maps, " << cov.voxels
-            << " voxels compared per library path, " << cov.thresholds << " thresholds compared with replay; "
-            << cov.ks_seen << " values of k; " << cov.multi_point_voxels << " scan-voxels with several points, "
-            << cov.points_beyond << " points beyond s_c, " << cov.lone_scans << " scans with a lone in-range point; "
-            << cov.at_l_max << " voxels at l_max, " << cov.at_l_min << " at l_min, " << cov.clamped_hit_sums
-            << " clamped hit sums\n";
-  // The claim covers these cases only if the scenes reached them.
-  CHECK(cov.ks_seen >= 6);
-  CHECK(cov.multi_point_voxels > 0);
-  CHECK(cov.points_beyond > 0);
-  CHECK(cov.lone_scans > 0);
-  CHECK(cov.at_l_max > 0);
-  CHECK(cov.at_l_min > 0);
-  CHECK(cov.clamped_hit_sums > 0);
+  printAndRequireCoverage(cov);
 }
 
 // Lines 3-10 leave one choice open: Eq. 7 with Eq. 5 adds sum_j l(p(s_j)) to the map and clamps the result, while
