@@ -214,7 +214,7 @@ std::string paramsText(const KnnParams& p) {
 /// What the scenes exercised, so that the test fails if the generator stops reaching a case it claims to cover.
 struct Coverage {
   std::size_t maps = 0, voxels = 0, thresholds = 0, multi_point_voxels = 0, points_beyond = 0, lone_scans = 0,
-              online_steps = 0, at_l_max = 0, at_l_min = 0, clamped_hit_sums = 0, ks_seen = 0;
+              online_steps = 0, points_at_s_c = 0, at_l_max = 0, at_l_min = 0, clamped_hit_sums = 0, ks_seen = 0;
   bool k_seen[11] = {};
 };
 
@@ -223,6 +223,7 @@ void countSceneCoverage(const Scene& scene, Coverage& cov) {
   for (const auto& scan : scene.set) {
     const auto z_in = reference::innerPointsOf(scan, scene.s_c);
     cov.points_beyond += scan.points.size() - z_in.size();
+    for (const auto& p : scan.points) cov.points_at_s_c += (p - scan.origin).norm() == scene.s_c;
     if (z_in.size() == 1) ++cov.lone_scans;
     std::map<octomap::OcTreeKey, int, reference::KeyLess> per_voxel;
     for (const auto& p : z_in) ++per_voxel[grid.coordToKey(p)];
@@ -298,13 +299,15 @@ void printAndRequireCoverage(Coverage& cov) {
   std::cout << "test_knn_reference: " << kScenes << " scenes, " << cov.maps << " maps, " << cov.voxels
             << " voxels compared per library path, " << cov.thresholds << " thresholds compared with replay; "
             << cov.ks_seen << " values of k; " << cov.multi_point_voxels << " scan-voxels with several points, "
-            << cov.points_beyond << " points beyond s_c, " << cov.lone_scans << " scans with a lone in-range point, "
+            << cov.points_beyond << " points beyond s_c, " << cov.points_at_s_c << " exactly at s_c, "
+            << cov.lone_scans << " scans with a lone in-range point, "
             << cov.online_steps << " scans with online sigma = 0; " << cov.at_l_max << " voxels at l_max, "
             << cov.at_l_min << " at l_min, " << cov.clamped_hit_sums << " clamped hit sums\n";
   // The claim covers these cases only if the scenes reached them.
   CHECK(cov.ks_seen >= 6);
   CHECK(cov.multi_point_voxels > 0);
   CHECK(cov.points_beyond > 0);
+  CHECK(cov.points_at_s_c > 0);
   CHECK(cov.lone_scans > 0);
   CHECK(cov.online_steps > 0);
   CHECK(cov.at_l_max > 0);
