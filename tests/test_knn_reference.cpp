@@ -327,13 +327,13 @@ TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 r
     const RecordedSet recorded = recordSet(scene.set, truth, scene.resolution, scene.s_c);
     SplitMix64 rng(seed);
     for (int hit_rule = 0; hit_rule < 2; ++hit_rule) {
-      // One hit rule (k, p_u, p_l) and four lanes of other parameters, replayed together as `sweep` does.
+      // One hit rule (k, p_u, p_l) and three lanes of other parameters, replayed together as `sweep` does.
       const int k = 2 + int(rng.below(9));
       cov.k_seen[k] = true;
       const Fixed p_l = Fixed(2 + rng.below(80)) * 10'000;
       const Fixed p_u = p_l + Fixed(1 + rng.below(std::uint64_t(98 - p_l / 10'000))) * 10'000;
       std::vector<MapParams> lanes;
-      for (int lane = 0; lane < 4; ++lane) lanes.push_back(randomMapParams(rng, k, p_u, p_l));
+      for (int lane = 0; lane < 3; ++lane) lanes.push_back(randomMapParams(rng, k, p_u, p_l));
       const KnnSetDistances distances = computeKnnDistances(scene.set, k, scene.s_c);
       const reference::SetDistances reference_s = reference::averageDistances(scene.set, k, scene.s_c);
       for (const StatsMode stats : {StatsMode::Batch, StatsMode::Online}) {

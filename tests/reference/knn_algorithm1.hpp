@@ -134,10 +134,10 @@ inline double probabilityEq6(double s, const NormalStats& stats, const KnnParams
   return params.p_u - F * (params.p_u - params.p_l);
 }
 
-/// The keys of the ray from origin to end, as liboctomap computes them (origin voxel in, end voxel out).
+/// The keys of the ray from origin to end, as liboctomap computes them (origin voxel in, end voxel out). `ray` is
+/// scratch space, passed in because an octomap::KeyRay allocates room for 100,000 keys.
 inline void addRayKeys(const octomap::OcTree& grid, const octomap::point3d& origin, const octomap::point3d& end,
-                       KeySet& keys) {
-  octomap::KeyRay ray;
+                       octomap::KeyRay& ray, KeySet& keys) {
   if (grid.computeRayKeys(origin, end, ray)) keys.insert(ray.begin(), ray.end());
 }
 
@@ -159,8 +159,9 @@ inline void algorithm1(LogOddsMap& m, const Scan& scan, const std::vector<double
   for (const auto& [key, sum] : m_prime) updateNodeEq5(m, key, std::max(std::min(sum, l_max), l_min), l_min, l_max);
 
   // Line 11: m_in, the voxels traversed by rays to z_in points.
+  octomap::KeyRay ray;
   KeySet m_in;
-  for (const auto& p : z_in) addRayKeys(grid, scan.origin, p, m_in);
+  for (const auto& p : z_in) addRayKeys(grid, scan.origin, p, ray, m_in);
   // Lines 12-13: each updated once with l_in = l(p_m). Default variant (docs/design.md, as OctoMap's computeUpdate:
   // occupied wins): a voxel holding an in-range point is not also updated as traversed. Literal: every voxel of m_in.
   const bool literal = params.variant == UpdateVariant::Literal;
@@ -171,7 +172,7 @@ inline void algorithm1(LogOddsMap& m, const Scan& scan, const std::vector<double
   KeySet m_out;
   for (const auto& p : z_out) {
     const octomap::point3d cut_end = scan.origin + (p - scan.origin).normalized() * static_cast<float>(params.s_c);
-    addRayKeys(grid, scan.origin, cut_end, m_out);
+    addRayKeys(grid, scan.origin, cut_end, ray, m_out);
   }
   // Lines 15-20: those not in m_in are updated once with l_out = l(p'_m) (Eq. 7: "updated with l_in only" when
   // both apply). Default variant: hit voxels are skipped here too.
