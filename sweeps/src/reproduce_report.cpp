@@ -87,6 +87,7 @@ std::string reproductionReport(const ReproduceConfig& c, const json& fits, const
   fitsSection(o, fits);
   ncaSection(o, nca);
   reproduce::comparisonSection(o, comparison);
+  reproduce::truthSection(o, comparison);
   o << "## 5. Curves and maps (Fig. 6, `fig6_curves_maps.png`)\n\n" << "Best curves on "
     << curves.at("dataset").get<std::string>() << " " << curves.at("point_cloud_set").get<std::string>()
     << ": OctoMap AUC " << num(get(curves.at("octomap").at("auc"))) << ", k-NN AUC "
