@@ -308,3 +308,25 @@ TEST_CASE("merge and compare refuse to mix full and observable results, naming b
   CHECK(same.exit_code == 0);
   CHECK_THAT(same.output, Catch::Contains("truth: observable"));
 }
+
+TEST_CASE("one pass with an observable twin gives what separate full and observable sweeps give") {
+  const Scene& s = scene();
+  const fs::path d = s.dir / "twin";
+  fs::create_directories(d);
+  const fs::path grid = smallKnnGrid(d);
+  for (const std::string g : {std::string("octomap-opt"), grid.string()})
+    for (const char* engine : {"replay", "direct"}) {
+      const std::string tag = fs::path(g).stem().string() + "-" + engine;
+      INFO(tag);
+      SweepConfig c;
+      c.dataset = s.solid, c.grid = g, c.engine = engine, c.quiet = true;
+      c.out = d / (tag + "-both.json");
+      c.observable_out = d / (tag + "-both-observable.json");
+      const ResultsFile full = runSweep(c);
+      const ResultsFile twin = readResults(c.observable_out);
+      CHECK(twin.header.truth == TruthMode::Observable);
+      CHECK(resultDifferences(sweep(s.solid, g, engine, TruthMode::Full, d / (tag + "-full.json")), full).empty());
+      CHECK(resultDifferences(sweep(s.solid, g, engine, TruthMode::Observable, d / (tag + "-obs.json")), twin).empty());
+      CHECK(positives(twin) < positives(full));
+    }
+}

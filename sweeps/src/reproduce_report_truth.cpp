@@ -40,14 +40,14 @@ void truthSection(std::ostringstream& o, const json& comparison) {
     const json& t = r.at("truths");
     o << "| " << r.at("dataset").get<std::string>() << " | " << r.at("rank_label").get<std::string>() << " | "
       << t.at("full").at("true_voxels").get<std::uint64_t>() << " / "
-      << t.at("observable").at("true_voxels").get<std::uint64_t>() << " | ";
+      << t.at("observable").at("true_voxels").get<std::uint64_t>() << " |";
     for (const char* column : {"octomap", "knn", "improvement_percent", "tpr_ceiling"})
       for (int i = 0; i < 2; ++i) {
         const json& side = t.at(kTruths[i]);
         const double v = column == std::string("improvement_percent") || column == std::string("tpr_ceiling")
                              ? get(side.at(column))
                              : auc(side, column);
-        o << num(v, column == std::string("improvement_percent") ? "%+.2f" : "%.4f") << " | ";
+        o << ' ' << num(v, column == std::string("improvement_percent") ? "%+.2f" : "%.4f") << " |";
       }
     o << "\n";
     for (int i = 0; i < 2; ++i) {
