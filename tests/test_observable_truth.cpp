@@ -267,6 +267,17 @@ TEST_CASE("results files record the truth: version 2 with map.truth for observab
   CHECK(j_obs.at("version") == 2);
   CHECK(j_obs.at("map").at("truth") == "observable");
   CHECK(readResults(full).header.truth == TruthMode::Full);
+  // The version and the field go together: either without the other is refused, naming map.truth.
+  auto refused = [&](nlohmann::json j, const char* name) {
+    const fs::path edited = s.dir / name;
+    std::ofstream(edited) << j.dump();
+    CHECK_THROWS_WITH(readResults(edited), Catch::Contains(edited.string()) && Catch::Contains("map.truth"));
+  };
+  nlohmann::json v1_with_field = j_obs, v2_without = j_obs;
+  v1_with_field["version"] = 1;
+  v2_without["map"].erase("truth");
+  refused(v1_with_field, "v1-with-truth.json");
+  refused(v2_without, "v2-without-truth.json");
   // results check, against the data set too: TP+FN is the observable truth's count.
   auto check = test::runCli("results check " + obs.string() + " --dataset " + s.solid.string());
   INFO(check.output);
