@@ -90,6 +90,9 @@ ResultsFile runSweep(const SweepConfig& c) {
     }
   }
 
+  // The twin too replaces only occsweep's own results (a user's file there is refused before any work).
+  if (twin && fs::exists(fs::symlink_status(c.observable_out, ec)))
+    checkOutputTarget(c.observable_out, true, resultsOutput());
   const fs::path partial = c.out.string() + ".partial.jsonl";
   std::map<std::uint64_t, std::string> engine_of;  // provenance of every finished map
   std::map<std::uint64_t, MapResult> twin_done;
