@@ -92,6 +92,12 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
     CHECK(row.at("knn").at("auc") == expected.at("knn").at("auc"));
     const double om = row.at("octomap").at("auc"), knn = row.at("knn").at("auc");
     CHECK(row.at("improvement_percent").get<double>() == Approx((knn - om) / om * 100.0));
+    // Full and observable truth from the same maps: the full side is the row's, observable truth holds fewer true
+    // voxels (the boxes' interiors), and its results file lies beside the full one.
+    const json& truths = row.at("truths");
+    CHECK(truths.at("full").at("octomap").at("auc") == row.at("octomap").at("auc"));
+    CHECK(truths.at("observable").at("true_voxels").get<int>() < truths.at("full").at("true_voxels").get<int>());
+    CHECK(std::filesystem::is_regular_file(sweeps / (set + "-knn-opt-observable.json")));
   }
 
   const json curves = readJsonFile(dir / "curves.json");
@@ -105,7 +111,8 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
   CHECK(runtime.at("knn").at("samples").size() == 2 * 4 * 4);  // 2 data sets x 4 fractions x k in {1,3,5,7}
 
   const std::string report = readText(dir / "report.md");
-  for (const char* heading : {"## 1.", "## 2.", "## 3.", "## 4.", "## 5.", "## 6."}) CHECK(report.find(heading) != std::string::npos);
+  for (const char* heading : {"## 1.", "## 2.", "## 3.", "## 3b.", "## 4.", "## 5.", "## 6."})
+    CHECK(report.find(heading) != std::string::npos);
   if (figures)
     for (const char* png : {"fig3_distribution_fits.png", "fig4_nca_weights.png", "fig5_improvement.png",
                             "fig6_curves_maps.png", "fig7_runtime.png"})

@@ -13,9 +13,10 @@ ConfusionCounts naiveConfusion(const PointCloudSet& set, const GroundTruth& trut
       if (grid.coordToKeyChecked(p, key) && truth.inRegion(key)) predicted.insert(key);
     }
   ConfusionCounts c;
-  for (const auto& key : predicted) (truth.occupied.count(key) ? c.tp : c.fp) += 1;
-  c.fn = truth.occupied.size() - c.tp;
-  c.tn = truth.regionVoxelCount() - c.tp - c.fp - c.fn;
+  for (const auto& key : predicted)
+    if (!truth.excluded.count(key)) (truth.occupied.count(key) ? c.tp : c.fp) += 1;  // excluded: not evaluated
+  c.fn = truth.occupied.size() - truth.excluded.size() - c.tp;
+  c.tn = truth.regionVoxelCount() - truth.excluded.size() - c.tp - c.fp - c.fn;
   return c;
 }
 

@@ -51,6 +51,15 @@ std::string settingsText(const ResultsHeader& h) {
 
 }  // namespace
 
+std::string mixedTruths(const std::vector<ResultsFile>& files, const std::vector<std::string>& names) {
+  for (std::size_t i = 1; i < files.size(); ++i)
+    if (files[i].header.truth != files[0].header.truth)
+      return names[0] + " (map.truth " + truthModeName(files[0].header.truth) + ") and " + names[i] +
+             " (map.truth " + truthModeName(files[i].header.truth) +
+             "): results of full and observable truth count different voxels and cannot be mixed";
+  return "";
+}
+
 std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, const std::vector<std::string>& names) {
   std::vector<std::string> problems;
   std::map<std::string, std::size_t> first_of_hash, first_knn_of_hash;

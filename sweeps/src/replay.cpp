@@ -25,7 +25,9 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   const auto voxels = std::uint32_t(region.volume());
   r.truth.assign(voxels, 0);
   for (const auto& k : truth.occupied) r.truth[index(k)] = 1;
+  for (const auto& k : truth.excluded) r.truth[index(k)] = 2;
   r.positives = truth.occupied.size();
+  r.excluded = truth.excluded.size();
   r.negatives = voxels - r.positives;
 
   // Events in scan order, then bucketed by voxel with a stable counting sort done in place over the scans'
@@ -134,14 +136,14 @@ ReplayRule knnRule(const MapParams& m, const std::vector<float>& hit_sums, Updat
 
 RegionSample replay(const RecordedSet& r, const ReplayRule& rule) {
   RegionSample s;
-  s.positives = r.positives;
+  s.positives = r.positives - r.excluded;
   s.negatives = r.negatives;
   const float lo = rule.l_min, hi = rule.l_max;
   const bool knn = rule.knn_hit_sums != nullptr;
   const std::uint32_t voxels = std::uint32_t(r.truth.size());
   for (std::uint32_t v = 0; v < voxels; ++v) {
     const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
-    if (begin == end) continue;  // never updated: unknown
+    if (begin == end || r.truth[v] == 2) continue;  // never updated (unknown), or not evaluated
     float value = 0.0f;
     for (std::uint32_t e = begin; e < end; ++e) {
       const std::uint8_t f = r.flags[e];

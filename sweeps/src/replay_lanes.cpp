@@ -23,7 +23,8 @@ inline void update(Lanes& v, const Lanes& d, const Lanes& lo, const Lanes& hi) {
 }  // namespace
 
 std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, const std::vector<ReplayRule>& rules,
-                                                       const std::vector<std::vector<double>>& p_t) {
+                                                       const std::vector<std::vector<double>>& p_t,
+                                                       std::vector<std::vector<ConfusionCounts>>* observable) {
   const std::size_t n = rules.size();
   if (n == 0 || n > kReplayLanes || p_t.size() != n) throw std::invalid_argument("replayCounts: 1 to 8 lanes");
   const std::vector<float>* sums = rules[0].knn_hit_sums;
@@ -50,7 +51,9 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
   // comparison), and the voxels at or above the s-th threshold are the sum of reach[j] over j > s.
   std::vector<std::vector<float>> thresholds(n);
   std::vector<std::vector<std::size_t>> order(n);  // order[l][s]: the index in p_t[l] of the s-th smallest
-  std::vector<std::vector<std::uint64_t>> reach_tp(n), reach_fp(n);
+  // Excluded voxels (truth value 2) are all true voxels: they reach their own counter, which full truth adds to
+  // TP and observable truth leaves out; FP and TN are the same under both.
+  std::vector<std::vector<std::uint64_t>> reach_tp(n), reach_fp(n), reach_excluded(n);
   for (std::size_t l = 0; l < n; ++l) {
     std::vector<float> unsorted;
     for (double p : p_t[l]) unsorted.push_back(logOdds(p));
@@ -60,6 +63,7 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
     for (std::size_t t : order[l]) thresholds[l].push_back(unsorted[t]);
     reach_tp[l].assign(unsorted.size() + 1, 0);
     reach_fp[l].assign(unsorted.size() + 1, 0);
+    reach_excluded[l].assign(unsorted.size() + 1, 0);
   }
   const std::uint32_t voxels = std::uint32_t(r.truth.size());
   for (std::uint32_t v = 0; v < voxels; ++v) {
@@ -91,7 +95,7 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
           update(value, out, lo, hi);
       }
     }
-    auto& reach = r.truth[v] != 0 ? reach_tp : reach_fp;
+    auto& reach = r.truth[v] == 0 ? reach_fp : (r.truth[v] == 1 ? reach_tp : reach_excluded);
     for (std::size_t l = 0; l < n; ++l) {
       std::size_t j = 0;
       for (const float threshold : thresholds[l]) j += value[l] >= threshold;
@@ -99,13 +103,19 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
     }
   }
   std::vector<std::vector<ConfusionCounts>> counts(n);
+  if (observable) observable->assign(n, {});
   for (std::size_t l = 0; l < n; ++l) {
     counts[l].assign(p_t[l].size(), ConfusionCounts{});
-    std::uint64_t tp = 0, fp = 0;
+    if (observable) (*observable)[l].assign(p_t[l].size(), ConfusionCounts{});
+    std::uint64_t tp = 0, fp = 0, excluded_tp = 0;
     for (std::size_t s = thresholds[l].size(); s-- > 0;) {
-      tp += reach_tp[l][s + 1], fp += reach_fp[l][s + 1];
+      tp += reach_tp[l][s + 1], fp += reach_fp[l][s + 1], excluded_tp += reach_excluded[l][s + 1];
       ConfusionCounts& c = counts[l][order[l][s]];
-      c.tp = tp, c.fp = fp, c.fn = r.positives - tp, c.tn = r.negatives - fp;
+      c.tp = tp + excluded_tp, c.fp = fp, c.fn = r.positives - c.tp, c.tn = r.negatives - fp;
+      if (observable) {
+        ConfusionCounts& o = (*observable)[l][order[l][s]];
+        o.tp = tp, o.fp = fp, o.fn = r.positives - r.excluded - tp, o.tn = r.negatives - fp;
+      }
     }
   }
   return counts;

@@ -23,6 +23,28 @@ json bestJson(const std::optional<BestMap>& b, bool knn) {
           {"params", paramsJson(b->params, knn)}};
 }
 
+// The highest TPR any map of either grid reaches at any p_t: the ceiling the truth puts on the curves (issue 14:
+// on the Fig. 6 set no combination passes it, not even at p_t = p_min).
+double tprCeiling(const ResultsFile& om, const ResultsFile& knn) {
+  double ceiling = NAN;
+  for (const ResultsFile* f : {&om, &knn})
+    for (const auto& m : f->maps)
+      for (const auto& t : m.thresholds)
+        if (std::isfinite(t.counts.tpr()) && !(t.counts.tpr() <= ceiling)) ceiling = t.counts.tpr();
+  return ceiling;
+}
+
+// One truth's side of a row: both best maps, the improvement and the TPR ceiling.
+json truthJson(const ResultsFile& om, const ResultsFile& knn) {
+  const ComparisonRow row = compareBest({om, knn}).at(0);
+  std::uint64_t positives = 0;
+  if (!om.maps.empty() && !om.maps.front().thresholds.empty())
+    positives = om.maps.front().thresholds.front().counts.tp + om.maps.front().thresholds.front().counts.fn;
+  return {{"octomap", bestJson(row.octomap, false)}, {"knn", bestJson(row.knn, true)},
+          {"improvement_percent", number(row.improvementPercent())}, {"tpr_ceiling", number(tprCeiling(om, knn))},
+          {"true_voxels", positives}};
+}
+
 const char* rankLabel(std::size_t i, std::size_t count) {
   if (i == 0) return "1st";
   return i + 1 == count ? "last" : "median";
@@ -35,8 +57,11 @@ json runOptimalComparison(const ReproduceConfig& c, const std::vector<RankedData
   for (const RankedDataset& d : all) {
     const auto ranks = d.paperRanks();
     for (std::size_t i = 0; i < ranks.size(); ++i) {
-      const ResultsFile om = reproduce::sweepSet(c, d, ranks[i], "octomap-opt");
-      const ResultsFile knn = reproduce::sweepSet(c, d, ranks[i], "knn-opt");
+      // Both truths from the same maps (docs/results-format.md, "Truth").
+      const reproduce::BothTruths om_both = reproduce::sweepSetBothTruths(c, d, ranks[i], "octomap-opt");
+      const reproduce::BothTruths knn_both = reproduce::sweepSetBothTruths(c, d, ranks[i], "knn-opt");
+      const ResultsFile& om = om_both.full;
+      const ResultsFile& knn = knn_both.full;
       const ComparisonRow row = compareBest({om, knn}).at(0);
       // name = environment-texture-layout (docs/datasets.md)
       const auto dash1 = d.name.find('-'), dash2 = d.name.rfind('-');
@@ -46,7 +71,9 @@ json runOptimalComparison(const ReproduceConfig& c, const std::vector<RankedData
                       {"sets_ranked", d.folders.size()}, {"point_cloud_set", d.folders[ranks[i]]},
                       {"pointcloud_id", d.ids[ranks[i]]}, {"octomap", bestJson(row.octomap, false)},
                       {"knn", bestJson(row.knn, true)}, {"improvement_percent", number(row.improvementPercent())},
-                      {"sweep_seconds", {{"octomap", om.seconds}, {"knn", knn.seconds}}}});
+                      {"sweep_seconds", {{"octomap", om.seconds}, {"knn", knn.seconds}}},
+                      {"truths", {{"full", truthJson(om, knn)},
+                                  {"observable", truthJson(om_both.observable, knn_both.observable)}}}});
     }
   }
   return {{"format", "occsweep-reproduce-comparison"}, {"figure", "Fig. 5"},

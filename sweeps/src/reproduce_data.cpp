@@ -116,8 +116,10 @@ std::vector<RankedDataset> prepareDatasets(const ReproduceConfig& c) {
 
 namespace reproduce {
 
-ResultsFile sweepSet(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank, const std::string& grid,
-                     const SweepSelection& selection) {
+namespace {
+
+SweepConfig sweepConfig(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank, const std::string& grid,
+                        const SweepSelection& selection) {
   SweepConfig s;
   s.dataset = d.root / d.folders.at(rank);
   s.grid = grid;
@@ -127,7 +129,24 @@ ResultsFile sweepSet(const ReproduceConfig& c, const RankedDataset& d, std::size
   s.threads = c.threads;
   s.quiet = c.quiet;
   fs::create_directories(s.out.parent_path());
-  return runSweep(s);  // a complete file of the same work is reused as it is
+  return s;
+}
+
+}  // namespace
+
+ResultsFile sweepSet(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank, const std::string& grid,
+                     const SweepSelection& selection) {
+  return runSweep(sweepConfig(c, d, rank, grid, selection));  // a complete file of the same work is reused as it is
+}
+
+BothTruths sweepSetBothTruths(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank,
+                              const std::string& grid) {
+  SweepConfig s = sweepConfig(c, d, rank, grid, {});
+  s.observable_out = s.out.parent_path() / (s.out.stem().string() + "-observable.json");
+  BothTruths both;
+  both.full = runSweep(s);  // reused as they are when both files are complete
+  both.observable = readResults(s.observable_out);
+  return both;
 }
 
 const RankedDataset& datasetOrFirst(const std::vector<RankedDataset>& d, const std::string& name) {

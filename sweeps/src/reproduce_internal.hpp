@@ -19,6 +19,14 @@ namespace occsweep::reproduce {
 [[nodiscard]] ResultsFile sweepSet(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank,
                                    const std::string& grid, const SweepSelection& selection = {});
 
+/// The same sweep under full and observable truth (docs/results-format.md, "Truth"), both counted from the same
+/// maps in one pass; the observable results go beside the full ones as NAME-observable.json.
+struct BothTruths {
+  ResultsFile full, observable;
+};
+[[nodiscard]] BothTruths sweepSetBothTruths(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank,
+                                            const std::string& grid);
+
 /// The data set with this name, or the first one when it is not in the run (small runs pick a subset).
 [[nodiscard]] const RankedDataset& datasetOrFirst(const std::vector<RankedDataset>& d, const std::string& name);
 
@@ -51,5 +59,8 @@ namespace occsweep::reproduce {
 
 /// report.md's sections 3 and 4 (Fig. 5): improvement and the texture / environment means.
 void comparisonSection(std::ostringstream& o, const nlohmann::json& comparison);
+
+/// report.md's section on the same comparison under full and observable truth, side by side.
+void truthSection(std::ostringstream& o, const nlohmann::json& comparison);
 
 }  // namespace occsweep::reproduce

@@ -144,7 +144,10 @@ std::string reproductionReport(const ReproduceConfig& c, const ReproductionResul
   if (r.nca.is_null()) notRun(o, "2. k is the least important k-NN parameter, weight below 0.1 (Fig. 4)");
   else ncaSection(o, r.nca);
   if (r.comparison.is_null()) notRun(o, "3-4. k-NN against the optimal OctoMap, by texture and environment (Fig. 5)");
-  else reproduce::comparisonSection(o, r.comparison);
+  else {
+    reproduce::comparisonSection(o, r.comparison);
+    reproduce::truthSection(o, r.comparison);
+  }
   if (r.curves.is_null()) notRun(o, "5. Curves and maps (Fig. 6)");
   else curvesSection(o, r.curves);
   if (r.runtime.is_null()) notRun(o, "6. Run time is linear in the points, and grows with k (Fig. 7)");

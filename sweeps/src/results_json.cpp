@@ -14,7 +14,9 @@ namespace {
 
 using nlohmann::json;
 constexpr const char* kFormat = "occsweep-results";
-constexpr int kVersion = 1;
+// Version 2 adds map.truth; full-truth files are still written as version 1 (byte for byte as before), so that
+// only observable-truth files, which an older occsweep would misread as full truth, carry version 2.
+constexpr int kVersion = 1, kTruthVersion = 2;
 
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
@@ -71,6 +73,9 @@ bool sameWork(const ResultsHeader& a, const ResultsHeader& b, bool compare_shard
     return differ("another shard");
   if (a.resolution != b.resolution || a.s_c != b.s_c) return differ("another resolution or s_c");
   if (a.variant != b.variant || a.stats != b.stats) return differ("another k-NN variant or statistics mode");
+  if (a.truth != b.truth)
+    return differ(a.truth == TruthMode::Full ? "another truth (map.truth: observable against full)"
+                                             : "another truth (map.truth: full against observable)");
   return true;
 }
 
@@ -80,15 +85,17 @@ json toJson(const ResultsHeader& h) {
   if (h.selection.group)
     sel["group"] = {{"index", h.selection.group->index}, {"count", h.selection.group->count},
                     {"seed", h.selection.group->seed}};
-  return {{"occsweep", {{"version", h.version}, {"commit", h.commit}}},
-          {"grid", {{"name", h.grid_name}, {"file_hash", h.grid_hash}, {"method", methodName(h.method)},
-                    {"combinations", h.grid_combinations}}},
-          {"selection", sel},
-          {"dataset", {{"name", h.dataset_name}, {"content_hash", h.dataset_hash},
-                       {"point_cloud_set", h.point_cloud_set}}},
-          {"map", {{"resolution", h.resolution}, {"s_c", h.s_c}, {"variant", h.variant}, {"stats", h.stats},
-                   {"engine", h.engine},
-                   {"engines", h.engines.empty() ? std::vector<std::string>{h.engine} : h.engines}}}};
+  json j = {{"occsweep", {{"version", h.version}, {"commit", h.commit}}},
+            {"grid", {{"name", h.grid_name}, {"file_hash", h.grid_hash}, {"method", methodName(h.method)},
+                      {"combinations", h.grid_combinations}}},
+            {"selection", sel},
+            {"dataset", {{"name", h.dataset_name}, {"content_hash", h.dataset_hash},
+                         {"point_cloud_set", h.point_cloud_set}}},
+            {"map", {{"resolution", h.resolution}, {"s_c", h.s_c}, {"variant", h.variant}, {"stats", h.stats},
+                     {"engine", h.engine},
+                     {"engines", h.engines.empty() ? std::vector<std::string>{h.engine} : h.engines}}}};
+  if (h.truth != TruthMode::Full) j["map"]["truth"] = truthModeName(h.truth);
+  return j;
 }
 
 json toJson(const MapResult& m, GridMethod method) {
@@ -116,7 +123,7 @@ json toJson(const MapResult& m, GridMethod method) {
 }
 
 json toJson(const ResultsFile& f) {
-  json j = {{"format", kFormat}, {"version", kVersion}};
+  json j = {{"format", kFormat}, {"version", f.header.truth == TruthMode::Full ? kVersion : kTruthVersion}};
   j.update(toJson(f.header));
   j["complete"] = f.complete;
   j["seconds"] = f.seconds;
@@ -169,6 +176,13 @@ ResultsHeader parseHeader(const json& j, const std::string& file) {
     for (const auto& e : list) {
       if (!e.is_string()) r.fail("map.engines", "must be a non-empty array of engine names");
       h.engines.push_back(e.get<std::string>());
+    }
+  }
+  if (m.contains("truth")) {
+    try {
+      h.truth = parseTruthMode(m.at("truth").is_string() ? m.at("truth").get<std::string>() : "");
+    } catch (const std::invalid_argument&) {
+      r.fail("map.truth", "must be \"full\" or \"observable\"");
     }
   }
   return h;
@@ -228,9 +242,13 @@ ResultsFile parseResults(const json& j, const std::string& file) {
   const Reader r{file};
   if (!j.is_object()) r.fail("(top)", "must be a JSON object");
   if (!j.contains("format") || j.at("format") != kFormat) r.fail("format", std::string("must be \"") + kFormat + "\"");
-  if (!j.contains("version") || j.at("version") != kVersion) r.fail("version", "unsupported results version");
+  if (!j.contains("version") || (j.at("version") != kVersion && j.at("version") != kTruthVersion))
+    r.fail("version", "unsupported results version");
   ResultsFile f;
   f.header = parseHeader(j, file);
+  const bool has_truth = j.at("map").contains("truth");
+  if (j.at("version") == kVersion && has_truth) r.fail("map.truth", "is a version 2 field (this file says version 1)");
+  if (j.at("version") == kTruthVersion && !has_truth) r.fail("map.truth", "is missing (required in version 2)");
   const json& complete = r.at(j, "complete", "");
   if (!complete.is_boolean()) r.fail("complete", "must be true or false");
   f.complete = complete.get<bool>();

@@ -162,8 +162,11 @@ void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const s
                              " has " + hash + ": results of another data set (or of an edited one)");
   const Dataset d = readDataset(dir);
   requireInKeyRange(d, dir, f.header.resolution);
-  const GroundTruth gt = makeGroundTruth(d.truth, d.region, f.header.resolution);
-  const std::uint64_t region = gt.regionVoxelCount(), truth = gt.occupied.size();
+  // Observable truth leaves its unobservable voxels out of the region and of the truth alike.
+  const GroundTruth gt = evaluatedTruth(f.header.truth, makeGroundTruth(d.truth, d.region, f.header.resolution),
+                                        d.scans, f.header.s_c);
+  const std::uint64_t region = gt.regionVoxelCount() - gt.excluded.size();
+  const std::uint64_t truth = gt.occupied.size() - gt.excluded.size();
   for (std::size_t i = 0; i < f.maps.size(); ++i)
     for (std::size_t t = 0; t < f.maps[i].thresholds.size(); ++t) {
       const auto& c = f.maps[i].thresholds[t].counts;
@@ -174,7 +177,8 @@ void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const s
                                  std::to_string(f.header.resolution) + " m");
       if (c.tp + c.fn != truth)
         throw std::runtime_error(where + "TP+FN is " + std::to_string(c.tp + c.fn) + ", the truth of " + dir.string() +
-                                 " fills " + std::to_string(truth) + " voxels of the region");
+                                 " fills " + std::to_string(truth) + " voxels of the region" +
+                                 (f.header.truth == TruthMode::Observable ? " observable from its scans" : ""));
     }
 }
 

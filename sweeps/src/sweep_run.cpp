@@ -23,6 +23,7 @@
 #include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "occsweep/sweeps/version.hpp"
+#include "sweep_internal.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
@@ -31,40 +32,6 @@ using nlohmann::json;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// Finished maps of an interrupted run: OUT.partial.jsonl, a header line then one map per line. A line cut by
-// a kill is ignored (its map is simply done again).
-std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const ResultsHeader& header, bool force,
-                                               std::map<std::uint64_t, std::string>& engine_of) {
-  std::map<std::uint64_t, MapResult> done;
-  if (fs::exists(fs::symlink_status(partial))) requireRegularFile(partial);  // a FIFO would block the sweep
-  std::ifstream in(partial);
-  std::string line;
-  if (!std::getline(in, line)) return done;
-  ResultsHeader old;
-  try {
-    old = parseHeader(json::parse(line), partial.string());
-  } catch (const std::exception&) {
-    return done;  // header cut short: nothing finished yet
-  }
-  std::string why;
-  if (!sameWork(old, header, true, &why)) {
-    if (force) return done;  // replaced: the log is truncated below
-    throw std::runtime_error(partial.string() + ": an interrupted sweep of other work (" + why +
-                             "); --force replaces it, or choose another --out");
-  }
-  while (std::getline(in, line)) {
-    try {
-      const json j = json::parse(line);
-      MapResult m = parseMapResult(j, header.method, partial.string(), "line");
-      // Lines written before maps recorded their engine were made by the engine of the header's run.
-      engine_of[m.map_index] = j.is_object() && j.contains("engine") ? j.at("engine").get<std::string>() : old.engine;
-      done[m.map_index] = std::move(m);
-    } catch (const std::exception&) {
-    }
-  }
-  return done;
-}
 
 }  // namespace
 
@@ -78,7 +45,13 @@ ResultsFile runSweep(const SweepConfig& c) {
   Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
   requireInKeyRange(data, c.dataset, c.resolution);
   // Before anything is written: a region refused (past its limit, or holding no voxel) leaves no partial file.
-  const GroundTruth truth = groundTruthOf(data, c.dataset, c.resolution);
+  const GroundTruth full_truth = groundTruthOf(data, c.dataset, c.resolution);
+  // Observable truth: the unobservable truth voxels leave the evaluation (docs/results-format.md, "Truth"). With a
+  // twin (observable_out) they are marked and both truths are counted from the same maps.
+  const bool twin = !c.observable_out.empty();
+  if (twin && c.truth != TruthMode::Full) throw std::invalid_argument("sweep: observable_out needs full truth");
+  const GroundTruth marked = evaluatedTruth(twin ? TruthMode::Observable : c.truth, full_truth, data.scans, c.s_c);
+  const GroundTruth& truth = c.truth == TruthMode::Full ? full_truth : marked;
 
   ResultsFile f;
   ResultsHeader& h = f.header;
@@ -97,6 +70,9 @@ ResultsFile runSweep(const SweepConfig& c) {
   h.variant = c.variant == UpdateVariant::Literal ? "literal" : "default";
   h.stats = c.stats == StatsMode::Online ? "online" : "batch";
   h.engine = c.engine;
+  h.truth = c.truth;
+  ResultsHeader twin_header = h;
+  twin_header.truth = TruthMode::Observable;
 
   // The same sweep's own file is resumed (or, complete, returned); anything else is refused unless --force, and
   // only occsweep's results are replaced even then (docs/robustness.md, "Outputs, temporaries and --force").
@@ -108,15 +84,20 @@ ResultsFile runSweep(const SweepConfig& c) {
     if (!sameWork(old.header, h, true, &why) && !c.force)
       throw std::runtime_error(c.out.string() + ": holds results of other work (" + why +
                                "); --force replaces it, or choose another --out");
-    if (why.empty() && old.complete) {
+    if (why.empty() && old.complete && (!twin || sweep_detail::completeResultsOf(c.observable_out, twin_header))) {
       fs::remove(c.out.string() + ".partial.jsonl", ec);  // superseded: a kill came between the rename and this
       return old;
     }
   }
 
+  // The twin too replaces only occsweep's own results (a user's file there is refused before any work).
+  if (twin && fs::exists(fs::symlink_status(c.observable_out, ec)))
+    checkOutputTarget(c.observable_out, true, resultsOutput());
   const fs::path partial = c.out.string() + ".partial.jsonl";
   std::map<std::uint64_t, std::string> engine_of;  // provenance of every finished map
-  std::map<std::uint64_t, MapResult> done = loadPartial(partial, h, c.force, engine_of);
+  std::map<std::uint64_t, MapResult> twin_done;
+  std::map<std::uint64_t, MapResult> done =
+      sweep_detail::loadPartial(partial, h, c.force, engine_of, twin ? &twin_done : nullptr);
   std::vector<const SweepItem*> todo;
   for (const auto& item : items)
     if (!done.count(item.map_index)) todo.push_back(&item);
@@ -154,7 +135,7 @@ ResultsFile runSweep(const SweepConfig& c) {
   // Shared by every map: the events of the region voxels (replay), and for k-NN the distances of each k, which
   // depend only on the points, k and s_c.
   RecordedSet recorded;
-  if (replaying) arena.execute([&] { recorded = recordSet(data.scans, truth, c.resolution, c.s_c); });
+  if (replaying) arena.execute([&] { recorded = recordSet(data.scans, marked, c.resolution, c.s_c); });
   std::map<int, KnnSetDistances> distances;
   std::map<int, std::vector<double>> cdf;
   if (knn) {
@@ -193,7 +174,7 @@ ResultsFile runSweep(const SweepConfig& c) {
         batches.emplace_back(members.begin() + long(b), members.begin() + long(std::min(b + lanes, members.size())));
   }
 
-  std::vector<MapResult> fresh(todo.size());
+  std::vector<MapResult> fresh(todo.size()), twin_fresh(twin ? todo.size() : 0);
   std::mutex log_mutex;
   {
     Progress progress("sweep " + grid.name + " on " + data.name + " (" + c.engine + ")", todo.size(), c.quiet);
@@ -201,7 +182,7 @@ ResultsFile runSweep(const SweepConfig& c) {
       tbb::parallel_for(std::size_t(0), batches.size(), [&](std::size_t b) {
         const auto t0 = Clock::now();
         const std::vector<std::size_t>& batch = batches[b];
-        std::vector<std::vector<ConfusionCounts>> counts;  // per map of the batch, per selected threshold
+        std::vector<std::vector<ConfusionCounts>> counts, twin_counts;  // per map of the batch, per threshold
         if (replaying) {
           std::vector<float> hit_sums;
           const MapParams& first = e.maps[todo[batch[0]]->map_index];
@@ -215,16 +196,18 @@ ResultsFile runSweep(const SweepConfig& c) {
             p_t.emplace_back();
             for (std::size_t t : item.thresholds) p_t.back().push_back(toDouble(e.thresholds[item.map_index][t]));
           }
-          counts = replayCounts(recorded, rules, p_t);
+          // Without excluded voxels (full truth, no twin) both outputs are equal.
+          counts = replayCounts(recorded, rules, p_t, &twin_counts);
+          if (c.truth == TruthMode::Observable) counts.swap(twin_counts);
         } else {
           const SweepItem& item = *todo[batch[0]];
           const MapParams& m = e.maps[item.map_index];
           auto tree = knn ? KnnInverseSensorModel(knnParams(m, c, m.p_min)).buildMap(data.scans, distances.at(m.k))
                           : buildOctoMap(data.scans, octomapParams(m, c, m.p_min));
-          const RegionSample sample = sampleRegion(*tree, truth);
-          counts.emplace_back();
-          for (std::size_t t : item.thresholds)
-            counts.back().push_back(classify(sample, toDouble(e.thresholds[item.map_index][t])));
+          std::vector<double> p_t;
+          for (std::size_t t : item.thresholds) p_t.push_back(toDouble(e.thresholds[item.map_index][t]));
+          counts.push_back(classify(sampleRegion(*tree, truth), p_t));
+          if (twin) twin_counts.push_back(classify(sampleRegion(*tree, marked), p_t));
         }
         const double seconds = std::chrono::duration<double>(Clock::now() - t0).count() / double(batch.size());
         for (std::size_t j = 0; j < batch.size(); ++j) {
@@ -239,6 +222,14 @@ ResultsFile runSweep(const SweepConfig& c) {
           r.seconds = seconds;  // a batch's time shared by its maps
           json line = toJson(r, grid.method);
           line["engine"] = c.engine;  // provenance across resumes (docs/results-format.md)
+          if (twin) {
+            MapResult o = r;
+            for (std::size_t t = 0; t < o.thresholds.size(); ++t) o.thresholds[t].counts = twin_counts[j][t];
+            o.area = mapArea(o.thresholds);
+            const json oj = toJson(o, grid.method);
+            line[sweep_detail::kTwinField] = {{"thresholds", oj.at("thresholds")}, {"auc", oj.at("auc")}};
+            twin_fresh[batch[j]] = std::move(o);
+          }
           {
             std::lock_guard lock(log_mutex);
             log << line.dump() << '\n' << std::flush;
@@ -252,6 +243,7 @@ ResultsFile runSweep(const SweepConfig& c) {
     });
   }
   for (auto& r : fresh) engine_of[r.map_index] = c.engine, done[r.map_index] = std::move(r);
+  for (auto& r : twin_fresh) twin_done[r.map_index] = std::move(r);
   std::set<std::string> engines;
   for (const auto& [index, engine] : engine_of)
     if (done.count(index)) engines.insert(engine);
@@ -262,6 +254,15 @@ ResultsFile runSweep(const SweepConfig& c) {
   f.complete = true;
   f.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   try {
+    if (twin) {  // first: a complete main file promises a complete twin
+      ResultsFile o;
+      o.header = h;
+      o.header.truth = TruthMode::Observable;
+      for (auto& [_, r] : twin_done) o.maps.push_back(std::move(r));
+      o.complete = true;
+      o.seconds = f.seconds;
+      writeResults(o, c.observable_out);
+    }
     writeResults(f, c.out);
   } catch (const OutputError&) {
     drop_log.write_failed = true;

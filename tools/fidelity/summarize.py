@@ -32,7 +32,7 @@ BOOTSTRAP_SEED = 1
 
 def best_aucs(row, truth):
     """(OctoMap's best AUC, k-NN's best AUC) of one comparison row under one truth."""
-    part = row if truth == "full" else row["observable_truth"]
+    part = row["truths"][truth]
     return part["octomap"]["auc"], part["knn"]["auc"]
 
 

@@ -59,6 +59,8 @@ const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data
   return [files, json_out, force, allow_mixed] {
     if (!json_out->empty()) checkOutputTarget(*json_out, *force, jsonOutput("comparison", "occsweep-comparison"));
     const std::vector<ResultsFile> in = readChecked(*files);
+    if (const std::string why = mixedTruths(in, *files); !why.empty()) throw std::runtime_error("cannot compare: " + why);
+    const TruthMode truth = in.front().header.truth;
     const auto mixed = mixedSettings(in, *files);
     if (!mixed.empty() && !*allow_mixed)
       throw std::runtime_error("cannot compare: " + mixed.front() +
@@ -94,9 +96,13 @@ const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data
                    {"notes", row_notes}});
     }
     for (const auto& n : notes) std::cout << "note: " << n << '\n';
+    std::cout << "truth: " << truthModeName(truth)
+              << (truth == TruthMode::Full ? " (every truth voxel of the region counts)"
+                                           : " (only truth voxels observable from the scan origins count)")
+              << '\n';
     if (!json_out->empty())
       writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", *files}, {"allow_mixed", *allow_mixed},
-                           {"mixed", mixed}, {"rows", j}},
+                           {"mixed", mixed}, {"truth", truthModeName(truth)}, {"rows", j}},
                           *json_out);
     return 0;
   };

@@ -22,7 +22,7 @@ namespace occsweep::cli {
 namespace {
 
 struct MapOptions {
-  std::string dataset, out, method = "knn", variant = "default", stats = "batch";
+  std::string dataset, out, method = "knn", variant = "default", stats = "batch", truth = "full";
   bool force = false;
   KnnParams knn;
   double p_h = OctoMapParams{}.p_h;
@@ -91,6 +91,9 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
       ->check(CLI::IsMember({"default", "literal"}))->capture_default_str();
   app.add_option("--stats", o->stats, "k-NN mu, sigma: batch (whole set, the paper's) or online (running)")
       ->check(CLI::IsMember({"batch", "online"}))->capture_default_str();
+  app.add_option("--truth", o->truth, "Truth of the TP/FP/FN/TN summary: full, or observable (only truth voxels a ray "
+                                      "from a scan origin reaches within s_c first; docs/results-format.md)")
+      ->check(CLI::IsMember({"full", "observable"}))->capture_default_str();
   addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points});
   return [o] {
     KnnParams k = o->knn;
@@ -120,7 +123,8 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
     // Checked before the map is built: a region the truth cannot use (past its limit, no voxel) costs no build and
     // leaves no map.
     std::optional<GroundTruth> gt;
-    if (has_truth) gt = groundTruthOf(d, o->dataset, k.resolution);
+    const TruthMode truth = parseTruthMode(o->truth);
+    if (has_truth) gt = evaluatedTruth(truth, groundTruthOf(d, o->dataset, k.resolution), d.scans, k.s_c);
     const auto start = std::chrono::steady_clock::now();
     auto tree = o->method == "octomap" ? buildOctoMap(d.scans, om) : KnnInverseSensorModel(k).buildMap(d.scans);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -155,7 +159,7 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
               << "map " << o->out << ": " << tree->getNumLeafNodes() << " leaves (settings in " << o->out << ".json)\n";
     if (gt) {
       const ConfusionCounts c = classify(sampleRegion(*tree, *gt), k.p_t);
-      std::cout << "at p_t " << k.p_t << ": TP " << c.tp << " FP " << c.fp << " FN " << c.fn << " TN " << c.tn
+      std::cout << "at p_t " << k.p_t << (truth == TruthMode::Observable ? " (observable truth)" : "") << ": TP " << c.tp << " FP " << c.fp << " FN " << c.fn << " TN " << c.tn
                 << "  TPR " << c.tpr() << " FDR " << c.fdr() << '\n';
     }
     return 0;

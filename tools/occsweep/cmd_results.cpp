@@ -33,6 +33,7 @@ const RegisterCommand kResults{"results", "Check results files", [](CLI::App& ap
                            std::cout << "; grid file not found: parameters and the shard's maps not checked against "
                                         "grid ";
                          std::cout << f.header.grid_name;
+                         if (f.header.truth == TruthMode::Observable) std::cout << ", observable truth (map.truth)";
                          if (!dataset->empty()) std::cout << "; counts match the region and truth of " << *dataset;
                          std::cout << '\n';
                          return 0;

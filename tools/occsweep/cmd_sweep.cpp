@@ -14,7 +14,7 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
                              [](CLI::App& app) {
   struct Options {
     SweepConfig config;
-    std::string dataset, out, shard, group, variant = "default", stats = "batch";
+    std::string dataset, out, shard, group, variant = "default", stats = "batch", truth = "full";
     std::uint64_t seed = 0;
     bool force = false;
   };
@@ -33,6 +33,9 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
   app.add_option("--threads", o->config.threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
   app.add_option("--engine", o->config.engine, "replay: record events once, replay every combination; direct: build every map (the reference)")
       ->check(CLI::IsMember({"replay", "direct"}))->capture_default_str();
+  app.add_option("--truth", o->truth, "full: every truth voxel counts; observable: only those a ray from a scan origin "
+                                      "reaches within s_c before any other truth voxel (docs/results-format.md)")
+      ->check(CLI::IsMember({"full", "observable"}))->capture_default_str();
   app.add_flag("--quiet", o->config.quiet, "No progress on stderr");
   addLimitOptions(app, {Limit::WindowVoxels, Limit::Combinations, Limit::RegionVoxels, Limit::Points});
   return [o] {
@@ -47,6 +50,7 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
     }
     c.variant = o->variant == "literal" ? UpdateVariant::Literal : UpdateVariant::Default;
     c.stats = o->stats == "online" ? StatsMode::Online : StatsMode::Batch;
+    c.truth = parseTruthMode(o->truth);
     const ResultsFile r = runSweep(c);
     std::size_t combinations = 0;
     for (const auto& m : r.maps) combinations += m.thresholds.size();

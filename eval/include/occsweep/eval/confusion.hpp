@@ -33,6 +33,7 @@ struct RegionSample {
 [[nodiscard]] RegionSample sampleRegion(const octomap::OcTree& map, const GroundTruth& truth);
 
 /// Calls visit(key, truly_occupied, node) for every region voxel, x outermost; node is nullptr when unknown.
+/// Voxels of truth.excluded are skipped: they are not part of the evaluation.
 template <class Visit>
 void forEachRegionVoxel(const octomap::OcTree& map, const GroundTruth& truth, Visit&& visit);
 
@@ -58,6 +59,7 @@ void forEachRegionVoxel(const octomap::OcTree& map, const GroundTruth& truth, Vi
     for (int y = lo[1]; y <= hi[1]; ++y)
       for (int z = lo[2]; z <= hi[2]; ++z) {
         const octomap::OcTreeKey key(x, y, z);
+        if (!truth.excluded.empty() && truth.excluded.count(key)) continue;
         visit(key, truth.occupied.count(key) > 0, map.search(key));
       }
 }

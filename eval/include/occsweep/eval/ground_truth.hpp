@@ -36,6 +36,9 @@ struct GroundTruth {
   AxisBox region;
   octomap::OcTreeKey region_min_key, region_max_key;  ///< inclusive key bounds of the region
   octomap::KeySet occupied;                           ///< only keys inside the region
+  /// Truth voxels (a subset of `occupied`) that leave the evaluation, counted neither as positive nor as
+  /// negative: the unobservable ones under observable truth (observable_truth.hpp); empty under full truth.
+  octomap::KeySet excluded;
 
   [[nodiscard]] bool inRegion(const octomap::OcTreeKey& k) const;
   [[nodiscard]] std::size_t regionVoxelCount() const;

@@ -38,6 +38,11 @@ struct ComparisonRow {
 
 [[nodiscard]] std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files);
 
+/// When `files` (named by `names`) count different truths (full and observable, docs/results-format.md "Truth"):
+/// a sentence naming the first file of each and the field map.truth; empty when they all count the same truth.
+/// Their AUCs measure different things, so compare refuses them even with --allow-mixed.
+[[nodiscard]] std::string mixedTruths(const std::vector<ResultsFile>& files, const std::vector<std::string>& names);
+
 /// Why `files` (named by `names`) cannot be compared as they are, one sentence each naming the files: a shard
 /// instead of a whole grid or Eq. 16 group, another resolution or s_c within a data set, another k-NN variant or
 /// statistics mode. Empty when comparable. (Rows are data-set contents, by hash: files of one name with other

@@ -14,8 +14,10 @@ namespace occsweep {
 
 /// The events of every region voxel, in scan order. Voxels outside the region never count, so they are not kept.
 struct RecordedSet {
-  std::vector<std::uint8_t> truth;           ///< per region voxel: truly occupied
-  std::uint64_t positives = 0, negatives = 0;
+  std::vector<std::uint8_t> truth;           ///< per region voxel: 0 free, 1 occupied, 2 occupied but excluded
+                                             ///< (GroundTruth::excluded: unobservable)
+  std::uint64_t positives = 0, negatives = 0;  ///< under full truth (excluded voxels are positives)
+  std::uint64_t excluded = 0;                ///< voxels of truth value 2
   std::vector<std::uint32_t> voxel_first;    ///< events of voxel v: [voxel_first[v], voxel_first[v + 1])
   std::vector<std::uint8_t> flags;           ///< per event: VoxelEventFlags
   std::vector<std::uint32_t> hit_first;      ///< hits of event e: [hit_first[e], hit_first[e + 1])
@@ -50,7 +52,7 @@ struct ReplayRule {
 };
 
 /// Replays every region voxel and returns what the map would say about the region: the same RegionSample that
-/// sampleRegion gives for the directly built map.
+/// sampleRegion gives for the directly built map (excluded voxels left out, as there).
 [[nodiscard]] RegionSample replay(const RecordedSet& r, const ReplayRule& rule);
 
 [[nodiscard]] ReplayRule octomapRule(const MapParams& m);
@@ -61,9 +63,11 @@ inline constexpr std::size_t kReplayLanes = 8;
 
 /// The fast path of replay(): up to kReplayLanes maps in one pass over the events (the lanes vectorise), voxels
 /// whose events are all alike settled from tables of repeated clamped updates (the same float steps), and
-/// TP/FP counted directly at each lane's thresholds (p_t values). Returns per lane the counts per threshold.
-[[nodiscard]] std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r,
-                                                                     const std::vector<ReplayRule>& lanes,
-                                                                     const std::vector<std::vector<double>>& p_t);
+/// TP/FP counted directly at each lane's thresholds (p_t values). Returns per lane the counts per threshold under
+/// full truth (excluded voxels count as positives); `observable`, when given, receives the same from the same
+/// pass with the excluded voxels left out (observable truth: docs/results-format.md, "Truth").
+[[nodiscard]] std::vector<std::vector<ConfusionCounts>> replayCounts(
+    const RecordedSet& r, const std::vector<ReplayRule>& lanes, const std::vector<std::vector<double>>& p_t,
+    std::vector<std::vector<ConfusionCounts>>* observable = nullptr);
 
 }  // namespace occsweep

@@ -11,6 +11,7 @@
 
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/curve.hpp"
+#include "occsweep/eval/observable_truth.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "grid.hpp"
 
@@ -41,6 +42,8 @@ struct ResultsHeader {
   /// Every engine that produced maps of this file, sorted: a sweep resumed under another engine, or merged shards
   /// of different engines, list both (and `engine` is then "mixed"). Files without the field: {engine}.
   std::vector<std::string> engines;
+  /// Which truth voxels the counts count (docs/results-format.md, "Truth"); files without the field: full.
+  TruthMode truth = TruthMode::Full;
 };
 
 struct ThresholdResult {

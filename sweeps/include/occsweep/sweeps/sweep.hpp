@@ -24,6 +24,10 @@ struct SweepConfig {
                                   ///< (build every map: liboctomap for OctoMap, the k-NN mapper): the reference
   bool quiet = false;
   bool force = false;             ///< replace occsweep's own results (or partial) of other work at `out`             ///< no progress on stderr
+  TruthMode truth = TruthMode::Full;  ///< which truth voxels count (docs/results-format.md, "Truth")
+  /// With full truth: also write the observable-truth results of the same maps here, counted in the same pass
+  /// (reproduce reports both truths without building any map twice). Empty: none.
+  std::filesystem::path observable_out;
 };
 
 /// One work item: a map of the grid and the thresholds of it that the selection asks for.

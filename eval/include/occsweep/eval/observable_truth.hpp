@@ -1,0 +1,43 @@
+// Observable truth (docs/results-format.md, "Truth"): the truth voxels a sensor of the data set could have seen.
+// A truth voxel is observable when the ray from some scan origin to its centre, within s_c, reaches it before it
+// crosses any other truth voxel. Rays are cast against the truth itself (not the measured points), at the
+// truth's resolution, with OctoMap's ray keys (traverseRay: origin voxel included, end voxel excluded).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <octomap/octomap_types.h>
+
+#include "occsweep/core/point_cloud_set.hpp"
+#include "ground_truth.hpp"
+
+namespace occsweep {
+
+/// Which truth voxels an evaluation counts: all of them (the paper's, the default), or only the observable ones;
+/// the others leave the evaluation (neither positive nor negative).
+enum class TruthMode { Full, Observable };
+
+/// "full" or "observable": the name in results files and on the command line.
+[[nodiscard]] const char* truthModeName(TruthMode mode);
+
+/// The mode of that name; throws std::invalid_argument naming the value and the two accepted names.
+[[nodiscard]] TruthMode parseTruthMode(const std::string& name);
+
+/// The truth voxels (of truth.occupied) observable from `origins` with maximum range `s_c` (metres): a voxel
+/// whose centre lies within s_c of an origin ((centre - origin).norm() <= s_c, as OctoMap's maxrange test), and
+/// whose ray from that origin to its centre visits no truth voxel. An origin lying in a truth voxel sees that
+/// voxel (a ray inside one voxel visits nothing) and nothing else (its own voxel, the ray's first key, blocks).
+/// Only the truth voxels of `truth` (those inside its region) block; an origin outside OctoMap's key range sees
+/// nothing. Cost: at most origins x truth voxels rays of at most s_c / resolution steps each.
+[[nodiscard]] octomap::KeySet observableTruthVoxels(const GroundTruth& truth,
+                                                    const std::vector<octomap::point3d>& origins, double s_c);
+
+/// `truth` with its unobservable voxels in `excluded`, so that every evaluation leaves them out.
+[[nodiscard]] GroundTruth restrictToObservable(GroundTruth truth, const std::vector<octomap::point3d>& origins,
+                                               double s_c);
+
+/// The truth an evaluation in `mode` counts: `full` as it is, or restricted to what the scans' origins observe.
+[[nodiscard]] GroundTruth evaluatedTruth(TruthMode mode, GroundTruth full, const PointCloudSet& set, double s_c);
+
+}  // namespace occsweep
