@@ -19,6 +19,7 @@ declare -A wanted=()
 for n in "$@"; do wanted[$n]=1; done
 while IFS=$'\t' read -r name options question; do
   [[ -z $name || $name == \#* ]] && continue
+  [[ $options == - ]] && options=""  # a tab is whitespace to `read`: an empty field would vanish, so "-" is none
   ((${#wanted[@]} == 0)) || [[ -n ${wanted[$name]:-} ]] || continue
   dir="$out/$name"
   if [[ -f $dir/repro/comparison.json ]]; then
