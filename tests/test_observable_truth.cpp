@@ -31,21 +31,27 @@ GroundTruth truthOfBoxes(const std::vector<AxisBox>& boxes) {
   return makeGroundTruth(sources, AxisBox{{-1.0, -2.0, -1.0}, {4.0, 2.0, 2.0}}, kResolution);
 }
 
-// The oracle, written from the definition alone: for every truth voxel and origin within s_c of its centre,
-// liboctomap's own computeRayKeys (origin voxel included, end voxel excluded), and any key of the ray in the truth
-// blocks it.
+// The oracle, written from the definition alone: for every truth voxel, origin within s_c of its centre, and aim
+// point (the centre, and each face centre a hundredth of a voxel inside), liboctomap's own computeRayKeys (origin
+// voxel included, end voxel excluded); any key of the ray in the truth blocks it.
 octomap::KeySet oracleObservable(const GroundTruth& truth, const std::vector<point3d>& origins, double s_c) {
   octomap::OcTree tree(truth.resolution);
+  const float inside = float(0.49 * truth.resolution);
+  const point3d offsets[7] = {{0, 0, 0},       {inside, 0, 0}, {-inside, 0, 0}, {0, inside, 0},
+                              {0, -inside, 0}, {0, 0, inside}, {0, 0, -inside}};
   octomap::KeySet seen;
   for (const auto& key : truth.occupied) {
     const point3d centre = tree.keyToCoord(key);
     for (const auto& origin : origins) {
       if (!((centre - origin).norm() <= s_c)) continue;
-      octomap::KeyRay ray;
-      if (!tree.computeRayKeys(origin, centre, ray)) continue;
-      bool blocked = false;
-      for (const auto& k : ray) blocked = blocked || truth.occupied.count(k) > 0;
-      if (!blocked) seen.insert(key);
+      for (const point3d& offset : offsets) {
+        const point3d aim = centre + offset;
+        octomap::KeyRay ray;
+        if (tree.coordToKey(aim) != key || !tree.computeRayKeys(origin, aim, ray)) continue;
+        bool blocked = false;
+        for (const auto& k : ray) blocked = blocked || truth.occupied.count(k) > 0;
+        if (!blocked) seen.insert(key);
+      }
     }
   }
   return seen;
@@ -101,6 +107,21 @@ TEST_CASE("a solid box seen from one side along an axis shows exactly its front 
   for (const auto& k : truth.occupied)
     if (k[0] == back_layer) ends.insert(k);
   CHECK(sorted(observableTruthVoxels(truth, {kOrigin, point3d(2.45f, 0.03f, 0.51f)}, 4.0)) == sorted(ends));
+}
+
+TEST_CASE("a flat top seen at 15-19 degrees is observable in full, as the cameras of the rendered sets see it") {
+  // A slab 7 x 7 voxels wide and 2 layers high (z 0.0 to 0.2), seen from 2.0 to 2.7 m away and 0.7 m above its top,
+  // as the rendered data sets' cameras see the boxes' tops. A ray aimed at a top voxel's centre would cross the next
+  // top voxel first (below 45 degrees); its top face's centre is reached. Under the top layer only the near side
+  // of the bottom layer is seen.
+  const GroundTruth truth = truthOfBoxes({AxisBox{{1.02, -0.28, 0.02}, {1.68, 0.38, 0.18}}});
+  REQUIRE(truth.occupied.size() == 98);
+  const int top = keyOf(point3d(1.05f, 0, 0.15f))[2], near_row = keyOf(point3d(1.05f, 0, 0))[0];
+  octomap::KeySet expected;
+  for (const auto& k : truth.occupied)
+    if (k[2] == top || k[0] == near_row) expected.insert(k);
+  REQUIRE(expected.size() == 49 + 7);
+  CHECK(sorted(observableTruthVoxels(truth, {point3d(-1.0f, 0.05f, 0.9f)}, 4.0)) == sorted(expected));
 }
 
 TEST_CASE("truth beyond s_c of every origin is not observable") {

@@ -39,4 +39,7 @@ while IFS=$'\t' read -r name options question; do
   printf '%s\t%s\t%s\t%d\n' "$name" "$options" "$question" $((SECONDS - t0)) >"$dir/experiment.tsv"
   echo "experiments: $name done in $((SECONDS - t0)) s"
 done <"$here/experiments.txt"
-python3 "$here/summarize.py" "$out"
+# The Python that has matplotlib, as `occsweep reproduce` looks for it: $OCCSWEEP_PYTHON, /usr/bin/python3, python3.
+python=${OCCSWEEP_PYTHON:-/usr/bin/python3}
+[[ -x $python ]] || python=python3
+"$python" "$here/summarize.py" "$out"

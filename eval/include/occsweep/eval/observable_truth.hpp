@@ -1,7 +1,8 @@
 // Observable truth (docs/results-format.md, "Truth"): the truth voxels a sensor of the data set could have seen.
-// A truth voxel is observable when the ray from some scan origin to its centre, within s_c, reaches it before it
-// crosses any other truth voxel. Rays are cast against the truth itself (not the measured points), at the
-// truth's resolution, with OctoMap's ray keys (traverseRay: origin voxel included, end voxel excluded).
+// A truth voxel is observable when a ray from some scan origin to its centre or to the centre of one of its faces
+// (a hundredth of a voxel inside), the voxel's centre within s_c, reaches it before it crosses any other truth
+// voxel. Rays are cast against the truth itself (not the measured points), at the truth's resolution, with
+// OctoMap's ray keys (traverseRay: origin voxel included, end voxel excluded).
 #pragma once
 
 #include <string>
@@ -26,7 +27,8 @@ enum class TruthMode { Full, Observable };
 
 /// The truth voxels (of truth.occupied) observable from `origins` with maximum range `s_c` (metres): a voxel
 /// whose centre lies within s_c of an origin ((centre - origin).norm() <= s_c, as OctoMap's maxrange test), and
-/// whose ray from that origin to its centre visits no truth voxel. An origin lying in a truth voxel sees that
+/// whose ray from that origin to its centre, or to one of its six face centres moved a hundredth of a voxel
+/// inwards, visits no truth voxel (a surface seen at a grazing angle counts). An origin lying in a truth voxel sees that
 /// voxel (a ray inside one voxel visits nothing) and nothing else (its own voxel, the ray's first key, blocks).
 /// Only the truth voxels of `truth` (those inside its region) block; an origin outside OctoMap's key range sees
 /// nothing. Cost: at most origins x truth voxels rays of at most s_c / resolution steps each.
