@@ -298,3 +298,15 @@ TEST_CASE("Bad realism values are refused with the flag and the rule, and write 
   refused("--exposure mismatch --right-gain 2", "--right-gain");
   refused("--realistic --pose-drift 0.01", "--pose-drift");
 }
+
+TEST_CASE("Drift alone is recorded too: reproduce tells data sets apart by the recorded options", "[stereo][realism]") {
+  GenerateConfig c;
+  CHECK(realismOptionsJson(c).empty());
+  c.drift.metres_per_keyframe = 0.01;
+  c.drift.yaw_deg_per_keyframe = 0.2;
+  const auto options = realismOptionsJson(c);
+  REQUIRE(options.contains("pose_error"));
+  CHECK(options["pose_error"]["drift_metres_per_keyframe"] == 0.01);
+  CHECK(options["pose_error"]["drift_yaw_deg_per_keyframe"] == 0.2);
+  CHECK(options["pose_error"]["preset"] == "");
+}

@@ -26,7 +26,8 @@ RightExposure exposureMismatchPreset() { return RightExposure{1.06, 0.002, 1.03,
 nlohmann::json realismOptionsJson(const GenerateConfig& c) {
   nlohmann::json j = nlohmann::json::object();
   const PoseDrift& d = c.drift;
-  if (d.hasJitter() || !c.presets.pose_error.empty())
+  // Drift alone counts too: ranking.json's options are what `reproduce` tells data sets apart by.
+  if (d.metres_per_keyframe != 0.0 || d.yaw_deg_per_keyframe != 0.0 || d.hasJitter() || !c.presets.pose_error.empty())
     j["pose_error"] = {{"preset", c.presets.pose_error}, {"drift_metres_per_keyframe", d.metres_per_keyframe},
                        {"drift_yaw_deg_per_keyframe", d.yaw_deg_per_keyframe}, {"jitter_metres", d.jitter_metres},
                        {"jitter_deg", d.jitter_deg}};
