@@ -1,9 +1,12 @@
 // Shared helpers of the test programs: random clouds, temporary folders, running the occsweep command.
 #pragma once
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,6 +17,24 @@
 #include "occsweep/core/splitmix64.hpp"
 
 namespace occsweep::test {
+
+/// The bytes of a file ("" when it cannot be read).
+inline std::string bytesOf(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Relative paths of every regular file under `dir`, sorted, except timing.json (wall-clock times): what two
+/// generations that must be byte-identical are compared over.
+inline std::vector<std::filesystem::path> filesUnder(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> out;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+    if (e.is_regular_file() && e.path().filename() != "timing.json") out.push_back(std::filesystem::relative(e.path(), dir));
+  std::sort(out.begin(), out.end());
+  return out;
+}
 
 /// A fresh folder under the build tree, removed first if it exists.
 inline std::filesystem::path scratch(const std::string& name) {

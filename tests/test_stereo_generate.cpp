@@ -11,26 +11,6 @@
 using namespace occsweep;
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string bytesOf(const fs::path& f) {
-  std::ifstream in(f, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// Relative paths of every file under `dir`, except timing.json (wall-clock times).
-std::vector<fs::path> filesUnder(const fs::path& dir) {
-  std::vector<fs::path> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file() && e.path().filename() != "timing.json") out.push_back(fs::relative(e.path(), dir));
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-}  // namespace
-
 TEST_CASE("The same name, scale and parameters give byte-identical files, on 1 or 2 threads", "[stereo][cli]") {
   const fs::path a = test::scratch("stereo-gen-a"), b = test::scratch("stereo-gen-b");
   const std::string common = " dataset generate --name parking-plain-S --scale ci --pcs 0,1599 --out ";
@@ -38,15 +18,15 @@ TEST_CASE("The same name, scale and parameters give byte-identical files, on 1 o
   const auto rb = test::runCli(common + b.string() + " --threads 2");
   REQUIRE(ra.exit_code == 0);
   REQUIRE(rb.exit_code == 0);
-  const auto files = filesUnder(a);
-  REQUIRE(files == filesUnder(b));
+  const auto files = test::filesUnder(a);
+  REQUIRE(files == test::filesUnder(b));
   CHECK(files.size() > 10);
   for (const auto& f : files) {
     INFO(f);
-    CHECK(bytesOf(a / f) == bytesOf(b / f));
+    CHECK(test::bytesOf(a / f) == test::bytesOf(b / f));
   }
   // Each set is a readable data set recording its parameters; the ranking orders them by naive FDR.
-  const auto ranking = nlohmann::json::parse(bytesOf(a / "parking-plain-S" / "ranking.json"));
+  const auto ranking = nlohmann::json::parse(test::bytesOf(a / "parking-plain-S" / "ranking.json"));
   REQUIRE(ranking["sets"].size() == 2);
   CHECK(ranking["sets"][0]["rank"] == 1);
   CHECK(ranking["sets"][0]["naive"]["fdr"].get<double>() <= ranking["sets"][1]["naive"]["fdr"].get<double>());
@@ -60,7 +40,7 @@ TEST_CASE("The same name, scale and parameters give byte-identical files, on 1 o
   // A different seed changes the sensor noise, hence the clouds.
   const fs::path c = test::scratch("stereo-gen-c");
   REQUIRE(test::runCli(common + c.string() + " --seed 2 --no-preview").exit_code == 0);
-  CHECK(bytesOf(a / "parking-plain-S/pcs-0000/scans/000000.f32") != bytesOf(c / "parking-plain-S/pcs-0000/scans/000000.f32"));
+  CHECK(test::bytesOf(a / "parking-plain-S/pcs-0000/scans/000000.f32") != test::bytesOf(c / "parking-plain-S/pcs-0000/scans/000000.f32"));
 }
 
 TEST_CASE("Voronoi boxes give more valid target disparities than plain ones", "[stereo][cli]") {
@@ -69,7 +49,7 @@ TEST_CASE("Voronoi boxes give more valid target disparities than plain ones", "[
     REQUIRE(test::runCli(std::string(" dataset generate --no-preview --scale ci --pcs 800 --name ") + name + " --out " +
                          dir.string()).exit_code == 0);
   auto valid = [&](const char* name) {
-    return nlohmann::json::parse(bytesOf(dir / name / "ranking.json"))["sets"][0]["target_valid_fraction"].get<double>();
+    return nlohmann::json::parse(test::bytesOf(dir / name / "ranking.json"))["sets"][0]["target_valid_fraction"].get<double>();
   };
   CHECK(valid("building-voronoi-T") > 0.95);
   CHECK(valid("building-plain-T") < valid("building-voronoi-T") - 0.05);

@@ -59,21 +59,6 @@ double rmsDifference(const GreyImage& a, const GreyImage& b) {
   return std::sqrt(sum / double(a.pixels.size()));
 }
 
-std::string bytesOf(const fs::path& f) {
-  std::ifstream in(f, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::vector<fs::path> filesUnder(const fs::path& dir) {
-  std::vector<fs::path> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file() && e.path().filename() != "timing.json") out.push_back(fs::relative(e.path(), dir));
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 }  // namespace
 
 TEST_CASE("Pose error leaves the images untouched and moves only the poses the clouds are placed with", "[stereo][realism]") {
@@ -249,16 +234,16 @@ TEST_CASE("Every option at its default value changes no byte; options used are r
   REQUIRE(test::runCli(common + a.string()).exit_code == 0);
   REQUIRE(test::runCli(common + b.string() + " --pose-jitter 0 --rot-jitter 0 --right-gain 1 --right-offset 0 "
                        "--right-gamma 1 --right-vignetting 0 --box-height 0.5 --noise-scale 1").exit_code == 0);
-  const auto files = filesUnder(a);
-  REQUIRE(files == filesUnder(b));
+  const auto files = test::filesUnder(a);
+  REQUIRE(files == test::filesUnder(b));
   for (const auto& f : files) {
     INFO(f);
-    CHECK(bytesOf(a / f) == bytesOf(b / f));
+    CHECK(test::bytesOf(a / f) == test::bytesOf(b / f));
   }
   const fs::path set = fs::path("parking-plain-O") / "pcs-0000";
   const Dataset plain = readDataset(a / set);
   CHECK(!plain.source.contains("options"));
-  CHECK(!nlohmann::json::parse(bytesOf(a / "parking-plain-O" / "ranking.json")).contains("options"));
+  CHECK(!nlohmann::json::parse(test::bytesOf(a / "parking-plain-O" / "ranking.json")).contains("options"));
 
   REQUIRE(test::runCli(common + r.string() + " --realistic --no-voxel-filter").exit_code == 0);
   const Dataset real = readDataset(r / set);
@@ -269,7 +254,7 @@ TEST_CASE("Every option at its default value changes no byte; options used are r
   CHECK(options["far_clutter"] == true);
   CHECK(options["voxel_filter"] == false);
   CHECK(!options.contains("noise_scale"));
-  CHECK(nlohmann::json::parse(bytesOf(r / "parking-plain-O" / "ranking.json"))["options"] == options);
+  CHECK(nlohmann::json::parse(test::bytesOf(r / "parking-plain-O" / "ranking.json"))["options"] == options);
   CHECK(real.truth.boxes.size() == plain.truth.boxes.size());
   for (std::size_t i = 0; i < plain.truth.boxes.size(); ++i) {
     CHECK(real.truth.boxes[i].min == plain.truth.boxes[i].min);
