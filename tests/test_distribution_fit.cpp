@@ -80,7 +80,7 @@ TEST_CASE("log-logistic and GEV fits recover known parameters") {
   }
 }
 
-TEST_CASE("CDFs are integrals of their densities; the KDE follows its samples") {
+TEST_CASE("CDFs are integrals of their densities, and the KDE follows its samples") {
   const auto x = draw(7, 5000, [](SplitMix64& r) { return 0.1 + 0.02 * r.gaussian(); });
   std::vector<double> pos;
   for (double v : x)

@@ -53,7 +53,7 @@ TEST_CASE("the TPR-FDR curve discards NaN points and its AUC follows SPEC §2") 
   CHECK(std::isnan(curveArea(no_truth).observed));
 }
 
-TEST_CASE("classification: known and log-odds >= l(p_t) in float; unknown is negative; region only") {
+TEST_CASE("classification: known and log-odds >= l(p_t) in float, unknown is negative, region only") {
   octomap::OcTree map(0.1);
   const AxisBox region{{0.0, 0.0, 0.0}, {0.5, 0.1, 0.1}};  // voxel centres 0.05..0.45 in x: 5 voxels
   TruthSources truth;

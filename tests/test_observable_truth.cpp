@@ -74,7 +74,7 @@ const point3d kOrigin(0.05f, 0.03f, 0.51f);
 
 }  // namespace
 
-TEST_CASE("a box hidden behind a wall has no observable voxel; the wall's near face is all that is seen") {
+TEST_CASE("a box hidden behind a wall has no observable voxel, the wall's near face is all that is seen") {
   const AxisBox wall{{1.02, -1.48, -0.48}, {1.08, 1.48, 1.48}};
   const AxisBox box{{1.52, -0.18, 0.32}, {1.78, 0.28, 0.68}};
   const GroundTruth truth = truthOfBoxes({wall, box});

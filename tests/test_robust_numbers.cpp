@@ -150,7 +150,7 @@ TEST_CASE("coordinates outside OctoMap's key range are refused by map and sweep,
   }
 }
 
-TEST_CASE("import refuses values that overflow float32, naming the file or flag; nothing is written") {
+TEST_CASE("import refuses values that overflow float32, naming the file or flag, and writes nothing") {
   const fs::path dir = test::scratch("robust_numbers_overflow");
   const fs::path out = dir / "out";
   auto refused = [&](const std::string& args, const std::vector<std::string>& parts) {

@@ -129,7 +129,7 @@ TEST_CASE("Middlebury data set: equal inputs give equal bytes, other settings ot
   CHECK(first != other);
 }
 
-TEST_CASE("Middlebury sets use the rendered ci sets' ids and SGBM settings; only numDisparities differs",
+TEST_CASE("Middlebury sets use the rendered ci sets' ids and SGBM settings, only numDisparities differs",
           "[stereo][middlebury]") {
   const PointCloudGrid grid = loadPointCloudGrid(resolveGridPath("pointcloud"));
   const auto ids = middleburyPointCloudIds(grid);

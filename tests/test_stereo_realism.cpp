@@ -227,7 +227,7 @@ TEST_CASE("Noise scale 0, 1, 2: the images move monotonically away from the nois
   CHECK(frameOf(c, "building-plain-S", 8).left.pixels != two.left.pixels);              // another seed: others
 }
 
-TEST_CASE("Every option at its default value changes no byte; options used are recorded", "[stereo][realism][cli]") {
+TEST_CASE("Every option at its default value changes no byte, and options used are recorded", "[stereo][realism][cli]") {
   const fs::path a = test::scratch("stereo-realism-a"), b = test::scratch("stereo-realism-b"),
                  r = test::scratch("stereo-realism-r");
   const std::string common = " dataset generate --name parking-plain-O --scale ci --pcs 0 --no-preview --out ";

@@ -52,7 +52,7 @@ std::size_t lines(const fs::path& file) {
 
 }  // namespace
 
-TEST_CASE("shards merge to exactly the unsharded sweep; merge refuses missing, duplicated and foreign work") {
+TEST_CASE("shards merge to exactly the unsharded sweep, and merge refuses missing, duplicated and foreign work") {
   const auto dir = test::scratch("sweep-shards");
   const auto data = smallScene(dir);
   const ResultsFile whole = sweep(data, "octomap-opt", dir / "whole.json");
