@@ -21,7 +21,8 @@
 namespace occsweep::stereo {
 namespace {
 
-constexpr double kMaxDepth = 20.0;  // as generate.cpp's GenerateConfig::max_depth (a ZED's range)
+// The rendered sets' maximum depth (a ZED's range): one home, GenerateConfig.
+const double kMaxDepth = GenerateConfig{}.max_depth;
 
 /// A JPEG, or an 8-bit grey PNG (the sets' own view1.png, view5.png once converted to grey).
 GreyImage readGreyImage(const std::filesystem::path& file) {
