@@ -73,12 +73,8 @@ std::string shellQuote(const std::string& s) {
   return q + "'";
 }
 
-}  // namespace
-
-std::vector<RankedDataset> prepareDatasets(const ReproduceConfig& c) {
-  const fs::path data = c.data.empty() ? c.out / "data" : c.data;
-  const auto names = c.datasets.empty() ? paperDatasetNames() : c.datasets;
-  // Before generating anything: the data sets already there must be of the kind the missing ones will be.
+// Before generating anything: the data sets already there must be of the kind the missing ones will be.
+void checkExistingMatchMissing(const ReproduceConfig& c, const fs::path& data, const std::vector<std::string>& names) {
   std::string first_missing;
   for (const auto& name : names)
     if (first_missing.empty() && !fs::exists(data / name / "ranking.json")) first_missing = name;
@@ -94,21 +90,31 @@ std::vector<RankedDataset> prepareDatasets(const ReproduceConfig& c) {
                                (c.realistic ? std::string("with ") + RealisticData::kGenerateOptions : "with the defaults") +
                                ": one reproduction uses data of one kind (use another --out or --data)");
   }
+}
+
+void generateDataset(const ReproduceConfig& c, const fs::path& data, const std::string& name, std::size_t index,
+                     std::size_t count) {
+  if (c.occsweep_binary.empty()) throw std::runtime_error((data / name).string() + ": no ranking.json and no generator");
+  if (!c.quiet)
+    std::fprintf(stderr, "reproduce: generating %s (%zu of %zu, scale %s)\n", name.c_str(), index + 1, count,
+                 c.scale.c_str());
+  const std::string cmd = shellQuote(c.occsweep_binary.string()) + " dataset generate --name " + shellQuote(name) +
+                          " --scale " + shellQuote(c.scale) + " --out " + shellQuote(data.string()) + " --no-preview" +
+                          (c.realistic ? std::string(" ") + RealisticData::kGenerateOptions : std::string()) +
+                          (c.quiet ? " 2>/dev/null" : "");
+  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("reproduce: `" + cmd + "` failed");
+}
+
+}  // namespace
+
+std::vector<RankedDataset> prepareDatasets(const ReproduceConfig& c) {
+  const fs::path data = c.data.empty() ? c.out / "data" : c.data;
+  const auto names = c.datasets.empty() ? paperDatasetNames() : c.datasets;
+  checkExistingMatchMissing(c, data, names);
   std::vector<RankedDataset> out;
   for (std::size_t i = 0; i < names.size(); ++i) {
-    const fs::path root = data / names[i];
-    if (!fs::exists(root / "ranking.json")) {
-      if (c.occsweep_binary.empty()) throw std::runtime_error(root.string() + ": no ranking.json and no generator");
-      if (!c.quiet) std::fprintf(stderr, "reproduce: generating %s (%zu of %zu, scale %s)\n", names[i].c_str(),
-                                 i + 1, names.size(), c.scale.c_str());
-      const std::string cmd = shellQuote(c.occsweep_binary.string()) + " dataset generate --name " +
-                              shellQuote(names[i]) + " --scale " + shellQuote(c.scale) + " --out " +
-                              shellQuote(data.string()) + " --no-preview" +
-                              (c.realistic ? std::string(" ") + RealisticData::kGenerateOptions : std::string()) +
-                              (c.quiet ? " 2>/dev/null" : "");
-      if (std::system(cmd.c_str()) != 0) throw std::runtime_error("reproduce: `" + cmd + "` failed");
-    }
-    out.push_back(readRanking(names[i], root));
+    if (!fs::exists(data / names[i] / "ranking.json")) generateDataset(c, data, names[i], i, names.size());
+    out.push_back(readRanking(names[i], data / names[i]));
   }
   checkSameGeneratorOptions(c, out);
   return out;
