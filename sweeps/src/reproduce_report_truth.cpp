@@ -30,8 +30,9 @@ void truthSection(std::ostringstream& o, const json& comparison) {
   if (rows.empty() || !rows.front().contains("truths")) return;  // a comparison.json of an older run
   o << "## 3b. Full against observable truth (issue 14)\n\n"
     << "The same maps, counted twice: full truth (every truth voxel of the region, the paper's and the default) and "
-    << "observable truth (only truth voxels that a ray from a scan origin of the set reaches within s_c before any "
-    << "other truth voxel; the others, such as box interiors, leave the evaluation: docs/results-format.md, "
+    << "observable truth (only truth voxels that a ray from a scan origin of the set, aimed at the voxel's centre or "
+    << "at one of its face centres, reaches within s_c before any other truth voxel; the others, such as box "
+    << "interiors, leave the evaluation: docs/results-format.md, "
     << "\"Truth\"). TPR ceiling: the highest TPR any combination of either grid reaches.\n\n"
     << "| data set | rank | true voxels full / obs. | OctoMap AUC full | obs. | k-NN AUC full | obs. "
     << "| improvement % full | obs. | TPR ceiling full | obs. |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
