@@ -8,7 +8,7 @@
 # observable truth), then tools/fidelity/summarize.py writes OUT/summary.md (the tables of docs/fidelity.md),
 # OUT/summary.json and OUT/fidelity_*.png. A finished experiment is not redone (delete its folder to redo it).
 # Usage: tools/fidelity/experiments.sh OCCSWEEP_BINARY OUT [NAME...]     (default: every experiment)
-# About 1.5-3 minutes an experiment on 2 cores (docs/fidelity.md).
+# About 2-4 minutes an experiment on 2 cores, data generation included (docs/fidelity.md).
 set -euo pipefail
 [[ $# -ge 2 ]] || { echo "usage: $0 OCCSWEEP_BINARY OUT [NAME...]" >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
