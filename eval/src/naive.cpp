@@ -15,8 +15,8 @@ ConfusionCounts naiveConfusion(const PointCloudSet& set, const GroundTruth& trut
   ConfusionCounts c;
   for (const auto& key : predicted)
     if (!truth.excluded.count(key)) (truth.occupied.count(key) ? c.tp : c.fp) += 1;  // excluded: not evaluated
-  c.fn = truth.occupied.size() - truth.excluded.size() - c.tp;
-  c.tn = truth.regionVoxelCount() - truth.excluded.size() - c.tp - c.fp - c.fn;
+  c.fn = truth.evaluatedTrueVoxelCount() - c.tp;
+  c.tn = truth.evaluatedVoxelCount() - c.tp - c.fp - c.fn;
   return c;
 }
 

@@ -165,8 +165,7 @@ void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const s
   // Observable truth leaves its unobservable voxels out of the region and of the truth alike.
   const GroundTruth gt = evaluatedTruth(f.header.truth, makeGroundTruth(d.truth, d.region, f.header.resolution),
                                         d.scans, f.header.s_c);
-  const std::uint64_t region = gt.regionVoxelCount() - gt.excluded.size();
-  const std::uint64_t truth = gt.occupied.size() - gt.excluded.size();
+  const std::uint64_t region = gt.evaluatedVoxelCount(), truth = gt.evaluatedTrueVoxelCount();
   for (std::size_t i = 0; i < f.maps.size(); ++i)
     for (std::size_t t = 0; t < f.maps[i].thresholds.size(); ++t) {
       const auto& c = f.maps[i].thresholds[t].counts;

@@ -42,6 +42,9 @@ struct GroundTruth {
 
   [[nodiscard]] bool inRegion(const octomap::OcTreeKey& k) const;
   [[nodiscard]] std::size_t regionVoxelCount() const;
+  /// What an evaluation counts, the excluded voxels left out: TP+FP+FN+TN and TP+FN of every threshold.
+  [[nodiscard]] std::size_t evaluatedVoxelCount() const { return regionVoxelCount() - excluded.size(); }
+  [[nodiscard]] std::size_t evaluatedTrueVoxelCount() const { return occupied.size() - excluded.size(); }
 };
 
 /// Rasterises the sources at `resolution` with OctoMap's key arithmetic. Throws std::invalid_argument for an
