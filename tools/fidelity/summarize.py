@@ -30,14 +30,10 @@ BOOTSTRAP_RESAMPLES = 10000
 BOOTSTRAP_SEED = 1
 
 
-def best_aucs(row, truth):
-    """(OctoMap's best AUC, k-NN's best AUC) of one comparison row under one truth."""
+def best_octomap_and_gain(row, truth):
+    """OctoMap's best AUC and k-NN's improvement over it in % (as `reproduce` recorded it), under one truth."""
     part = row["truths"][truth]
-    return part["octomap"]["auc"], part["knn"]["auc"]
-
-
-def improvement_percent(octomap, knn):
-    return 100.0 * (knn - octomap) / octomap
+    return part["octomap"]["auc"], part["improvement_percent"]
 
 
 def bootstrap_mean_interval(values):
@@ -49,9 +45,9 @@ def bootstrap_mean_interval(values):
 
 
 def findings(rows, truth):
-    pairs = [best_aucs(r, truth) for r in rows]
+    pairs = [best_octomap_and_gain(r, truth) for r in rows]
     octomap = np.array([p[0] for p in pairs])
-    gain = np.array([improvement_percent(o, k) for o, k in pairs])
+    gain = np.array([p[1] for p in pairs])
     low, high = bootstrap_mean_interval(gain)
 
     def group_mean(key, value):
