@@ -115,19 +115,13 @@ namespace {
 // What to repeat the set: camera and the SGBM block as generate's sourceJson records them.
 nlohmann::json sourceOf(const StereoCamera& cam, const MiddleburyCamera& camera, const SgbmParams& params,
                         int num_disparities, double leaf) {
-  nlohmann::json j = {
+  return {
       {"generator", "occsweep dataset middlebury"},
       {"camera", {{"width", cam.width}, {"height", cam.height}, {"fx", cam.fx}, {"cx", cam.cx}, {"cy", cam.cy},
                   {"baseline", cam.baseline}, {"doffs", camera.doffs_px}}},
       {"scan", "one: the left camera at the origin, camera axes (x right, y down, z forward)"},
       {"truth", "voxel centres of the ground-truth disparity's points at voxel_filter_leaf"},
-      {"voxel_filter_leaf", leaf}, {"max_depth", kMaxDepth}};
-  j["sgbm"] = params.toJson();
-  j["sgbm"]["mode"] = "MODE_SGBM";
-  j["sgbm"]["minDisparity"] = 0;
-  j["sgbm"]["numDisparities"] = num_disparities;
-  j["sgbm"]["channels"] = 1;
-  return j;
+      {"voxel_filter_leaf", leaf}, {"max_depth", kMaxDepth}, {"sgbm", sgbmSettingsJson(params, num_disparities)}};
 }
 
 MiddleburySetSummary summarise(const MiddleburyPair& pair, const std::vector<std::int16_t>& disparity,

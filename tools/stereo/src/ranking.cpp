@@ -53,11 +53,7 @@ nlohmann::json sourceJson(const DatasetName& name, const GenerateConfig& c, cons
                      {"note", "scan origins and points use the drifted poses; images use the true ones"}};
   j["render"] = {{"supersample", c.render.supersample}, {"read_noise", c.render.read_noise},
                  {"shot_noise", c.render.shot_noise}, {"noise", c.render.noise}};
-  j["sgbm"] = params.toJson();
-  j["sgbm"]["mode"] = "MODE_SGBM";
-  j["sgbm"]["minDisparity"] = 0;
-  j["sgbm"]["numDisparities"] = c.scale.num_disparities;
-  j["sgbm"]["channels"] = 1;
+  j["sgbm"] = sgbmSettingsJson(params, c.scale.num_disparities);
   j["pointcloud_id"] = id;
   j["pointcloud_grid"] = {{"name", grid.name}, {"file_hash", grid.file_hash}, {"size", grid.size()}};
   j["voxel_filter_leaf"] = c.leaf;

@@ -13,6 +13,15 @@ nlohmann::json SgbmParams::toJson() const {
           {"disp12MaxDiff", disp12_max_diff}, {"P1", p1()}, {"P2", p2()}};
 }
 
+nlohmann::json sgbmSettingsJson(const SgbmParams& params, int num_disparities) {
+  nlohmann::json j = params.toJson();
+  j["mode"] = "MODE_SGBM";
+  j["minDisparity"] = 0;
+  j["numDisparities"] = num_disparities;
+  j["channels"] = 1;
+  return j;
+}
+
 void validate(const SgbmParams& p) {
   if (p.block_size < 1 || p.block_size > 51 || p.block_size % 2 == 0)
     throw std::invalid_argument("blockSize " + std::to_string(p.block_size) + ": must be odd, 1 to 51");

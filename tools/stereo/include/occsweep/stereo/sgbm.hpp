@@ -30,6 +30,10 @@ struct SgbmParams {
 [[nodiscard]] SgbmParams parseSgbmParams(const std::string& text);
 void validate(const SgbmParams& params);
 
+/// What computeDisparity runs, as data sets record it (manifest `source.sgbm`): the parameters and its fixed
+/// settings (MODE_SGBM, minDisparity 0, one channel, `num_disparities`).
+[[nodiscard]] nlohmann::json sgbmSettingsJson(const SgbmParams& params, int num_disparities);
+
 /// Disparity of the left image in OpenCV's fixed point (1/16 px); <= 0 is invalid. MODE_SGBM, minDisparity 0,
 /// preFilterCap OpenCV's default. `num_disparities` a positive multiple of 16.
 [[nodiscard]] std::vector<std::int16_t> computeDisparity(const StereoFrame& frame, const SgbmParams& params,
