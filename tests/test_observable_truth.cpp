@@ -261,7 +261,7 @@ TEST_CASE("a sweep with observable truth counts fewer true voxels where box inte
     const Dataset iso = readDataset(s.surface);
     const GroundTruth gt = makeGroundTruth(iso.truth, iso.region, 0.1);
     REQUIRE(evaluatedTruth(TruthMode::Observable, gt, iso.scans, 4.0).excluded.empty());
-    for (const std::string g : {std::string("octomap-opt"), grid.string()}) {
+    for (const std::string& g : {std::string("octomap-opt"), grid.string()}) {
       const std::string tag = e + "-" + fs::path(g).stem().string();
       const ResultsFile a = sweep(s.surface, g, e, TruthMode::Full, s.dir / (tag + "-iso-full.json"));
       const ResultsFile b = sweep(s.surface, g, e, TruthMode::Observable, s.dir / (tag + "-iso-obs.json"));
@@ -346,7 +346,7 @@ TEST_CASE("one pass with an observable twin gives what separate full and observa
   const fs::path d = s.dir / "twin";
   fs::create_directories(d);
   const fs::path grid = smallKnnGrid(d);
-  for (const std::string g : {std::string("octomap-opt"), grid.string()})
+  for (const std::string& g : {std::string("octomap-opt"), grid.string()})
     for (const char* engine : {"replay", "direct"}) {
       const std::string tag = fs::path(g).stem().string() + "-" + engine;
       INFO(tag);

@@ -159,7 +159,8 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
               << "map " << o->out << ": " << tree->getNumLeafNodes() << " leaves (settings in " << o->out << ".json)\n";
     if (gt) {
       const ConfusionCounts c = classify(sampleRegion(*tree, *gt), k.p_t);
-      std::cout << "at p_t " << k.p_t << (truth == TruthMode::Observable ? " (observable truth)" : "") << ": TP " << c.tp << " FP " << c.fp << " FN " << c.fn << " TN " << c.tn
+      std::cout << "at p_t " << k.p_t << (truth == TruthMode::Observable ? " (observable truth)" : "") << ": TP "
+                << c.tp << " FP " << c.fp << " FN " << c.fn << " TN " << c.tn
                 << "  TPR " << c.tpr() << " FDR " << c.fdr() << '\n';
     }
     return 0;
