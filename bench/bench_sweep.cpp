@@ -25,9 +25,9 @@
 #include <tbb/version.h>
 
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
-#include "occsweep/data/builtin_scene.hpp"
-#include "occsweep/data/dataset.hpp"
-#include "occsweep/eval/runtime_model.hpp"
+#include "occsweep/eval/builtin_scene.hpp"
+#include "occsweep/eval/dataset.hpp"
+#include "occsweep/stats/runtime_model.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates the golden results in results/builtin/ from the code. Run it only when a change to the numbers is
-# intended, then commit the diff with the reason; tests/test_golden.cpp checks them on every test run. They are
+# intended, then commit the diff with the reason; tests/sweeps/test_golden.cpp checks them on every test run. They are
 # made with the direct engine (liboctomap itself for OctoMap), the reference the default replay engine must match.
 # Usage: tools/regenerate_golden.sh [BUILD_DIR]   (default: build)
 set -euo pipefail

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Reference p-values for tests/test_stats_tests.cpp, from SciPy (docs/statistics.md).
+"""Reference p-values for tests/eval/test_stats_tests.cpp, from SciPy (docs/statistics.md).
 
 Prints the C++ header tests/stats_reference_cases.hpp; regenerate with
     tools/stats_reference.py > tests/stats_reference_cases.hpp

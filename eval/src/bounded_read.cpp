@@ -1,4 +1,4 @@
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 
 #include <bit>
 #include <charconv>

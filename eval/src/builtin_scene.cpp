@@ -1,4 +1,4 @@
-#include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/eval/builtin_scene.hpp"
 
 #include <cmath>
 #include <limits>

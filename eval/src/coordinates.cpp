@@ -1,11 +1,10 @@
-#include "occsweep/data/coordinates.hpp"
+#include "occsweep/eval/coordinates.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
-#include "occsweep/data/data_error.hpp"
-#include "occsweep/data/import_dataset.hpp"
+#include "occsweep/eval/data_error.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;

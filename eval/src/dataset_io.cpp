@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <limits>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -8,13 +9,31 @@
 #include <unistd.h>
 
 #include "occsweep/core/limits.hpp"
-#include "occsweep/data/data_error.hpp"
-#include "occsweep/data/dataset.hpp"
-#include "occsweep/data/fnv1a.hpp"
+#include "occsweep/eval/data_error.hpp"
+#include "occsweep/eval/dataset.hpp"
+#include "occsweep/eval/fnv1a.hpp"
 #include "occsweep/eval/output_file.hpp"
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 
 namespace occsweep {
+
+AxisBox boundingBox(const PointCloudSet& scans) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  AxisBox box{{inf, inf, inf}, {-inf, -inf, -inf}};
+  auto grow = [&box](const octomap::point3d& p) {
+    for (int a = 0; a < 3; ++a) {
+      box.min[std::size_t(a)] = std::min(box.min[std::size_t(a)], double(p(a)));
+      box.max[std::size_t(a)] = std::max(box.max[std::size_t(a)], double(p(a)));
+    }
+  };
+  for (const auto& s : scans) {
+    grow(s.origin);
+    for (const auto& p : s.points) grow(p);
+  }
+  return box;
+}
+
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# End-to-end test of `occsweep cluster` on a real one-node Slurm (run by tests/test_cluster_slurm.cpp, or by hand as
+# End-to-end test of `occsweep cluster` on a real one-node Slurm (run by tests/sweeps/test_cluster_slurm.cpp, or by hand as
 # root):
 #  1. installs Slurm when missing, starts it on loopback; stops it on exit, also on failure (trap);
 #  2. plans a small reproduction (2 small data sets of the built-in scene, 2 + 3 + 2 sweep shards each) twice: runs one

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/data/data_error.hpp"
+#include "occsweep/eval/data_error.hpp"
 
 namespace occsweep::fuzz {
 

@@ -1,7 +1,7 @@
 // A second, deliberately simple k-NN mapper, written from the paper alone (Miao, Hunter, Georgilas, "An Occupancy
 // Mapping Method Based on K-Nearest Neighbours", Sensors 2022: Eq. 2-10 and Algorithm 1) and the decisions of
 // docs/design.md ("The k-NN model"), without looking at the library's k-NN code. Test-only: it is the oracle of
-// tests/test_knn_reference.cpp, never linked into occsweep.
+// tests/sweeps/test_knn_reference.cpp, never linked into occsweep.
 //
 // Simple on purpose: brute-force neighbour search over every pair, a std::map from voxel key to log-odds, plain
 // loops, one step of Algorithm 1 per block. Only the ray keys come from liboctomap itself (computeRayKeys), as the

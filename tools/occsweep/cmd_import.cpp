@@ -8,7 +8,7 @@
 #include "occsweep/core/limits.hpp"
 #include "occsweep/core/mapping_params.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
-#include "occsweep/data/coordinates.hpp"
+#include "occsweep/eval/coordinates.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_depth.hpp"

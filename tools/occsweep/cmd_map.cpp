@@ -13,8 +13,8 @@
 #include "limit_options.hpp"
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
-#include "occsweep/data/coordinates.hpp"
-#include "occsweep/data/dataset.hpp"
+#include "occsweep/eval/coordinates.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/sweeps/results.hpp"
 

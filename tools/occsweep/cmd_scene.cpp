@@ -4,7 +4,7 @@
 #include "command_registry.hpp"
 #include "option_checks.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
-#include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/eval/builtin_scene.hpp"
 
 namespace occsweep::cli {
 namespace {

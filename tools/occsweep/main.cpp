@@ -5,13 +5,16 @@
 #include <new>
 
 #include "command_registry.hpp"
+#include "install_paths.hpp"
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/sweeps/grid.hpp"
 #include "occsweep/sweeps/version.hpp"
 #include "usage_errors.hpp"
 
 int main(int argc, char** argv) {
   using namespace occsweep::cli;
   occsweep::removeTemporariesOnInterrupt();  // before any thread: SIGINT/SIGTERM remove unfinished outputs
+  occsweep::addGridFolder(installedDataFolder() / "grids");  // after $OCCSWEEP_GRIDS (docs/install.md)
   CLI::App app{"occsweep " + std::string(occsweep::kVersion) +
                ": occupancy mapping with OctoMap and the k-NN inverse sensor model (Miao et al., Sensors 2022)"};
   app.require_subcommand(1);

@@ -1,5 +1,5 @@
 // Maximum-likelihood fits of Section 3.2: closed forms where they exist, Nelder-Mead elsewhere.
-#include "occsweep/eval/distribution_fit.hpp"
+#include "occsweep/stats/distribution_fit.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "occsweep/eval/distribution_fit.hpp"
+#include "occsweep/stats/distribution_fit.hpp"
 
 namespace occsweep {
 namespace {

@@ -1,5 +1,5 @@
 // NCA for regression (fsrnca's formulation), its gradient, an L-BFGS minimiser and lambda by cross-validation.
-#include "occsweep/eval/nca.hpp"
+#include "occsweep/stats/nca.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "occsweep/eval/runtime_model.hpp"
+#include "occsweep/stats/runtime_model.hpp"
 
 #include <stdexcept>
 

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/cluster_select.hpp"
 #include "occsweep/sweeps/results.hpp"
 

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/cluster_state.hpp"
 #include "occsweep/sweeps/merge.hpp"
 

@@ -1,7 +1,7 @@
 // The partial log of a sweep: what a killed sweep resumes from.
 #include <fstream>
 
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "sweep_internal.hpp"
 
 namespace occsweep::sweep_detail {

@@ -16,9 +16,9 @@
 
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
-#include "occsweep/data/coordinates.hpp"
-#include "occsweep/data/dataset.hpp"
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/coordinates.hpp"
+#include "occsweep/eval/dataset.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/sweep.hpp"

@@ -5,7 +5,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "occsweep/data/fnv1a.hpp"
+#include "occsweep/eval/fnv1a.hpp"
 #include "occsweep/sweeps/grid.hpp"
 
 namespace occsweep {
@@ -149,17 +149,26 @@ GridSpec loadGrid(const std::filesystem::path& file) {
   return g;
 }
 
+namespace {
+std::vector<std::filesystem::path>& gridFolders() {
+  static std::vector<std::filesystem::path> folders;
+  return folders;
+}
+}  // namespace
+
+void addGridFolder(const std::filesystem::path& folder) { gridFolders().push_back(folder); }
+
 std::filesystem::path resolveGridPath(const std::string& name_or_path) {
   namespace fs = std::filesystem;
   const fs::path given = name_or_path;
   // A path that exists but is no regular file (a folder, a FIFO, a link loop) goes to loadGrid, which says what it
-  // is (issue 13), unless it is a bare name that may be a grid of sweeps/grids.
+  // is (issue 13), unless it is a bare name that may be a grid of a grid folder.
   if (fs::is_regular_file(given) ||
       (fs::exists(fs::symlink_status(given)) && (given.has_parent_path() || given.extension() == ".json")))
     return given;
   std::vector<fs::path> places;
   if (const char* env = std::getenv("OCCSWEEP_GRIDS")) places.emplace_back(env);
-  places.emplace_back(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids");
+  places.insert(places.end(), gridFolders().begin(), gridFolders().end());
   for (const auto& dir : places)
     if (fs::is_regular_file(dir / (name_or_path + ".json"))) return dir / (name_or_path + ".json");
   std::string message = "grid '" + name_or_path + "': no such file, nor " + name_or_path + ".json in";

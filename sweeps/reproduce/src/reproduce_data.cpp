@@ -6,7 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "reproduce_internal.hpp"
 

@@ -2,8 +2,8 @@
 // the normal, log-logistic, Rayleigh and GEV distributions (maximum likelihood) and a Gaussian KDE.
 #include <algorithm>
 
-#include "occsweep/data/dataset.hpp"
-#include "occsweep/eval/distribution_fit.hpp"
+#include "occsweep/eval/dataset.hpp"
+#include "occsweep/stats/distribution_fit.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "reproduce_internal.hpp"
 

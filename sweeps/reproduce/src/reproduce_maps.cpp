@@ -8,7 +8,7 @@
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/log_odds.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
-#include "occsweep/data/dataset.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/merge.hpp"

@@ -8,7 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include "occsweep/core/splitmix64.hpp"
-#include "occsweep/eval/nca.hpp"
+#include "occsweep/stats/nca.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "reproduce_internal.hpp"
 

@@ -6,8 +6,8 @@
 
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
-#include "occsweep/data/dataset.hpp"
-#include "occsweep/eval/runtime_model.hpp"
+#include "occsweep/eval/dataset.hpp"
+#include "occsweep/stats/runtime_model.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "reproduce_internal.hpp"
 

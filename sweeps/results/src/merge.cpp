@@ -6,7 +6,7 @@
 #include "occsweep/core/limits.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
-#include "occsweep/sweeps/sweep.hpp"
+#include "occsweep/sweeps/selection.hpp"
 
 namespace occsweep {
 

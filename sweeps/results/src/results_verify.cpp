@@ -8,10 +8,10 @@
 #include <set>
 #include <stdexcept>
 
-#include "occsweep/data/coordinates.hpp"
-#include "occsweep/data/dataset.hpp"
+#include "occsweep/eval/coordinates.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "occsweep/sweeps/sharding.hpp"
-#include "occsweep/sweeps/sweep.hpp"
+#include "occsweep/sweeps/selection.hpp"
 
 namespace occsweep {
 namespace {

@@ -2,8 +2,8 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "occsweep/data/coordinates.hpp"
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/coordinates.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_dataset.hpp"
 

@@ -4,25 +4,9 @@
 #include <limits>
 
 #include "occsweep/core/limits.hpp"
-#include "occsweep/data/data_error.hpp"
+#include "occsweep/eval/data_error.hpp"
 
 namespace occsweep {
-
-AxisBox boundingBox(const PointCloudSet& scans) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  AxisBox box{{inf, inf, inf}, {-inf, -inf, -inf}};
-  auto grow = [&box](const octomap::point3d& p) {
-    for (int a = 0; a < 3; ++a) {
-      box.min[std::size_t(a)] = std::min(box.min[std::size_t(a)], double(p(a)));
-      box.max[std::size_t(a)] = std::max(box.max[std::size_t(a)], double(p(a)));
-    }
-  };
-  for (const auto& s : scans) {
-    grow(s.origin);
-    for (const auto& p : s.points) grow(p);
-  }
-  return box;
-}
 
 Dataset importedDataset(std::string name, PointCloudSet scans, nlohmann::json source) {
   Dataset d;

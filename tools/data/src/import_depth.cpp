@@ -2,8 +2,8 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "occsweep/data/coordinates.hpp"
-#include "occsweep/data/data_error.hpp"
+#include "occsweep/eval/coordinates.hpp"
+#include "occsweep/eval/data_error.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_depth.hpp"
 

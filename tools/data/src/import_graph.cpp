@@ -7,8 +7,8 @@
 
 #include <octomap/math/Pose6D.h>
 
-#include "occsweep/data/coordinates.hpp"
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/coordinates.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_graph.hpp"
 #include "occsweep/data/import_pose.hpp"

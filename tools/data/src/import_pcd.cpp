@@ -4,7 +4,7 @@
 #include <limits>
 #include <string>
 
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/data/import_cloud.hpp"
 
 namespace occsweep {

@@ -2,7 +2,7 @@
 #include <cctype>
 #include <string>
 
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/data/import_depth.hpp"
 
 namespace occsweep {

@@ -2,7 +2,7 @@
 #include <cmath>
 #include <string>
 
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/data/import_cloud.hpp"
 
 namespace occsweep {

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;

@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/data/coordinates.hpp"
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/coordinates.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/data/import_cloud.hpp"
 
 namespace occsweep {

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "occsweep/core/limits.hpp"
-#include "occsweep/data/import_bytes.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 
 namespace occsweep {
 namespace {

@@ -10,8 +10,8 @@
 #include <tbb/parallel_for.h>
 
 #include "occsweep/core/splitmix64.hpp"
-#include "occsweep/data/dataset.hpp"
-#include "occsweep/data/fnv1a.hpp"
+#include "occsweep/eval/dataset.hpp"
+#include "occsweep/eval/fnv1a.hpp"
 #include "occsweep/eval/naive.hpp"
 #include "occsweep/stereo/cloud.hpp"
 #include "occsweep/stereo/ranking.hpp"

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "occsweep/data/fnv1a.hpp"
+#include "occsweep/eval/fnv1a.hpp"
 
 namespace occsweep::stereo {
 namespace {

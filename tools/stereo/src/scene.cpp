@@ -4,12 +4,15 @@
 #include <array>
 #include <stdexcept>
 
+#include "occsweep/eval/paper_datasets.hpp"
+
 namespace occsweep::stereo {
 namespace {
 
-constexpr std::array<const char*, 2> kEnvironments{"building", "parking"};
-constexpr std::array<const char*, 2> kTextures{"plain", "voronoi"};
-constexpr std::array<const char*, 5> kLayouts{"I", "O", "T", "L", "S"};
+// The enums of scene.hpp index the paper's name lists (paper_datasets.hpp) in their order.
+constexpr const auto& kEnvironments = kPaperEnvironments;
+constexpr const auto& kTextures = kPaperTextures;
+constexpr const auto& kLayouts = kPaperLayouts;
 
 template <std::size_t N>
 int indexOf(const std::array<const char*, N>& names, const std::string& s) {

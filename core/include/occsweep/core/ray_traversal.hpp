@@ -1,6 +1,6 @@
 // Our own ray traversal: liboctomap's computeRayKeys (Amanatides-Woo 3D DDA) re-written step for step with the
 // same float and double operations, so it visits exactly the same keys in the same order, but calls `visit`
-// instead of filling a KeyRay, and can stop early. tests/test_ray_traversal.cpp checks it key for key against
+// instead of filling a KeyRay, and can stop early. tests/core/test_ray_traversal.cpp checks it key for key against
 // liboctomap on millions of random rays.
 #pragma once
 

@@ -20,6 +20,9 @@ struct Dataset {
   nlohmann::json source = nlohmann::json::object();  ///< how it was made (generator and its settings)
 };
 
+/// Axis-aligned bounding box of every point and every origin of `scans` (which must not be empty).
+[[nodiscard]] AxisBox boundingBox(const PointCloudSet& scans);
+
 /// Writes DIR/manifest.json and DIR/scans/NNNNNN.f32 (+ truth files). Built in a temporary folder beside DIR
 /// and renamed into place (OutputFolder), so a killed write never leaves a half data set. Replaces an existing DIR:
 /// callers check it first with checkOutputTarget(dir, force, datasetOutput()).

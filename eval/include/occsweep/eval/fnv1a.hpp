@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "data_error.hpp"
-#include "import_bytes.hpp"
+#include "bounded_read.hpp"
 
 namespace occsweep {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "cluster_state.hpp"
+#include "occsweep/sweeps/cluster_state.hpp"
 
 namespace occsweep {
 

@@ -7,7 +7,7 @@
 #include <sys/types.h>
 #include <vector>
 
-#include "cluster_plan.hpp"
+#include "occsweep/sweeps/cluster_plan.hpp"
 
 namespace occsweep {
 

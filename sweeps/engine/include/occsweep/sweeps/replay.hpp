@@ -8,7 +8,7 @@
 #include "occsweep/core/knn_set_distances.hpp"
 #include "occsweep/core/mapping_params.hpp"
 #include "occsweep/eval/confusion.hpp"
-#include "grid.hpp"
+#include "occsweep/sweeps/grid.hpp"
 
 namespace occsweep {
 

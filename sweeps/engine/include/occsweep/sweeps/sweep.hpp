@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "occsweep/core/mapping_params.hpp"
-#include "results.hpp"
+#include "occsweep/sweeps/results.hpp"
 
 namespace occsweep {
 
@@ -29,19 +29,6 @@ struct SweepConfig {
   /// (reproduce reports both truths without building any map twice). Empty: none.
   std::filesystem::path observable_out;
 };
-
-/// One work item: a map of the grid and the thresholds of it that the selection asks for.
-struct SweepItem {
-  std::uint64_t map_index = 0;
-  std::vector<std::size_t> thresholds;  ///< indices into GridEnumeration::thresholds[map_index]
-};
-
-/// The selected maps of a grid in canonical order, cut to the shard (throws for an invalid selection).
-[[nodiscard]] std::vector<SweepItem> selectWork(const GridSpec& grid, const GridEnumeration& e,
-                                                const SweepSelection& selection);
-
-/// The ids a selection (ignoring its shard) must cover: what merge checks.
-[[nodiscard]] std::vector<std::uint64_t> expectedIds(const GridEnumeration& e, const SweepSelection& selection);
 
 /// Runs (or resumes) a sweep and writes its results file atomically. A complete file of the same work is
 /// left as it is and returned.

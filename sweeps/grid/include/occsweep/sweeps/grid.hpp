@@ -56,8 +56,13 @@ struct GridEnumeration {
 /// step <= 0 on a range, min > max, values outside Eq. 12's bounds, more than 6 decimals.
 [[nodiscard]] GridSpec parseGrid(const nlohmann::json& j, const std::string& file);
 [[nodiscard]] GridSpec loadGrid(const std::filesystem::path& file);
-/// A grid by name (sweeps/grids/NAME.json under the install or source tree) or by path.
+/// A grid by path, or by name: NAME.json in $OCCSWEEP_GRIDS, then in each folder given to addGridFolder, in that
+/// order (docs/install.md, "Where the command finds its grids"). Throws std::runtime_error naming every folder tried.
 [[nodiscard]] std::filesystem::path resolveGridPath(const std::string& name_or_path);
+/// Adds a folder that resolveGridPath searches for grids by name. The library knows no folder of its own: the
+/// command adds its installed grids (share/occsweep/grids beside its own folder), a test or a downstream program
+/// the folder it ships. Call before any sweep starts (the list is not guarded for concurrent changes).
+void addGridFolder(const std::filesystem::path& folder);
 
 [[nodiscard]] GridEnumeration enumerateGrid(const GridSpec& grid);
 

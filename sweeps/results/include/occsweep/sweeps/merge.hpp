@@ -5,7 +5,7 @@
 #include <optional>
 #include <vector>
 
-#include "results.hpp"
+#include "occsweep/sweeps/results.hpp"
 
 namespace occsweep {
 

@@ -13,20 +13,10 @@
 #include "occsweep/eval/curve.hpp"
 #include "occsweep/eval/observable_truth.hpp"
 #include "occsweep/eval/output_file.hpp"
-#include "grid.hpp"
+#include "occsweep/sweeps/grid.hpp"
+#include "occsweep/sweeps/selection.hpp"
 
 namespace occsweep {
-
-/// Which part of a grid a file covers: optionally one Eq. 16 group of ids, then one contiguous block of the
-/// selected maps.
-struct SweepSelection {
-  struct Group {
-    std::uint64_t index = 0, count = 1, seed = 0;
-    friend bool operator==(const Group&, const Group&) = default;
-  };
-  std::optional<Group> group;
-  std::uint64_t shard_index = 0, shard_count = 1;
-};
 
 /// Everything about a results file except its numbers.
 struct ResultsHeader {

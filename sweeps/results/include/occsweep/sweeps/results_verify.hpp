@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string>
 
-#include "results.hpp"
+#include "occsweep/sweeps/results.hpp"
 
 namespace occsweep {
 

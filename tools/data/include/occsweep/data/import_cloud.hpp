@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "dataset.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "import_pose.hpp"
 
 namespace occsweep {

@@ -8,12 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "dataset.hpp"
+#include "occsweep/eval/dataset.hpp"
 
 namespace occsweep {
-
-/// Axis-aligned bounding box of every point and every origin of `scans` (which must not be empty).
-[[nodiscard]] AxisBox boundingBox(const PointCloudSet& scans);
 
 /// A data set of real scans without ground truth: empty truth sources and, as evaluation region, the bounding box
 /// of the points and origins, so that readDataset accepts it unchanged and `map` prints no confusion counts

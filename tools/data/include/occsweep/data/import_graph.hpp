@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string_view>
 
-#include "dataset.hpp"
+#include "occsweep/eval/dataset.hpp"
 
 namespace occsweep {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "occsweep/data/dataset.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "camera.hpp"
 #include "pointcloud_grid.hpp"

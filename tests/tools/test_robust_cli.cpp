@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/data/dataset.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "robust_cli_helpers.hpp"
 
 using namespace occsweep;

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/data/dataset.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "occsweep/core/splitmix64.hpp"
 #include "test_helpers.hpp"
 

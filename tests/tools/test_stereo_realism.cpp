@@ -8,7 +8,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "occsweep/data/dataset.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "occsweep/stereo/cloud.hpp"
 #include "occsweep/stereo/generate.hpp"
 #include "occsweep/stereo/raycast.hpp"

@@ -4,8 +4,8 @@
 #include <fstream>
 
 #include "occsweep/core/mapping_params.hpp"
-#include "occsweep/data/builtin_scene.hpp"
-#include "occsweep/data/data_error.hpp"
+#include "occsweep/eval/builtin_scene.hpp"
+#include "occsweep/eval/data_error.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;

@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "occsweep/core/splitmix64.hpp"
-#include "occsweep/eval/runtime_model.hpp"
+#include "occsweep/stats/runtime_model.hpp"
 
 using namespace occsweep;
 

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "occsweep/core/octomap_baseline.hpp"
-#include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "test_helpers.hpp"
 

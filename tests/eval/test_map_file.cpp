@@ -8,7 +8,7 @@
 
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/map_voxels.hpp"
-#include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/eval/builtin_scene.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;

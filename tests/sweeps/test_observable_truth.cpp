@@ -10,7 +10,7 @@
 #include <octomap/OcTree.h>
 
 #include "occsweep/core/splitmix64.hpp"
-#include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/observable_truth.hpp"
 #include "occsweep/sweeps/sweep.hpp"

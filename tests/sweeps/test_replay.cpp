@@ -3,7 +3,7 @@
 // test_golden (golden files made by the direct engine, recomputed by replay).
 #include <catch2/catch.hpp>
 
-#include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "test_helpers.hpp"
 

@@ -5,7 +5,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "occsweep/data/dataset.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "occsweep/stereo/cloud.hpp"
 #include "occsweep/stereo/generate.hpp"
 #include "occsweep/stereo/middlebury.hpp"

@@ -5,7 +5,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "occsweep/data/dataset.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;

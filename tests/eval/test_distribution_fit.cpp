@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "occsweep/core/splitmix64.hpp"
-#include "occsweep/eval/distribution_fit.hpp"
+#include "occsweep/stats/distribution_fit.hpp"
 
 using namespace occsweep;
 

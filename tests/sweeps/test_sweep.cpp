@@ -6,7 +6,7 @@
 #include <fstream>
 #include <thread>
 
-#include "occsweep/data/builtin_scene.hpp"
+#include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "test_helpers.hpp"

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "occsweep/core/splitmix64.hpp"
-#include "occsweep/eval/nca.hpp"
+#include "occsweep/stats/nca.hpp"
 
 using namespace occsweep;
 
