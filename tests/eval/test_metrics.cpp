@@ -25,7 +25,7 @@ TEST_CASE("TPR, FDR, precision and FPR on hand-computed counts") {
   CHECK(no_positives.fdr() == 1.0);
 }
 
-TEST_CASE("the TPR-FDR curve discards NaN points and its AUC follows SPEC §2") {
+TEST_CASE("the TPR-FDR curve discards NaN points and its AUC follows docs/definitions.md, Confusion counts and AUC") {
   // Points (FDR, TPR): (0.25, 0.6), (0.5, 0.8), a NaN point, (0, 0.3)
   auto pts = curvePoints({{30, 10, 20, 940}, {40, 40, 10, 910}, {0, 0, 50, 950}, {15, 0, 35, 950}});
   REQUIRE(pts.size() == 3);

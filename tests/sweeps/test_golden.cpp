@@ -1,9 +1,11 @@
-// The golden results in results/builtin/ are recomputed and must match: any TP/FP/FN/TN, or an AUC further
-// than 1e-12. Regenerate them with tools/regenerate_golden.sh only when a change is intended.
+// The golden results in results/builtin/ are recomputed and must match, as `occsweep results diff` checks them
+// (diffResults): every TP/FP/FN/TN and every AUC exactly (tolerance 0, within 1e-12 a fortiori). Regenerate them with
+// tools/regenerate_golden.sh only when a change is intended.
 #include <catch2/catch.hpp>
 
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
+#include "occsweep/sweeps/results_diff.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "test_helpers.hpp"
 
@@ -20,8 +22,8 @@ fs::path builtinScene(const std::string& test_name) {
   return dir;
 }
 
-// Sweeps `grid` on the scene with `engine` and requires exactly the golden file's numbers (resultDifferences: any
-// TP/FP/FN/TN, an AUC beyond 1e-12).
+// Sweeps `grid` on the scene with `engine` and requires exactly the golden file's numbers (diffResults at AUC
+// tolerance 0: any TP/FP/FN/TN, any AUC, a missing combination).
 void requireGolden(const fs::path& scene, const std::string& grid, const std::string& engine) {
   INFO("grid " << grid << ", engine " << engine);
   const ResultsFile golden = readResults(kGolden / (grid + ".json"));
@@ -36,9 +38,14 @@ void requireGolden(const fs::path& scene, const std::string& grid, const std::st
   c.quiet = true;
   const ResultsFile fresh = runSweep(c);
   CHECK(fresh.header.engine == engine);
-  const auto diffs = resultDifferences(golden, fresh);
-  for (std::size_t i = 0; i < std::min<std::size_t>(diffs.size(), 10); ++i) UNSCOPED_INFO(diffs[i]);
-  CHECK(diffs.empty());
+  const ResultsDiff diff = diffResults(golden, fresh, 0.0);
+  for (const auto& d : diff.header) UNSCOPED_INFO(d.field << ": " << d.candidate << ", golden " << d.golden);
+  for (std::size_t i = 0; i < std::min<std::size_t>(diff.combinations.size(), 10); ++i) {
+    const ResultsDifference& d = diff.combinations[i];
+    UNSCOPED_INFO("map " << *d.map_index << " (" << d.combination << "): " << d.field << " " << d.candidate
+                         << ", golden " << d.golden);
+  }
+  CHECK(diff.empty());
 }
 
 }  // namespace
@@ -73,11 +80,17 @@ TEST_CASE("the golden check fails when a single voxel's classification changes")
     return f;
   };
   // Unchanged, the recomputed map agrees with the golden file...
-  REQUIRE(resultDifferences(golden, withCounts(sample)).empty());
+  REQUIRE(diffResults(golden, withCounts(sample), 0.0).empty());
   // ...and one truly occupied voxel that the map knew and called occupied becomes unknown: a TP turns FN.
   REQUIRE_FALSE(sample.positive_log_odds.empty());
   sample.positive_log_odds.pop_back();  // sorted: the most confident one, occupied at every p_t
-  const auto diffs = resultDifferences(golden, withCounts(sample));
-  REQUIRE_FALSE(diffs.empty());
-  CHECK(diffs.front().find("map 7") != std::string::npos);
+  const ResultsDiff diff = diffResults(golden, withCounts(sample), 0.0);
+  REQUIRE_FALSE(diff.empty());
+  CHECK(diff.header.empty());
+  std::size_t tp_rows = 0;
+  for (const auto& d : diff.combinations) {
+    CHECK(d.map_index == 7u);  // map 7 alone, named
+    tp_rows += d.field == "tp";
+  }
+  CHECK(tp_rows == golden.maps.at(7).thresholds.size());  // occupied at every p_t: a TP less at each
 }

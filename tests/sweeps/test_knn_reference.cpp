@@ -185,7 +185,8 @@ std::vector<RegionVoxel> regionOf(const LogOddsMap& m, const GroundTruth& truth)
   return region;
 }
 
-/// SPEC §2 counted on the reference map: occupied when known and log-odds >= l(p_t) in float.
+/// Occupied at p_t (docs/definitions.md, Occupied at a threshold) counted on the reference map: known and
+/// log-odds >= l(p_t) in float.
 ConfusionCounts countsOf(const std::vector<RegionVoxel>& region, double p_t) {
   const float threshold = reference::logOddsEq2(p_t);
   ConfusionCounts c;

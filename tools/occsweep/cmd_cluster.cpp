@@ -11,7 +11,7 @@
 namespace occsweep::cli {
 namespace {
 
-/// The paper's 20 data sets (SPEC §4).
+/// The paper's 20 data sets (docs/definitions.md, The 20 data sets).
 std::vector<std::string> paperDatasets() {
   std::vector<std::string> out;
   for (const char* env : {"building", "parking"})

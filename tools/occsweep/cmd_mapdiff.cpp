@@ -45,7 +45,8 @@ std::unique_ptr<octomap::OcTree> readTree(const std::string& file) {
   return tree;
 }
 
-// Occupied at p_t as SPEC §2: known and log-odds >= l(p_t) in float; unknown is not occupied.
+// Occupied at p_t (docs/definitions.md, Occupied at a threshold): known and log-odds >= l(p_t) in float;
+// unknown is not occupied.
 struct Counts {
   std::uint64_t both_occupied = 0, only_a = 0, only_b = 0, both_known = 0, known_a_only = 0, known_b_only = 0;
 };

@@ -1,20 +1,69 @@
 // occsweep results check FILE: exit 0 only for a complete, consistent results file.
+// occsweep results diff GOLDEN NEW: exit 0 only when NEW has GOLDEN's numbers (docs/results-format.md, "Regression
+// checks against a golden file").
+#include <cstdio>
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "option_checks.hpp"
 #include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/results_diff.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
 namespace occsweep::cli {
 namespace {
 
-const RegisterCommand kResults{"results", "Check results files", [](CLI::App& app) {
+void printDifferences(const std::vector<ResultsDifference>& rows) {
+  std::printf("%-6s %-10s %-22s %-24s %-24s %s\n", "map", "id", "field", "golden", "new", "parameters");
+  for (const auto& d : rows)
+    std::printf("%-6s %-10s %-22s %-24s %-24s %s\n", d.map_index ? std::to_string(*d.map_index).c_str() : "-",
+                d.id ? std::to_string(*d.id).c_str() : "-", d.field.c_str(), d.golden.c_str(), d.candidate.c_str(),
+                d.combination.empty() ? "(header)" : d.combination.c_str());
+}
+
+// Exit 0 when nothing differs, 1 with the table of what does; unreadable input throws (exit 2, the file named).
+int runDiff(const std::string& golden_file, const std::string& new_file, double auc_tolerance, CountsCheck counts) {
+  const ResultsFile golden = readResults(golden_file);
+  const ResultsFile candidate = readResults(new_file);
+  const ResultsDiff diff = diffResults(golden, candidate, auc_tolerance, counts);
+  const std::string checked = std::string(counts == CountsCheck::Exact ? "confusion counts exact, " : "") +
+                              "AUC within " + plainNumber(auc_tolerance);
+  if (diff.empty()) {
+    std::cout << new_file << ": same numbers as " << golden_file << ": " << diff.golden_maps << " maps, "
+              << diff.golden_combinations << " combinations, " << checked << '\n';
+    return 0;
+  }
+  if (!diff.header.empty()) {
+    printDifferences(diff.header);
+    std::cout << new_file << ": not comparable with " << golden_file << ": " << diff.header.size()
+              << " header field(s) differ; no combination compared\n";
+    return 1;
+  }
+  printDifferences(diff.combinations);
+  std::cout << new_file << ": " << diff.combinations.size() << " difference(s) from " << golden_file
+            << " (" << checked << ")\n";
+  return 1;
+}
+
+const RegisterCommand kResults{"results", "Check results files, or compare one with a golden one", [](CLI::App& app) {
   auto file = std::make_shared<std::string>();
   CLI::App* check = app.add_subcommand("check", "Exit 0 when FILE is a complete, consistent results file (docs/results-format.md)");
   auto dataset = std::make_shared<std::string>();
   check->add_option("file", *file, "Results file")->required();
   check->add_option("--dataset", *dataset, "Also check against this data set: its content hash, and every threshold "
                                            "counting its region's and its truth's voxels");
+  CLI::App* diff = app.add_subcommand("diff", "Exit 0 when NEW has GOLDEN's confusion counts and AUCs, else 1 with a "
+                                              "table of what changed (docs/results-format.md)");
+  auto golden = std::make_shared<std::string>();
+  auto candidate = std::make_shared<std::string>();
+  auto auc_tolerance = std::make_shared<double>(0.0);
+  diff->add_option("golden", *golden, "The results file to match")->required();
+  diff->add_option("new", *candidate, "The results file to check")->required();
+  diff->add_option("--auc-tolerance", *auc_tolerance, "How far an AUC may move (default 0: exactly)")
+      ->check(numberAtLeast(0.0));
+  auto auc_only = std::make_shared<bool>(false);
+  diff->add_flag("--auc-only", *auc_only, "Compare the AUCs alone, not the confusion counts (a missing combination "
+                                          "still differs)");
   app.require_subcommand(1);
   return [=] {
     return runChosen({{check, [=] {
@@ -37,6 +86,10 @@ const RegisterCommand kResults{"results", "Check results files", [](CLI::App& ap
                          if (!dataset->empty()) std::cout << "; counts match the region and truth of " << *dataset;
                          std::cout << '\n';
                          return 0;
+                       }},
+                      {diff, [=] {
+                         return runDiff(*golden, *candidate, *auc_tolerance,
+                                        *auc_only ? CountsCheck::Ignored : CountsCheck::Exact);
                        }}});
   };
 }};

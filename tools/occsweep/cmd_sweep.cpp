@@ -1,4 +1,4 @@
-// occsweep sweep: every combination of a grid on one data set, as a results file (SPEC §5).
+// occsweep sweep: every combination of a grid on one data set, as a results file (docs/definitions.md, Results files).
 #include <iostream>
 
 #include "command_registry.hpp"

@@ -6,7 +6,7 @@
 namespace occsweep {
 namespace {
 
-// p_t from p_min to p_max by its step (SPEC §3).
+// p_t from p_min to p_max by its step (docs/definitions.md, Parameter grids).
 std::vector<Fixed> thresholdValues(Fixed p_min, Fixed p_max, Fixed step) {
   return ParamRange{p_min, p_max, step}.values();
 }

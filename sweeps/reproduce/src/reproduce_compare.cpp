@@ -75,7 +75,7 @@ json runOptimalComparison(const ReproduceConfig& c, const std::vector<RankedData
   }
   return {{"format", "occsweep-reproduce-comparison"}, {"figure", "Fig. 5"},
           {"grids", {{"octomap", "octomap-opt"}, {"knn", "knn-opt"}}},
-          {"auc", "anchored TPR-FDR trapezoid (SPEC §2)"}, {"rows", rows}};
+          {"auc", "anchored TPR-FDR trapezoid (docs/definitions.md, Confusion counts and AUC)"}, {"rows", rows}};
 }
 
 }  // namespace occsweep

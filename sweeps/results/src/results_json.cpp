@@ -7,6 +7,7 @@
 
 #include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/results.hpp"
+#include "occsweep/sweeps/results_diff.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
 namespace occsweep {
@@ -58,25 +59,24 @@ struct Reader {
   }
 };
 
+/// What resuming and merging say about the first header field that differs (incomparableHeaderFields' order).
+std::string workDifferenceText(const ResultsDifference& d) {
+  if (d.field.starts_with("grid.")) return "another grid";
+  if (d.field.starts_with("dataset.")) return "another data set";
+  if (d.field == "selection.group") return "another Eq. 16 group";
+  if (d.field.starts_with("selection.shard.")) return "another shard";
+  if (d.field == "map.resolution" || d.field == "map.s_c") return "another resolution or s_c";
+  if (d.field == "map.variant" || d.field == "map.stats") return "another k-NN variant or statistics mode";
+  return "another truth (map.truth: " + d.candidate + " against " + d.golden + ")";
+}
+
 }  // namespace
 
 bool sameWork(const ResultsHeader& a, const ResultsHeader& b, bool compare_shard, std::string* why) {
-  auto differ = [&](const char* what) {
-    if (why) *why = what;
-    return false;
-  };
-  if (a.grid_name != b.grid_name || a.grid_hash != b.grid_hash) return differ("another grid");
-  if (a.dataset_name != b.dataset_name || a.dataset_hash != b.dataset_hash) return differ("another data set");
-  if (a.selection.group != b.selection.group) return differ("another Eq. 16 group");
-  if (compare_shard && (a.selection.shard_index != b.selection.shard_index ||
-                        a.selection.shard_count != b.selection.shard_count))
-    return differ("another shard");
-  if (a.resolution != b.resolution || a.s_c != b.s_c) return differ("another resolution or s_c");
-  if (a.variant != b.variant || a.stats != b.stats) return differ("another k-NN variant or statistics mode");
-  if (a.truth != b.truth)
-    return differ(a.truth == TruthMode::Full ? "another truth (map.truth: observable against full)"
-                                             : "another truth (map.truth: full against observable)");
-  return true;
+  const auto fields = incomparableHeaderFields(a, b, compare_shard);
+  if (fields.empty()) return true;
+  if (why) *why = workDifferenceText(fields.front());
+  return false;
 }
 
 json toJson(const ResultsHeader& h) {

@@ -14,8 +14,8 @@ namespace occsweep {
 
 /// Average distance from every point of `points` to its k nearest *other* points (itself excluded by index,
 /// so a duplicate at distance 0 still counts as a neighbour). Fewer than k others: the mean over those there
-/// are; none: +inf (SPEC §1). Distances are recomputed in double from the float coordinates so the result
-/// does not depend on nanoflann's float accumulation or on how it breaks ties.
+/// are; none: +inf (docs/definitions.md, k-NN inverse sensor model). Distances are recomputed in double from
+/// the float coordinates so the result does not depend on nanoflann's float accumulation or on how it breaks ties.
 [[nodiscard]] std::vector<double> averageKnnDistances(const std::vector<octomap::point3d>& points, int k);
 
 /// The same by brute force, O(n^2): the oracle the tests compare the k-d tree against.

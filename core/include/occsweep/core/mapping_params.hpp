@@ -19,7 +19,8 @@ struct OctoMapParams {
   double s_c = 4.0;          ///< maximum range in metres: longer rays are cut and only free space
 };
 
-/// Algorithm 1 word for word (Literal) or with OctoMap's "occupied wins" (Default); see SPEC §1.
+/// Algorithm 1 word for word (Literal) or with OctoMap's "occupied wins" (Default); see docs/definitions.md,
+/// k-NN inverse sensor model.
 enum class UpdateVariant { Default, Literal };
 
 /// Where mu and sigma of Eq. 8 come from: the whole point cloud set in a first pass (Batch, the paper's),

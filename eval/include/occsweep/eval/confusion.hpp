@@ -37,13 +37,14 @@ struct RegionSample {
 template <class Visit>
 void forEachRegionVoxel(const octomap::OcTree& map, const GroundTruth& truth, Visit&& visit);
 
-/// SPEC §2's rule for one voxel: known and log-odds >= threshold (l(p_t) in float), as classify() counts it.
+/// The rule for one voxel (docs/definitions.md, Occupied at a threshold): known and log-odds >= threshold
+/// (l(p_t) in float), as classify() counts it.
 [[nodiscard]] inline bool predictedOccupied(const octomap::OcTreeNode* node, float threshold) {
   return node && node->getLogOdds() >= threshold;
 }
 
 /// Counts at threshold p_t: predicted occupied when known and log-odds >= l(p_t) in float, as OctoMap's
-/// isNodeOccupied; unknown is predicted not occupied (SPEC §2).
+/// isNodeOccupied; unknown is predicted not occupied (docs/definitions.md, Occupied at a threshold).
 [[nodiscard]] ConfusionCounts classify(const RegionSample& sample, double p_t);
 
 /// The same for several thresholds at once (the map does not change with p_t).

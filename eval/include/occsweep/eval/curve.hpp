@@ -1,4 +1,4 @@
-// The TPR-FDR curve of one map over its thresholds, and its area (SPEC §2).
+// The TPR-FDR curve of one map over its thresholds, and its area (docs/definitions.md, Confusion counts and AUC).
 #pragma once
 
 #include <vector>

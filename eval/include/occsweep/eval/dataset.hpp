@@ -42,7 +42,7 @@ void writeDataset(const Dataset& dataset, const std::filesystem::path& dir);
 [[nodiscard]] GroundTruth groundTruthOf(const Dataset& dataset, const std::filesystem::path& dir, double resolution);
 
 /// FNV-1a 64 over the manifest and every binary file in manifest order, as 16 hex digits: the data set's
-/// content hash recorded in results (SPEC §5).
+/// content hash recorded in results (docs/definitions.md, Results files).
 [[nodiscard]] std::string datasetContentHash(const std::filesystem::path& dir);
 
 }  // namespace occsweep

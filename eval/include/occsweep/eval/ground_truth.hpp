@@ -1,4 +1,5 @@
-// Ground truth at the map's resolution: occupied voxel keys inside an evaluation region (SPEC §2).
+// Ground truth at the map's resolution: occupied voxel keys inside an evaluation region
+// (docs/definitions.md, Ground truth and evaluation region).
 #pragma once
 
 #include <array>
@@ -22,7 +23,7 @@ struct Triangle {
   std::array<octomap::point3d, 3> v;
 };
 
-/// Where the truth comes from; any mix of the three sources (SPEC §2).
+/// Where the truth comes from; any mix of the three sources (docs/definitions.md, Ground truth and evaluation region).
 struct TruthSources {
   std::vector<AxisBox> boxes;             ///< a voxel is occupied when its cube overlaps a box (positive volume)
   std::vector<Triangle> mesh;             ///< voxels a triangle passes through (touching counts)

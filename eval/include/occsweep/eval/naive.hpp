@@ -1,4 +1,4 @@
-// The naive approach (SPEC §2, from the companion paper; our reading): a voxel is occupied when it holds at least
+// The naive approach (docs/definitions.md, Naive approach): a voxel is occupied when it holds at least
 // one point of the point cloud set. No rays, no probabilities. Used to rank point cloud sets by FDR.
 #pragma once
 

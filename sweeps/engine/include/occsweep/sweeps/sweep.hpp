@@ -1,4 +1,5 @@
-// A sweep: one map per combination of the non-p_t parameters, thresholded at every p_t (SPEC §2).
+// A sweep: one map per combination of the non-p_t parameters, thresholded at every p_t (docs/definitions.md,
+// One map per combination).
 #pragma once
 
 #include <filesystem>

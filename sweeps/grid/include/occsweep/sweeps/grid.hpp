@@ -15,7 +15,8 @@ using Fixed = std::int64_t;
 inline constexpr Fixed kFixedScale = 1'000'000;
 [[nodiscard]] inline double toDouble(Fixed v) { return double(v) / double(kFixedScale); }
 
-/// A parameter's values: min + i*step for i = 0, 1, ... while <= max (SPEC §3). A fixed value has min == max.
+/// A parameter's values: min + i*step for i = 0, 1, ... while <= max (docs/definitions.md, Parameter grids).
+/// A fixed value has min == max.
 struct ParamRange {
   Fixed min = 0, max = 0, step = 0;
   [[nodiscard]] std::vector<Fixed> values() const;

@@ -21,7 +21,7 @@ namespace occsweep {
 bool checkAgainstGrid(const ResultsFile& f, const std::string& file);
 
 struct BestMap {
-  double auc = 0.0;       ///< anchored AUC (SPEC §2)
+  double auc = 0.0;       ///< anchored AUC (docs/definitions.md, Confusion counts and AUC)
   double observed = 0.0;  ///< AUC over the observed span
   MapParams params;
   std::uint64_t map_index = 0;

@@ -1,4 +1,5 @@
-// Results files (SPEC §5): what a sweep measured, with everything needed to trust and repeat it.
+// Results files (docs/definitions.md, Results files): what a sweep measured, with everything needed to trust
+// and repeat it.
 #pragma once
 
 #include <cstdint>
@@ -87,7 +88,7 @@ void writeJsonAtomically(const nlohmann::json& j, const std::filesystem::path& f
 [[nodiscard]] std::vector<std::string> resultDifferences(const ResultsFile& expected, const ResultsFile& actual,
                                                          double auc_tolerance = 1e-12);
 
-/// The map's numbers from its counts: curve area per SPEC §2.
+/// The map's numbers from its counts: curve area per docs/definitions.md, Confusion counts and AUC.
 [[nodiscard]] CurveArea mapArea(const std::vector<ThresholdResult>& thresholds);
 
 }  // namespace occsweep

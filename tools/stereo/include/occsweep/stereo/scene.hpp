@@ -1,5 +1,5 @@
-// The scenes of the paper's 20 data sets (SPEC §4, issue 4): four boxes in a free tetromino on a ground plane,
-// in front of building facades or on an open parking lot, plain or Voronoi-textured.
+// The scenes of the paper's 20 data sets (docs/definitions.md, The 20 data sets; issue 4): four boxes in a free
+// tetromino on a ground plane, in front of building facades or on an open parking lot, plain or Voronoi-textured.
 #pragma once
 
 #include <cstdint>

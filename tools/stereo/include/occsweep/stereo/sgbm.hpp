@@ -1,4 +1,4 @@
-// OpenCV's StereoSGBM on a rendered pair, and the point cloud parameters of SPEC §4 (the SGBM settings).
+// OpenCV's StereoSGBM on a rendered pair, and the point cloud parameters (docs/definitions.md, Point cloud parameters).
 #pragma once
 
 #include <cstdint>
