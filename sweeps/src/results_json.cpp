@@ -60,6 +60,11 @@ struct Reader {
 
 }  // namespace
 
+void setEngines(ResultsHeader& h, const std::set<std::string>& engines) {
+  h.engines.assign(engines.begin(), engines.end());
+  h.engine = engines.size() == 1 ? *engines.begin() : "mixed";
+}
+
 bool sameWork(const ResultsHeader& a, const ResultsHeader& b, bool compare_shard, std::string* why) {
   auto differ = [&](const char* what) {
     if (why) *why = what;

@@ -175,14 +175,13 @@ CountedMaps countMaps(const SweepEngine& engine, const std::vector<const SweepIt
   return out;
 }
 
-// Every engine that made a map of the file, sorted; "mixed" as the engine when there are several.
+// Every engine that made a map of the file.
 void recordEngines(ResultsHeader& h, const FinishedMaps& finished, const std::string& engine) {
   std::set<std::string> engines;
   for (const auto& [index, name] : finished.engine_of)
     if (finished.done.count(index)) engines.insert(name);
   if (engines.empty()) engines.insert(engine);
-  h.engines.assign(engines.begin(), engines.end());
-  h.engine = engines.size() == 1 ? *engines.begin() : "mixed";
+  setEngines(h, engines);
 }
 
 // The results file (and twin), complete: the maps finished before and now.
