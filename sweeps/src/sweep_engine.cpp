@@ -2,6 +2,7 @@
 #include "occsweep/sweeps/sweep_engine.hpp"
 
 #include <map>
+#include <set>
 #include <tuple>
 
 #include <tbb/parallel_for.h>
@@ -21,11 +22,9 @@ constexpr EnumNames<EngineKind, 2> kEngineNames{
 
 // The k of the maps, each once, ascending.
 std::vector<int> distinctK(const std::vector<MapToCount>& maps) {
-  std::map<int, bool> ks;
-  for (const MapToCount& m : maps) ks[m.params->k] = true;
-  std::vector<int> out;
-  for (const auto& [k, _] : ks) out.push_back(k);
-  return out;
+  std::set<int> ks;
+  for (const MapToCount& m : maps) ks.insert(m.params->k);
+  return {ks.begin(), ks.end()};
 }
 
 // Records the region voxels' events once and replays each map from them (replay.hpp).
