@@ -71,13 +71,9 @@ bool seenFrom(const octomap::OcTree& grid, const TruthMask& mask, const octomap:
 
 }  // namespace
 
-const char* truthModeName(TruthMode mode) { return mode == TruthMode::Observable ? "observable" : "full"; }
+const char* truthModeName(TruthMode mode) { return kTruthModeNames.text(mode); }
 
-TruthMode parseTruthMode(const std::string& name) {
-  if (name == "full") return TruthMode::Full;
-  if (name == "observable") return TruthMode::Observable;
-  throw std::invalid_argument("truth '" + name + "': must be full or observable");
-}
+TruthMode parseTruthMode(const std::string& name) { return kTruthModeNames.parse(name); }
 
 octomap::KeySet observableTruthVoxels(const GroundTruth& truth, const std::vector<octomap::point3d>& origins,
                                       double s_c) {

@@ -8,6 +8,7 @@
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/map_voxels.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
+#include "occsweep/core/voxel_update_rule.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;
@@ -199,4 +200,32 @@ TEST_CASE("the k-NN fast build equals the plain OcTree-update reference voxel fo
     }
     REQUIRE(differing == 0);
   }
+}
+
+TEST_CASE("the voxel update rule: hit first, then l_in, else l_out, and the default stops after a hit") {
+  // Each update recorded as its delta, in order; the hit's delta is 9 so that it is told apart.
+  auto updates = [](UpdateVariant variant, std::uint8_t flags) {
+    const VoxelUpdateRule<float> rule{-1.0f, -2.0f, variant};
+    std::vector<float> applied;
+    rule.apply(flags, [] { return 9.0f; }, [&](float delta) { applied.push_back(delta); });
+    return applied;
+  };
+  using V = std::vector<float>;
+  for (const UpdateVariant variant : {UpdateVariant::Default, UpdateVariant::Literal}) {
+    INFO(toText(variant));
+    const bool literal = variant == UpdateVariant::Literal;
+    CHECK(updates(variant, 0) == V{});
+    CHECK(updates(variant, kHit) == V{9});
+    CHECK(updates(variant, kCrossedIn) == V{-1});
+    CHECK(updates(variant, kCrossedOut) == V{-2});
+    CHECK(updates(variant, kCrossedIn | kCrossedOut) == V{-1});  // l_out only where no ray to z_in passed
+    CHECK(updates(variant, kHit | kCrossedIn) == (literal ? V{9, -1} : V{9}));
+    CHECK(updates(variant, kHit | kCrossedOut) == (literal ? V{9, -2} : V{9}));
+    CHECK(updates(variant, kHit | kCrossedIn | kCrossedOut) == (literal ? V{9, -1} : V{9}));
+  }
+  // The hit's delta (a sum over the voxel's points) is computed only for a hit voxel.
+  const VoxelUpdateRule<float> rule{-1.0f, -2.0f, UpdateVariant::Literal};
+  int computed = 0;
+  rule.apply(kCrossedIn | kCrossedOut, [&] { return float(++computed); }, [](float) {});
+  CHECK(computed == 0);
 }

@@ -22,7 +22,8 @@ namespace occsweep::cli {
 namespace {
 
 struct MapOptions {
-  std::string dataset, out, method = "knn", variant = "default", stats = "batch", truth = "full";
+  std::string dataset, out, method = "knn", variant = toText(UpdateVariant::Default), stats = toText(StatsMode::Batch),
+              truth = truthModeName(TruthMode::Full);
   bool force = false;
   KnnParams knn;
   double p_h = OctoMapParams{}.p_h;
@@ -88,17 +89,17 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
   app.add_option("--s-c", k.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
   app.add_option("--resolution", k.resolution, "Voxel edge, metres")->capture_default_str()->check(numberAbove(0));
   app.add_option("--variant", o->variant, "k-NN update: default (occupied wins) or literal (Algorithm 1 word for word)")
-      ->check(CLI::IsMember({"default", "literal"}))->capture_default_str();
+      ->check(CLI::IsMember(kUpdateVariantNames.list()))->capture_default_str();
   app.add_option("--stats", o->stats, "k-NN mu, sigma: batch (whole set, the paper's) or online (running)")
-      ->check(CLI::IsMember({"batch", "online"}))->capture_default_str();
+      ->check(CLI::IsMember(kStatsModeNames.list()))->capture_default_str();
   app.add_option("--truth", o->truth, "Truth of the TP/FP/FN/TN summary: full, or observable (only truth voxels a ray "
                                       "from a scan origin reaches within s_c first; docs/results-format.md)")
-      ->check(CLI::IsMember({"full", "observable"}))->capture_default_str();
+      ->check(CLI::IsMember(kTruthModeNames.list()))->capture_default_str();
   addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points});
   return [o] {
     KnnParams k = o->knn;
-    k.variant = o->variant == "literal" ? UpdateVariant::Literal : UpdateVariant::Default;
-    k.stats = o->stats == "online" ? StatsMode::Online : StatsMode::Batch;
+    k.variant = parseUpdateVariant(o->variant);
+    k.stats = parseStatsMode(o->stats);
     const OctoMapParams om{o->p_h, k.p_m, k.p_max, k.p_min, k.p_t, k.resolution, k.s_c};
     // Refuse broken parameters before reading anything. liboctomap writes .ot whatever the name; a .bt name
     // would hold .ot bytes that octovis and readBinary misread.

@@ -5,6 +5,7 @@
 #include "option_checks.hpp"
 #include "limit_options.hpp"
 #include "occsweep/sweeps/sweep.hpp"
+#include "occsweep/sweeps/sweep_engine.hpp"
 #include "selection_options.hpp"
 
 namespace occsweep::cli {
@@ -14,7 +15,8 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
                              [](CLI::App& app) {
   struct Options {
     SweepConfig config;
-    std::string dataset, out, shard, group, variant = "default", stats = "batch", truth = "full";
+    std::string dataset, out, shard, group, variant = toText(UpdateVariant::Default),
+                                            stats = toText(StatsMode::Batch), truth = truthModeName(TruthMode::Full);
     std::uint64_t seed = 0;
     bool force = false;
   };
@@ -28,14 +30,16 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
   app.add_option("--seed", o->seed, "Seed of the Eq. 16 permutation (with --group)")->capture_default_str();
   app.add_option("--resolution", o->config.resolution, "Map resolution, metres")->capture_default_str()->check(numberAbove(0));
   app.add_option("--s-c", o->config.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
-  app.add_option("--variant", o->variant, "k-NN update variant")->check(CLI::IsMember({"default", "literal"}))->capture_default_str();
-  app.add_option("--stats", o->stats, "k-NN mu, sigma source")->check(CLI::IsMember({"batch", "online"}))->capture_default_str();
+  app.add_option("--variant", o->variant, "k-NN update variant")
+      ->check(CLI::IsMember(kUpdateVariantNames.list()))->capture_default_str();
+  app.add_option("--stats", o->stats, "k-NN mu, sigma source")
+      ->check(CLI::IsMember(kStatsModeNames.list()))->capture_default_str();
   app.add_option("--threads", o->config.threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
   app.add_option("--engine", o->config.engine, "replay: record events once, replay every combination; direct: build every map (the reference)")
-      ->check(CLI::IsMember({"replay", "direct"}))->capture_default_str();
+      ->check(CLI::IsMember(sweepEngineNames()))->capture_default_str();
   app.add_option("--truth", o->truth, "full: every truth voxel counts; observable: only those a ray from a scan origin "
                                       "reaches within s_c before any other truth voxel (docs/results-format.md)")
-      ->check(CLI::IsMember({"full", "observable"}))->capture_default_str();
+      ->check(CLI::IsMember(kTruthModeNames.list()))->capture_default_str();
   app.add_flag("--quiet", o->config.quiet, "No progress on stderr");
   addLimitOptions(app, {Limit::WindowVoxels, Limit::Combinations, Limit::RegionVoxels, Limit::Points});
   return [o] {
@@ -48,8 +52,8 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
       const auto [g, n] = parseFraction(o->group, "--group");
       c.selection.group = SweepSelection::Group{g, n, o->seed};
     }
-    c.variant = o->variant == "literal" ? UpdateVariant::Literal : UpdateVariant::Default;
-    c.stats = o->stats == "online" ? StatsMode::Online : StatsMode::Batch;
+    c.variant = parseUpdateVariant(o->variant);
+    c.stats = parseStatsMode(o->stats);
     c.truth = parseTruthMode(o->truth);
     const ResultsFile r = runSweep(c);
     std::size_t combinations = 0;

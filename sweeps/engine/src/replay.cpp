@@ -118,7 +118,7 @@ ReplayRule octomapRule(const MapParams& m) {
   ReplayRule rule;
   rule.l_min = logOdds(toDouble(m.p_min));
   rule.l_max = logOdds(toDouble(m.p_max));
-  rule.l_in = rule.l_out = logOdds(toDouble(m.p_m));
+  rule.update.l_in = rule.update.l_out = logOdds(toDouble(m.p_m));
   rule.octomap_hit = logOdds(toDouble(m.p_h));
   return rule;
 }
@@ -127,10 +127,8 @@ ReplayRule knnRule(const MapParams& m, const std::vector<float>& hit_sums, Updat
   ReplayRule rule;
   rule.l_min = logOdds(toDouble(m.p_min));
   rule.l_max = logOdds(toDouble(m.p_max));
-  rule.l_in = logOdds(toDouble(m.p_m));
-  rule.l_out = logOdds(toDouble(m.p_m_out));
+  rule.update = {logOdds(toDouble(m.p_m)), logOdds(toDouble(m.p_m_out)), variant};
   rule.knn_hit_sums = &hit_sums;
-  rule.literal = variant == UpdateVariant::Literal;
   return rule;
 }
 
@@ -145,18 +143,10 @@ RegionSample replay(const RecordedSet& r, const ReplayRule& rule) {
     const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
     if (begin == end || r.truth[v] == 2) continue;  // never updated (unknown), or not evaluated
     float value = 0.0f;
-    for (std::uint32_t e = begin; e < end; ++e) {
-      const std::uint8_t f = r.flags[e];
-      if (f & kHit) {
-        const float delta = knn ? std::min(std::max((*rule.knn_hit_sums)[e], lo), hi) : rule.octomap_hit;
-        value = clampedUpdate(value, delta, lo, hi);
-        if (!rule.literal) continue;  // occupied wins
-      }
-      if (f & kCrossedIn)
-        value = clampedUpdate(value, rule.l_in, lo, hi);
-      else if (f & kCrossedOut)
-        value = clampedUpdate(value, rule.l_out, lo, hi);
-    }
+    for (std::uint32_t e = begin; e < end; ++e)
+      rule.update.apply(
+          r.flags[e], [&] { return knn ? std::min(std::max((*rule.knn_hit_sums)[e], lo), hi) : rule.octomap_hit; },
+          [&](float delta) { value = clampedUpdate(value, delta, lo, hi); });
     (r.truth[v] ? s.positive_log_odds : s.negative_log_odds).push_back(value);
   }
   std::sort(s.positive_log_odds.begin(), s.positive_log_odds.end());

@@ -5,6 +5,7 @@
 
 #include "occsweep/core/log_odds.hpp"
 #include "occsweep/core/scan_events.hpp"
+#include "occsweep/core/voxel_update_rule.hpp"
 #include "occsweep/sweeps/replay.hpp"
 
 namespace occsweep {
@@ -28,17 +29,19 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
   const std::size_t n = rules.size();
   if (n == 0 || n > kReplayLanes || p_t.size() != n) throw std::invalid_argument("replayCounts: 1 to 8 lanes");
   const std::vector<float>* sums = rules[0].knn_hit_sums;
-  const bool literal = rules[0].literal;
-  Lanes lo{}, hi{}, in{}, out{}, hit{};
+  VoxelUpdateRule<Lanes> lanes_rule;
+  lanes_rule.variant = rules[0].update.variant;
+  Lanes lo{}, hi{}, hit{};
   for (std::size_t l = 0; l < kReplayLanes; ++l) {
     const ReplayRule& rule = rules[std::min(l, n - 1)];  // spare lanes repeat the last map; never counted
-    if (rule.knn_hit_sums != sums || rule.literal != literal)
+    if (rule.knn_hit_sums != sums || rule.update.variant != lanes_rule.variant)
       throw std::invalid_argument("replayCounts: lanes must share their hit rule");
-    lo[l] = rule.l_min, hi[l] = rule.l_max, in[l] = rule.l_in, out[l] = rule.l_out, hit[l] = rule.octomap_hit;
+    lo[l] = rule.l_min, hi[l] = rule.l_max, hit[l] = rule.octomap_hit;
+    lanes_rule.l_in[l] = rule.update.l_in, lanes_rule.l_out[l] = rule.update.l_out;
   }
   // table[c][m]: the value after m equal updates of kind c from 0 (c: in, out, OctoMap hit), step by step.
   std::array<std::vector<Lanes>, 3> table;
-  const Lanes* deltas[3] = {&in, &out, &hit};
+  const Lanes* deltas[3] = {&lanes_rule.l_in, &lanes_rule.l_out, &hit};
   for (int c = 0; c < 3; ++c) {
     table[c].assign(r.longest + 1, Lanes{});
     for (std::uint32_t m = 1; m <= r.longest; ++m) {
@@ -76,24 +79,15 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
     } else if (u == kHit && !sums) {
       value = table[2][end - begin];
     } else {
-      for (std::uint32_t e = begin; e < end; ++e) {
-        const std::uint8_t f = r.flags[e];
-        if (f & kHit) {
-          Lanes d;
-          if (sums) {
-            const float s = (*sums)[e];  // clamped once per lane (Algorithm 1 line 6-10)
-            for (std::size_t l = 0; l < kReplayLanes; ++l) d[l] = std::min(std::max(s, lo[l]), hi[l]);
-          } else {
-            d = hit;
-          }
-          update(value, d, lo, hi);
-          if (!literal) continue;  // occupied wins
-        }
-        if (f & kCrossedIn)
-          update(value, in, lo, hi);
-        else if (f & kCrossedOut)
-          update(value, out, lo, hi);
-      }
+      const auto hitDelta = [&](std::uint32_t e) {
+        if (!sums) return hit;
+        Lanes d;
+        const float s = (*sums)[e];  // clamped once per lane (Algorithm 1 line 6-10)
+        for (std::size_t l = 0; l < kReplayLanes; ++l) d[l] = std::min(std::max(s, lo[l]), hi[l]);
+        return d;
+      };
+      for (std::uint32_t e = begin; e < end; ++e)
+        lanes_rule.apply(r.flags[e], [&] { return hitDelta(e); }, [&](const Lanes& d) { update(value, d, lo, hi); });
     }
     auto& reach = r.truth[v] == 0 ? reach_fp : (r.truth[v] == 1 ? reach_tp : reach_excluded);
     for (std::size_t l = 0; l < n; ++l) {

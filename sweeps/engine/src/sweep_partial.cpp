@@ -1,4 +1,5 @@
 // The partial log of a sweep: what a killed sweep resumes from.
+#include <cerrno>
 #include <fstream>
 
 #include "occsweep/eval/bounded_read.hpp"
@@ -45,6 +46,44 @@ std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const Re
     }
   }
   return done;
+}
+
+PartialLog::PartialLog(fs::path file, const ResultsHeader& header, std::size_t maps_done)
+    : file_(std::move(file)), out_(file_, std::ios::app), maps_(maps_done) {
+  if (maps_done == 0) {
+    out_.close();
+    out_.open(file_, std::ios::trunc);
+    out_ << toJson(header).dump() << '\n' << std::flush;
+  }
+  if (!out_) {
+    OutputError error = writeFailed();
+    removeUnlessResumable();  // the destructor does not run for a constructor that throws
+    throw error;
+  }
+}
+
+PartialLog::~PartialLog() { removeUnlessResumable(); }
+
+void PartialLog::append(const json& line) {
+  std::lock_guard lock(mutex_);
+  out_ << line.dump() << '\n' << std::flush;
+  if (!out_) throw writeFailed();
+  ++maps_;
+}
+
+void PartialLog::remove() {
+  out_.close();
+  fs::remove(file_);
+}
+
+OutputError PartialLog::writeFailed() {
+  write_failed_ = true;
+  return OutputError(writeFailure(file_, errno));
+}
+
+void PartialLog::removeUnlessResumable() noexcept {
+  std::error_code ec;
+  if (maps_ == 0 || write_failed_) fs::remove(file_, ec);
 }
 
 bool completeResultsOf(const fs::path& file, const ResultsHeader& header) {

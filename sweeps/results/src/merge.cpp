@@ -64,8 +64,7 @@ ResultsFile mergeResults(const std::vector<std::filesystem::path>& files) {
   out.header = in.front().header;
   std::set<std::string> engines;  // provenance: every engine of every shard
   for (const auto& f : in) engines.insert(f.header.engines.begin(), f.header.engines.end());
-  out.header.engines.assign(engines.begin(), engines.end());
-  if (engines.size() > 1) out.header.engine = "mixed";
+  setEngines(out.header, engines);
   out.header.selection.shard_index = 0;
   out.header.selection.shard_count = 1;
   GridEnumeration shape;  // only the count is needed for the expected ids

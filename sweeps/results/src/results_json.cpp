@@ -72,6 +72,11 @@ std::string workDifferenceText(const ResultsDifference& d) {
 
 }  // namespace
 
+void setEngines(ResultsHeader& h, const std::set<std::string>& engines) {
+  h.engines.assign(engines.begin(), engines.end());
+  h.engine = engines.size() == 1 ? *engines.begin() : "mixed";
+}
+
 bool sameWork(const ResultsHeader& a, const ResultsHeader& b, bool compare_shard, std::string* why) {
   const auto fields = incomparableHeaderFields(a, b, compare_shard);
   if (fields.empty()) return true;

@@ -29,8 +29,9 @@ struct Claims {
     if (!std::isfinite(h.resolution) || !(h.resolution > 0))
       fail("map.resolution", "must be a finite number > 0 (metres)");
     if (!std::isfinite(h.s_c) || !(h.s_c > 0)) fail("map.s_c", "must be a finite number > 0 (metres)");
-    if (h.variant != "default" && h.variant != "literal") fail("map.variant", "must be \"default\" or \"literal\"");
-    if (h.stats != "batch" && h.stats != "online") fail("map.stats", "must be \"batch\" or \"online\"");
+    if (!kUpdateVariantNames.accepts(h.variant))
+      fail("map.variant", "must be " + kUpdateVariantNames.alternatives("\""));
+    if (!kStatsModeNames.accepts(h.stats)) fail("map.stats", "must be " + kStatsModeNames.alternatives("\""));
     if (h.grid_combinations == 0) fail("grid.combinations", "must be at least 1");
     if (h.selection.shard_count > h.grid_combinations)
       fail("selection.shard.count", "is more than the grid's " + std::to_string(h.grid_combinations) + " combinations");

@@ -14,6 +14,7 @@
 #include "octomap_baseline.hpp"
 #include "flat_key_index.hpp"
 #include "scan_events.hpp"
+#include "voxel_update_rule.hpp"
 
 namespace occsweep {
 
@@ -46,6 +47,9 @@ class KnnInverseSensorModel {
   [[nodiscard]] float hitDelta(const Distances& s, double mu, double sigma, float l_min, float l_max) const;
 
   [[nodiscard]] const KnnParams& params() const { return params_; }
+
+  /// l_in, l_out and the variant: how each voxel is updated (voxel_update_rule.hpp).
+  [[nodiscard]] VoxelUpdateRule<float> updateRule() const { return {l_in_, l_out_, params_.variant}; }
 
  private:
   KnnParams params_;
@@ -83,7 +87,7 @@ inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const Po
   detail::checkDistances(params_, set, distances);
   auto tree = makeTree(params_.resolution, params_.p_max, params_.p_min, params_.p_t);
   const float l_min = tree->getClampingThresMinLog(), l_max = tree->getClampingThresMaxLog();
-  const bool literal = params_.variant == UpdateVariant::Literal;
+  const VoxelUpdateRule<float> rule = updateRule();
   ScanEventRecorder recorder(params_.resolution);
   ScanEvents events;
   FlatKeyIndex store;
@@ -102,16 +106,12 @@ inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const Po
         values.push_back(0.0f);  // a new node starts at log-odds 0, as in OctoMap
       }
       float& v = values[i];
-      if (e.flags & kHit) {
+      const auto voxelHitDelta = [&] {
         s.clear();
         for (std::uint32_t h = 0; h < e.hit_count; ++h) s.push_back(d.s[events.hit_points[e.first_hit + h]]);
-        v = clampedUpdate(v, hitDelta(s, mu, sigma, l_min, l_max), l_min, l_max);
-        if (!literal) continue;  // occupied wins
-      }
-      if (e.flags & kCrossedIn)
-        v = clampedUpdate(v, l_in_, l_min, l_max);
-      else if (e.flags & kCrossedOut)
-        v = clampedUpdate(v, l_out_, l_min, l_max);
+        return hitDelta(s, mu, sigma, l_min, l_max);
+      };
+      rule.apply(e.flags, voxelHitDelta, [&](float delta) { v = clampedUpdate(v, delta, l_min, l_max); });
     }
   }
   for (std::size_t i = 0; i < keys.size(); ++i) tree->setNodeValue(keys[i], values[i]);
@@ -163,13 +163,15 @@ inline void KnnInverseSensorModel::insertScanReference(octomap::OcTree& tree, co
     }
   }
 
-  const bool literal = params_.variant == UpdateVariant::Literal;
-  for (const auto& [key, sum] : hits) tree.updateNode(key, std::min(std::max(sum, l_min), l_max));
-  for (const auto& key : crossed_in)
-    if (literal || !hits.count(key)) tree.updateNode(key, l_in_);
-  // Lines 15-20: l_out only where no z_in ray passed; by default (occupied wins) not where a point is either.
-  for (const auto& key : crossed_out)
-    if (!crossed_in.count(key) && (literal || !hits.count(key))) tree.updateNode(key, l_out_);
+  // Each voxel's events as the fast build records them, then the one update rule through OcTree::updateNode.
+  std::unordered_map<OcTreeKey, std::uint8_t, OcTreeKey::KeyHash> flags;
+  for (const auto& [key, sum] : hits) flags[key] |= kHit;
+  for (const auto& key : crossed_in) flags[key] |= kCrossedIn;
+  for (const auto& key : crossed_out) flags[key] |= kCrossedOut;
+  const VoxelUpdateRule<float> rule = updateRule();
+  for (const auto& [key, f] : flags)
+    rule.apply(f, [&, &key = key] { return std::min(std::max(hits.at(key), l_min), l_max); },
+               [&, &key = key](float delta) { tree.updateNode(key, delta); });
 }
 
 }  // namespace occsweep

@@ -4,6 +4,9 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
+
+#include "enum_names.hpp"
 
 namespace occsweep {
 
@@ -19,13 +22,29 @@ struct OctoMapParams {
   double s_c = 4.0;          ///< maximum range in metres: longer rays are cut and only free space
 };
 
-/// Algorithm 1 word for word (Literal) or with OctoMap's "occupied wins" (Default); see docs/definitions.md,
-/// k-NN inverse sensor model.
+/// Algorithm 1 word for word (Literal) or with OctoMap's "occupied wins" (Default); see voxel_update_rule.hpp.
 enum class UpdateVariant { Default, Literal };
 
 /// Where mu and sigma of Eq. 8 come from: the whole point cloud set in a first pass (Batch, the paper's),
 /// or the running Welford values after the current scan (Online, for a robot mapping as it goes).
 enum class StatsMode { Batch, Online };
+
+/// The names of both enums in results files (map.variant, map.stats: docs/results-format.md), in the .ot.json of
+/// `occsweep map` and on the command line (--variant, --stats; .list() for CLI11's IsMember).
+inline constexpr EnumNames<UpdateVariant, 2> kUpdateVariantNames{
+    "variant", {{{UpdateVariant::Default, "default"}, {UpdateVariant::Literal, "literal"}}}};
+inline constexpr EnumNames<StatsMode, 2> kStatsModeNames{
+    "stats", {{{StatsMode::Batch, "batch"}, {StatsMode::Online, "online"}}}};
+
+/// "default" or "literal".
+[[nodiscard]] inline const char* toText(UpdateVariant variant) { return kUpdateVariantNames.text(variant); }
+/// "batch" or "online".
+[[nodiscard]] inline const char* toText(StatsMode stats) { return kStatsModeNames.text(stats); }
+
+/// The variant of that name; throws std::invalid_argument naming it and the accepted names.
+[[nodiscard]] inline UpdateVariant parseUpdateVariant(std::string_view name) { return kUpdateVariantNames.parse(name); }
+/// The statistics mode of that name; throws std::invalid_argument naming it and the accepted names.
+[[nodiscard]] inline StatsMode parseStatsMode(std::string_view name) { return kStatsModeNames.parse(name); }
 
 /// Parameters of the k-NN inverse sensor model (Eq. 6-10, Algorithm 1).
 struct KnnParams {

@@ -10,6 +10,7 @@
 
 #include <octomap/octomap_types.h>
 
+#include "occsweep/core/enum_names.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
 #include "ground_truth.hpp"
 
@@ -19,7 +20,12 @@ namespace occsweep {
 /// the others leave the evaluation (neither positive nor negative).
 enum class TruthMode { Full, Observable };
 
-/// "full" or "observable": the name in results files and on the command line.
+/// The names of the modes in results files (map.truth) and on the command line (--truth; .list() for CLI11's
+/// IsMember).
+inline constexpr EnumNames<TruthMode, 2> kTruthModeNames{
+    "truth", {{{TruthMode::Full, "full"}, {TruthMode::Observable, "observable"}}}};
+
+/// "full" or "observable".
 [[nodiscard]] const char* truthModeName(TruthMode mode);
 
 /// The mode of that name; throws std::invalid_argument naming the value and the two accepted names.

@@ -7,6 +7,7 @@
 
 #include "occsweep/core/knn_set_distances.hpp"
 #include "occsweep/core/mapping_params.hpp"
+#include "occsweep/core/voxel_update_rule.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/sweeps/grid.hpp"
 
@@ -45,10 +46,10 @@ struct RecordedSet {
 
 /// How to replay one map.
 struct ReplayRule {
-  float l_min = 0, l_max = 0, l_in = 0, l_out = 0;
+  float l_min = 0, l_max = 0;
+  VoxelUpdateRule<float> update;           ///< l_in, l_out, variant (OctoMap: l_in = l_out = l(p_m), default)
   float octomap_hit = 0;                   ///< OctoMap: l(p_h) for every hit
   const std::vector<float>* knn_hit_sums = nullptr;  ///< k-NN: per-event sums (clamped once when applied)
-  bool literal = false;
 };
 
 /// Replays every region voxel and returns what the map would say about the region: the same RegionSample that

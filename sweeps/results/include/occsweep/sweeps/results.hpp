@@ -5,11 +5,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/core/mapping_params.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/curve.hpp"
 #include "occsweep/eval/observable_truth.hpp"
@@ -29,7 +31,7 @@ struct ResultsHeader {
   std::string dataset_name, dataset_hash;
   nlohmann::json point_cloud_set = nlohmann::json::object();  ///< the data set's `source`: its parameters
   double resolution = 0.1, s_c = 4.0;
-  std::string variant = "default", stats = "batch", engine = "direct";
+  std::string variant = toText(UpdateVariant::Default), stats = toText(StatsMode::Batch), engine = "direct";
   /// Every engine that produced maps of this file, sorted: a sweep resumed under another engine, or merged shards
   /// of different engines, list both (and `engine` is then "mixed"). Files without the field: {engine}.
   std::vector<std::string> engines;
@@ -61,6 +63,10 @@ struct ResultsFile {
 /// True when two headers describe the same work (grid, data set, selection, map settings): what resuming and
 /// merging require. Version, commit and engine may differ. `why` says the first difference.
 [[nodiscard]] bool sameWork(const ResultsHeader& a, const ResultsHeader& b, bool compare_shard, std::string* why);
+
+/// Records every engine that produced maps of the file (at least one): `engines` sorted, `engine` the one engine
+/// or "mixed" (docs/results-format.md, "Provenance of the engine").
+void setEngines(ResultsHeader& h, const std::set<std::string>& engines);
 
 [[nodiscard]] nlohmann::json toJson(const ResultsHeader& h);
 [[nodiscard]] nlohmann::json toJson(const MapResult& m, GridMethod method);

@@ -1,0 +1,69 @@
+// How a sweep turns its maps into TP/FP/FN/TN counts (SweepConfig::engine): replay every map from the region
+// voxels' recorded events (issue 5, replay.hpp), or build every map directly, liboctomap for OctoMap and the k-NN
+// mapper (the reference). runSweep (sweep_run.cpp) does everything else alike for both.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "occsweep/core/point_cloud_set.hpp"
+#include "occsweep/eval/confusion.hpp"
+#include "occsweep/eval/ground_truth.hpp"
+#include "occsweep/sweeps/grid.hpp"
+#include "occsweep/sweeps/sweep.hpp"
+
+namespace occsweep {
+
+/// One map a sweep counts: its parameters and the p_t values of its selected thresholds.
+struct MapToCount {
+  const MapParams* params = nullptr;
+  std::vector<double> p_t;
+};
+
+/// What every map of a sweep shares.
+struct SweepInputs {
+  const SweepConfig& config;
+  GridMethod method;
+  PointCloudSet& scans;       ///< the data set's points; an engine frees them once it no longer needs them
+  const GroundTruth& truth;   ///< the truth the results count (SweepConfig::truth)
+  /// The truth with its unobservable voxels in `excluded` when the sweep counts observable truth or has a twin
+  /// (SweepConfig::observable_out); otherwise the full truth.
+  const GroundTruth& marked;
+  bool twin = false;          ///< also count every map under observable truth
+};
+
+/// Per map of a batch, per threshold: the counts under the sweep's truth, and (twin only) under observable truth.
+struct BatchCounts {
+  std::vector<std::vector<ConfusionCounts>> counts, observable;
+};
+
+class SweepEngine {
+ public:
+  virtual ~SweepEngine() = default;
+
+  /// "replay" or "direct": SweepConfig::engine, and what results record (map.engine, map.engines and each line of
+  /// the partial log: docs/results-format.md).
+  [[nodiscard]] virtual std::string name() const = 0;
+
+  /// Computes what the maps share (replay: the recorded events and the hits' F(s) of each k; direct: the k-NN
+  /// distances of each k). Runs TBB loops in the caller's arena; keeps references to `inputs`' truths and points.
+  virtual void prepare(const SweepInputs& inputs, const std::vector<MapToCount>& maps) = 0;
+
+  /// The maps counted together, as indices into `maps`, each map once: replay, up to kReplayLanes maps that share
+  /// their hit rule (k-NN: k, p_u, p_l); direct, one map each.
+  [[nodiscard]] virtual std::vector<std::vector<std::size_t>> batches(const std::vector<MapToCount>& maps) const = 0;
+
+  /// The counts of one batch, in the batch's order. Safe to call from several threads at once after prepare.
+  [[nodiscard]] virtual BatchCounts count(const std::vector<MapToCount>& maps,
+                                          const std::vector<std::size_t>& batch) const = 0;
+};
+
+/// The names makeSweepEngine accepts, in the order CLI11's IsMember lists them: replay (the default), direct.
+[[nodiscard]] std::vector<std::string> sweepEngineNames();
+
+/// The engine of that name; throws std::invalid_argument naming it and the accepted names.
+[[nodiscard]] std::unique_ptr<SweepEngine> makeSweepEngine(std::string_view name);
+
+}  // namespace occsweep

@@ -1,0 +1,85 @@
+// The one home of each setting's names (UpdateVariant, StatsMode, TruthMode, the sweep engines): every value
+// round-trips through its name, an unknown name is refused with the accepted ones, and the engine factory makes
+// the two engines and nothing else.
+#include <catch2/catch.hpp>
+
+#include "occsweep/core/enum_names.hpp"
+#include "occsweep/core/mapping_params.hpp"
+#include "occsweep/eval/observable_truth.hpp"
+#include "occsweep/sweeps/replay.hpp"
+#include "occsweep/sweeps/sweep_engine.hpp"
+
+using namespace occsweep;
+using Catch::Matchers::Equals;
+
+namespace {
+
+// The message of the std::invalid_argument `parse` throws; empty when it throws nothing (or something else).
+template <class Parse>
+std::string refusal(Parse&& parse) {
+  try {
+    (void)parse();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("update variant and statistics mode: the names of results files and the command line, both ways") {
+  CHECK(std::string(toText(UpdateVariant::Default)) == "default");
+  CHECK(std::string(toText(UpdateVariant::Literal)) == "literal");
+  CHECK(std::string(toText(StatsMode::Batch)) == "batch");
+  CHECK(std::string(toText(StatsMode::Online)) == "online");
+  for (const UpdateVariant v : {UpdateVariant::Default, UpdateVariant::Literal}) CHECK(parseUpdateVariant(toText(v)) == v);
+  for (const StatsMode s : {StatsMode::Batch, StatsMode::Online}) CHECK(parseStatsMode(toText(s)) == s);
+  // CLI11's IsMember lists them in this order in --help.
+  CHECK_THAT(kUpdateVariantNames.list(), Equals(std::vector<std::string>{"default", "literal"}));
+  CHECK_THAT(kStatsModeNames.list(), Equals(std::vector<std::string>{"batch", "online"}));
+}
+
+TEST_CASE("an unknown variant, statistics mode or truth is refused naming the accepted names") {
+  CHECK(refusal([] { return parseUpdateVariant("Literal"); }) == "variant 'Literal': must be default or literal");
+  CHECK(refusal([] { return parseStatsMode(""); }) == "stats '': must be batch or online");
+  CHECK(refusal([] { return parseTruthMode("observed"); }) == "truth 'observed': must be full or observable");
+  // results check quotes them (docs/results-format.md, "a setting is not sane").
+  CHECK(kUpdateVariantNames.alternatives("\"") == "\"default\" or \"literal\"");
+  CHECK(kStatsModeNames.accepts("online"));
+  CHECK_FALSE(kStatsModeNames.accepts("Online"));
+}
+
+TEST_CASE("truth mode names round-trip") {
+  for (const TruthMode m : {TruthMode::Full, TruthMode::Observable}) CHECK(parseTruthMode(truthModeName(m)) == m);
+  CHECK(std::string(truthModeName(TruthMode::Observable)) == "observable");
+  CHECK_THAT(kTruthModeNames.list(), Equals(std::vector<std::string>{"full", "observable"}));
+}
+
+TEST_CASE("three or more names are listed as a, b or c") {
+  enum class Colour { Red, Green, Blue };
+  constexpr EnumNames<Colour, 3> names{"colour", {{{Colour::Red, "red"}, {Colour::Green, "green"}, {Colour::Blue, "blue"}}}};
+  CHECK(refusal([&] { return names.parse("pink"); }) == "colour 'pink': must be red, green or blue");
+  CHECK(names.parse("blue") == Colour::Blue);
+}
+
+TEST_CASE("the engine factory makes replay and direct, and refuses any other name") {
+  CHECK_THAT(sweepEngineNames(), Equals(std::vector<std::string>{"replay", "direct"}));
+  for (const std::string& name : sweepEngineNames()) CHECK(makeSweepEngine(name)->name() == name);
+  CHECK(refusal([] { return makeSweepEngine("fast"); }) == "engine 'fast': must be replay or direct");
+  CHECK(refusal([] { return makeSweepEngine("Replay"); }) == "engine 'Replay': must be replay or direct");
+}
+
+TEST_CASE("replay batches up to 8 maps that share their hit rule, direct one map each") {
+  MapParams a, b;
+  a.k = b.k = 3;
+  a.p_u = 860000, b.p_u = 900000;  // another p_u: another hit rule
+  std::vector<MapToCount> maps;
+  for (int i = 0; i < 10; ++i) maps.push_back({&a, {0.5}});
+  maps.push_back({&b, {0.5}});
+  using Batches = std::vector<std::vector<std::size_t>>;
+  CHECK(makeSweepEngine("replay")->batches(maps) ==
+        Batches{{0, 1, 2, 3, 4, 5, 6, 7}, {8, 9}, {10}});
+  CHECK(makeSweepEngine("direct")->batches(maps) ==
+        Batches{{0}, {1}, {2}, {3}, {4}, {5}, {6}, {7}, {8}, {9}, {10}});
+  static_assert(kReplayLanes == 8);
+}
