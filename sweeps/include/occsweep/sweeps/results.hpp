@@ -26,6 +26,7 @@ struct SweepSelection {
   };
   std::optional<Group> group;
   std::uint64_t shard_index = 0, shard_count = 1;
+  friend bool operator==(const SweepSelection&, const SweepSelection&) = default;
 };
 
 /// Everything about a results file except its numbers.
