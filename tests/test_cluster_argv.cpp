@@ -5,6 +5,7 @@
 
 #include <bit>
 #include <cmath>
+#include <string_view>
 
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/sweeps/cluster_plan.hpp"
@@ -154,8 +155,8 @@ TEST_CASE("--sweep-args are parsed as sweep parses them, and may not set what th
   expected.s_c = 4.5, expected.engine = "direct", expected.truth = TruthMode::Observable;
   CHECK(s == expected);
   CHECK(sharedSweepSettings({}) == SweepConfig{});
-  for (const auto& own : {"--dataset", "--grid", "--out", "--shard", "--group", "--seed", "--threads"})
-    CHECK_THROWS_AS(sharedSweepSettings({own, own == std::string("--shard") || own == std::string("--group") ? "0/2" : "1"}),
+  for (const std::string_view own : {"--dataset", "--grid", "--out", "--shard", "--group", "--seed", "--threads"})
+    CHECK_THROWS_AS(sharedSweepSettings({std::string(own), own == "--shard" || own == "--group" ? "0/2" : "1"}),
                     std::invalid_argument);
   CHECK_THROWS_AS(sharedSweepSettings({"--force"}), std::invalid_argument);
   CHECK_THROWS_AS(sharedSweepSettings({"--s-c", "0"}), std::invalid_argument);

@@ -92,7 +92,8 @@ void checkPlanConfig(const PlanConfig& c) {
 /// The sets of `c.sets` in data set i's folder `dir`; their sweeps wait for `deps`.
 void addSweptSets(const PlanConfig& c, std::size_t i, const std::string& key, const std::string& dir,
                   const std::vector<std::string>& deps, std::vector<SweptSet>& swept) {
-  for (const auto& s : c.sets) swept.push_back({joinPath(dir, s), key + (s == "." ? "" : "/" + fileKey(s)), s, i, deps});
+  for (const auto& s : c.sets)
+    swept.push_back({joinPath(dir, s), key + (s == "." ? "" : "/" + fileKey(s)), s, i, deps});
 }
 
 /// The select task of a ranked plan: the data set's blocks linked as pcs-NNNN and rank-N in one folder.
@@ -106,7 +107,8 @@ ClusterTask selectTask(const PlanConfig& c, const std::string& key, const std::v
 }
 
 /// reproduce: the generate stage (and select, when ranked); returns the sets to sweep.
-std::vector<SweptSet> addGenerationStages(const PlanConfig& c, const std::vector<std::string>& keys, ClusterPlan& plan) {
+std::vector<SweptSet> addGenerationStages(const PlanConfig& c, const std::vector<std::string>& keys,
+                                          ClusterPlan& plan) {
   ClusterStage gen{"generate", {}, {}}, select{"select", {"generate"}, {}};
   std::vector<SweptSet> swept;
   for (std::size_t i = 0; i < c.datasets.size(); ++i) {
@@ -176,7 +178,8 @@ ClusterTask sweepTask(const PlanConfig& c, const SweptSet& s, const LoadedGrid& 
   const std::uint64_t shards = g.plan.shards;
   ClusterTask t;
   t.label = s.key + " " + g.name + " " + std::to_string(k) + "/" + std::to_string(shards);
-  t.output = "sweeps/" + s.key + "/" + g.name + "/shard-" + std::to_string(k) + "-of-" + std::to_string(shards) + ".json";
+  t.output = "sweeps/" + s.key + "/" + g.name + "/shard-" + std::to_string(k) + "-of-" + std::to_string(shards) +
+             ".json";
   SweepConfig sweep = c.sweep;
   sweep.dataset = s.dir;
   sweep.grid = g.arg;
@@ -195,7 +198,8 @@ ClusterTask sweepTask(const PlanConfig& c, const SweptSet& s, const LoadedGrid& 
 }
 
 /// The merge of the shards `shards` of grid g on set s.
-ClusterTask mergeTask(const PlanConfig& c, const SweptSet& s, const LoadedGrid& g, const std::vector<std::string>& shards) {
+ClusterTask mergeTask(const PlanConfig& c, const SweptSet& s, const LoadedGrid& g,
+                      const std::vector<std::string>& shards) {
   ClusterTask m;
   m.label = s.key + " " + g.name;
   m.output = "merged/" + s.key + "/" + g.name + ".json";

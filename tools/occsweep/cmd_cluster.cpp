@@ -113,7 +113,8 @@ int runPlan(const PlanOptions& o) {
   }
   applyPlanDefaults(c, {o.datasets->count() > 0, !o.grids.empty(), o.sets->count() > 0, o.group_set->count() > 0,
                         o.blocks->count() > 0});
-  c.occsweep = std::filesystem::absolute(c.occsweep.empty() ? runningBinary() : std::filesystem::path(c.occsweep)).string();
+  const std::filesystem::path binary = c.occsweep.empty() ? runningBinary() : std::filesystem::path(c.occsweep);
+  c.occsweep = std::filesystem::absolute(binary).string();
   c.sweep = sharedSweepSettings(o.sweep_args);
   c.generate_kind = kindFromName(o.kind);
   const ClusterPlan p = buildPlan(c);

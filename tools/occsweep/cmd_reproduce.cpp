@@ -50,7 +50,8 @@ auto figureDrawer(const std::string& configured_python) {
     std::vector<std::string> argv{python, script, out.string()};
     argv.insert(argv.end(), steps.begin(), steps.end());
     if (const int code = runWaiting(argv); code != 0)
-      throw std::runtime_error("reproduce: " + python + " " + script + " failed (exit code " + std::to_string(code) + ")");
+      throw std::runtime_error("reproduce: " + python + " " + script + " failed (exit code " + std::to_string(code) +
+                               ")");
   };
 }
 
