@@ -149,7 +149,7 @@ TEST_CASE("taskArgv refuses what the command line would read otherwise") {
   CHECK_THROWS_AS(taskArgv(SelectTask{{"r.json"}, "--out"}), std::invalid_argument);
 }
 
-TEST_CASE("--sweep-args are parsed as sweep parses them, and may not set what the plan sets") {
+TEST_CASE("cluster plan --sweep-args are parsed as sweep parses them, and may not set what the plan sets") {
   const SweepConfig s = sharedSweepSettings({"--s-c", "4.5", "--engine", "direct", "--truth", "observable"});
   SweepConfig expected;
   expected.s_c = 4.5, expected.engine = "direct", expected.truth = TruthMode::Observable;
