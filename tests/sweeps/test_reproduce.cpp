@@ -214,3 +214,49 @@ TEST_CASE("report.md states which data was reproduced: the plain one or the real
         std::string::npos);
   CHECK(realistic.find("plain reproduction") == std::string::npos);
 }
+
+TEST_CASE("prepareDatasets makes only the missing data sets, through the generator the command hands in") {
+  namespace fs = std::filesystem;
+  const auto dir = test::scratch("reproduce-generator");
+  // What a generated data set leaves behind for prepareDatasets: ranking.json and the sets it lists.
+  auto writeDataset = [](const fs::path& root) {
+    fs::create_directories(root / "pcs-0000");
+    std::ofstream(root / "pcs-0000" / "manifest.json") << "{}";
+    std::ofstream(root / "ranking.json") << R"({"sets": [{"folder": "pcs-0000", "id": 0}]})";
+  };
+  writeDataset(dir / "data" / "building-plain-I");
+  ReproduceConfig c = reproduceDefaults("small");
+  c.out = dir;
+  c.datasets = {"building-plain-I", "parking-plain-O"};
+  c.quiet = true;
+  std::vector<std::string> calls;
+  c.generate_dataset = [&](const std::string& name, const std::string& scale, const fs::path& out, bool realistic) {
+    calls.push_back(name + " " + scale + " " + out.string() + (realistic ? " realistic" : ""));
+    writeDataset(out / name);
+  };
+  const auto d = prepareDatasets(c);
+  CHECK(calls == std::vector<std::string>{"parking-plain-O small " + (dir / "data").string()});
+  REQUIRE(d.size() == 2);
+  CHECK(d[1].name == "parking-plain-O");
+  CHECK(d[1].folders == std::vector<std::string>{"pcs-0000"});
+
+  c.datasets = {"parking-plain-S"};
+  c.generate_dataset = nullptr;  // no generator: a missing data set is an error, not a program run
+  CHECK_THROWS_WITH(prepareDatasets(c), Catch::Contains("no ranking.json and no generator"));
+}
+
+TEST_CASE("reproduce finds its figure script beside its binary (share/occsweep), not in the source tree") {
+  if (!haveMatplotlib()) return;  // the Python check comes first and would fail instead
+  namespace fs = std::filesystem;
+  const auto dir = test::scratch("reproduce-installed");
+  // An install without share/occsweep/: the figures cannot be drawn, and the run says so before any work.
+  fs::create_directories(dir / "prefix" / "bin");
+  fs::copy_file(test::cliUnderTest(), dir / "prefix" / "bin" / "occsweep");
+  auto r = test::runShell(test::shellQuoted(dir / "prefix" / "bin" / "occsweep") +
+                          " reproduce --datasets building-plain-I --steps fits --quiet --out " +
+                          test::shellQuoted(dir / "out") + " 2>&1");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Catch::Contains((dir / "prefix" / "share" / "occsweep").string()));
+  CHECK(!fs::exists(dir / "out"));
+}

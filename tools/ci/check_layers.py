@@ -23,7 +23,7 @@ ALLOWED = {
     "grid": ["core", "eval"],
     "results": ["core", "eval", "grid"],
     "engine": ["core", "eval", "grid", "results"],
-    "cluster": ["core", "eval", "grid", "results"],
+    "cluster": ["core", "eval", "grid", "results", "engine"],
     "reproduce": ["core", "eval", "stats", "grid", "results", "engine"],
     "data": ["core", "eval"],
     "stereo": ["core", "eval", "data"],

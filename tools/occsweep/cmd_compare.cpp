@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "task_options.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
 namespace occsweep::cli {
@@ -46,23 +47,18 @@ std::vector<ResultsFile> readChecked(const std::vector<std::string>& files) {
 
 const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data set, and the improvement in percent",
                                [](CLI::App& app) {
-  auto files = std::make_shared<std::vector<std::string>>();
-  auto json_out = std::make_shared<std::string>();
-  auto force = std::make_shared<bool>(false);
-  auto allow_mixed = std::make_shared<bool>(false);
-  app.add_option("files", *files, "Complete results files of whole grids (any mix of methods and data sets; "
-                                  "each passes `results check`)")->required();
-  app.add_option("--json", *json_out, "Also write the table as JSON");
-  app.add_flag("--force", *force, "Replace occsweep's own previous comparison at --json (nothing else)");
-  app.add_flag("--allow-mixed", *allow_mixed, "Compare anyway when files of one data set differ in resolution, s_c, "
-                                              "k-NN variant or statistics mode, or are shards (each is listed on stderr)");
-  return [files, json_out, force, allow_mixed] {
-    if (!json_out->empty()) checkOutputTarget(*json_out, *force, jsonOutput("comparison", "occsweep-comparison"));
-    const std::vector<ResultsFile> in = readChecked(*files);
-    if (const std::string why = mixedTruths(in, *files); !why.empty()) throw std::runtime_error("cannot compare: " + why);
+  auto task = std::make_shared<CompareTask>();
+  addCompareOptions(app, *task);  // task_options.cpp: also what `cluster plan` tasks are parsed with
+  return [task] {
+    const auto& files = task->files;
+    const auto& json_out = task->json;
+    const bool force = task->force, allow_mixed = task->allow_mixed;
+    if (!json_out.empty()) checkOutputTarget(json_out, force, jsonOutput("comparison", "occsweep-comparison"));
+    const std::vector<ResultsFile> in = readChecked(files);
+    if (const std::string why = mixedTruths(in, files); !why.empty()) throw std::runtime_error("cannot compare: " + why);
     const TruthMode truth = in.front().header.truth;
-    const auto mixed = mixedSettings(in, *files);
-    if (!mixed.empty() && !*allow_mixed)
+    const auto mixed = mixedSettings(in, files);
+    if (!mixed.empty() && !allow_mixed)
       throw std::runtime_error("cannot compare: " + mixed.front() +
                                (mixed.size() > 1 ? " (and " + std::to_string(mixed.size() - 1) + " more)" : "") +
                                "; pass --allow-mixed to compare anyway");
@@ -74,7 +70,7 @@ const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data
     std::vector<std::string> notes;
     for (const auto& r : rows) {
       auto auc = [](const std::optional<BestMap>& b) { return b ? b->auc : std::nan(""); };
-      auto file = [&](const std::optional<BestMap>& b) { return b ? (*files)[b->file] : std::string("-"); };
+      auto file = [&](const std::optional<BestMap>& b) { return b ? files[b->file] : std::string("-"); };
       const double imp = r.improvementPercent();
       std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s\n", r.dataset.c_str(), r.point_cloud_set.c_str(),
                   cell(auc(r.octomap), "%.4f").c_str(), cell(auc(r.knn), "%.4f").c_str(), cell(imp, "%.2f").c_str(),
@@ -82,7 +78,7 @@ const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data
                   r.knn ? paramsText(r.knn->params, true).c_str() : "-", file(r.octomap).c_str(), file(r.knn).c_str());
       nlohmann::json row_notes = nlohmann::json::array();
       for (const bool knn : {false, true})
-        if (const std::string why = missingReason(r, knn, in, *files); !why.empty()) {
+        if (const std::string why = missingReason(r, knn, in, files); !why.empty()) {
           row_notes.push_back(why);
           notes.push_back(r.dataset + ": " + why);
         }
@@ -91,7 +87,7 @@ const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data
         notes.push_back(r.dataset + ": no improvement in percent: the OctoMap AUC is 0");
       }
       j.push_back({{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
-                   {"octomap", bestJson(r.octomap, false, *files)}, {"knn", bestJson(r.knn, true, *files)},
+                   {"octomap", bestJson(r.octomap, false, files)}, {"knn", bestJson(r.knn, true, files)},
                    {"improvement_percent", std::isfinite(imp) ? nlohmann::json(imp) : nlohmann::json(nullptr)},
                    {"notes", row_notes}});
     }
@@ -100,10 +96,10 @@ const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data
               << (truth == TruthMode::Full ? " (every truth voxel of the region counts)"
                                            : " (only truth voxels observable from the scan origins count)")
               << '\n';
-    if (!json_out->empty())
-      writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", *files}, {"allow_mixed", *allow_mixed},
+    if (!json_out.empty())
+      writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", files}, {"allow_mixed", allow_mixed},
                            {"mixed", mixed}, {"truth", truthModeName(truth)}, {"rows", j}},
-                          *json_out);
+                          json_out);
     return 0;
   };
 }};

@@ -2,6 +2,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "cmd_dataset.hpp"
 #include "cmd_dataset_middlebury.hpp"
 #include "command_registry.hpp"
 #include "option_checks.hpp"
@@ -17,20 +18,6 @@
 
 namespace occsweep::cli {
 namespace {
-
-struct DatasetOptions {
-  std::string name, out, scale = "ci", sgbm, pcs, grid = "pointcloud";
-  bool all = false, no_preview = false;
-  std::uint64_t seed = 1;
-  double drift_m = 0, drift_yaw = 0;
-  int threads = 0;
-  // docs/datasets.md, "Realism and experiment options"
-  std::string pose_error, exposure;
-  double jitter_m = 0, jitter_deg = 0;
-  double right_gain = 1, right_offset = 0, right_gamma = 1, right_vignetting = 0;
-  bool far_clutter = false, no_voxel_filter = false, realistic = false;
-  double box_height = 0.5, noise_scale = 1;
-};
 
 #ifdef OCCSWEEP_HAVE_STEREO
 std::vector<std::uint64_t> parseIds(const std::string& text, std::uint64_t size) {
@@ -69,36 +56,6 @@ void applyRealism(const DatasetOptions& o, stereo::GenerateConfig& c) {
   c.render.noise_scale = o.noise_scale;
 }
 
-int runGenerate(const DatasetOptions& o) {
-  if (o.all == !o.name.empty()) throw std::invalid_argument("give either --name ENV-TEXTURE-LAYOUT or --all");
-  if (!o.sgbm.empty() && !o.pcs.empty()) throw std::invalid_argument("--sgbm and --pcs exclude each other");
-  using namespace stereo;
-  GenerateConfig c;
-  c.scale = scaleConfig(o.scale);
-  c.seed = o.seed;
-  c.drift.metres_per_keyframe = o.drift_m;
-  c.drift.yaw_deg_per_keyframe = o.drift_yaw;
-  c.preview = !o.no_preview;
-  applyRealism(o, c);
-  const PointCloudGrid grid = loadPointCloudGrid(resolveGridPath(o.grid));
-  if (!o.sgbm.empty()) c.custom = parseSgbmParams(o.sgbm);
-  if (!o.pcs.empty()) c.pcs_ids = parseIds(o.pcs, grid.size());
-  const std::vector<DatasetName> names = o.all ? allDatasetNames() : std::vector{parseDatasetName(o.name)};
-  std::unique_ptr<tbb::global_control> limit;
-  if (o.threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o.threads);
-  nlohmann::json summary = nlohmann::json::array();
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    std::cerr << "data set " << i + 1 << "/" << names.size() << ": " << names[i].str() << " at scale " << o.scale << '\n';
-    const DatasetSummary s = generateDataset(names[i], c, grid, o.out);
-    const auto& m = s.medianRanked();
-    std::cout << s.name << ": " << s.sets.size() << " point cloud sets; median-ranked " << m.folder << ": " << m.points
-              << " points, valid on targets " << m.target_valid_fraction << ", naive TPR " << m.naive.tpr() << " FDR "
-              << m.naive.fdr() << "; render " << s.render_seconds << " s\n";
-    summary.push_back(summaryRow(s));
-  }
-  if (o.all) writeJsonAtomically(summary, std::filesystem::path(o.out) / "summary.json");
-  return 0;
-}
 #endif
 
 /// docs/datasets.md, "Realism and experiment options": each preset excludes its raw knobs, --realistic all of them.
@@ -160,15 +117,49 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
   return [o, gen, middlebury]() -> int {
     if (middlebury.first->parsed()) return middlebury.second();
     if (!gen->parsed()) throw CLI::CallForHelp();
-#ifdef OCCSWEEP_HAVE_STEREO
-    return runGenerate(*o);
-#else
-    std::cerr << "occsweep dataset generate: this build has no stereo tools (configure with -DOCCSWEEP_STEREO=ON "
-                 "and OpenCV's calib3d and imgproc)\n";
-    return 2;
-#endif
+    generateDatasets(*o);
+    return 0;
   };
 }};
 
 }  // namespace
+
+#ifdef OCCSWEEP_HAVE_STEREO
+void generateDatasets(const DatasetOptions& o) {
+  if (o.all == !o.name.empty()) throw std::invalid_argument("give either --name ENV-TEXTURE-LAYOUT or --all");
+  if (!o.sgbm.empty() && !o.pcs.empty()) throw std::invalid_argument("--sgbm and --pcs exclude each other");
+  using namespace stereo;
+  GenerateConfig c;
+  c.scale = scaleConfig(o.scale);
+  c.seed = o.seed;
+  c.drift.metres_per_keyframe = o.drift_m;
+  c.drift.yaw_deg_per_keyframe = o.drift_yaw;
+  c.preview = !o.no_preview;
+  c.progress = !o.quiet;
+  applyRealism(o, c);
+  const PointCloudGrid grid = loadPointCloudGrid(resolveGridPath(o.grid));
+  if (!o.sgbm.empty()) c.custom = parseSgbmParams(o.sgbm);
+  if (!o.pcs.empty()) c.pcs_ids = parseIds(o.pcs, grid.size());
+  const std::vector<DatasetName> names = o.all ? allDatasetNames() : std::vector{parseDatasetName(o.name)};
+  std::unique_ptr<tbb::global_control> limit;
+  if (o.threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o.threads);
+  nlohmann::json summary = nlohmann::json::array();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (!o.quiet) std::cerr << "data set " << i + 1 << "/" << names.size() << ": " << names[i].str() << " at scale " << o.scale << '\n';
+    const DatasetSummary s = generateDataset(names[i], c, grid, o.out);
+    const auto& m = s.medianRanked();
+    std::cout << s.name << ": " << s.sets.size() << " point cloud sets; median-ranked " << m.folder << ": " << m.points
+              << " points, valid on targets " << m.target_valid_fraction << ", naive TPR " << m.naive.tpr() << " FDR "
+              << m.naive.fdr() << "; render " << s.render_seconds << " s\n";
+    summary.push_back(summaryRow(s));
+  }
+  if (o.all) writeJsonAtomically(summary, std::filesystem::path(o.out) / "summary.json");
+}
+#else
+void generateDatasets(const DatasetOptions&) {
+  throw std::runtime_error("dataset generate: this build has no stereo tools (configure with -DOCCSWEEP_STEREO=ON "
+                           "and OpenCV's calib3d and imgproc)");
+}
+#endif
+
 }  // namespace occsweep::cli

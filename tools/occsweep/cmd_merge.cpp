@@ -3,6 +3,7 @@
 
 #include "command_registry.hpp"
 #include "limit_options.hpp"
+#include "task_options.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
 namespace occsweep::cli {
@@ -10,18 +11,14 @@ namespace {
 
 const RegisterCommand kMerge{"merge", "Merge the shards of one sweep (refuses missing, duplicated, foreign work)",
                              [](CLI::App& app) {
-  auto files = std::make_shared<std::vector<std::string>>();
-  auto out = std::make_shared<std::string>();
-  auto force = std::make_shared<bool>(false);
-  app.add_option("files", *files, "Results files of one sweep's shards")->required();
-  app.add_option("--out", *out, "Merged results file")->required();
-  app.add_flag("--force", *force, "Replace occsweep's own previous results file at --out (nothing else)");
+  auto t = std::make_shared<MergeTask>();
+  addMergeOptions(app, *t);  // task_options.cpp: also what `cluster plan` tasks are parsed with
   addLimitOptions(app, {Limit::Combinations});
-  return [files, out, force] {
-    checkOutputTarget(*out, *force, resultsOutput());
-    const ResultsFile merged = mergeResults({files->begin(), files->end()});
-    writeResults(merged, *out);
-    std::cout << "wrote " << *out << ": " << merged.maps.size() << " maps from " << files->size() << " files\n";
+  return [t] {
+    checkOutputTarget(t->out, t->force, resultsOutput());
+    const ResultsFile merged = mergeResults({t->files.begin(), t->files.end()});
+    writeResults(merged, t->out);
+    std::cout << "wrote " << t->out << ": " << merged.maps.size() << " maps from " << t->files.size() << " files\n";
     return 0;
   };
 }};

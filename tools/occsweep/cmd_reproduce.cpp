@@ -1,10 +1,14 @@
 // occsweep reproduce: every experiment of the paper's Section 4 (Fig. 3-7) in one command (issue 6).
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
+#include "cmd_dataset.hpp"
 #include "command_registry.hpp"
+#include "install_paths.hpp"
 #include "option_checks.hpp"
+#include "occsweep/sweeps/cluster_state.hpp"
 #include "occsweep/sweeps/reproduce.hpp"
 
 namespace occsweep::cli {
@@ -20,6 +24,47 @@ struct ReproduceOptions {
   int threads = 0;
   bool no_figures = false, quiet = false, realistic = false;
 };
+
+/// A Python 3 that imports matplotlib and numpy: `configured` if given, else $OCCSWEEP_PYTHON, /usr/bin/python3,
+/// python3. Throws std::runtime_error saying what to install when none does.
+std::string findPython(const std::string& configured) {
+  std::vector<std::string> candidates;
+  if (!configured.empty()) candidates.push_back(configured);
+  if (const char* env = std::getenv("OCCSWEEP_PYTHON")) candidates.emplace_back(env);
+  candidates.insert(candidates.end(), {"/usr/bin/python3", "python3"});
+  for (const auto& p : candidates)
+    if (runCapture({p, "-c", "import matplotlib, numpy"}, true).exit_code == 0) return p;
+  throw std::runtime_error("reproduce: no Python 3 with matplotlib and numpy (tried " +
+                           (configured.empty() ? std::string() : configured + ", ") +
+                           "$OCCSWEEP_PYTHON, /usr/bin/python3, python3); install python3-matplotlib "
+                           "(apt-get install python3-matplotlib) or pass --python, or use --no-figures");
+}
+
+/// The figures: plot_reproduction.py (installed beside the binary, install_paths.hpp) on the step files. Python and
+/// the script are looked up now, so that a run cannot fail at its end for want of them.
+auto figureDrawer(const std::string& configured_python) {
+  const std::string python = findPython(configured_python);
+  const std::string script = (installedDataDir() / "plot_reproduction.py").string();
+  if (!std::filesystem::is_regular_file(script)) throw std::runtime_error(script + ": not found (the figure script)");
+  return [python, script](const std::filesystem::path& out, const std::vector<std::string>& steps) {
+    std::vector<std::string> argv{python, script, out.string()};
+    argv.insert(argv.end(), steps.begin(), steps.end());
+    if (const int code = runWaiting(argv); code != 0)
+      throw std::runtime_error("reproduce: " + python + " " + script + " failed (exit code " + std::to_string(code) +
+                               ")");
+  };
+}
+
+/// Missing data sets: `dataset generate --name NAME --scale SCALE --out OUT --no-preview [--realistic]`, the
+/// command's own code in this process.
+auto datasetGenerator(bool quiet) {
+  return [quiet](const std::string& name, const std::string& scale, const std::filesystem::path& out, bool realistic) {
+    DatasetOptions o;
+    o.name = name, o.scale = scale, o.out = out.string();
+    o.no_preview = true, o.realistic = realistic, o.quiet = quiet;
+    generateDatasets(o);
+  };
+}
 
 const RegisterCommand kReproduce{"reproduce",
                                  "Reproduce the paper's Section 4: distribution fits, NCA weights, optimal-AUC "
@@ -56,14 +101,13 @@ const RegisterCommand kReproduce{"reproduce",
     if (o->nca_samples >= 0) c.nca_samples = std::size_t(o->nca_samples);
     c.threads = o->threads;
     if (o->runtime_repeats > 0) c.runtime_repeats = o->runtime_repeats;
-    c.python = o->python;
-    c.figures = !o->no_figures;
     c.quiet = o->quiet;
-    c.occsweep_binary = std::filesystem::read_symlink("/proc/self/exe");
+    c.generate_dataset = datasetGenerator(o->quiet);
     const auto known = paperDatasetNames();
     for (const auto& d : c.datasets)
       if (std::find(known.begin(), known.end(), d) == known.end())
         throw std::invalid_argument("--datasets: '" + d + "' is not one of the paper's 20 (docs/datasets.md)");
+    if (!o->no_figures) c.draw_figures = figureDrawer(o->python);  // before hours of work: fail now if it cannot
     const double seconds = runReproduction(c);
     std::printf("reproduce --scale %s: %.1f s; report %s/report.md\n", c.scale.c_str(), seconds, c.out.string().c_str());
     return 0;

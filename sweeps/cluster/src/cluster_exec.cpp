@@ -1,5 +1,5 @@
-// Child processes for the cluster commands: Slurm's clients (captured) and run-local's tasks (logged, ending with
-// run-local).
+// Child processes, started without a shell: Slurm's clients (captured), run-local's tasks (logged, ending with
+// run-local) and the figure script of `reproduce` (waited for).
 #include <cerrno>
 #include <cstring>
 #include <csignal>
@@ -22,6 +22,13 @@ std::vector<char*> cArgv(const std::vector<std::string>& argv) {
   for (const auto& a : argv) out.push_back(const_cast<char*>(a.c_str()));
   out.push_back(nullptr);
   return out;
+}
+
+int waitForExit(pid_t pid) {
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return exitCodeOf(status);
 }
 
 }  // namespace
@@ -59,11 +66,15 @@ ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet) {
     else if (n == 0 || errno != EINTR) break;
   }
   ::close(fds[0]);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  out.exit_code = exitCodeOf(status);
+  out.exit_code = waitForExit(pid);
   return out;
+}
+
+int runWaiting(const std::vector<std::string>& argv) {
+  pid_t pid = 0;
+  auto args = cArgv(argv);
+  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return 127;
+  return waitForExit(pid);
 }
 
 pid_t spawnLogged(const std::vector<std::string>& argv, const std::filesystem::path& cwd,

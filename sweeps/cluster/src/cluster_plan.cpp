@@ -5,6 +5,7 @@
 
 #include "occsweep/sweeps/cluster_plan.hpp"
 #include "occsweep/sweeps/grid.hpp"
+#include "occsweep/eval/paper_datasets.hpp"
 #include "occsweep/sweeps/sharding.hpp"
 
 namespace occsweep {
@@ -68,151 +69,216 @@ ClusterTask generationTask(const PlanConfig& c, std::size_t i, const std::string
   return t;
 }
 
-}  // namespace
+std::vector<std::string> withProgram(const std::string& program, std::vector<std::string> args) {
+  args.insert(args.begin(), program);
+  return args;
+}
 
-ClusterPlan buildPlan(const PlanConfig& c) {
+void checkPlanConfig(const PlanConfig& c) {
   if (c.experiment != "reproduce" && c.experiment != "sweep")
     throw std::invalid_argument("--experiment '" + c.experiment + "': expected reproduce or sweep");
   if (c.datasets.empty()) throw std::invalid_argument("no data sets: give --datasets");
   if (c.grids.empty()) throw std::invalid_argument("no grids: give --grids");
   if (c.blocks == 0) throw std::invalid_argument("--blocks must be at least 1");
   if (c.sets.empty()) throw std::invalid_argument("--sets must name at least one point cloud set");
-  ClusterPlan plan{c.experiment, c.occsweep, c.slurm, {}};
-  const std::string bin = c.occsweep;
-  const auto keys = datasetKeys(c);
-
-  std::vector<SweptSet> swept;
-  if (c.experiment == "reproduce") {
-    if (c.blocks > 1 && !c.ranked)
-      throw std::invalid_argument("--blocks > 1 needs the select stage to gather the blocks' sets (drop --unranked)");
-    ClusterStage gen{"generate", {}, {}}, select{"select", {"generate"}, {}};
-    for (std::size_t i = 0; i < c.datasets.size(); ++i) {
-      std::vector<std::string> outputs;
-      for (std::uint64_t b = 0; b < c.blocks; ++b) {
-        ClusterTask t = generationTask(c, i, keys[i], b);
-        t.index = gen.tasks.size();
-        outputs.push_back(t.output);
-        gen.tasks.push_back(std::move(t));
-      }
-      // Unranked: sets are folders under the generated output, or under its folder when it is a file
-      // (ranking.json).
-      std::string dir = outputs[0];
-      if (std::filesystem::path(dir).extension() == ".json") dir = std::filesystem::path(dir).parent_path().string();
-      std::vector<std::string> deps = outputs;
-      if (c.ranked) {
-        ClusterTask t;
-        t.index = select.tasks.size();
-        t.label = keys[i];
-        t.output = "data/" + keys[i] + "/sets";
-        t.argv = {bin, "cluster", "select", "--out", t.output};
-        for (const auto& o : outputs) t.argv.push_back(o);
-        t.inputs = outputs;
-        dir = t.output;
-        deps = {t.output};
-        select.tasks.push_back(std::move(t));
-      }
-      for (const auto& s : c.sets)
-        swept.push_back({joinPath(dir, s), keys[i] + (s == "." ? "" : "/" + fileKey(s)), s, i, deps});
-    }
-    plan.stages.push_back(std::move(gen));
-    if (c.ranked) plan.stages.push_back(std::move(select));
-  } else {
-    for (std::size_t i = 0; i < c.datasets.size(); ++i)
-      for (const auto& s : c.sets) {
-        const auto dir = std::filesystem::absolute(c.datasets[i]).lexically_normal().string();
-        swept.push_back({joinPath(dir, s), keys[i] + (s == "." ? "" : "/" + fileKey(s)), s, i, {}});
-      }
-  }
+  if (c.experiment == "reproduce" && c.blocks > 1 && !c.ranked)
+    throw std::invalid_argument("--blocks > 1 needs the select stage to gather the blocks' sets (drop --unranked)");
   const std::string group_set = c.group_set.empty() ? c.sets[0] : c.group_set;
   if (std::find(c.sets.begin(), c.sets.end(), group_set) == c.sets.end())
     for (const auto& g : c.grids)
       if (g.grouped) throw std::invalid_argument("--group-set " + group_set + " is not one of --sets");
+}
 
-  // Grids are loaded now so that a wrong name or too many shards fail at planning, not on the cluster.
-  std::set<std::string> grid_names;
-  std::vector<std::string> names, grid_args;
+/// The sets of `c.sets` in data set i's folder `dir`; their sweeps wait for `deps`.
+void addSweptSets(const PlanConfig& c, std::size_t i, const std::string& key, const std::string& dir,
+                  const std::vector<std::string>& deps, std::vector<SweptSet>& swept) {
+  for (const auto& s : c.sets)
+    swept.push_back({joinPath(dir, s), key + (s == "." ? "" : "/" + fileKey(s)), s, i, deps});
+}
+
+/// The select task of a ranked plan: the data set's blocks linked as pcs-NNNN and rank-N in one folder.
+ClusterTask selectTask(const PlanConfig& c, const std::string& key, const std::vector<std::string>& generated) {
+  ClusterTask t;
+  t.label = key;
+  t.output = "data/" + key + "/sets";
+  t.argv = withProgram(c.occsweep, taskArgv(SelectTask{generated, t.output}));
+  t.inputs = generated;
+  return t;
+}
+
+/// reproduce: the generate stage (and select, when ranked); returns the sets to sweep.
+std::vector<SweptSet> addGenerationStages(const PlanConfig& c, const std::vector<std::string>& keys,
+                                          ClusterPlan& plan) {
+  ClusterStage gen{"generate", {}, {}}, select{"select", {"generate"}, {}};
+  std::vector<SweptSet> swept;
+  for (std::size_t i = 0; i < c.datasets.size(); ++i) {
+    std::vector<std::string> outputs;
+    for (std::uint64_t b = 0; b < c.blocks; ++b) {
+      ClusterTask t = generationTask(c, i, keys[i], b);
+      t.index = gen.tasks.size();
+      outputs.push_back(t.output);
+      gen.tasks.push_back(std::move(t));
+    }
+    // Unranked: sets are folders under the generated output, or under its folder when it is a file (ranking.json).
+    std::string dir = outputs[0];
+    if (std::filesystem::path(dir).extension() == ".json") dir = std::filesystem::path(dir).parent_path().string();
+    std::vector<std::string> deps = outputs;
+    if (c.ranked) {
+      ClusterTask t = selectTask(c, keys[i], outputs);
+      t.index = select.tasks.size();
+      dir = t.output;
+      deps = {t.output};
+      select.tasks.push_back(std::move(t));
+    }
+    addSweptSets(c, i, keys[i], dir, deps, swept);
+  }
+  plan.stages.push_back(std::move(gen));
+  if (c.ranked) plan.stages.push_back(std::move(select));
+  return swept;
+}
+
+/// sweep: the sets of the user's data-set folders, named absolutely (tasks run in the plan folder).
+std::vector<SweptSet> existingSets(const PlanConfig& c, const std::vector<std::string>& keys) {
+  std::vector<SweptSet> swept;
+  for (std::size_t i = 0; i < c.datasets.size(); ++i)
+    addSweptSets(c, i, keys[i], std::filesystem::absolute(c.datasets[i]).lexically_normal().string(), {}, swept);
+  return swept;
+}
+
+/// A grid of the plan, loaded: its name in the grid file and how the tasks name it.
+struct LoadedGrid {
+  PlanGrid plan;
+  std::string name, arg;
+};
+
+/// Grids are loaded now so that a wrong name or too many shards fail at planning, not on the cluster.
+std::vector<LoadedGrid> loadPlanGrids(const PlanConfig& c) {
+  std::set<std::string> seen;
+  std::vector<LoadedGrid> out;
   for (const auto& g : c.grids) {
     if (g.shards == 0) throw std::invalid_argument("grid " + g.name + ": shards must be at least 1");
     const GridSpec spec = loadGrid(resolveGridPath(g.name));
-    // A grid file named relative to here would not be found by the tasks, which run in the plan folder.
-    grid_args.push_back(std::filesystem::is_regular_file(g.name)
-                            ? std::filesystem::absolute(g.name).lexically_normal().string()
-                            : g.name);
-    if (!grid_names.insert(spec.name).second) throw std::invalid_argument("grid " + spec.name + " given twice");
+    if (!seen.insert(spec.name).second) throw std::invalid_argument("grid " + spec.name + " given twice");
     const auto maps = enumerateGrid(spec).maps.size();
     if (!g.grouped && g.shards > maps)
       throw std::invalid_argument("grid " + g.name + ": " + std::to_string(g.shards) + " shards but only " +
                                   std::to_string(maps) + " maps (a shard is a block of whole maps)");
-    names.push_back(spec.name);
+    // A grid file named relative to here would not be found by the tasks, which run in the plan folder.
+    const std::string arg = std::filesystem::is_regular_file(g.name)
+                                ? std::filesystem::absolute(g.name).lexically_normal().string()
+                                : g.name;
+    out.push_back({g, spec.name, arg});
   }
+  return out;
+}
 
+/// Shard k of grid g on set s: the plan's shared sweep settings with this task's data set, grid, output, shard
+/// (and Eq. 16 group when grouped).
+ClusterTask sweepTask(const PlanConfig& c, const SweptSet& s, const LoadedGrid& g, std::uint64_t k) {
+  const std::uint64_t shards = g.plan.shards;
+  ClusterTask t;
+  t.label = s.key + " " + g.name + " " + std::to_string(k) + "/" + std::to_string(shards);
+  t.output = "sweeps/" + s.key + "/" + g.name + "/shard-" + std::to_string(k) + "-of-" + std::to_string(shards) +
+             ".json";
+  SweepConfig sweep = c.sweep;
+  sweep.dataset = s.dir;
+  sweep.grid = g.arg;
+  sweep.out = t.output;
+  sweep.selection = {};
+  sweep.selection.shard_index = k, sweep.selection.shard_count = shards;
+  if (g.plan.grouped) sweep.selection.group = SweepSelection::Group{s.dataset_index, c.datasets.size(), c.group_seed};
+  sweep.threads = c.sweep_threads > 0 ? c.sweep_threads : c.slurm.cpus_per_task;
+  t.argv = withProgram(c.occsweep, taskArgv(sweep));
+  t.inputs = s.generated;
+  t.kind = OutputKind::Results;
+  t.expect_grid = g.name;
+  t.expect_shard = k;
+  t.expect_shards = shards;
+  return t;
+}
+
+/// The merge of the shards `shards` of grid g on set s.
+ClusterTask mergeTask(const PlanConfig& c, const SweptSet& s, const LoadedGrid& g,
+                      const std::vector<std::string>& shards) {
+  ClusterTask m;
+  m.label = s.key + " " + g.name;
+  m.output = "merged/" + s.key + "/" + g.name + ".json";
+  // --force: a re-run merge replaces its own earlier result (never another file).
+  m.argv = withProgram(c.occsweep, taskArgv(MergeTask{shards, m.output, true}));
+  m.inputs = shards;
+  m.kind = OutputKind::Results;
+  m.expect_grid = g.name;
+  return m;
+}
+
+/// The report: the comparison of the merged optimisation grids (grouped reduction results answer another question),
+/// or of every merged file when all grids are grouped.
+ClusterTask compareTask(const PlanConfig& c, const std::vector<std::string>& optimisation,
+                        const std::vector<std::string>& all_merged) {
+  ClusterTask t;
+  t.label = "compare";
+  t.output = "report/comparison.json";
+  t.inputs = optimisation.empty() ? all_merged : optimisation;
+  // --force: a re-run replaces its own earlier comparison (never another file).
+  t.argv = withProgram(c.occsweep, taskArgv(CompareTask{t.inputs, t.output, true, false}));
+  t.kind = OutputKind::Comparison;
+  return t;
+}
+
+/// sweep -> merge -> report, after the generation stages (reproduce).
+void addSweepStages(const PlanConfig& c, const std::vector<SweptSet>& swept, const std::vector<LoadedGrid>& grids,
+                    ClusterPlan& plan) {
   ClusterStage sweep{"sweep", {}, {}}, merge{"merge", {"sweep"}, {}}, report{"report", {"merge"}, {}};
   if (c.experiment == "reproduce") sweep.after = {c.ranked ? "select" : "generate"};
-  ClusterTask compare;
-  compare.argv = {bin, "compare"};
-  compare.label = "compare";
-  std::vector<std::string> all_merged;
-  const int threads = c.sweep_threads > 0 ? c.sweep_threads : c.slurm.cpus_per_task;
-  for (const auto& s : swept) {
-    for (std::size_t gi = 0; gi < c.grids.size(); ++gi) {
-      const PlanGrid& g = c.grids[gi];
-      if (g.grouped && s.set != group_set) continue;  // Eq. 16 groups go to data sets, one set each
-      ClusterTask m;
-      m.index = merge.tasks.size();
-      m.label = s.key + " " + names[gi];
-      m.argv = {bin, "merge"};
-      for (std::uint64_t k = 0; k < g.shards; ++k) {
-        ClusterTask t;
+  const std::string group_set = c.group_set.empty() ? c.sets[0] : c.group_set;
+  std::vector<std::string> optimisation, all_merged;
+  for (const auto& s : swept)
+    for (const auto& g : grids) {
+      if (g.plan.grouped && s.set != group_set) continue;  // Eq. 16 groups go to data sets, one set each
+      std::vector<std::string> shards;
+      for (std::uint64_t k = 0; k < g.plan.shards; ++k) {
+        ClusterTask t = sweepTask(c, s, g, k);
         t.index = sweep.tasks.size();
-        t.label = s.key + " " + names[gi] + " " + std::to_string(k) + "/" + std::to_string(g.shards);
-        t.output = "sweeps/" + s.key + "/" + names[gi] + "/shard-" + std::to_string(k) + "-of-" +
-                   std::to_string(g.shards) + ".json";
-        t.argv = {bin, "sweep", "--dataset", s.dir, "--grid", grid_args[gi], "--out", t.output,
-                  "--shard", std::to_string(k) + "/" + std::to_string(g.shards), "--threads", std::to_string(threads)};
-        if (g.grouped)
-          for (auto a : {std::string("--group"), std::to_string(s.dataset_index) + "/" + std::to_string(c.datasets.size()),
-                         std::string("--seed"), std::to_string(c.group_seed)})
-            t.argv.push_back(a);
-        for (const auto& a : c.sweep_args) t.argv.push_back(a);
-        t.inputs = s.generated;
-        t.kind = OutputKind::Results;
-        t.expect_grid = names[gi];
-        t.expect_shard = k;
-        t.expect_shards = g.shards;
-        m.argv.push_back(t.output);
-        m.inputs.push_back(t.output);
+        shards.push_back(t.output);
         sweep.tasks.push_back(std::move(t));
       }
-      m.output = "merged/" + s.key + "/" + names[gi] + ".json";
-      m.argv.push_back("--out");
-      m.argv.push_back(m.output);
-      m.argv.push_back("--force");  // a re-run merge replaces its own earlier result (never another file)
-      m.kind = OutputKind::Results;
-      m.expect_grid = names[gi];
+      ClusterTask m = mergeTask(c, s, g, shards);
+      m.index = merge.tasks.size();
       all_merged.push_back(m.output);
-      // The report compares the optimisation grids; grouped (reduction) results answer another question.
-      if (!g.grouped) {
-        compare.argv.push_back(m.output);
-        compare.inputs.push_back(m.output);
-      }
+      if (!g.plan.grouped) optimisation.push_back(m.output);
       merge.tasks.push_back(std::move(m));
     }
-  }
-  if (compare.inputs.empty())
-    for (const auto& f : all_merged) {
-      compare.argv.push_back(f);
-      compare.inputs.push_back(f);
-    }
-  compare.output = "report/comparison.json";
-  compare.argv.push_back("--force");  // a re-run replaces its own earlier comparison (never another file)
-  compare.argv.push_back("--json");
-  compare.argv.push_back(compare.output);
-  compare.kind = OutputKind::Comparison;
-  report.tasks.push_back(std::move(compare));
+  report.tasks.push_back(compareTask(c, optimisation, all_merged));
   plan.stages.push_back(std::move(sweep));
   plan.stages.push_back(std::move(merge));
   plan.stages.push_back(std::move(report));
+}
+
+}  // namespace
+
+ClusterPlan buildPlan(const PlanConfig& c) {
+  checkPlanConfig(c);
+  ClusterPlan plan{c.experiment, c.occsweep, c.slurm, {}};
+  const auto keys = datasetKeys(c);
+  const std::vector<SweptSet> swept = c.experiment == "reproduce" ? addGenerationStages(c, keys, plan)
+                                                                  : existingSets(c, keys);
+  addSweepStages(c, swept, loadPlanGrids(c), plan);
   return plan;
+}
+
+void applyPlanDefaults(PlanConfig& c, const PlanChoices& given) {
+  const bool reproduce = c.experiment == "reproduce";
+  // Unranked plans and user data-set folders: each generated output or folder is itself the one set to sweep.
+  if (!c.ranked && !given.blocks) c.blocks = 1;
+  if (!c.ranked || !reproduce) {
+    if (!given.sets) c.sets = {"."};
+    if (!given.group_set) c.group_set.clear();
+  }
+  if (reproduce && !given.datasets) c.datasets = paperDatasetNames();
+  if (!given.grids) {
+    c.grids = PlanConfig{}.grids;
+    if (reproduce) c.grids.push_back({"reduction", 4, true});  // Fig. 4's NCA weights: Eq. 16 group per data set
+  }
 }
 
 }  // namespace occsweep

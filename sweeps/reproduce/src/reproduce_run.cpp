@@ -1,11 +1,9 @@
-// The reproduction in order: data, Fig. 3-7 step files, report.md, then the figures drawn by Python.
+// The reproduction in order: data, Fig. 3-7 step files, report.md, then the figures (drawn by the command's draw_figures).
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <exception>
 #include <fstream>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "reproduce_internal.hpp"
 
@@ -47,21 +45,6 @@ void checkReproductionSteps(const std::vector<std::string>& steps) {
     throw std::invalid_argument("--steps: curves needs comparison (Fig. 6 draws the best maps of Fig. 5's sweeps)");
 }
 
-std::string findPython(const std::string& configured) {
-  std::vector<std::string> candidates;
-  if (!configured.empty()) candidates.push_back(configured);
-  if (const char* env = std::getenv("OCCSWEEP_PYTHON")) candidates.emplace_back(env);
-  candidates.insert(candidates.end(), {"/usr/bin/python3", "python3"});
-  for (const auto& p : candidates) {
-    const std::string probe = "'" + p + "' -c 'import matplotlib, numpy' >/dev/null 2>&1";
-    if (std::system(probe.c_str()) == 0) return p;
-  }
-  throw std::runtime_error("reproduce: no Python 3 with matplotlib and numpy (tried " +
-                           (configured.empty() ? std::string() : configured + ", ") +
-                           "$OCCSWEEP_PYTHON, /usr/bin/python3, python3); install python3-matplotlib "
-                           "(apt-get install python3-matplotlib) or pass --python, or use --no-figures");
-}
-
 namespace {
 
 // What a reproduction folder holds (data/, sweeps/, maps/, and *.json, *.md, *.png files at the top): a re-run
@@ -94,8 +77,6 @@ double runReproduction(const ReproduceConfig& c) {
     }
   } cleanup{fs::exists(c.out) ? fs::path() : c.out};
   fs::create_directories(c.out);
-  // Before hours of work: fail now if the figures cannot be drawn.
-  const std::string python = c.figures ? findPython(c.python) : std::string();
   json timing = json::object();
   auto step = [&](const char* name, auto&& fn) {
     const auto t0 = Clock::now();
@@ -121,20 +102,12 @@ double runReproduction(const ReproduceConfig& c) {
   r.curves = stepFile("curves", [&] { return runCurvesAndMaps(c, datasets, r.comparison); });
   r.runtime = stepFile("runtime", [&] { return runRuntimeModels(c, datasets); });
   writeFileAtomically(c.out / "report.md", reproductionReport(c, r));
-  if (c.figures) {
-    step("figures", [&] {
-      std::string cmd = "'" + python + "' '" + std::string(OCCSWEEP_SOURCE_DIR) + "/tools/plot_reproduction.py' '" +
-                        c.out.string() + "'";
-      for (const auto& name : c.steps) cmd += " " + name;
-      if (std::system(cmd.c_str()) != 0) throw std::runtime_error("reproduce: `" + cmd + "` failed");
-      return 0;
-    });
-  }
+  if (c.draw_figures) step("figures", [&] { return c.draw_figures(c.out, c.steps), 0; });
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   timing["total"] = seconds;
   writeJsonAtomically({{"format", "occsweep-reproduce-run"}, {"scale", c.scale}, {"seconds", timing},
                        {"datasets", datasets.size()}, {"nca_samples", c.nca_samples}, {"nca_folds", c.nca_folds},
-                       {"seed", c.seed}, {"figures", c.figures}, {"steps", c.steps},
+                       {"seed", c.seed}, {"figures", bool(c.draw_figures)}, {"steps", c.steps},
                        {"realistic", c.realistic}, {"generator_options", r.generator_options}},
                       c.out / "run.json");
   return seconds;

@@ -47,7 +47,7 @@ Keyframes renderKeyframes(const Scene& scene, const StereoCamera& cam, const Gen
   tbb::parallel_for(std::size_t(0), k.truth.size(), [&](std::size_t i) {
     k.frames[i] = renderFrame(scene, cam, k.truth[i], c.render, base_seed + 0x1000 * (i + 1));
     const int n = ++done;
-    if (n % 8 == 0 || n == int(k.truth.size())) {
+    if (c.progress && (n % 8 == 0 || n == int(k.truth.size()))) {
       std::lock_guard lock(print);
       std::cerr << "  " << scene.name.str() << ": rendered " << n << "/" << k.truth.size() << " keyframes\n";
     }
@@ -149,7 +149,8 @@ DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c,
     checkOutputTarget(dir / pcs.folder, true, datasetOutput());  // a regenerated set replaces only its own folder
     writeDataset(d, dir / pcs.folder);
     pcs.seconds = secondsSince(start);
-    std::cerr << "  " << name.str() << " " << pcs.folder << " (" << s + 1 << "/" << sets.size() << "): " << pcs.points
+    if (c.progress)
+      std::cerr << "  " << name.str() << " " << pcs.folder << " (" << s + 1 << "/" << sets.size() << "): " << pcs.points
               << " points, valid on targets " << pcs.target_valid_fraction << ", off-surface " << pcs.off_surface_fraction << ", naive TPR " << pcs.naive.tpr()
               << " FDR " << pcs.naive.fdr() << ", " << pcs.seconds << " s\n";
     summary.sets.push_back(std::move(pcs));

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "occsweep/sweeps/cluster_tasks.hpp"
+
 namespace occsweep {
 
 /// How a task's output is judged done (cluster_state.hpp). Every command a plan runs writes its output atomically
@@ -24,7 +26,8 @@ enum class OutputKind {
 struct ClusterTask {
   std::uint64_t index = 0;             ///< the array task id
   std::string label;                   ///< what it is, for status ("ds0 knn-opt 2/3")
-  std::vector<std::string> argv;       ///< argv[0] is the occsweep binary
+  std::vector<std::string> argv;       ///< argv[0] is the occsweep binary; the rest taskArgv of a typed task
+                                       ///< (cluster_tasks.hpp), or the generation template filled in
   std::vector<std::string> inputs;
   std::string output;
   OutputKind kind = OutputKind::Exists;
@@ -59,7 +62,7 @@ struct PlanGrid {
   bool grouped = false;
 };
 
-/// What `cluster plan` was asked for. Defaults: the paper's reproduction (docs/cluster.md). Generation templates
+/// What `cluster plan` was asked for; applyPlanDefaults fills what the experiment decides (docs/cluster.md). Generation templates
 /// take {dataset} {index} {seed} {block} {blocks} {block_dir} {pcs} {cpus} {scale} {out}.
 struct PlanConfig {
   std::string experiment = "reproduce";
@@ -78,9 +81,21 @@ struct PlanConfig {
   std::vector<PlanGrid> grids = {{"octomap-opt", 1, false}, {"knn-opt", 4, false}};
   std::uint64_t group_seed = 0;             ///< Eq. 16 permutation seed of grouped grids
   int sweep_threads = 0;                    ///< --threads of each sweep (0: --cpus-per-task)
-  std::vector<std::string> sweep_args;      ///< more `occsweep sweep` arguments, e.g. --s-c 4
+  /// What every sweep shares (resolution, s_c, variant, stats, engine, truth, quiet): `--sweep-args`. Each task
+  /// sets its own dataset, grid, out, selection and threads.
+  SweepConfig sweep;
   SlurmOptions slurm;
 };
+
+/// Which of the settings applyPlanDefaults decides the user gave (`cluster plan` options).
+struct PlanChoices {
+  bool datasets = false, grids = false, sets = false, group_set = false, blocks = false;
+};
+/// The defaults that depend on the experiment, for each setting not given: reproduce plans the paper's 20 data sets
+/// (paperDatasetNames) and adds the grouped reduction grid (reduction:4:grouped) to octomap-opt:1 and knn-opt:4;
+/// unranked plans (ranked false) generate one block; sweep and unranked plans sweep each folder itself ('.') with no
+/// group set.
+void applyPlanDefaults(PlanConfig& c, const PlanChoices& given);
 
 /// "knn-opt:4", "reduction:8:grouped"; std::invalid_argument naming the text otherwise.
 [[nodiscard]] PlanGrid parsePlanGrid(const std::string& text);

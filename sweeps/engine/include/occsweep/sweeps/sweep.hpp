@@ -23,12 +23,13 @@ struct SweepConfig {
   int threads = 0;                ///< 0: all cores
   std::string engine = "replay";  ///< "replay" (record events once, replay each combination) or "direct"
                                   ///< (build every map: liboctomap for OctoMap, the k-NN mapper): the reference
-  bool quiet = false;
-  bool force = false;             ///< replace occsweep's own results (or partial) of other work at `out`             ///< no progress on stderr
+  bool quiet = false;             ///< no progress on stderr
+  bool force = false;             ///< replace occsweep's own results (or partial) of other work at `out`
   TruthMode truth = TruthMode::Full;  ///< which truth voxels count (docs/results-format.md, "Truth")
   /// With full truth: also write the observable-truth results of the same maps here, counted in the same pass
   /// (reproduce reports both truths without building any map twice). Empty: none.
   std::filesystem::path observable_out;
+  friend bool operator==(const SweepConfig&, const SweepConfig&) = default;
 };
 
 /// Runs (or resumes) a sweep and writes its results file atomically. A complete file of the same work is

@@ -19,6 +19,7 @@ struct SweepSelection {
   };
   std::optional<Group> group;
   std::uint64_t shard_index = 0, shard_count = 1;
+  friend bool operator==(const SweepSelection&, const SweepSelection&) = default;
 };
 
 /// One work item: a map of the grid and the thresholds of it that the selection asks for.

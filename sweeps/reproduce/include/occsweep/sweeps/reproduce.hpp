@@ -1,10 +1,11 @@
 // `occsweep reproduce` (issue 6): every experiment of the paper's Section 4 in one command. Each step writes one
-// JSON file under OUT (fits, nca, comparison, curves, runtime); the figures are drawn from those files by
-// tools/plot_reproduction.py and report.md sets each of the paper's findings beside ours. See docs/reproduction.md.
+// JSON file under OUT (fits, nca, comparison, curves, runtime); the figures are drawn from those files (the
+// command runs tools/plot_reproduction.py) and report.md sets each of the paper's findings beside ours. See docs/reproduction.md.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,8 +30,7 @@ struct ReproduceConfig {
   std::string scale = "ci";                  ///< ci | small | paper: the data sets' scale (docs/datasets.md)
   std::filesystem::path out;                 ///< results, figures and report.md
   std::filesystem::path data;                ///< generated data sets; empty: OUT/data. Existing ones are reused
-  std::filesystem::path occsweep_binary;     ///< run as `dataset generate` for missing data sets
-  std::vector<std::string> datasets;         ///< empty: the paper's 20, in allDatasetNames() order
+  std::vector<std::string> datasets;         ///< empty: the paper's 20, paperDatasetNames() (eval/paper_datasets.hpp)
   /// Missing data sets are generated with RealisticData's options, and existing ones must have been (--realistic).
   bool realistic = false;
   std::uint64_t seed = 1;                    ///< Eq. 16 split of the reduction grid, NCA subsample and folds
@@ -48,8 +48,15 @@ struct ReproduceConfig {
   int runtime_datasets = 4;                  ///< Fig. 7: timed data sets (spread over the list), reduction set
   int runtime_repeats = 1;                   ///< each build timed this often, the fastest kept
   int threads = 0;                           ///< sweeps and NCA; 0: all cores (timed builds always use 1)
-  std::string python;                        ///< interpreter for the figures; empty: search (see findPython)
-  bool figures = true;                       ///< false: JSON and report only
+  /// Makes the missing data set NAME at SCALE under the folder OUT (OUT/NAME/ranking.json written last), with
+  /// RealisticData's options when `realistic`. The library runs no program: the command hands in `dataset
+  /// generate`'s own code (tools/occsweep/cmd_dataset.hpp). Empty: a missing data set is an error.
+  std::function<void(const std::string& name, const std::string& scale, const std::filesystem::path& out,
+                     bool realistic)>
+      generate_dataset;
+  /// Draws the figures of `steps` from the step files in OUT, last. Empty: JSON and report.md only (`--no-figures`).
+  /// The command checks that it can draw them before the run starts.
+  std::function<void(const std::filesystem::path& out, const std::vector<std::string>& steps)> draw_figures;
   /// The steps to run, a subset of reproductionSteps() (`--steps`): curves needs comparison. Steps left out write
   /// no JSON, no figure and a "not run" line in report.md.
   std::vector<std::string> steps = reproductionSteps();
@@ -59,9 +66,6 @@ struct ReproduceConfig {
 /// Defaults per scale: ci keeps the whole pipeline under 10 minutes on 2 cores (NCA on 800 samples, 3 folds),
 /// small 1,000 samples and 5 folds, paper all samples, 5 folds and 5 lambdas. Throws std::invalid_argument for another scale.
 [[nodiscard]] ReproduceConfig reproduceDefaults(const std::string& scale);
-
-/// The paper's 20 data-set names, {building,parking} x {plain,voronoi} x {I,O,T,L,S}.
-[[nodiscard]] std::vector<std::string> paperDatasetNames();
 
 /// One data set's point cloud sets from its ranking.json, best first.
 struct RankedDataset {
@@ -74,7 +78,7 @@ struct RankedDataset {
   [[nodiscard]] std::vector<std::size_t> paperRanks() const;
 };
 
-/// Generates the missing data sets (running the occsweep binary) and reads every ranking.json. Every data set of one
+/// Generates the missing data sets (c.generate_dataset) and reads every ranking.json. Every data set of one
 /// reproduction must come from the same generator options (the report states them); with c.realistic they must be
 /// RealisticData's. Throws std::runtime_error naming the ranking.json that differs.
 [[nodiscard]] std::vector<RankedDataset> prepareDatasets(const ReproduceConfig& c);
@@ -104,10 +108,6 @@ struct ReproductionResults {
 /// Checks `steps` against reproductionSteps() (each known, none twice, curves with comparison); throws
 /// std::invalid_argument naming the step and the rule.
 void checkReproductionSteps(const std::vector<std::string>& steps);
-
-/// A Python 3 that imports matplotlib: `configured` if given, else $OCCSWEEP_PYTHON, /usr/bin/python3, python3.
-/// Throws std::runtime_error saying what to install when none does.
-[[nodiscard]] std::string findPython(const std::string& configured);
 
 /// All steps in order; each step's JSON is written to OUT (temporary name, renamed) before the next starts,
 /// sweeps resume from OUT/sweeps. Returns the wall time in seconds.

@@ -51,6 +51,7 @@ struct GenerateConfig {
   RealismPresets presets;
   double max_depth = 20.0;             ///< a ZED reports no depth beyond 20 m
   bool preview = true;                 ///< write preview/ PNGs of keyframe 0 (left image, disparities)
+  bool progress = true;                ///< progress lines on stderr (`reproduce --quiet` turns them off)
 };
 
 /// A filtered point further than this from every true surface is a phantom: a voxel centroid of points on a

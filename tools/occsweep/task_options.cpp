@@ -1,0 +1,82 @@
+// Options of the commands a cluster plan runs (task_options.hpp).
+#include "task_options.hpp"
+
+#include "occsweep/sweeps/sweep_engine.hpp"
+#include "option_checks.hpp"
+#include "selection_options.hpp"
+
+namespace occsweep::cli {
+
+void addSweepOptions(CLI::App& app, SweepOptions& o) {
+  app.add_option("--dataset", o.dataset, "Data-set folder");
+  app.add_option("--grid", o.config.grid, "Grid name (sweeps/grids) or path");
+  app.add_option("--out", o.out, "Results file (JSON); the same sweep's own file or OUT.partial.jsonl resumes");
+  app.add_flag("--force", o.config.force, "Replace occsweep's own results of other work at --out (nothing else)");
+  app.add_option("--shard", o.shard, "I/N: the I-th of N contiguous blocks of the grid's maps (I from 0)");
+  app.add_option("--group", o.group, "G/N: only the G-th Eq. 16 group of the seeded permutation");
+  app.add_option("--seed", o.seed, "Seed of the Eq. 16 permutation (with --group)")->capture_default_str();
+  app.add_option("--resolution", o.config.resolution, "Map resolution, metres")->capture_default_str()->check(numberAbove(0));
+  app.add_option("--s-c", o.config.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
+  app.add_option("--variant", o.variant, "k-NN update variant")->check(CLI::IsMember(kUpdateVariantNames.list()))->capture_default_str();
+  app.add_option("--stats", o.stats, "k-NN mu, sigma source")->check(CLI::IsMember(kStatsModeNames.list()))->capture_default_str();
+  app.add_option("--threads", o.config.threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
+  app.add_option("--engine", o.config.engine, "replay: record events once, replay every combination; direct: build every map (the reference)")
+      ->check(CLI::IsMember(sweepEngineNames()))->capture_default_str();
+  app.add_option("--truth", o.truth, "full: every truth voxel counts; observable: only those a ray from a scan origin "
+                                     "reaches within s_c before any other truth voxel (docs/results-format.md)")
+      ->check(CLI::IsMember(kTruthModeNames.list()))->capture_default_str();
+  app.add_flag("--quiet", o.config.quiet, "No progress on stderr");
+}
+
+SweepConfig sweepConfigOf(const SweepOptions& o) {
+  SweepConfig c = o.config;
+  c.dataset = o.dataset;
+  c.out = o.out;
+  if (!o.shard.empty()) std::tie(c.selection.shard_index, c.selection.shard_count) = parseFraction(o.shard, "--shard");
+  if (!o.group.empty()) {
+    const auto [g, n] = parseFraction(o.group, "--group");
+    c.selection.group = SweepSelection::Group{g, n, o.seed};
+  }
+  c.variant = parseUpdateVariant(o.variant);
+  c.stats = parseStatsMode(o.stats);
+  c.truth = parseTruthMode(o.truth);
+  return c;
+}
+
+SweepConfig sharedSweepSettings(const std::vector<std::string>& args) {
+  CLI::App app{"cluster plan --sweep-args"};
+  SweepOptions o;
+  addSweepOptions(app, o);
+  try {
+    app.parse(std::vector<std::string>(args.rbegin(), args.rend()));  // CLI11 takes them last first
+  } catch (const CLI::ParseError& e) {
+    throw std::invalid_argument("--sweep-args: " + std::string(e.what()));
+  }
+  for (const char* own : {"--dataset", "--grid", "--out", "--shard", "--group", "--seed", "--threads", "--force"})
+    if (app.get_option(own)->count())
+      throw std::invalid_argument(std::string("--sweep-args: ") + own + " is set by the plan for each sweep");
+  return sweepConfigOf(o);
+}
+
+void addMergeOptions(CLI::App& app, MergeTask& task) {
+  app.add_option("files", task.files, "Results files of one sweep's shards")->required();
+  app.add_option("--out", task.out, "Merged results file")->required();
+  app.add_flag("--force", task.force, "Replace occsweep's own previous results file at --out (nothing else)");
+}
+
+void addCompareOptions(CLI::App& app, CompareTask& task) {
+  app.add_option("files", task.files, "Complete results files of whole grids (any mix of methods and data sets; "
+                                      "each passes `results check`)")->required();
+  app.add_option("--json", task.json, "Also write the table as JSON");
+  app.add_flag("--force", task.force, "Replace occsweep's own previous comparison at --json (nothing else)");
+  app.add_flag("--allow-mixed", task.allow_mixed, "Compare anyway when files of one data set differ in resolution, "
+                                                  "s_c, k-NN variant or statistics mode, or are shards (each is listed "
+                                                  "on stderr)");
+}
+
+void addSelectOptions(CLI::App& app, SelectTask& task) {
+  app.add_option("--out", task.out, "Folder of links to write")->required();
+  app.add_option("rankings", task.rankings, "ranking.json of every generation block of the data set")->required();
+}
+
+}  // namespace occsweep::cli

@@ -1,0 +1,38 @@
+// The options of the commands a cluster plan runs (sweep, merge, compare, cluster select), registered in one place
+// each: the commands use them, and so does tests/test_cluster_argv.cpp, which checks that parsing the argv that
+// taskArgv (occsweep/sweeps/cluster_tasks.hpp) renders gives back the task.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "occsweep/sweeps/cluster_tasks.hpp"
+
+namespace occsweep::cli {
+
+/// `sweep`'s options as parsed; sweepConfigOf turns them into the SweepConfig.
+struct SweepOptions {
+  SweepConfig config;
+  std::string dataset, out, shard, group, variant = toText(UpdateVariant::Default), stats = toText(StatsMode::Batch),
+                                           truth = truthModeName(TruthMode::Full);
+  std::uint64_t seed = 0;
+};
+
+/// Every option of `sweep` that is part of SweepConfig (the limit flags are the command's own). None is required
+/// here: `sweep` requires --dataset, --grid and --out, `cluster plan --sweep-args` forbids them.
+void addSweepOptions(CLI::App& app, SweepOptions& o);
+/// The sweep the parsed options describe: the inverse of taskArgv(SweepConfig). std::invalid_argument for a bad
+/// --shard or --group.
+[[nodiscard]] SweepConfig sweepConfigOf(const SweepOptions& o);
+/// `cluster plan --sweep-args`: the settings every sweep of a plan shares, parsed as `sweep` parses them. The
+/// options the plan sets itself (--dataset, --grid, --out, --shard, --group, --seed, --threads, --force) are refused.
+[[nodiscard]] SweepConfig sharedSweepSettings(const std::vector<std::string>& args);
+
+void addMergeOptions(CLI::App& app, MergeTask& task);
+void addCompareOptions(CLI::App& app, CompareTask& task);
+void addSelectOptions(CLI::App& app, SelectTask& task);
+
+}  // namespace occsweep::cli
