@@ -9,6 +9,7 @@
 #include "install_paths.hpp"
 #include "option_checks.hpp"
 #include "occsweep/sweeps/cluster_state.hpp"
+#include "occsweep/eval/paper_datasets.hpp"
 #include "occsweep/sweeps/reproduce.hpp"
 
 namespace occsweep::cli {
