@@ -184,8 +184,10 @@ inline void ScanEventRecorder::markHits(const Scan& scan, const std::vector<std:
   }
 }
 
-// The voxels each ray crosses: to an in-range point, or cut at s_c.
-inline void ScanEventRecorder::markRays(const Scan& scan, double s_c, const KeyWindow& window, std::uint16_t stamp) {
+// The voxels each ray crosses: to an in-range point, or cut at s_c. The hot loop, kept a function of its own:
+// inlined into a caller's loop (recordSet's parallel_for body, the k-NN mapper's), g++ 12 compiles the ray
+// loop with 9% (recordSet) and 4% (k-NN build) more instructions (callgrind, built-in scene).
+[[gnu::noinline]] inline void ScanEventRecorder::markRays(const Scan& scan, double s_c, const KeyWindow& window, std::uint16_t stamp) {
   for (std::size_t i = 0; i < scan.points.size(); ++i) {
     const auto& p = scan.points[i];
     const std::uint8_t flag = is_inner_[i] ? kCrossedIn : kCrossedOut;
