@@ -92,119 +92,149 @@ std::string paperScaleSet() {
 
 PointCloudSet firstScans(const PointCloudSet& set, std::size_t n) { return {set.begin(), set.begin() + long(n)}; }
 
-}  // namespace
+constexpr double kResolution = 0.1, kSC = 4.0;
 
-int main(int argc, char** argv) {
+struct BenchOptions {
   BuiltinSceneConfig config;
-  config.scans = 120;
-  config.width = 200;
-  config.height = 160;
-  std::string dataset_dir;
+  std::string dataset_dir;  ///< empty: the built-in scene
   bool builtin = false;
+};
+
+BenchOptions parseArguments(int argc, char** argv) {
+  BenchOptions o;
+  o.config.scans = 120;
+  o.config.width = 200;
+  o.config.height = 160;
   for (int i = 1; i < argc; ++i)
-    if (!std::strcmp(argv[i], "--builtin")) builtin = true;
+    if (!std::strcmp(argv[i], "--builtin")) o.builtin = true;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--builtin")) --i;  // a flag: the pairs start one later
-    else if (!std::strcmp(argv[i], "--dataset")) dataset_dir = argv[i + 1];
-    if (!std::strcmp(argv[i], "--scans")) config.scans = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--width")) config.width = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--height")) config.height = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--dataset")) o.dataset_dir = argv[i + 1];
+    if (!std::strcmp(argv[i], "--scans")) o.config.scans = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--width")) o.config.width = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--height")) o.config.height = std::atoi(argv[i + 1]);
   }
-  std::printf("occsweep bench_sweep: build type %s, g++ %d.%d, liboctomap %s, oneTBB %d.%d, %u hardware threads\n",
-              OCCSWEEP_BUILD_TYPE, __GNUC__, __GNUC_MINOR__, OCCSWEEP_OCTOMAP_VERSION, TBB_VERSION_MAJOR, TBB_VERSION_MINOR,
-              std::thread::hardware_concurrency());
-  if (!builtin && dataset_dir.empty()) dataset_dir = paperScaleSet();
-  const Dataset data = dataset_dir.empty() ? makeBuiltinScene(config) : readDataset(dataset_dir);
+  return o;
+}
+
+// The set: built in, given, or (neither) the paper-scale set.
+Dataset loadSet(BenchOptions& o) {
+  if (!o.builtin && o.dataset_dir.empty()) o.dataset_dir = paperScaleSet();
+  const Dataset data = o.dataset_dir.empty() ? makeBuiltinScene(o.config) : readDataset(o.dataset_dir);
   const std::size_t n = pointCount(data.scans);
-  if (dataset_dir.empty())
+  if (o.dataset_dir.empty())
     std::printf("set: built-in scene, %zu scans of %dx%d rays, %zu points (%.1f MB as float32)\n", data.scans.size(),
-                config.width, config.height, n, double(n) * 12 / 1e6);
+                o.config.width, o.config.height, n, double(n) * 12 / 1e6);
   else
-    std::printf("set: %s, %zu scans, %zu points (%.1f MB as float32)\n", dataset_dir.c_str(), data.scans.size(), n,
+    std::printf("set: %s, %zu scans, %zu points (%.1f MB as float32)\n", o.dataset_dir.c_str(), data.scans.size(), n,
                 double(n) * 12 / 1e6);
-  const auto dir = std::filesystem::temp_directory_path() / ("occsweep-bench-" + std::to_string(::getpid()));
-  writeDataset(data, dir / "set");
+  return data;
+}
 
-  const double resolution = 0.1, s_c = 4.0;
-  OctoMapParams om;
-  KnnParams knn;
-  knn.k = 1;  // knn-opt's k
-  const double t_octomap = seconds([&] { (void)buildOctoMap(data.scans, om); });
-  const double t_knn = seconds([&] { (void)KnnInverseSensorModel(knn).buildMap(data.scans); });
+// The whole comparison as `occsweep sweep` runs it (reading the set, recording, replay, writing results), once
+// on one thread for a like-for-like ratio and once on all cores.
+struct SweepSeconds {
+  double knn_1, om_1, knn_all, om_all;
+};
 
-  // The whole comparison as `occsweep sweep` runs it (reading the set, recording, replay, writing results), once
-  // on one thread for a like-for-like ratio and once on all cores.
-  auto sweep = [&](const char* grid, int threads) {
-    SweepConfig c;
-    c.dataset = dir / "set";
-    c.grid = grid;
-    c.out = dir / (std::string(grid) + std::to_string(threads) + ".json");
-    c.threads = threads;
-    c.quiet = true;
-    std::filesystem::remove(c.out);
-    return seconds([&] { (void)runSweep(c); });
-  };
-  const double sweep_knn_1 = sweep("knn-opt", 1), sweep_om_1 = sweep("octomap-opt", 1);
-  const double sweep_knn_all = sweep("knn-opt", 0), sweep_om_all = sweep("octomap-opt", 0);
+double sweepSeconds(const std::filesystem::path& dir, const char* grid, int threads) {
+  SweepConfig c;
+  c.dataset = dir / "set";
+  c.grid = grid;
+  c.out = dir / (std::string(grid) + std::to_string(threads) + ".json");
+  c.threads = threads;
+  c.quiet = true;
+  std::filesystem::remove(c.out);
+  return seconds([&] { (void)runSweep(c); });
+}
 
-  // Its parts, on all cores.
-  const GroundTruth truth = makeGroundTruth(data.truth, data.region, resolution);
+SweepSeconds timeSweeps(const std::filesystem::path& dir) {
+  SweepSeconds s{};
+  s.knn_1 = sweepSeconds(dir, "knn-opt", 1), s.om_1 = sweepSeconds(dir, "octomap-opt", 1);
+  s.knn_all = sweepSeconds(dir, "knn-opt", 0), s.om_all = sweepSeconds(dir, "octomap-opt", 0);
+  return s;
+}
+
+struct ReplaySeconds {
+  double seconds;
+  std::size_t combinations;
+};
+
+// Every map of a grid replayed as the sweep does: k-NN maps grouped by (p_u, p_l), kReplayLanes at a time.
+ReplaySeconds timeReplay(const RecordedSet& recorded, const std::vector<double>& cdf, const char* name) {
+  const GridEnumeration e = enumerateGrid(loadGrid(resolveGridPath(name)));
+  std::size_t combos = 0;
+  const double t = seconds([&] {
+    std::vector<float> sums;
+    std::vector<ReplayRule> rules;
+    std::vector<std::vector<double>> p_t;
+    auto flush = [&] {
+      if (!rules.empty()) (void)replayCounts(recorded, rules, p_t);
+      rules.clear();
+      p_t.clear();
+    };
+    for (std::size_t m = 0; m < e.maps.size(); ++m) {
+      const MapParams& p = e.maps[m];
+      const bool knn_map = p.k > 0;
+      if (knn_map && (m == 0 || p.p_u != e.maps[m - 1].p_u || p.p_l != e.maps[m - 1].p_l)) {
+        flush();
+        sums = knnHitSums(recorded, cdf, toDouble(p.p_u), toDouble(p.p_l));
+      }
+      if (rules.size() == kReplayLanes) flush();
+      rules.push_back(knn_map ? knnRule(p, sums, UpdateVariant::Default) : octomapRule(p));
+      p_t.emplace_back();
+      for (Fixed t : e.thresholds[m]) p_t.back().push_back(toDouble(t)), ++combos;
+    }
+    flush();
+  });
+  return {t, combos};
+}
+
+// The sweep's parts, on all cores.
+struct PartSeconds {
+  double record, distances;
+  unsigned long long scan_voxel_updates;
+  ReplaySeconds replay_knn, replay_om;
+};
+
+PartSeconds timeParts(const Dataset& data, const GroundTruth& truth) {
+  PartSeconds s{};
   RecordedSet recorded;
   KnnSetDistances distances;
   std::vector<double> cdf;
-  const double t_record = seconds([&] { recorded = recordSet(data.scans, truth, resolution, s_c); });
-  const double t_distances = seconds([&] {
-    distances = parallelKnnDistances(data.scans, 1, s_c);
+  s.record = seconds([&] { recorded = recordSet(data.scans, truth, kResolution, kSC); });
+  s.distances = seconds([&] {
+    distances = parallelKnnDistances(data.scans, 1, kSC);
     cdf = hitCdf(recorded, distances, StatsMode::Batch);
   });
-  auto replayGrid = [&](const char* name) {
-    const GridEnumeration e = enumerateGrid(loadGrid(resolveGridPath(name)));
-    std::size_t combos = 0;
-    const double t = seconds([&] {
-      std::vector<float> sums;
-      std::vector<ReplayRule> rules;
-      std::vector<std::vector<double>> p_t;
-      auto flush = [&] {
-        if (!rules.empty()) (void)replayCounts(recorded, rules, p_t);
-        rules.clear();
-        p_t.clear();
-      };
-      for (std::size_t m = 0; m < e.maps.size(); ++m) {
-        const MapParams& p = e.maps[m];
-        const bool knn_map = p.k > 0;
-        if (knn_map && (m == 0 || p.p_u != e.maps[m - 1].p_u || p.p_l != e.maps[m - 1].p_l)) {
-          flush();
-          sums = knnHitSums(recorded, cdf, toDouble(p.p_u), toDouble(p.p_l));
-        }
-        if (rules.size() == kReplayLanes) flush();
-        rules.push_back(knn_map ? knnRule(p, sums, UpdateVariant::Default) : octomapRule(p));
-        p_t.emplace_back();
-        for (Fixed t : e.thresholds[m]) p_t.back().push_back(toDouble(t)), ++combos;
-      }
-      flush();
-    });
-    return std::pair{t, combos};
-  };
-  const auto [t_replay_knn, combos_knn] = replayGrid("knn-opt");
-  const auto [t_replay_om, combos_om] = replayGrid("octomap-opt");
+  s.scan_voxel_updates = recorded.scan_voxel_updates;
+  s.replay_knn = timeReplay(recorded, cdf, "knn-opt");
+  s.replay_om = timeReplay(recorded, cdf, "octomap-opt");
+  return s;
+}
 
+void printSteps(double t_octomap, double t_knn, const SweepSeconds& sweep, const PartSeconds& parts) {
   std::printf("\n%-52s %10s\n", "step", "seconds");
   std::printf("%-52s %10.3f\n", "liboctomap build (insertPointCloud per scan, 1 thread)", t_octomap);
   std::printf("%-52s %10.3f\n", "k-NN mapper direct build (k = 1, incl. k-NN, 1 thread)", t_knn);
-  std::printf("%-52s %10.3f / %.3f\n", "occsweep sweep knn-opt (1 thread / all cores)", sweep_knn_1, sweep_knn_all);
-  std::printf("%-52s %10.3f / %.3f\n", "occsweep sweep octomap-opt (1 thread / all cores)", sweep_om_1, sweep_om_all);
+  std::printf("%-52s %10.3f / %.3f\n", "occsweep sweep knn-opt (1 thread / all cores)", sweep.knn_1, sweep.knn_all);
+  std::printf("%-52s %10.3f / %.3f\n", "occsweep sweep octomap-opt (1 thread / all cores)", sweep.om_1, sweep.om_all);
   std::printf("  parts, all cores: recording %.3f s (%llu region voxel updates), k-NN distances and F %.3f s,\n",
-              t_record, (unsigned long long)recorded.scan_voxel_updates, t_distances);
-  std::printf("  replay knn-opt %.3f s (%zu combinations), replay octomap-opt %.3f s (%zu combinations)\n", t_replay_knn,
-              combos_knn, t_replay_om, combos_om);
+              parts.record, parts.scan_voxel_updates, parts.distances);
+  std::printf("  replay knn-opt %.3f s (%zu combinations), replay octomap-opt %.3f s (%zu combinations)\n",
+              parts.replay_knn.seconds, parts.replay_knn.combinations, parts.replay_om.seconds,
+              parts.replay_om.combinations);
   std::printf("\n(a) knn-opt + octomap-opt sweeps (recording included) / one liboctomap build: %.3f on 1 thread, "
               "%.3f on all cores   (goal <= 1.0)\n",
-              (sweep_knn_1 + sweep_om_1) / t_octomap, (sweep_knn_all + sweep_om_all) / t_octomap);
+              (sweep.knn_1 + sweep.om_1) / t_octomap, (sweep.knn_all + sweep.om_all) / t_octomap);
   std::printf("(b) k-NN direct build / one liboctomap build:                 %.3f   (goal <= 0.7)\n", t_knn / t_octomap);
   std::printf("(c) replay throughput: %.0f combinations/s (all cores)\n",
-              double(combos_knn + combos_om) / (t_replay_knn + t_replay_om));
+              double(parts.replay_knn.combinations + parts.replay_om.combinations) /
+                  (parts.replay_knn.seconds + parts.replay_om.seconds));
+}
 
-  // Growth with points (and k): Eq. 17 for liboctomap and for the whole sweep, Eq. 18 for the k-NN build.
+// Growth with points (and k): Eq. 17 for liboctomap and for the whole sweep, Eq. 18 for the k-NN build.
+void printGrowthFits(const Dataset& data, const GroundTruth& truth, const OctoMapParams& om, const KnnParams& knn) {
   std::vector<RuntimeSample> s_om, s_knn, s_sweep;
   for (std::size_t scans : {data.scans.size() / 4, data.scans.size() / 2, 3 * data.scans.size() / 4, data.scans.size()}) {
     const PointCloudSet part = firstScans(data.scans, scans);
@@ -216,16 +246,18 @@ int main(int argc, char** argv) {
       s_knn.push_back({np, double(k), seconds([&] { (void)KnnInverseSensorModel(p).buildMap(part); })});
     }
     s_sweep.push_back({np, 0, seconds([&] {
-                         const RecordedSet r = recordSet(part, truth, resolution, s_c);
-                         (void)hitCdf(r, parallelKnnDistances(part, 1, s_c), StatsMode::Batch);
+                         const RecordedSet r = recordSet(part, truth, kResolution, kSC);
+                         (void)hitCdf(r, parallelKnnDistances(part, 1, kSC), StatsMode::Batch);
                        })});
   }
   const RuntimeFit f_om = fitEq17(s_om), f_knn = fitEq18(s_knn), f_sweep = fitEq17(s_sweep);
   std::printf("\nEq. 17 liboctomap:     t = %.4e N + %.4e          R^2 = %.4f\n", f_om.a, f_om.b, f_om.r_squared);
   std::printf("Eq. 18 k-NN direct:    t = (%.4e k + %.4e) N + %.4e   R^2 = %.4f\n", f_knn.a, f_knn.b, f_knn.c, f_knn.r_squared);
   std::printf("Eq. 17 recording+k-NN:  t = %.4e N + %.4e          R^2 = %.4f\n", f_sweep.a, f_sweep.b, f_sweep.r_squared);
+}
 
-  const double points_bytes = double(n) * 12;
+void printPeakMemory(const std::filesystem::path& dir, std::size_t points) {
+  const double points_bytes = double(points) * 12;
   const double peak_knn = sweepPeakBytes((dir / "set").string(), "knn-opt", (dir / "knn.json").string());
   const double peak_om = sweepPeakBytes((dir / "set").string(), "octomap-opt", (dir / "om.json").string());
   std::printf("\npeak memory of `occsweep sweep` (whole process): knn-opt %.1f MB, octomap-opt %.1f MB\n", peak_knn / 1e6,
@@ -237,6 +269,29 @@ int main(int argc, char** argv) {
               peak_knn / points_bytes, peak_om / points_bytes);
   std::printf("the binary alone (`occsweep grid count`): %.1f MB; peak minus it / points: knn-opt %.2f, octomap-opt "
               "%.2f\n", binary / 1e6, (peak_knn - binary) / points_bytes, (peak_om - binary) / points_bytes);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  BenchOptions options = parseArguments(argc, argv);
+  std::printf("occsweep bench_sweep: build type %s, g++ %d.%d, liboctomap %s, oneTBB %d.%d, %u hardware threads\n",
+              OCCSWEEP_BUILD_TYPE, __GNUC__, __GNUC_MINOR__, OCCSWEEP_OCTOMAP_VERSION, TBB_VERSION_MAJOR, TBB_VERSION_MINOR,
+              std::thread::hardware_concurrency());
+  const Dataset data = loadSet(options);
+  const auto dir = std::filesystem::temp_directory_path() / ("occsweep-bench-" + std::to_string(::getpid()));
+  writeDataset(data, dir / "set");
+
+  OctoMapParams om;
+  KnnParams knn;
+  knn.k = 1;  // knn-opt's k
+  const double t_octomap = seconds([&] { (void)buildOctoMap(data.scans, om); });
+  const double t_knn = seconds([&] { (void)KnnInverseSensorModel(knn).buildMap(data.scans); });
+  const SweepSeconds sweep = timeSweeps(dir);
+  const GroundTruth truth = makeGroundTruth(data.truth, data.region, kResolution);
+  printSteps(t_octomap, t_knn, sweep, timeParts(data, truth));
+  printGrowthFits(data, truth, om, knn);
+  printPeakMemory(dir, pointCount(data.scans));
   std::filesystem::remove_all(dir);
   return 0;
 }

@@ -45,63 +45,91 @@ std::vector<ResultsFile> readChecked(const std::vector<std::string>& files) {
   return in;
 }
 
+// Files of one data set that differ in their settings: refused, or with --allow-mixed each listed on stderr.
+std::vector<std::string> checkMixed(const std::vector<ResultsFile>& in, const CompareTask& o) {
+  const auto mixed = mixedSettings(in, o.files);
+  if (!mixed.empty() && !o.allow_mixed)
+    throw std::runtime_error("cannot compare: " + mixed.front() +
+                             (mixed.size() > 1 ? " (and " + std::to_string(mixed.size() - 1) + " more)" : "") +
+                             "; pass --allow-mixed to compare anyway");
+  for (const auto& m : mixed) std::cerr << "occsweep compare: warning (--allow-mixed): " << m << '\n';
+  return mixed;
+}
+
+void printHeader() {
+  std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s\n", "data set", "pcs", "OctoMap", "k-NN", "improve%",
+              "OctoMap best", "k-NN best", "OctoMap file", "k-NN file");
+}
+
+void printRow(const ComparisonRow& r, const std::vector<std::string>& files) {
+  auto auc = [](const std::optional<BestMap>& b) { return b ? b->auc : std::nan(""); };
+  auto file = [&](const std::optional<BestMap>& b) { return b ? files[b->file] : std::string("-"); };
+  std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s\n", r.dataset.c_str(), r.point_cloud_set.c_str(),
+              cell(auc(r.octomap), "%.4f").c_str(), cell(auc(r.knn), "%.4f").c_str(),
+              cell(r.improvementPercent(), "%.2f").c_str(),
+              r.octomap ? paramsText(r.octomap->params, false).c_str() : "-",
+              r.knn ? paramsText(r.knn->params, true).c_str() : "-", file(r.octomap).c_str(), file(r.knn).c_str());
+}
+
+// Why a row lacks a number: in the row's JSON, and (with its data set) in `notes` for the lines after the table.
+nlohmann::json rowNotes(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
+                        std::vector<std::string>& notes) {
+  nlohmann::json row_notes = nlohmann::json::array();
+  for (const bool knn : {false, true})
+    if (const std::string why = missingReason(r, knn, in, files); !why.empty()) {
+      row_notes.push_back(why);
+      notes.push_back(r.dataset + ": " + why);
+    }
+  if (r.octomap && r.knn && !std::isfinite(r.improvementPercent())) {
+    row_notes.push_back("no improvement: the OctoMap AUC is 0");
+    notes.push_back(r.dataset + ": no improvement in percent: the OctoMap AUC is 0");
+  }
+  return row_notes;
+}
+
+nlohmann::json rowJson(const ComparisonRow& r, const std::vector<std::string>& files, nlohmann::json notes) {
+  const double imp = r.improvementPercent();
+  return {{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
+          {"octomap", bestJson(r.octomap, false, files)}, {"knn", bestJson(r.knn, true, files)},
+          {"improvement_percent", std::isfinite(imp) ? nlohmann::json(imp) : nlohmann::json(nullptr)},
+          {"notes", std::move(notes)}};
+}
+
+void printTruth(TruthMode truth) {
+  std::cout << "truth: " << truthModeName(truth)
+            << (truth == TruthMode::Full ? " (every truth voxel of the region counts)"
+                                         : " (only truth voxels observable from the scan origins count)")
+            << '\n';
+}
+
+int runCompare(const CompareTask& o) {
+  if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("comparison", "occsweep-comparison"));
+  const std::vector<ResultsFile> in = readChecked(o.files);
+  if (const std::string why = mixedTruths(in, o.files); !why.empty()) throw std::runtime_error("cannot compare: " + why);
+  const TruthMode truth = in.front().header.truth;
+  const auto mixed = checkMixed(in, o);
+  const auto rows = compareBest(in);
+  printHeader();
+  nlohmann::json j = nlohmann::json::array();
+  std::vector<std::string> notes;
+  for (const auto& r : rows) {
+    printRow(r, o.files);
+    j.push_back(rowJson(r, o.files, rowNotes(r, in, o.files, notes)));
+  }
+  for (const auto& n : notes) std::cout << "note: " << n << '\n';
+  printTruth(truth);
+  if (!o.json.empty())
+    writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", o.files}, {"allow_mixed", o.allow_mixed},
+                         {"mixed", mixed}, {"truth", truthModeName(truth)}, {"rows", j}},
+                        o.json);
+  return 0;
+}
+
 const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data set, and the improvement in percent",
                                [](CLI::App& app) {
   auto task = std::make_shared<CompareTask>();
   addCompareOptions(app, *task);  // task_options.cpp: also what `cluster plan` tasks are parsed with
-  return [task] {
-    const auto& files = task->files;
-    const auto& json_out = task->json;
-    const bool force = task->force, allow_mixed = task->allow_mixed;
-    if (!json_out.empty()) checkOutputTarget(json_out, force, jsonOutput("comparison", "occsweep-comparison"));
-    const std::vector<ResultsFile> in = readChecked(files);
-    if (const std::string why = mixedTruths(in, files); !why.empty()) throw std::runtime_error("cannot compare: " + why);
-    const TruthMode truth = in.front().header.truth;
-    const auto mixed = mixedSettings(in, files);
-    if (!mixed.empty() && !allow_mixed)
-      throw std::runtime_error("cannot compare: " + mixed.front() +
-                               (mixed.size() > 1 ? " (and " + std::to_string(mixed.size() - 1) + " more)" : "") +
-                               "; pass --allow-mixed to compare anyway");
-    for (const auto& m : mixed) std::cerr << "occsweep compare: warning (--allow-mixed): " << m << '\n';
-    const auto rows = compareBest(in);
-    std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s\n", "data set", "pcs", "OctoMap", "k-NN", "improve%",
-                "OctoMap best", "k-NN best", "OctoMap file", "k-NN file");
-    nlohmann::json j = nlohmann::json::array();
-    std::vector<std::string> notes;
-    for (const auto& r : rows) {
-      auto auc = [](const std::optional<BestMap>& b) { return b ? b->auc : std::nan(""); };
-      auto file = [&](const std::optional<BestMap>& b) { return b ? files[b->file] : std::string("-"); };
-      const double imp = r.improvementPercent();
-      std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s\n", r.dataset.c_str(), r.point_cloud_set.c_str(),
-                  cell(auc(r.octomap), "%.4f").c_str(), cell(auc(r.knn), "%.4f").c_str(), cell(imp, "%.2f").c_str(),
-                  r.octomap ? paramsText(r.octomap->params, false).c_str() : "-",
-                  r.knn ? paramsText(r.knn->params, true).c_str() : "-", file(r.octomap).c_str(), file(r.knn).c_str());
-      nlohmann::json row_notes = nlohmann::json::array();
-      for (const bool knn : {false, true})
-        if (const std::string why = missingReason(r, knn, in, files); !why.empty()) {
-          row_notes.push_back(why);
-          notes.push_back(r.dataset + ": " + why);
-        }
-      if (r.octomap && r.knn && !std::isfinite(imp)) {
-        row_notes.push_back("no improvement: the OctoMap AUC is 0");
-        notes.push_back(r.dataset + ": no improvement in percent: the OctoMap AUC is 0");
-      }
-      j.push_back({{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
-                   {"octomap", bestJson(r.octomap, false, files)}, {"knn", bestJson(r.knn, true, files)},
-                   {"improvement_percent", std::isfinite(imp) ? nlohmann::json(imp) : nlohmann::json(nullptr)},
-                   {"notes", row_notes}});
-    }
-    for (const auto& n : notes) std::cout << "note: " << n << '\n';
-    std::cout << "truth: " << truthModeName(truth)
-              << (truth == TruthMode::Full ? " (every truth voxel of the region counts)"
-                                           : " (only truth voxels observable from the scan origins count)")
-              << '\n';
-    if (!json_out.empty())
-      writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", files}, {"allow_mixed", allow_mixed},
-                           {"mixed", mixed}, {"truth", truthModeName(truth)}, {"rows", j}},
-                          json_out);
-    return 0;
-  };
+  return [task] { return runCompare(*task); };
 }};
 
 }  // namespace

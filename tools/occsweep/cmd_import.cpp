@@ -1,4 +1,5 @@
 // occsweep import depth|graph|cloud|truth FILES... --out DIR: real recordings into the data-set format (issue 8).
+#include <array>
 #include <cstdint>
 #include <iostream>
 #include <sstream>
@@ -86,99 +87,150 @@ void addPoseOptions(CLI::App* sub, ImportOptions& o) {
       ->check(CLI::IsMember({"quaternion", "matrix", "tum", "kitti"}))->capture_default_str();
 }
 
+/// The four kinds of input, each its own subcommand.
+struct ImportCommands {
+  CLI::App *depth, *graph, *cloud, *truth;
+};
+
+/// Options every import has; scan imports name the data set from --name, truth keeps the data set's name.
+void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
+  for (CLI::App* sub : {subs.depth, subs.graph, subs.cloud, subs.truth}) {
+    sub->add_option("files", o.files, "Input files, in scan order")->required();
+    sub->add_option("--out", o.out, "Output data-set folder (written atomically; a new one, or occsweep's own with --force)")->required();
+    sub->add_flag("--force", o.force, "Replace occsweep's own previous data set at --out (nothing else)");
+    if (sub != subs.truth) sub->add_option("--name", o.name, "Data-set name (default: the output folder's name)");
+  }
+  subs.truth->add_option("--name", o.name, "Data-set name (default: the name of --dataset, kept)");
+  addLimitOptions(*subs.depth, {Limit::ImagePixels, Limit::Points});
+  for (CLI::App* sub : {subs.graph, subs.cloud, subs.truth}) addLimitOptions(*sub, {Limit::Points});
+  for (CLI::App* sub : {subs.depth, subs.graph, subs.cloud}) {
+    sub->add_flag("--skip-empty", o.skip_empty, "Drop scans without a valid point instead of refusing them");
+    sub->add_option("--shift", o.shift, "X Y Z metres added to every point and origin after the poses (far-away, "
+                                        "e.g. UTM, clouds into OctoMap's key range); recorded as source.shift")
+        ->expected(3);
+  }
+}
+
+void addDepthOptions(CLI::App& depth, ImportOptions& o) {
+  DepthImportConfig& c = o.depth;
+  depth.add_option("--poses", o.poses, "Pose file, camera-to-world, one pose per image")->required();
+  addPoseOptions(&depth, o);
+  depth.add_option("--depth-scale", c.depth_scale, "Raw units per metre (1000 = mm; TUM/ICL-NUIM 5000)")->capture_default_str();
+  depth.add_option("--fx", c.fx, "Focal length x, pixels")->required();
+  depth.add_option("--fy", c.fy, "Focal length y, pixels (may be negative)")->required();
+  depth.add_option("--cx", c.cx, "Principal point x, pixels")->required();
+  depth.add_option("--cy", c.cy, "Principal point y, pixels")->required();
+  depth.add_option("--max-depth", c.max_depth, "Drop depths >= this, metres (0 = keep all)")->capture_default_str();
+  depth.add_option("--stride", c.stride, "Use every n-th pixel in u and v")->capture_default_str();
+}
+
+void addCloudOptions(CLI::App& cloud, ImportOptions& o) {
+  cloud.add_option("--poses", o.poses, "Pose file, sensor-to-world, one pose per cloud (default: clouds in world frame)");
+  addPoseOptions(&cloud, o);
+  cloud.add_option("--origin", o.origin, "Sensor origin of every cloud when there is no pose file")->expected(3);
+}
+
+void addTruthOptions(CLI::App& truth, ImportOptions& o) {
+  truth.add_option("--dataset", o.dataset, "Data set to add the truth to")->required();
+  truth.add_option("--region", o.region, "Evaluation region: minx miny minz maxx maxy maxz (default: the truth's bounding box grown by 0.5 m)")->expected(6);
+}
+
+ImportCommands addImportOptions(CLI::App& app, ImportOptions& o) {
+  const ImportCommands subs{
+      app.add_subcommand("depth", "Depth images (16-bit PNG or PGM) with one pose each"),
+      app.add_subcommand("graph", "An OctoMap scan graph (.graph)"),
+      app.add_subcommand("cloud", "Point clouds (PLY, PCD, x y z text), one scan each"),
+      app.add_subcommand("truth", "Add ground truth (PLY mesh or cloud, PCD, JSON boxes) to a data set")};
+  addCommonOptions(subs, o);
+  addDepthOptions(*subs.depth, o);
+  addCloudOptions(*subs.cloud, o);
+  addTruthOptions(*subs.truth, o);
+  app.require_subcommand(1);
+  return subs;
+}
+
+int runImportDepth(const ImportOptions& o) {
+  DepthImportConfig c = o.depth;
+  c.pose_format = poseFormatNamed(o.pose_format);
+  c.skip_empty = o.skip_empty;
+  Dataset d = importDepthSequence(paths(o.files), o.poses, c);
+  shiftOrWarn(d, o);
+  return finish(std::move(d), o, kPointsBox);
+}
+
+int runImportGraph(const ImportOptions& o) {
+  if (o.files.size() != 1) throw std::invalid_argument("give exactly one .graph file");
+  Dataset d = importScanGraph(o.files[0], o.skip_empty);
+  shiftOrWarn(d, o);
+  return finish(std::move(d), o, kPointsBox);
+}
+
+int runImportCloud(const ImportOptions& o) {
+  CloudImportConfig cc;
+  if (!o.poses.empty()) cc.pose_file = fs::path(o.poses);
+  cc.pose_format = poseFormatNamed(o.pose_format);
+  cc.origin = {o.origin[0], o.origin[1], o.origin[2]};
+  cc.skip_empty = o.skip_empty;
+  Dataset d = importClouds(paths(o.files), cc);
+  shiftOrWarn(d, o);
+  return finish(std::move(d), o, kPointsBox);
+}
+
+/// Every truth file, in the recording's frame like the scans before the shift, replaces the data set's truth.
+TruthSources readTruthFiles(const std::vector<std::string>& files, const std::array<double, 3>& shift) {
+  TruthSources truth;
+  for (const auto& f : files) {
+    TruthSources t = readTruth(f);
+    shiftTruth(t, shift, f);
+    truth.boxes.insert(truth.boxes.end(), t.boxes.begin(), t.boxes.end());
+    truth.mesh.insert(truth.mesh.end(), t.mesh.begin(), t.mesh.end());
+    truth.points.insert(truth.points.end(), t.points.begin(), t.points.end());
+  }
+  return truth;
+}
+
+/// --region, in the recording's frame too; min <= max on every axis.
+AxisBox regionGiven(const std::vector<double>& region, const std::array<double, 3>& s) {
+  const AxisBox box{{region[0] + s[0], region[1] + s[1], region[2] + s[2]},
+                    {region[3] + s[0], region[4] + s[1], region[5] + s[2]}};
+  for (int a = 0; a < 3; ++a)
+    if (!(box.min[std::size_t(a)] <= box.max[std::size_t(a)]))
+      throw std::invalid_argument("--region: min must be <= max on every axis");
+  return box;
+}
+
+int runImportTruth(const ImportOptions& o) {
+  Dataset d = readDataset(o.dataset);
+  d.truth = readTruthFiles(o.files, recordedShift(d));
+  std::ostringstream region_origin_text;
+  region_origin_text << "the truth's bounding box grown by " << kTruthRegionMargin << " m";
+  std::string region_origin = region_origin_text.str();
+  d.region = truthRegion(d.truth);
+  if (!o.region.empty()) {
+    d.region = regionGiven(o.region, recordedShift(d));
+    region_origin = "--region";
+  }
+  d.source["truth"] = o.files;
+  ImportOptions named = o;
+  if (named.name.empty()) named.name = d.name;  // the data set keeps its name unless --name
+  return finish(std::move(d), named, region_origin);
+}
+
+int runImport(const ImportOptions& o, const ImportCommands& subs) {
+  checkOutputTarget(o.out, o.force, datasetOutput());  // before any file is read
+  return runChosen({
+      {subs.depth, [&o] { return runImportDepth(o); }},
+      {subs.graph, [&o] { return runImportGraph(o); }},
+      {subs.cloud, [&o] { return runImportCloud(o); }},
+      {subs.truth, [&o] { return runImportTruth(o); }},
+  });
+}
+
 const RegisterCommand kImport{"import", "Import real recordings (depth images, OctoMap graphs, point clouds, truth)",
                               [](CLI::App& app) {
   auto o = std::make_shared<ImportOptions>();
-  CLI::App* depth = app.add_subcommand("depth", "Depth images (16-bit PNG or PGM) with one pose each");
-  CLI::App* graph = app.add_subcommand("graph", "An OctoMap scan graph (.graph)");
-  CLI::App* cloud = app.add_subcommand("cloud", "Point clouds (PLY, PCD, x y z text), one scan each");
-  CLI::App* truth = app.add_subcommand("truth", "Add ground truth (PLY mesh or cloud, PCD, JSON boxes) to a data set");
-  for (CLI::App* sub : {depth, graph, cloud, truth}) {
-    sub->add_option("files", o->files, "Input files, in scan order")->required();
-    sub->add_option("--out", o->out, "Output data-set folder (written atomically; a new one, or occsweep's own with --force)")->required();
-    sub->add_flag("--force", o->force, "Replace occsweep's own previous data set at --out (nothing else)");
-    if (sub != truth) sub->add_option("--name", o->name, "Data-set name (default: the output folder's name)");
-  }
-  truth->add_option("--name", o->name, "Data-set name (default: the name of --dataset, kept)");
-  addLimitOptions(*depth, {Limit::ImagePixels, Limit::Points});
-  for (CLI::App* sub : {graph, cloud, truth}) addLimitOptions(*sub, {Limit::Points});
-  for (CLI::App* sub : {depth, graph, cloud}) {
-    sub->add_flag("--skip-empty", o->skip_empty, "Drop scans without a valid point instead of refusing them");
-    sub->add_option("--shift", o->shift, "X Y Z metres added to every point and origin after the poses (far-away, "
-                                         "e.g. UTM, clouds into OctoMap's key range); recorded as source.shift")
-        ->expected(3);
-  }
-  DepthImportConfig& c = o->depth;
-  depth->add_option("--poses", o->poses, "Pose file, camera-to-world, one pose per image")->required();
-  addPoseOptions(depth, *o);
-  depth->add_option("--depth-scale", c.depth_scale, "Raw units per metre (1000 = mm; TUM/ICL-NUIM 5000)")->capture_default_str();
-  depth->add_option("--fx", c.fx, "Focal length x, pixels")->required();
-  depth->add_option("--fy", c.fy, "Focal length y, pixels (may be negative)")->required();
-  depth->add_option("--cx", c.cx, "Principal point x, pixels")->required();
-  depth->add_option("--cy", c.cy, "Principal point y, pixels")->required();
-  depth->add_option("--max-depth", c.max_depth, "Drop depths >= this, metres (0 = keep all)")->capture_default_str();
-  depth->add_option("--stride", c.stride, "Use every n-th pixel in u and v")->capture_default_str();
-  cloud->add_option("--poses", o->poses, "Pose file, sensor-to-world, one pose per cloud (default: clouds in world frame)");
-  addPoseOptions(cloud, *o);
-  cloud->add_option("--origin", o->origin, "Sensor origin of every cloud when there is no pose file")->expected(3);
-  truth->add_option("--dataset", o->dataset, "Data set to add the truth to")->required();
-  truth->add_option("--region", o->region, "Evaluation region: minx miny minz maxx maxy maxz (default: the truth's bounding box grown by 0.5 m)")->expected(6);
-  app.require_subcommand(1);
-  return [=] {
-    checkOutputTarget(o->out, o->force, datasetOutput());  // before any file is read
-    return runChosen({
-        {depth, [o] {
-           o->depth.pose_format = poseFormatNamed(o->pose_format);
-           o->depth.skip_empty = o->skip_empty;
-           Dataset d = importDepthSequence(paths(o->files), o->poses, o->depth);
-           shiftOrWarn(d, *o);
-           return finish(std::move(d), *o, kPointsBox);
-         }},
-        {graph, [o] {
-           if (o->files.size() != 1) throw std::invalid_argument("give exactly one .graph file");
-           Dataset d = importScanGraph(o->files[0], o->skip_empty);
-           shiftOrWarn(d, *o);
-           return finish(std::move(d), *o, kPointsBox);
-         }},
-        {cloud, [o] {
-           CloudImportConfig cc;
-           if (!o->poses.empty()) cc.pose_file = fs::path(o->poses);
-           cc.pose_format = poseFormatNamed(o->pose_format);
-           cc.origin = {o->origin[0], o->origin[1], o->origin[2]};
-           cc.skip_empty = o->skip_empty;
-           Dataset d = importClouds(paths(o->files), cc);
-           shiftOrWarn(d, *o);
-           return finish(std::move(d), *o, kPointsBox);
-         }},
-        {truth, [o] {
-           Dataset d = readDataset(o->dataset);
-           d.truth = {};
-           for (const auto& f : o->files) {
-             TruthSources t = readTruth(f);
-             shiftTruth(t, recordedShift(d), f);  // truth in the recording's frame, like the scans before the shift
-             d.truth.boxes.insert(d.truth.boxes.end(), t.boxes.begin(), t.boxes.end());
-             d.truth.mesh.insert(d.truth.mesh.end(), t.mesh.begin(), t.mesh.end());
-             d.truth.points.insert(d.truth.points.end(), t.points.begin(), t.points.end());
-           }
-           std::ostringstream region_origin_text;
-           region_origin_text << "the truth's bounding box grown by " << kTruthRegionMargin << " m";
-           std::string region_origin = region_origin_text.str();
-           d.region = truthRegion(d.truth);
-           if (!o->region.empty()) {
-             const auto s = recordedShift(d);  // --region in the recording's frame too
-             d.region = {{o->region[0] + s[0], o->region[1] + s[1], o->region[2] + s[2]},
-                         {o->region[3] + s[0], o->region[4] + s[1], o->region[5] + s[2]}};
-             region_origin = "--region";
-             for (int a = 0; a < 3; ++a)
-               if (!(d.region.min[std::size_t(a)] <= d.region.max[std::size_t(a)]))
-                 throw std::invalid_argument("--region: min must be <= max on every axis");
-           }
-           d.source["truth"] = o->files;
-           if (o->name.empty()) o->name = d.name;
-           return finish(std::move(d), *o, region_origin);
-         }},
-    });
-  };
+  const ImportCommands subs = addImportOptions(app, *o);
+  return [o, subs] { return runImport(*o, subs); };
 }};
 
 }  // namespace

@@ -12,40 +12,43 @@
 
 namespace occsweep {
 
-RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c) {
-  RecordedSet r;
-  const auto& lo = truth.region_min_key;
-  const auto& hi = truth.region_max_key;
+namespace {
 
-  const KeyWindow region{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
-  auto index = [&](const octomap::OcTreeKey& k) { return std::uint32_t(region.index(k)); };
-  // Voxels are indexed in 32 bits; makeGroundTruth has checked the region against limits().region_voxels.
-  checkLimit("evaluation region, voxels", region.volume(), std::numeric_limits<std::uint32_t>::max(),
-             "a smaller region");
-  const auto voxels = std::uint32_t(region.volume());
+// A region voxel's index, in 32 bits: recordSet checks the region's volume first.
+inline std::uint32_t regionIndex(const KeyWindow& region, const octomap::OcTreeKey& k) {
+  return std::uint32_t(region.index(k));
+}
+
+// Per region voxel: 0 free, 1 occupied, 2 excluded; and the counts of each.
+inline void labelTruth(const GroundTruth& truth, const KeyWindow& region, std::uint32_t voxels, RecordedSet& r) {
   r.truth.assign(voxels, 0);
-  for (const auto& k : truth.occupied) r.truth[index(k)] = 1;
-  for (const auto& k : truth.excluded) r.truth[index(k)] = 2;
+  for (const auto& k : truth.occupied) r.truth[regionIndex(region, k)] = 1;
+  for (const auto& k : truth.excluded) r.truth[regionIndex(region, k)] = 2;
   r.positives = truth.occupied.size();
   r.excluded = truth.excluded.size();
   r.negatives = voxels - r.positives;
+}
 
-  // Events in scan order, then bucketed by voxel with a stable counting sort done in place over the scans'
-  // own lists (three passes: count per voxel, hits per sorted event, copy). Memory matters here (issue 5: the
-  // sweep's peak at most 3x the points): no intermediate copy of the events, every vector sized exactly.
+inline std::vector<ScanEvents> recordScans(const PointCloudSet& set, const KeyWindow& region, double resolution,
+                                           double s_c) {
   std::vector<ScanEvents> per_scan(set.size());
   tbb::enumerable_thread_specific<ScanEventRecorder> recorders([&] { return ScanEventRecorder(resolution); });
   tbb::parallel_for(std::size_t(0), set.size(), [&](std::size_t t) {
     recorders.local().record(set[t], innerPoints(set[t], s_c), s_c, region, per_scan[t]);
     per_scan[t].voxels.shrink_to_fit();
   });
-  recorders.clear();
+  return per_scan;
+}
+
+// The stable counting sort of the events by voxel: voxel_first, flags, hit_first, hit_scan, hit_inner.
+inline void bucketByVoxel(const std::vector<ScanEvents>& per_scan, const KeyWindow& region, std::uint32_t voxels,
+                          RecordedSet& r) {
   std::size_t events_total = 0, hits_total = 0;
   r.voxel_first.assign(voxels + 1, 0);
   for (const ScanEvents& events : per_scan) {
     events_total += events.voxels.size();
     hits_total += events.hit_points.size();
-    for (const VoxelEvent& e : events.voxels) ++r.voxel_first[index(e.key) + 1];
+    for (const VoxelEvent& e : events.voxels) ++r.voxel_first[regionIndex(region, e.key) + 1];
   }
   r.scan_voxel_updates = events_total;
   for (std::uint32_t v = 0; v < voxels; ++v) r.voxel_first[v + 1] += r.voxel_first[v];
@@ -54,7 +57,7 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   auto forEachSorted = [&](auto&& visit) {
     std::copy(r.voxel_first.begin(), r.voxel_first.end() - 1, fill.begin());
     for (std::uint32_t t = 0; t < per_scan.size(); ++t)
-      for (const VoxelEvent& e : per_scan[t].voxels) visit(t, e, fill[index(e.key)]++);
+      for (const VoxelEvent& e : per_scan[t].voxels) visit(t, e, fill[regionIndex(region, e.key)]++);
   };
   r.flags.resize(events_total);
   r.hit_first.assign(events_total + 1, 0);
@@ -70,7 +73,10 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
     std::fill_n(r.hit_scan.begin() + r.hit_first[pos], e.hit_count, t);
     std::copy_n(hits, e.hit_count, r.hit_inner.begin() + r.hit_first[pos]);
   });
-  std::vector<ScanEvents>().swap(per_scan);
+}
+
+// Per voxel: the flags all its events share (0 if they differ or it has none), and the longest event list.
+inline void summarizeVoxels(std::uint32_t voxels, RecordedSet& r) {
   r.uniform.assign(voxels, 0);
   for (std::uint32_t v = 0; v < voxels; ++v) {
     const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
@@ -81,6 +87,27 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
       if (r.flags[e] != f) f = 0;
     r.uniform[v] = f;
   }
+}
+
+}  // namespace
+
+RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c) {
+  RecordedSet r;
+  const auto& lo = truth.region_min_key;
+  const auto& hi = truth.region_max_key;
+  const KeyWindow region{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+  // Voxels are indexed in 32 bits; makeGroundTruth has checked the region against limits().region_voxels.
+  checkLimit("evaluation region, voxels", region.volume(), std::numeric_limits<std::uint32_t>::max(),
+             "a smaller region");
+  const auto voxels = std::uint32_t(region.volume());
+  labelTruth(truth, region, voxels, r);
+  // Events in scan order, then bucketed by voxel with a stable counting sort done in place over the scans'
+  // own lists (three passes: count per voxel, hits per sorted event, copy). Memory matters here (issue 5: the
+  // sweep's peak at most 3x the points): no intermediate copy of the events, every vector sized exactly.
+  std::vector<ScanEvents> per_scan = recordScans(set, region, resolution, s_c);
+  bucketByVoxel(per_scan, region, voxels, r);
+  std::vector<ScanEvents>().swap(per_scan);
+  summarizeVoxels(voxels, r);
   return r;
 }
 

@@ -52,27 +52,29 @@ void subsample(Samples& s, std::size_t limit, std::uint64_t seed) {
   s = std::move(out);
 }
 
-}  // namespace
+// One NCA fit: a data set's samples under one response (TPR or FDR).
+struct NcaJob {
+  std::size_t dataset;
+  bool tpr;
+  Samples samples;
+  NcaResult result;
+};
 
-json runNcaWeights(const ReproduceConfig& c, const std::vector<RankedDataset>& all) {
-  const RankedDataset& ref = reproduce::datasetOrFirst(all, c.fit_dataset);
-  const std::size_t ref_rank = ref.paperRanks().size() > 1 ? ref.paperRanks()[1] : 0;
-  const std::int64_t pcs_id = ref.ids[ref_rank];
+// The same point cloud parameters in every data set (Section 3.5); the median set if that id is absent.
+std::size_t rankOf(const RankedDataset& d, std::int64_t pcs_id) {
+  std::size_t rank = d.paperRanks().size() > 1 ? d.paperRanks()[1] : 0;
+  for (std::size_t r = 0; r < d.ids.size(); ++r)
+    if (d.ids[r] == pcs_id) rank = r;
+  return rank;
+}
 
-  struct Job {
-    std::size_t dataset;
-    bool tpr;
-    Samples samples;
-    NcaResult result;
-  };
-  std::vector<Job> jobs;
+// Sweeps each data set's Eq. 16 group and adds its two fits to `jobs`; returns what each sweep covered.
+json sweepForSamples(const ReproduceConfig& c, const std::vector<RankedDataset>& all, std::int64_t pcs_id,
+                     std::vector<NcaJob>& jobs) {
   json sets = json::array();
   for (std::size_t i = 0; i < all.size(); ++i) {
     const RankedDataset& d = all[i];
-    // The same point cloud parameters in every data set (Section 3.5); the median set if that id is absent.
-    std::size_t rank = d.paperRanks().size() > 1 ? d.paperRanks()[1] : 0;
-    for (std::size_t r = 0; r < d.ids.size(); ++r)
-      if (d.ids[r] == pcs_id) rank = r;
+    const std::size_t rank = rankOf(d, pcs_id);
     SweepSelection sel;
     sel.group = SweepSelection::Group{reproduce::paperIndex(d.name, i), kGroups, c.seed};
     const ResultsFile f = reproduce::sweepSet(c, d, rank, c.reduction_grid, sel);
@@ -85,7 +87,10 @@ json runNcaWeights(const ReproduceConfig& c, const std::vector<RankedDataset>& a
       jobs.push_back({i, tpr, std::move(s), {}});
     }
   }
+  return sets;
+}
 
+void fitJobs(const ReproduceConfig& c, std::vector<NcaJob>& jobs) {
   NcaConfig nc;
   nc.folds = c.nca_folds;
   nc.lambda_factors = c.nca_lambda_factors;
@@ -94,7 +99,7 @@ json runNcaWeights(const ReproduceConfig& c, const std::vector<RankedDataset>& a
   tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t j) {
-      Job& job = jobs[j];
+      NcaJob& job = jobs[j];
       Eigen::MatrixXd x(Eigen::Index(job.samples.y.size()), Eigen::Index(kFeatures.size()));
       Eigen::VectorXd y(x.rows());
       for (Eigen::Index i = 0; i < x.rows(); ++i) {
@@ -105,11 +110,13 @@ json runNcaWeights(const ReproduceConfig& c, const std::vector<RankedDataset>& a
       progress.advance();
     }, tbb::simple_partitioner());
   });
+}
 
+json weightsPerDataset(const std::vector<RankedDataset>& all, const std::vector<NcaJob>& jobs) {
   json per_dataset = json::array();
   for (std::size_t i = 0; i < all.size(); ++i) {
     json row = {{"dataset", all[i].name}};
-    for (const Job& job : jobs) {
+    for (const NcaJob& job : jobs) {
       if (job.dataset != i) continue;
       row[job.tpr ? "tpr" : "fdr"] = {{"normalized", job.result.normalized}, {"weights", job.result.weights},
                                       {"lambda", job.result.lambda}, {"lambdas", job.result.lambdas},
@@ -118,11 +125,23 @@ json runNcaWeights(const ReproduceConfig& c, const std::vector<RankedDataset>& a
     }
     per_dataset.push_back(row);
   }
+  return per_dataset;
+}
+
+}  // namespace
+
+json runNcaWeights(const ReproduceConfig& c, const std::vector<RankedDataset>& all) {
+  const RankedDataset& ref = reproduce::datasetOrFirst(all, c.fit_dataset);
+  const std::size_t ref_rank = ref.paperRanks().size() > 1 ? ref.paperRanks()[1] : 0;
+  const std::int64_t pcs_id = ref.ids[ref_rank];
+  std::vector<NcaJob> jobs;
+  const json sets = sweepForSamples(c, all, pcs_id, jobs);
+  fitJobs(c, jobs);
   return {{"format", "occsweep-reproduce-nca"}, {"figure", "Fig. 4"}, {"grid", c.reduction_grid},
           {"groups", kGroups}, {"seed", c.seed}, {"pointcloud_id", pcs_id}, {"reference", ref.name},
           {"features", kFeatures}, {"normalization", "|w_r| / sum_r |w_r| per data set and response"},
           {"sample_limit", c.nca_samples}, {"folds", c.nca_folds}, {"lambda_factors", c.nca_lambda_factors},
-          {"sweeps", sets}, {"datasets", per_dataset}};
+          {"sweeps", sets}, {"datasets", weightsPerDataset(all, jobs)}};
 }
 
 }  // namespace occsweep
