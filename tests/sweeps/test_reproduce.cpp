@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/eval/paper_datasets.hpp"
 #include "occsweep/sweeps/reproduce.hpp"
 #include "test_helpers.hpp"
 

@@ -52,7 +52,7 @@ TEST_CASE("scene and import --out refuse a folder holding a user's file, even wi
   const fs::path w = userFolder(dir / "w");
   writeCloud(dir / "a.xyz");
   const auto before = snapshot(dir);
-  for (const std::string args : {std::string(kTinyScene) + " --out w", std::string(kTinyScene) + " --out w --force",
+  for (const std::string& args : {std::string(kTinyScene) + " --out w", std::string(kTinyScene) + " --out w --force",
                                  std::string("import cloud a.xyz --out w"),
                                  std::string("import cloud a.xyz --out w --force")}) {
     const CommandResult r = runIn(dir, args);
@@ -68,7 +68,7 @@ TEST_CASE("every --out refuses to replace a user's file, even with --force", "[o
   REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json").exit_code == 0);
   writeBytes(dir / "notes.txt", kThesis);
   const auto before = snapshot(dir);
-  for (const std::string args :
+  for (const std::string& args :
        {std::string(kTinyScene) + " --out notes.txt", std::string("map --dataset scene --out notes.txt"),
         std::string("sweep --dataset scene --grid tiny.json --quiet --out notes.txt"),
         std::string("merge r.json --out notes.txt"), std::string("compare r.json --json notes.txt")}) {
