@@ -46,8 +46,11 @@ void unregisterTemporary(const fs::path& p) {
 
 int interrupt_pipe[2] = {-1, -1};
 
-// Async-signal-safe: only write(2). The cleaning happens in an ordinary thread (cleanOnInterrupt).
+volatile std::sig_atomic_t g_interrupt_signal = 0;
+
+// Async-signal-safe: a flag and write(2). The cleaning happens in an ordinary thread (cleanOnInterrupt).
 extern "C" void forwardSignal(int sig) {
+  g_interrupt_signal = sig;
   const unsigned char byte = static_cast<unsigned char>(sig);
   [[maybe_unused]] const ssize_t n = ::write(interrupt_pipe[1], &byte, 1);
 }
@@ -316,6 +319,8 @@ void writeFileChecked(const fs::path& file, std::string_view bytes) {
   }
   if (::close(fd) != 0) fail(file, errno);
 }
+
+int interruptSignalReceived() { return g_interrupt_signal; }
 
 void removeTemporariesOnInterrupt() {
   static std::once_flag once;

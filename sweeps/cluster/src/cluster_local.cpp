@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 
 namespace occsweep {
@@ -50,6 +51,9 @@ class TaskStopper {
       ::sigaction(kSignals[i], nullptr, &old_[i]);
       if (old_[i].sa_handler != SIG_IGN) ::sigaction(kSignals[i], &sa, nullptr);
     }
+    // A signal that came before these handlers went to occsweep's interrupt cleaning, whose thread exits the process
+    // when it is scheduled: start no task it would leave running (seen under load as a surviving task).
+    if (const int earlier = interruptSignalReceived()) g_stop_signal = earlier;
   }
   TaskStopper(const TaskStopper&) = delete;
   TaskStopper& operator=(const TaskStopper&) = delete;

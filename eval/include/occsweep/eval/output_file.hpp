@@ -87,5 +87,9 @@ void writeFileChecked(const std::filesystem::path& file, std::string_view bytes)
 /// write error (EFBIG) instead of a kill. Call once at the start of main(). A SIGKILL cannot be caught: the next
 /// run writing the same target removes what it left (removeStaleTemporaries).
 void removeTemporariesOnInterrupt();
+/// The signal removeTemporariesOnInterrupt's handler has received (0: none). Its cleaning thread exits the process
+/// soon after, however busy the machine: code that starts child processes checks this once its own handlers are
+/// in place, so that no child is started that the exit would leave behind (cluster run-local).
+[[nodiscard]] int interruptSignalReceived();
 
 }  // namespace occsweep
