@@ -275,6 +275,7 @@ void printPeakMemory(const std::filesystem::path& dir, std::size_t points) {
 
 int main(int argc, char** argv) {
   BenchOptions options = parseArguments(argc, argv);
+  occsweep::addGridFolder(OCCSWEEP_BENCH_GRIDS);  // the build tree's copy of the grids (docs/install.md)
   std::printf("occsweep bench_sweep: build type %s, g++ %d.%d, liboctomap %s, oneTBB %d.%d, %u hardware threads\n",
               OCCSWEEP_BUILD_TYPE, __GNUC__, __GNUC_MINOR__, OCCSWEEP_OCTOMAP_VERSION, TBB_VERSION_MAJOR, TBB_VERSION_MINOR,
               std::thread::hardware_concurrency());

@@ -21,6 +21,125 @@ inline void update(Lanes& v, const Lanes& d, const Lanes& lo, const Lanes& hi) {
   }
 }
 
+// What every lane of one pass shares (the hit rule, the variant) and what each has of its own (clamp bounds, l_in,
+// l_out, OctoMap's l_hit); spare lanes repeat the last map and are never counted.
+struct LaneRules {
+  Lanes lo{}, hi{}, hit{};
+  VoxelUpdateRule<Lanes> rule;
+  const std::vector<float>* sums = nullptr;  ///< k-NN: per-event hit sums; OctoMap: nullptr
+};
+
+LaneRules laneRules(const std::vector<ReplayRule>& rules) {
+  const std::size_t n = rules.size();
+  LaneRules lanes;
+  lanes.sums = rules[0].knn_hit_sums;
+  lanes.rule.variant = rules[0].update.variant;
+  for (std::size_t l = 0; l < kReplayLanes; ++l) {
+    const ReplayRule& rule = rules[std::min(l, n - 1)];
+    if (rule.knn_hit_sums != lanes.sums || rule.update.variant != lanes.rule.variant)
+      throw std::invalid_argument("replayCounts: lanes must share their hit rule");
+    lanes.lo[l] = rule.l_min, lanes.hi[l] = rule.l_max, lanes.hit[l] = rule.octomap_hit;
+    lanes.rule.l_in[l] = rule.update.l_in, lanes.rule.l_out[l] = rule.update.l_out;
+  }
+  return lanes;
+}
+
+// table[c][m]: the value after m equal updates of kind c from 0 (c: in, out, OctoMap hit), step by step.
+using StepTables = std::array<std::vector<Lanes>, 3>;
+
+StepTables stepTables(const LaneRules& lanes, std::uint32_t longest) {
+  StepTables table;
+  const Lanes* deltas[3] = {&lanes.rule.l_in, &lanes.rule.l_out, &lanes.hit};
+  for (int c = 0; c < 3; ++c) {
+    table[c].assign(longest + 1, Lanes{});
+    for (std::uint32_t m = 1; m <= longest; ++m) {
+      table[c][m] = table[c][m - 1];
+      update(table[c][m], *deltas[c], lanes.lo, lanes.hi);
+    }
+  }
+  return table;
+}
+
+// Counting without a compare-and-increment per voxel, lane and threshold: each lane's thresholds are sorted
+// ascending, a voxel adds one to reach[j], j = how many of them its value reaches (value >= l(p_t), the same float
+// comparison), and the voxels at or above the s-th threshold are the sum of reach[j] over j > s. Excluded voxels
+// (truth value 2) are all true voxels: they reach their own counter, which full truth adds to TP and observable
+// truth leaves out; FP and TN are the same under both.
+struct LaneThresholds {
+  std::vector<float> sorted;             ///< l(p_t) ascending
+  std::vector<std::size_t> order;        ///< order[s]: the index in p_t of the s-th smallest
+  std::vector<std::uint64_t> reach_tp, reach_fp, reach_excluded;
+};
+
+std::vector<LaneThresholds> laneThresholds(const std::vector<std::vector<double>>& p_t) {
+  std::vector<LaneThresholds> lanes(p_t.size());
+  for (std::size_t l = 0; l < p_t.size(); ++l) {
+    std::vector<float> unsorted;
+    for (double p : p_t[l]) unsorted.push_back(logOdds(p));
+    LaneThresholds& t = lanes[l];
+    t.order.resize(unsorted.size());
+    for (std::size_t i = 0; i < unsorted.size(); ++i) t.order[i] = i;
+    std::stable_sort(t.order.begin(), t.order.end(), [&](std::size_t a, std::size_t b) { return unsorted[a] < unsorted[b]; });
+    for (std::size_t i : t.order) t.sorted.push_back(unsorted[i]);
+    t.reach_tp.assign(unsorted.size() + 1, 0);
+    t.reach_fp.assign(unsorted.size() + 1, 0);
+    t.reach_excluded.assign(unsorted.size() + 1, 0);
+  }
+  return lanes;
+}
+
+// One known voxel's value on every lane: from the tables when all its events are alike, else event by event
+// through the one update rule.
+inline Lanes voxelValue(const RecordedSet& r, std::uint32_t v, const LaneRules& lanes, const StepTables& table) {
+  const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
+  const std::uint8_t u = r.uniform[v];
+  if (u == kCrossedIn || u == kCrossedOut) return table[u == kCrossedIn ? 0 : 1][end - begin];
+  if (u == kHit && !lanes.sums) return table[2][end - begin];
+  const auto hitDelta = [&](std::uint32_t e) {
+    if (!lanes.sums) return lanes.hit;
+    Lanes d;
+    const float s = (*lanes.sums)[e];  // clamped once per lane (Algorithm 1 line 6-10)
+    for (std::size_t l = 0; l < kReplayLanes; ++l) d[l] = std::min(std::max(s, lanes.lo[l]), lanes.hi[l]);
+    return d;
+  };
+  Lanes value{};
+  for (std::uint32_t e = begin; e < end; ++e)
+    lanes.rule.apply(r.flags[e], [&] { return hitDelta(e); }, [&](const Lanes& d) { update(value, d, lanes.lo, lanes.hi); });
+  return value;
+}
+
+void countReach(const RecordedSet& r, const LaneRules& lanes, const StepTables& table,
+                std::vector<LaneThresholds>& thresholds) {
+  const std::uint32_t voxels = std::uint32_t(r.truth.size());
+  for (std::uint32_t v = 0; v < voxels; ++v) {
+    if (r.voxel_first[v] == r.voxel_first[v + 1]) continue;  // unknown: counted as FN or TN below
+    const Lanes value = voxelValue(r, v, lanes, table);
+    for (std::size_t l = 0; l < thresholds.size(); ++l) {
+      LaneThresholds& t = thresholds[l];
+      std::size_t j = 0;
+      for (const float threshold : t.sorted) j += value[l] >= threshold;
+      ++(r.truth[v] == 0 ? t.reach_fp : (r.truth[v] == 1 ? t.reach_tp : t.reach_excluded))[j];
+    }
+  }
+}
+
+// Counts at every threshold, in p_t's order, from the voxels reaching each: full truth, and observable truth.
+void countsFromReach(const RecordedSet& r, const LaneThresholds& t, std::vector<ConfusionCounts>& counts,
+                     std::vector<ConfusionCounts>* observable) {
+  counts.assign(t.order.size(), ConfusionCounts{});
+  if (observable) observable->assign(t.order.size(), ConfusionCounts{});
+  std::uint64_t tp = 0, fp = 0, excluded_tp = 0;
+  for (std::size_t s = t.sorted.size(); s-- > 0;) {
+    tp += t.reach_tp[s + 1], fp += t.reach_fp[s + 1], excluded_tp += t.reach_excluded[s + 1];
+    ConfusionCounts& c = counts[t.order[s]];
+    c.tp = tp + excluded_tp, c.fp = fp, c.fn = r.positives - c.tp, c.tn = r.negatives - fp;
+    if (observable) {
+      ConfusionCounts& o = (*observable)[t.order[s]];
+      o.tp = tp, o.fp = fp, o.fn = r.positives - r.excluded - tp, o.tn = r.negatives - fp;
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, const std::vector<ReplayRule>& rules,
@@ -28,90 +147,13 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
                                                        std::vector<std::vector<ConfusionCounts>>* observable) {
   const std::size_t n = rules.size();
   if (n == 0 || n > kReplayLanes || p_t.size() != n) throw std::invalid_argument("replayCounts: 1 to 8 lanes");
-  const std::vector<float>* sums = rules[0].knn_hit_sums;
-  VoxelUpdateRule<Lanes> lanes_rule;
-  lanes_rule.variant = rules[0].update.variant;
-  Lanes lo{}, hi{}, hit{};
-  for (std::size_t l = 0; l < kReplayLanes; ++l) {
-    const ReplayRule& rule = rules[std::min(l, n - 1)];  // spare lanes repeat the last map; never counted
-    if (rule.knn_hit_sums != sums || rule.update.variant != lanes_rule.variant)
-      throw std::invalid_argument("replayCounts: lanes must share their hit rule");
-    lo[l] = rule.l_min, hi[l] = rule.l_max, hit[l] = rule.octomap_hit;
-    lanes_rule.l_in[l] = rule.update.l_in, lanes_rule.l_out[l] = rule.update.l_out;
-  }
-  // table[c][m]: the value after m equal updates of kind c from 0 (c: in, out, OctoMap hit), step by step.
-  std::array<std::vector<Lanes>, 3> table;
-  const Lanes* deltas[3] = {&lanes_rule.l_in, &lanes_rule.l_out, &hit};
-  for (int c = 0; c < 3; ++c) {
-    table[c].assign(r.longest + 1, Lanes{});
-    for (std::uint32_t m = 1; m <= r.longest; ++m) {
-      table[c][m] = table[c][m - 1];
-      update(table[c][m], *deltas[c], lo, hi);
-    }
-  }
-  // Counting without a compare-and-increment per voxel, lane and threshold: each lane's thresholds are sorted
-  // ascending, a voxel adds one to reach[j], j = how many of them its value reaches (value >= l(p_t), the same float
-  // comparison), and the voxels at or above the s-th threshold are the sum of reach[j] over j > s.
-  std::vector<std::vector<float>> thresholds(n);
-  std::vector<std::vector<std::size_t>> order(n);  // order[l][s]: the index in p_t[l] of the s-th smallest
-  // Excluded voxels (truth value 2) are all true voxels: they reach their own counter, which full truth adds to
-  // TP and observable truth leaves out; FP and TN are the same under both.
-  std::vector<std::vector<std::uint64_t>> reach_tp(n), reach_fp(n), reach_excluded(n);
-  for (std::size_t l = 0; l < n; ++l) {
-    std::vector<float> unsorted;
-    for (double p : p_t[l]) unsorted.push_back(logOdds(p));
-    order[l].resize(unsorted.size());
-    for (std::size_t t = 0; t < unsorted.size(); ++t) order[l][t] = t;
-    std::stable_sort(order[l].begin(), order[l].end(), [&](std::size_t a, std::size_t b) { return unsorted[a] < unsorted[b]; });
-    for (std::size_t t : order[l]) thresholds[l].push_back(unsorted[t]);
-    reach_tp[l].assign(unsorted.size() + 1, 0);
-    reach_fp[l].assign(unsorted.size() + 1, 0);
-    reach_excluded[l].assign(unsorted.size() + 1, 0);
-  }
-  const std::uint32_t voxels = std::uint32_t(r.truth.size());
-  for (std::uint32_t v = 0; v < voxels; ++v) {
-    const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
-    if (begin == end) continue;  // unknown: counted as FN or TN below
-    Lanes value{};
-    const std::uint8_t u = r.uniform[v];
-    if (u == kCrossedIn || u == kCrossedOut) {
-      value = table[u == kCrossedIn ? 0 : 1][end - begin];
-    } else if (u == kHit && !sums) {
-      value = table[2][end - begin];
-    } else {
-      const auto hitDelta = [&](std::uint32_t e) {
-        if (!sums) return hit;
-        Lanes d;
-        const float s = (*sums)[e];  // clamped once per lane (Algorithm 1 line 6-10)
-        for (std::size_t l = 0; l < kReplayLanes; ++l) d[l] = std::min(std::max(s, lo[l]), hi[l]);
-        return d;
-      };
-      for (std::uint32_t e = begin; e < end; ++e)
-        lanes_rule.apply(r.flags[e], [&] { return hitDelta(e); }, [&](const Lanes& d) { update(value, d, lo, hi); });
-    }
-    auto& reach = r.truth[v] == 0 ? reach_fp : (r.truth[v] == 1 ? reach_tp : reach_excluded);
-    for (std::size_t l = 0; l < n; ++l) {
-      std::size_t j = 0;
-      for (const float threshold : thresholds[l]) j += value[l] >= threshold;
-      ++reach[l][j];
-    }
-  }
+  const LaneRules lanes = laneRules(rules);
+  const StepTables table = stepTables(lanes, r.longest);
+  std::vector<LaneThresholds> thresholds = laneThresholds(p_t);
+  countReach(r, lanes, table, thresholds);
   std::vector<std::vector<ConfusionCounts>> counts(n);
   if (observable) observable->assign(n, {});
-  for (std::size_t l = 0; l < n; ++l) {
-    counts[l].assign(p_t[l].size(), ConfusionCounts{});
-    if (observable) (*observable)[l].assign(p_t[l].size(), ConfusionCounts{});
-    std::uint64_t tp = 0, fp = 0, excluded_tp = 0;
-    for (std::size_t s = thresholds[l].size(); s-- > 0;) {
-      tp += reach_tp[l][s + 1], fp += reach_fp[l][s + 1], excluded_tp += reach_excluded[l][s + 1];
-      ConfusionCounts& c = counts[l][order[l][s]];
-      c.tp = tp + excluded_tp, c.fp = fp, c.fn = r.positives - c.tp, c.tn = r.negatives - fp;
-      if (observable) {
-        ConfusionCounts& o = (*observable)[l][order[l][s]];
-        o.tp = tp, o.fp = fp, o.fn = r.positives - r.excluded - tp, o.tn = r.negatives - fp;
-      }
-    }
-  }
+  for (std::size_t l = 0; l < n; ++l) countsFromReach(r, thresholds[l], counts[l], observable ? &(*observable)[l] : nullptr);
   return counts;
 }
 
