@@ -69,15 +69,13 @@ void addProbability(CLI::App& app, const std::string& flag, double& value, const
   app.add_option(flag, value, help)->capture_default_str()->check(probability());
 }
 
-const RegisterCommand kMap{"map", "Build one map of a data set and write it as OctoMap .ot (octovis opens it)",
-                           [](CLI::App& app) {
-  auto o = std::make_shared<MapOptions>();
-  KnnParams& k = o->knn;
-  app.add_option("--dataset", o->dataset, "Data-set folder")->required();
-  app.add_option("--out", o->out, "Output map, .ot (written with MAP.ot.json; .bt is refused)")->required();
-  app.add_flag("--force", o->force, "Replace occsweep's own previous map and settings at --out (nothing else)");
-  app.add_option("--method", o->method, "Mapping method")->check(CLI::IsMember({"octomap", "knn"}))->capture_default_str();
-  addProbability(app, "--p-h", o->p_h, "OctoMap: probability of a hit");
+void addMapOptions(CLI::App& app, MapOptions& o) {
+  KnnParams& k = o.knn;
+  app.add_option("--dataset", o.dataset, "Data-set folder")->required();
+  app.add_option("--out", o.out, "Output map, .ot (written with MAP.ot.json; .bt is refused)")->required();
+  app.add_flag("--force", o.force, "Replace occsweep's own previous map and settings at --out (nothing else)");
+  app.add_option("--method", o.method, "Mapping method")->check(CLI::IsMember({"octomap", "knn"}))->capture_default_str();
+  addProbability(app, "--p-h", o.p_h, "OctoMap: probability of a hit");
   addProbability(app, "--p-m", k.p_m, "Miss probability (k-NN: rays to points within s_c)");
   addProbability(app, "--p-m-out", k.p_m_out, "k-NN: p'_m, miss for rays to points beyond s_c only");
   addProbability(app, "--p-u", k.p_u, "k-NN: upper bound of p(s) (Eq. 6)");
@@ -88,84 +86,100 @@ const RegisterCommand kMap{"map", "Build one map of a data set and write it as O
   app.add_option("--k", k.k, "k-NN: neighbours averaged")->capture_default_str()->check(integerAtLeast<int>(1));
   app.add_option("--s-c", k.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
   app.add_option("--resolution", k.resolution, "Voxel edge, metres")->capture_default_str()->check(numberAbove(0));
-  app.add_option("--variant", o->variant, "k-NN update: default (occupied wins) or literal (Algorithm 1 word for word)")
+  app.add_option("--variant", o.variant, "k-NN update: default (occupied wins) or literal (Algorithm 1 word for word)")
       ->check(CLI::IsMember(kUpdateVariantNames.list()))->capture_default_str();
-  app.add_option("--stats", o->stats, "k-NN mu, sigma: batch (whole set, the paper's) or online (running)")
+  app.add_option("--stats", o.stats, "k-NN mu, sigma: batch (whole set, the paper's) or online (running)")
       ->check(CLI::IsMember(kStatsModeNames.list()))->capture_default_str();
-  app.add_option("--truth", o->truth, "Truth of the TP/FP/FN/TN summary: full, or observable (only truth voxels a ray "
-                                      "from a scan origin reaches within s_c first; docs/results-format.md)")
+  app.add_option("--truth", o.truth, "Truth of the TP/FP/FN/TN summary: full, or observable (only truth voxels a ray "
+                                     "from a scan origin reaches within s_c first; docs/results-format.md)")
       ->check(CLI::IsMember(kTruthModeNames.list()))->capture_default_str();
   addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points});
-  return [o] {
-    KnnParams k = o->knn;
-    k.variant = parseUpdateVariant(o->variant);
-    k.stats = parseStatsMode(o->stats);
-    const OctoMapParams om{o->p_h, k.p_m, k.p_max, k.p_min, k.p_t, k.resolution, k.s_c};
-    // Refuse broken parameters before reading anything. liboctomap writes .ot whatever the name; a .bt name
-    // would hold .ot bytes that octovis and readBinary misread.
-    namespace fs = std::filesystem;
-    if (fs::path(o->out).extension() == ".bt")
-      throw std::invalid_argument("--out " + o->out + ": .bt keeps only occupied/free, not the log-odds the " +
-                                  "evaluation reads: write .ot (octovis opens it; octomap's convert_octree makes a .bt)");
-    if (fs::path(o->out).extension() != ".ot")
-      throw std::invalid_argument("--out " + o->out + ": must end in .ot (the map is written as OctoMap .ot, "
-                                  "log-odds kept)");
-    if (o->method == "octomap") validate(om); else validate(k);
-    checkOutputTarget(o->out, o->force, mapOutput());
-    // occsweep's own settings without their map are what a kill between the two renames leaves (the .ot.json is
-    // renamed first): a leftover of occsweep's, replaced like a stale temporary (docs/robustness.md).
-    const bool orphan_settings = !fs::exists(fs::symlink_status(o->out)) && isOccsweepSettings(o->out + ".json");
-    checkOutputTarget(o->out + ".json", o->force || orphan_settings,
-                      jsonOutput("map settings (.ot.json)", kSettingsFormat));
-    const Dataset d = readDataset(o->dataset);
-    requireInKeyRange(d, o->dataset, k.resolution);
-    warnWhenAllBeyondRange(d.scans, k.s_c);
-    const bool has_truth = !d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty();
-    // Checked before the map is built: a region the truth cannot use (past its limit, no voxel) costs no build and
-    // leaves no map.
-    std::optional<GroundTruth> gt;
-    const TruthMode truth = parseTruthMode(o->truth);
-    if (has_truth) gt = evaluatedTruth(truth, groundTruthOf(d, o->dataset, k.resolution), d.scans, k.s_c);
-    const auto start = std::chrono::steady_clock::now();
-    auto tree = o->method == "octomap" ? buildOctoMap(d.scans, om) : KnnInverseSensorModel(k).buildMap(d.scans);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    OutputFile map_file(o->out);
-    if (!tree->write(map_file.stream())) throw OutputError(o->out + ": liboctomap could not write the map");
-    // The .ot format keeps resolution and log-odds only: the resolved settings go beside it.
-    nlohmann::json params = {{"p_m", k.p_m}, {"p_max", k.p_max}, {"p_min", k.p_min}, {"p_t", k.p_t},
-                             {"resolution", k.resolution}, {"s_c", k.s_c}};
-    if (o->method == "octomap") {
-      params["p_h"] = om.p_h;
-    } else {
-      params.update({{"p_m_out", k.p_m_out}, {"p_u", k.p_u}, {"p_l", k.p_l}, {"k", k.k}, {"variant", o->variant},
-                     {"stats", o->stats}});
-    }
-    OutputFile settings_file(o->out + ".json");
-    settings_file.stream() << nlohmann::json{{"format", kSettingsFormat}, {"method", o->method},
-                                             {"dataset", o->dataset}, {"dataset_name", d.name},
-                                             {"dataset_hash", datasetContentHash(o->dataset)},
-                                             {"parameters", params}, {"build_seconds", seconds}}
-                                  .dump(1)
-                           << '\n';
-    // Both written out before either is renamed: a failed write (a full disk, `ulimit -f`) leaves neither. On a
-    // failed stream, commit() throws its error by name and renames nothing.
-    map_file.stream().flush();
-    settings_file.stream().flush();
-    for (OutputFile* file : {&map_file, &settings_file})
-      if (!file->stream()) file->commit();
-    settings_file.commit();
-    map_file.commit();
-    std::cout << "method " << o->method << ", " << d.scans.size() << " scans, " << pointCount(d.scans)
-              << " points, built in " << seconds << " s\n"
-              << "map " << o->out << ": " << tree->getNumLeafNodes() << " leaves (settings in " << o->out << ".json)\n";
-    if (gt) {
-      const ConfusionCounts c = classify(sampleRegion(*tree, *gt), k.p_t);
-      std::cout << "at p_t " << k.p_t << (truth == TruthMode::Observable ? " (observable truth)" : "") << ": TP "
-                << c.tp << " FP " << c.fp << " FN " << c.fn << " TN " << c.tn
-                << "  TPR " << c.tpr() << " FDR " << c.fdr() << '\n';
-    }
-    return 0;
-  };
+}
+
+// Refuses broken parameters and outputs before reading anything. liboctomap writes .ot whatever the name; a .bt
+// name would hold .ot bytes that octovis and readBinary misread.
+void checkMapRequest(const MapOptions& o, const KnnParams& k, const OctoMapParams& om) {
+  namespace fs = std::filesystem;
+  if (fs::path(o.out).extension() == ".bt")
+    throw std::invalid_argument("--out " + o.out + ": .bt keeps only occupied/free, not the log-odds the " +
+                                "evaluation reads: write .ot (octovis opens it; octomap's convert_octree makes a .bt)");
+  if (fs::path(o.out).extension() != ".ot")
+    throw std::invalid_argument("--out " + o.out + ": must end in .ot (the map is written as OctoMap .ot, "
+                                "log-odds kept)");
+  if (o.method == "octomap") validate(om); else validate(k);
+  checkOutputTarget(o.out, o.force, mapOutput());
+  // occsweep's own settings without their map are what a kill between the two renames leaves (the .ot.json is
+  // renamed first): a leftover of occsweep's, replaced like a stale temporary (docs/robustness.md).
+  const bool orphan_settings = !fs::exists(fs::symlink_status(o.out)) && isOccsweepSettings(o.out + ".json");
+  checkOutputTarget(o.out + ".json", o.force || orphan_settings, jsonOutput("map settings (.ot.json)", kSettingsFormat));
+}
+
+// The .ot format keeps resolution and log-odds only: the resolved settings go beside it, in MAP.ot.json.
+nlohmann::json mapSettings(const MapOptions& o, const KnnParams& k, const OctoMapParams& om, const Dataset& d,
+                           double seconds) {
+  nlohmann::json params = {{"p_m", k.p_m}, {"p_max", k.p_max}, {"p_min", k.p_min}, {"p_t", k.p_t},
+                           {"resolution", k.resolution}, {"s_c", k.s_c}};
+  if (o.method == "octomap") {
+    params["p_h"] = om.p_h;
+  } else {
+    params.update({{"p_m_out", k.p_m_out}, {"p_u", k.p_u}, {"p_l", k.p_l}, {"k", k.k}, {"variant", o.variant},
+                   {"stats", o.stats}});
+  }
+  return {{"format", kSettingsFormat}, {"method", o.method}, {"dataset", o.dataset}, {"dataset_name", d.name},
+          {"dataset_hash", datasetContentHash(o.dataset)}, {"parameters", params}, {"build_seconds", seconds}};
+}
+
+// The map and its settings, both written out before either is renamed: a failed write (a full disk, `ulimit -f`)
+// leaves neither. On a failed stream, commit() throws its error by name and renames nothing.
+void writeMapAndSettings(const octomap::OcTree& tree, const nlohmann::json& settings, const std::string& out) {
+  OutputFile map_file(out);
+  if (!tree.write(map_file.stream())) throw OutputError(out + ": liboctomap could not write the map");
+  OutputFile settings_file(out + ".json");
+  settings_file.stream() << settings.dump(1) << '\n';
+  map_file.stream().flush();
+  settings_file.stream().flush();
+  for (OutputFile* file : {&map_file, &settings_file})
+    if (!file->stream()) file->commit();
+  settings_file.commit();
+  map_file.commit();
+}
+
+int runMap(const MapOptions& o) {
+  KnnParams k = o.knn;
+  k.variant = parseUpdateVariant(o.variant);
+  k.stats = parseStatsMode(o.stats);
+  const OctoMapParams om{o.p_h, k.p_m, k.p_max, k.p_min, k.p_t, k.resolution, k.s_c};
+  checkMapRequest(o, k, om);
+  const Dataset d = readDataset(o.dataset);
+  requireInKeyRange(d, o.dataset, k.resolution);
+  warnWhenAllBeyondRange(d.scans, k.s_c);
+  // The truth is built before the map: a region it cannot use (past its limit, no voxel) costs no build and leaves
+  // no map.
+  const bool has_truth = !d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty();
+  std::optional<GroundTruth> gt;
+  const TruthMode truth = parseTruthMode(o.truth);
+  if (has_truth) gt = evaluatedTruth(truth, groundTruthOf(d, o.dataset, k.resolution), d.scans, k.s_c);
+  const auto start = std::chrono::steady_clock::now();
+  auto tree = o.method == "octomap" ? buildOctoMap(d.scans, om) : KnnInverseSensorModel(k).buildMap(d.scans);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  writeMapAndSettings(*tree, mapSettings(o, k, om, d, seconds), o.out);
+  std::cout << "method " << o.method << ", " << d.scans.size() << " scans, " << pointCount(d.scans)
+            << " points, built in " << seconds << " s\n"
+            << "map " << o.out << ": " << tree->getNumLeafNodes() << " leaves (settings in " << o.out << ".json)\n";
+  if (gt) {
+    const ConfusionCounts c = classify(sampleRegion(*tree, *gt), k.p_t);
+    std::cout << "at p_t " << k.p_t << (truth == TruthMode::Observable ? " (observable truth)" : "") << ": TP "
+              << c.tp << " FP " << c.fp << " FN " << c.fn << " TN " << c.tn << "  TPR " << c.tpr() << " FDR "
+              << c.fdr() << '\n';
+  }
+  return 0;
+}
+
+const RegisterCommand kMap{"map", "Build one map of a data set and write it as OctoMap .ot (octovis opens it)",
+                           [](CLI::App& app) {
+  auto o = std::make_shared<MapOptions>();
+  addMapOptions(app, *o);
+  return [o] { return runMap(*o); };
 }};
 
 }  // namespace

@@ -123,75 +123,102 @@ fs::path logOf(const fs::path& dir, const ClusterStage& stage, const ClusterTask
   return dir / "logs" / ("local-" + stage.name + "-" + std::to_string(t.index) + ".log");
 }
 
-/// Runs the tasks `ids` of one stage, `jobs` at a time; returns how many failed (none counted once stopped).
-std::size_t runStage(const ClusterStage& stage, const std::vector<std::uint64_t>& ids, const fs::path& dir, int jobs,
-                     TaskStopper& stopper) {
-  const auto start = std::chrono::steady_clock::now();
-  auto last_print = start;
-  struct Running {
-    std::uint64_t task;
-    std::size_t slot;
-  };
-  std::map<pid_t, Running> running;
-  std::vector<std::size_t> free_slots;
-  for (std::size_t i = std::size_t(jobs); i-- > 0;) free_slots.push_back(i);
-  std::size_t next = 0, finished = 0, stage_failed = 0;
-  auto reap = [&] {
+/// One stage's tasks while they run: which process runs which task in which stopper slot, and what has finished.
+class StageRun {
+ public:
+  StageRun(const ClusterStage& stage, std::size_t tasks, const fs::path& dir, int jobs, TaskStopper& stopper)
+      : stage_(stage), tasks_(tasks), dir_(dir), stopper_(stopper), start_(std::chrono::steady_clock::now()),
+        last_print_(start_) {
+    for (std::size_t i = std::size_t(jobs); i-- > 0;) free_slots_.push_back(i);
+  }
+
+  [[nodiscard]] std::size_t running() const { return running_.size(); }
+  [[nodiscard]] std::size_t failed() const { return failed_; }
+  [[nodiscard]] double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+  /// Starts task `t` in a free slot, with its log and its running marker.
+  void start(const ClusterTask& t) {
+    const fs::path log = logOf(dir_, stage_, t);
+    fs::remove(log);
+    const pid_t pid = spawnLogged(t.argv, dir_, log);
+    const std::size_t slot = free_slots_.back();
+    free_slots_.pop_back();
+    stopper_.track(slot, pid);
+    running_[pid] = {t.index, slot};
+    std::ofstream(runningMarker(dir_, stage_.name, t.index)) << pid << '\n';
+  }
+
+  /// Waits for one task to end and checks its output; a signal (EINTR) returns at once.
+  void reap() {
     int status = 0;
     const pid_t pid = ::waitpid(-1, &status, 0);
     if (pid < 0) {
       if (errno == EINTR) return;
       throw std::runtime_error(std::string("waitpid failed: ") + std::strerror(errno));
     }
-    const auto it = running.find(pid);
-    if (it == running.end()) return;
-    const ClusterTask& t = stage.tasks[it->second.task];
-    stopper.forget(it->second.slot);
-    free_slots.push_back(it->second.slot);
+    const auto it = running_.find(pid);
+    if (it == running_.end()) return;
+    const ClusterTask& t = stage_.tasks[it->second.task];
+    stopper_.forget(it->second.slot);
+    free_slots_.push_back(it->second.slot);
     std::error_code ec;
-    fs::remove(runningMarker(dir, stage.name, t.index), ec);
-    running.erase(it);
-    if (stopper.signal()) return;  // stopped: the task did not fail, it was ended
-    ++finished;
+    fs::remove(runningMarker(dir_, stage_.name, t.index), ec);
+    running_.erase(it);
+    if (stopper_.signal()) return;  // stopped: the task did not fail, it was ended
+    ++finished_;
     const int code = exitCodeOf(status);
-    std::string why = code == 0 ? checkOutput(t, dir) : "exit code " + std::to_string(code);
+    const std::string why = code == 0 ? checkOutput(t, dir_) : "exit code " + std::to_string(code);
     if (!why.empty()) {
-      ++stage_failed;
-      std::cerr << "stage " << stage.name << ": task " << t.index << " (" << t.label << ") failed: " << why
-                << "; log " << logOf(dir, stage, t).string() << '\n';
+      ++failed_;
+      std::cerr << "stage " << stage_.name << ": task " << t.index << " (" << t.label << ") failed: " << why
+                << "; log " << logOf(dir_, stage_, t).string() << '\n';
     }
-    // A line every few seconds, not one per task: paper-scale stages have hundreds.
+    printProgress();
+  }
+
+ private:
+  // A line every few seconds, not one per task: paper-scale stages have hundreds.
+  void printProgress() {
     const auto now = std::chrono::steady_clock::now();
-    if (finished == ids.size() || now - last_print > std::chrono::seconds(5)) {
-      std::cerr << "stage " << stage.name << ": " << finished << "/" << ids.size() << " tasks finished\n";
-      last_print = now;
-    }
+    if (finished_ != tasks_ && now - last_print_ <= std::chrono::seconds(5)) return;
+    std::cerr << "stage " << stage_.name << ": " << finished_ << "/" << tasks_ << " tasks finished\n";
+    last_print_ = now;
+  }
+
+  struct Running {
+    std::uint64_t task;
+    std::size_t slot;
   };
+  const ClusterStage& stage_;
+  std::size_t tasks_;
+  fs::path dir_;
+  TaskStopper& stopper_;
+  std::chrono::steady_clock::time_point start_, last_print_;
+  std::map<pid_t, Running> running_;
+  std::vector<std::size_t> free_slots_;
+  std::size_t finished_ = 0, failed_ = 0;
+};
+
+/// Runs the tasks `ids` of one stage, `jobs` at a time; returns how many failed (none counted once stopped).
+std::size_t runStage(const ClusterStage& stage, const std::vector<std::uint64_t>& ids, const fs::path& dir, int jobs,
+                     TaskStopper& stopper) {
   for (auto t : ids) {  // outputs rewritten now must not count as done meanwhile
     std::error_code ec;
     if (fs::is_regular_file(dir / stage.tasks[t].output, ec)) fs::remove(dir / stage.tasks[t].output, ec);
   }
-  while ((next < ids.size() && !stopper.signal()) || !running.empty()) {
-    while (next < ids.size() && running.size() < std::size_t(jobs) && !stopper.signal()) {
-      const ClusterTask& t = stage.tasks[ids[next]];
-      const fs::path log = logOf(dir, stage, t);
-      fs::remove(log);
-      const pid_t pid = spawnLogged(t.argv, dir, log);
-      const std::size_t slot = free_slots.back();
-      free_slots.pop_back();
-      stopper.track(slot, pid);
-      running[pid] = {t.index, slot};
-      std::ofstream(runningMarker(dir, stage.name, t.index)) << pid << '\n';
-      ++next;
-    }
+  StageRun run(stage, ids.size(), dir, jobs, stopper);
+  std::size_t next = 0;
+  while ((next < ids.size() && !stopper.signal()) || run.running() > 0) {
+    while (next < ids.size() && run.running() < std::size_t(jobs) && !stopper.signal()) run.start(stage.tasks[ids[next++]]);
     if (stopper.signal()) stopper.stopAll();
-    reap();
+    run.reap();
   }
   if (stopper.signal()) return 0;
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cerr << "stage " << stage.name << ": " << ids.size() - stage_failed << " of " << ids.size()
-            << " tasks succeeded in " << secs << " s\n";
-  return stage_failed;
+  std::cerr << "stage " << stage.name << ": " << ids.size() - run.failed() << " of " << ids.size()
+            << " tasks succeeded in " << run.seconds() << " s\n";
+  return run.failed();
 }
 
 }  // namespace
