@@ -7,6 +7,18 @@
 #include <fstream>
 
 namespace occsweep {
+
+nlohmann::json parseJsonText(std::string_view text, const std::filesystem::path& file) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
+    throw DataError(file, "", std::string("not valid JSON: ") + e.what());
+  }
+}
+
+nlohmann::json readJsonFile(const std::filesystem::path& file) {
+  return parseJsonText(readFileBytes(file), file);  // readFileBytes refuses folders and FIFOs by name (issue 13)
+}
 namespace fs = std::filesystem;
 
 void requireRegularFile(const fs::path& file) {

@@ -144,15 +144,6 @@ void checkPointTotal(const Manifest& mf, const json& scans) {
   }
 }
 
-json readJson(const fs::path& file) {
-  const std::string text = readFileBytes(file);
-  try {
-    return json::parse(text);
-  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
-    throw DataError(file, "", std::string("not valid JSON: ") + e.what());
-  }
-}
-
 // Binary files of a manifest in hashing order.
 std::vector<fs::path> binaryFiles(const json& m) {
   std::vector<fs::path> files;
@@ -215,7 +206,7 @@ static bool isDatasetFolder(const fs::path& dir) {
   }
   if (ec) return false;
   try {
-    return readJson(dir / "manifest.json").value("format", "") == kFormat;
+    return readJsonFile(dir / "manifest.json").value("format", "") == kFormat;
   } catch (const std::exception&) {
     return false;
   }
@@ -226,7 +217,7 @@ ReplaceableOutput datasetOutput() { return {"data set folder", isDatasetFolder};
 Dataset readDataset(const fs::path& dir) {
   const fs::path file = dir / "manifest.json";
   if (!fs::is_directory(dir)) throw DataError(dir, "", "data set folder is missing");
-  const json m = readJson(file);
+  const json m = readJsonFile(file);
   const Manifest mf{file};
   if (!m.is_object()) throw DataError(file, "", "must be a JSON object");
   if (mf.at(m, "format", "") != kFormat) throw DataError(file, "format", std::string("must be \"") + kFormat + "\"");
@@ -294,7 +285,7 @@ GroundTruth groundTruthOf(const Dataset& d, const fs::path& dir, double resoluti
 std::string datasetContentHash(const fs::path& dir) {
   Fnv1a h;
   h.feedFile(dir / "manifest.json");
-  for (const auto& f : binaryFiles(readJson(dir / "manifest.json"))) h.feedFile(dir / f);
+  for (const auto& f : binaryFiles(readJsonFile(dir / "manifest.json"))) h.feedFile(dir / f);
   return h.hex();
 }
 

@@ -1,5 +1,5 @@
 // The options of the commands a cluster plan runs (sweep, merge, compare, cluster select), registered in one place
-// each: the commands use them, and so does tests/test_cluster_argv.cpp, which checks that parsing the argv that
+// each: the commands use them, and so does tests/tools/test_cluster_argv.cpp, which checks that parsing the argv that
 // taskArgv (occsweep/sweeps/cluster_tasks.hpp) renders gives back the task.
 #pragma once
 

@@ -160,14 +160,7 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool r
 ClusterPlan readPlan(const std::filesystem::path& dir) {
   const std::string file = (dir / "plan.json").string();
   if (!std::filesystem::exists(file)) throw std::runtime_error(file + ": cannot open (not a plan folder?)");
-  const std::string text = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::exception& e) {
-    throw std::runtime_error(file + ": not JSON: " + e.what());
-  }
-  return parsePlan(j, file);
+  return parsePlan(readJsonFile(file), file);
 }
 
 }  // namespace occsweep

@@ -136,13 +136,7 @@ GridSpec parseGrid(const json& j, const std::string& file) {
 
 GridSpec loadGrid(const std::filesystem::path& file) {
   const std::string bytes = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
-  json j;
-  try {
-    j = json::parse(bytes);
-  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
-    throw std::runtime_error(file.string() + ": not valid JSON: " + e.what());
-  }
-  GridSpec g = parseGrid(j, file.string());
+  GridSpec g = parseGrid(parseJsonText(bytes, file), file.string());
   Fnv1a h;
   h.feed(bytes);
   g.file_hash = h.hex();

@@ -29,7 +29,7 @@ namespace {
 
 RankedDataset readRanking(const std::string& name, const fs::path& root) {
   const fs::path file = root / "ranking.json";
-  const json j = reproduce::readJson(file);
+  const json j = readJsonFile(file);
   RankedDataset d{name, root, {}, {}};
   if (!j.contains("sets") || !j.at("sets").is_array() || j.at("sets").empty())
     throw std::runtime_error(file.string() + ": field 'sets' must be a non-empty array");
@@ -152,15 +152,6 @@ std::size_t paperIndex(const std::string& name, std::size_t fallback) {
 }
 
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
-json readJson(const fs::path& file) {
-  const std::string text = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
-  try {
-    return json::parse(text);
-  } catch (const json::exception& e) {
-    throw std::runtime_error(file.string() + ": not valid JSON (" + e.what() + ")");
-  }
-}
 
 }  // namespace reproduce
 }  // namespace occsweep

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/eval/bounded_read.hpp"  // readJsonFile
 #include "occsweep/sweeps/reproduce.hpp"
 #include "occsweep/sweeps/results.hpp"
 
@@ -35,9 +36,6 @@ struct BothTruths {
 
 /// Finite numbers as JSON numbers, NaN and infinities as null (JSON has no NaN).
 [[nodiscard]] nlohmann::json number(double v);
-
-/// Reads a step's JSON written by an earlier run (for --figures-only style reuse); throws naming the file.
-[[nodiscard]] nlohmann::json readJson(const std::filesystem::path& file);
 
 /// A number for report.md: `format` applied, "n/a" for NaN and infinities.
 [[nodiscard]] inline std::string num(double v, const char* format = "%.4f") {

@@ -267,14 +267,7 @@ ResultsFile parseResults(const json& j, const std::string& file) {
 }
 
 ResultsFile readResults(const std::filesystem::path& file) {
-  const std::string text = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
-    throw std::runtime_error(file.string() + ": not valid JSON (truncated?): " + e.what());
-  }
-  return parseResults(j, file.string());
+  return parseResults(readJsonFile(file), file.string());
 }
 
 void writeJsonAtomically(const json& j, const std::filesystem::path& file) {

@@ -49,12 +49,7 @@ AxisBox truthRegion(const TruthSources& truth) {
 }
 
 std::vector<AxisBox> decodeTruthBoxes(std::string_view text, const fs::path& file) {
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::exception& e) {
-    throw DataError(file, "", std::string("not valid JSON: ") + e.what());
-  }
+  json j = parseJsonText(text, file);
   if (j.is_object() && j.contains("boxes")) j = j.at("boxes");
   if (!j.is_array()) throw DataError(file, "", "must be a list of boxes or an object with a \"boxes\" list");
   std::vector<AxisBox> boxes;

@@ -10,7 +10,7 @@
 namespace occsweep {
 
 /// Which updates a voxel gets from one scan and in what order. `Value` is what one update adds: float for one
-/// map, an array of floats for several maps replayed together (sweeps/src/replay_lanes.cpp).
+/// map, an array of floats for several maps replayed together (sweeps/engine/src/replay_lanes.cpp).
 ///
 /// The order is Algorithm 1's: the hit first (lines 3-10: the clamped sum of the voxel's l(p(s_j))), then l_in
 /// when a ray to a point within s_c crossed the voxel (line 11), otherwise l_out when only rays to points beyond

@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "data_error.hpp"
 
 namespace occsweep {
@@ -24,6 +26,13 @@ void requireRegularFile(const std::filesystem::path& file);
 /// The whole file; DataError when requireRegularFile refuses it, it is unreadable, or larger than `max_bytes`.
 [[nodiscard]] std::string readFileBytes(const std::filesystem::path& file,
                                         std::uint64_t max_bytes = kMaxImportFileBytes);
+
+/// The whole file parsed as JSON: readFileBytes' refusals, then a DataError "FILE: not valid JSON: ..." when it is
+/// not (a syntax error, a truncated file, a number like 1e999 that no double holds). One home for every JSON input:
+/// manifests, grids, results, plans, rankings.
+[[nodiscard]] nlohmann::json readJsonFile(const std::filesystem::path& file);
+/// `text` (the bytes of `file`) parsed as JSON, with readJsonFile's error.
+[[nodiscard]] nlohmann::json parseJsonText(std::string_view text, const std::filesystem::path& file);
 
 /// Sequential binary reader over a byte buffer; never reads past the end.
 class ByteReader {

@@ -1,6 +1,6 @@
 // The commands a cluster plan runs, typed. The planner renders each task's argv from one of these (taskArgv) and
 // the occsweep command parses that argv back into the same value (tools/occsweep/task_options.hpp), so the
-// grammar of a task is written once per side and tests/test_cluster_argv.cpp checks parse(render(task)) == task.
+// grammar of a task is written once per side and tests/tools/test_cluster_argv.cpp checks parse(render(task)) == task.
 #pragma once
 
 #include <string>
