@@ -74,6 +74,9 @@ std::vector<std::string> withProgram(const std::string& program, std::vector<std
   return args;
 }
 
+/// The set whose sweeps take the Eq. 16 groups of grouped grids: --group-set, else the first of --sets.
+std::string groupSet(const PlanConfig& c) { return c.group_set.empty() ? c.sets[0] : c.group_set; }
+
 void checkPlanConfig(const PlanConfig& c) {
   if (c.experiment != "reproduce" && c.experiment != "sweep")
     throw std::invalid_argument("--experiment '" + c.experiment + "': expected reproduce or sweep");
@@ -83,7 +86,7 @@ void checkPlanConfig(const PlanConfig& c) {
   if (c.sets.empty()) throw std::invalid_argument("--sets must name at least one point cloud set");
   if (c.experiment == "reproduce" && c.blocks > 1 && !c.ranked)
     throw std::invalid_argument("--blocks > 1 needs the select stage to gather the blocks' sets (drop --unranked)");
-  const std::string group_set = c.group_set.empty() ? c.sets[0] : c.group_set;
+  const std::string group_set = groupSet(c);
   if (std::find(c.sets.begin(), c.sets.end(), group_set) == c.sets.end())
     for (const auto& g : c.grids)
       if (g.grouped) throw std::invalid_argument("--group-set " + group_set + " is not one of --sets");
@@ -230,7 +233,7 @@ void addSweepStages(const PlanConfig& c, const std::vector<SweptSet>& swept, con
                     ClusterPlan& plan) {
   ClusterStage sweep{"sweep", {}, {}}, merge{"merge", {"sweep"}, {}}, report{"report", {"merge"}, {}};
   if (c.experiment == "reproduce") sweep.after = {c.ranked ? "select" : "generate"};
-  const std::string group_set = c.group_set.empty() ? c.sets[0] : c.group_set;
+  const std::string group_set = groupSet(c);
   std::vector<std::string> optimisation, all_merged;
   for (const auto& s : swept)
     for (const auto& g : grids) {

@@ -102,10 +102,6 @@ std::string shellQuote(const std::string& a) {
   return q + "'";
 }
 
-void writeTextAtomically(const std::string& text, const std::filesystem::path& file) {
-  writeFileAtomically(file, text);
-}
-
 }  // namespace
 
 std::string sbatchScript(const ClusterPlan& plan, const ClusterStage& stage) {
@@ -146,7 +142,7 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool r
     fs::create_directories(dir / "logs");
     for (const auto& st : plan.stages) {
       const fs::path script = dir / "slurm" / (st.name + ".sbatch");
-      writeTextAtomically(sbatchScript(plan, st), script);
+      writeFileAtomically(script, sbatchScript(plan, st));
       fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
     }
     writeJsonAtomically(j, manifest);  // last: a plan folder with plan.json is complete
