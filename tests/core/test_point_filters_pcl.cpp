@@ -118,3 +118,15 @@ TEST_CASE("PCL's ROR on a lattice: a neighbour exactly at the radius counts (1.0
   CHECK(radiusOutlierRemoval(pts, 1.0, 2) == std::vector<std::uint32_t>{1});
   CHECK(radiusOutlierRemoval(pts, 1.0, 1) == std::vector<std::uint32_t>{0, 1, 2});
 }
+
+TEST_CASE("PCL's other ROR path, taken only for clouds marked not dense, does not count a neighbour at the radius") {
+  // radius_outlier_removal.hpp:132-151 calls radiusSearch with float(radius * radius) (kdtree_flann.hpp:400) and
+  // FLANN's RadiusResultSet keeps dist < radius (flann/util/result_set.h:477): strict. Our filters reproduce the
+  // dense path (a cloud of finite points); this pins the difference a caller of PCL with is_dense false would see.
+  QuietPcl quiet;
+  const std::vector<octomap::point3d> pts = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {4, 0, 0}};
+  auto cloud = pclCloud(pts);
+  cloud->is_dense = false;
+  CHECK(pclRor(cloud, 1.0, 1).empty());
+  CHECK(pclRor(cloud, 1.5, 2) == std::vector<std::uint32_t>{1});
+}

@@ -125,7 +125,8 @@ class ExactNeighbours {
     const std::size_t got = tree_.knnSearch(q, want, knn_index_.data(), knn_d2_.data());
     // The want-th smallest distance is at most the largest over any `want` real points, such as those found.
     float worst = 0.0f;
-    for (std::size_t j = 0; j < got; ++j) worst = std::max(worst, flannSquaredDistance(points_[i], points_[knn_index_[j]]));
+    for (std::size_t j = 0; j < got; ++j)
+      worst = std::max(worst, flannSquaredDistance(points_[i], points_[knn_index_[j]]));
     within(i, searchBound(worst));
     std::sort(d2.begin(), d2.end());
     d2.resize(std::min(d2.size(), want));
