@@ -22,6 +22,7 @@
 #include <vector>
 
 #include <octomap/octomap.h>
+#include <tbb/parallel_for.h>
 #include <tbb/version.h>
 
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
@@ -30,6 +31,8 @@
 #include "occsweep/stats/runtime_model.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/sweep.hpp"
+#include "occsweep/sweeps/sweep_engine.hpp"
+#include "occsweep/core/method_registry.hpp"
 
 using namespace occsweep;
 using Clock = std::chrono::steady_clock;
@@ -155,62 +158,64 @@ SweepSeconds timeSweeps(const std::filesystem::path& dir) {
   return s;
 }
 
+// One grid replayed by the sweep's own engine, on all cores: what its maps share (recording, features), then
+// every batch; throughput counts the batches only, the part that grows with the grid.
 struct ReplaySeconds {
-  double seconds;
+  std::string grid, method;
+  double prepare, replay;
   std::size_t combinations;
 };
 
-// Every map of a grid replayed as the sweep does: k-NN maps grouped by (p_u, p_l), kReplayLanes at a time.
-ReplaySeconds timeReplay(const RecordedSet& recorded, const std::vector<double>& cdf, const char* name) {
-  const GridEnumeration e = enumerateGrid(loadGrid(resolveGridPath(name)));
+ReplaySeconds timeReplay(const Dataset& data, const GroundTruth& truth, const char* name) {
+  const GridSpec grid = loadGrid(resolveGridPath(name));
+  const GridEnumeration e = enumerateGrid(grid);
+  std::vector<MapToCount> maps;
   std::size_t combos = 0;
-  const double t = seconds([&] {
-    std::vector<float> sums;
-    std::vector<ReplayRule> rules;
-    std::vector<std::vector<double>> p_t;
-    auto flush = [&] {
-      if (!rules.empty()) (void)replayCounts(recorded, rules, p_t);
-      rules.clear();
-      p_t.clear();
-    };
-    for (std::size_t m = 0; m < e.maps.size(); ++m) {
-      const MapParams& p = e.maps[m];
-      const bool knn_map = p.k > 0;
-      if (knn_map && (m == 0 || p.p_u != e.maps[m - 1].p_u || p.p_l != e.maps[m - 1].p_l)) {
-        flush();
-        sums = knnHitSums(recorded, cdf, toDouble(p.p_u), toDouble(p.p_l));
-      }
-      if (rules.size() == kReplayLanes) flush();
-      rules.push_back(knn_map ? knnRule(p, sums, UpdateVariant::Default) : octomapRule(p));
-      p_t.emplace_back();
-      for (Fixed t : e.thresholds[m]) p_t.back().push_back(toDouble(t)), ++combos;
-    }
-    flush();
+  for (std::size_t m = 0; m < e.maps.size(); ++m) {
+    maps.push_back({&e.maps[m], {}});
+    for (Fixed t : e.thresholds[m]) maps.back().p_t.push_back(toDouble(t)), ++combos;
+  }
+  SweepConfig config;
+  config.resolution = kResolution, config.s_c = kSC;
+  PointCloudSet scans = data.scans;  // the engine frees its copy
+  const SweepInputs inputs{config, findMethod(grid.method), grid.layout, scans, truth, truth, false};
+  const auto engine = makeSweepEngine("replay");
+  const double prepare = seconds([&] { engine->prepare(inputs, maps); });
+  const auto batches = engine->batches(inputs.method, grid.layout, maps);
+  const double replay = seconds([&] {
+    tbb::parallel_for(std::size_t(0), batches.size(), [&](std::size_t b) { (void)engine->count(maps, batches[b]); });
   });
-  return {t, combos};
+  return {name, grid.method, prepare, replay, combos};
 }
 
 // The sweep's parts, on all cores.
 struct PartSeconds {
   double record, distances;
   unsigned long long scan_voxel_updates;
-  ReplaySeconds replay_knn, replay_om;
+  std::vector<ReplaySeconds> replays;  ///< one per shipped grid: every method's throughput
 };
 
 PartSeconds timeParts(const Dataset& data, const GroundTruth& truth) {
   PartSeconds s{};
   RecordedSet recorded;
-  KnnSetDistances distances;
-  std::vector<double> cdf;
   s.record = seconds([&] { recorded = recordSet(data.scans, truth, kResolution, kSC); });
-  s.distances = seconds([&] {
-    distances = parallelKnnDistances(data.scans, 1, kSC);
-    cdf = hitCdf(recorded, distances, StatsMode::Batch);
-  });
+  s.distances = seconds([&] { (void)parallelKnnDistances(data.scans, 1, kSC); });
   s.scan_voxel_updates = recorded.scan_voxel_updates;
-  s.replay_knn = timeReplay(recorded, cdf, "knn-opt");
-  s.replay_om = timeReplay(recorded, cdf, "octomap-opt");
+  for (const char* grid : {"knn-opt", "octomap-opt", "sor-octomap-opt", "ror-octomap-opt", "range-octomap-opt"})
+    s.replays.push_back(timeReplay(data, truth, grid));
   return s;
+}
+
+// Per method: its replay throughput and its ratio to k-NN's (docs/methods.md: a method swept within 2x of k-NN).
+void printReplayThroughput(const std::vector<ReplaySeconds>& replays) {
+  std::printf("\n%-20s %-14s %12s %12s %12s %16s %10s\n", "grid", "method", "combinations", "prepare s", "replay s",
+              "combinations/s", "/ k-NN");
+  const double knn_rate = double(replays.front().combinations) / replays.front().replay;
+  for (const ReplaySeconds& r : replays) {
+    const double rate = double(r.combinations) / r.replay;
+    std::printf("%-20s %-14s %12zu %12.3f %12.3f %16.0f %10.3f\n", r.grid.c_str(), r.method.c_str(), r.combinations,
+                r.prepare, r.replay, rate, rate / knn_rate);
+  }
 }
 
 void printSteps(double t_octomap, double t_knn, const SweepSeconds& sweep, const PartSeconds& parts) {
@@ -219,18 +224,17 @@ void printSteps(double t_octomap, double t_knn, const SweepSeconds& sweep, const
   std::printf("%-52s %10.3f\n", "k-NN mapper direct build (k = 1, incl. k-NN, 1 thread)", t_knn);
   std::printf("%-52s %10.3f / %.3f\n", "occsweep sweep knn-opt (1 thread / all cores)", sweep.knn_1, sweep.knn_all);
   std::printf("%-52s %10.3f / %.3f\n", "occsweep sweep octomap-opt (1 thread / all cores)", sweep.om_1, sweep.om_all);
-  std::printf("  parts, all cores: recording %.3f s (%llu region voxel updates), k-NN distances and F %.3f s,\n",
+  std::printf("  parts, all cores: recording %.3f s (%llu region voxel updates), k-NN distances %.3f s\n",
               parts.record, parts.scan_voxel_updates, parts.distances);
-  std::printf("  replay knn-opt %.3f s (%zu combinations), replay octomap-opt %.3f s (%zu combinations)\n",
-              parts.replay_knn.seconds, parts.replay_knn.combinations, parts.replay_om.seconds,
-              parts.replay_om.combinations);
+  printReplayThroughput(parts.replays);
   std::printf("\n(a) knn-opt + octomap-opt sweeps (recording included) / one liboctomap build: %.3f on 1 thread, "
               "%.3f on all cores   (goal <= 1.0)\n",
               (sweep.knn_1 + sweep.om_1) / t_octomap, (sweep.knn_all + sweep.om_all) / t_octomap);
   std::printf("(b) k-NN direct build / one liboctomap build:                 %.3f   (goal <= 0.7)\n", t_knn / t_octomap);
-  std::printf("(c) replay throughput: %.0f combinations/s (all cores)\n",
-              double(parts.replay_knn.combinations + parts.replay_om.combinations) /
-                  (parts.replay_knn.seconds + parts.replay_om.seconds));
+  const ReplaySeconds& knn = parts.replays[0];
+  const ReplaySeconds& om = parts.replays[1];
+  std::printf("(c) replay throughput: %.0f combinations/s (all cores, knn-opt and octomap-opt)\n",
+              double(knn.combinations + om.combinations) / (knn.replay + om.replay));
 }
 
 // Growth with points (and k): Eq. 17 for liboctomap and for the whole sweep, Eq. 18 for the k-NN build.
@@ -246,8 +250,8 @@ void printGrowthFits(const Dataset& data, const GroundTruth& truth, const OctoMa
       s_knn.push_back({np, double(k), seconds([&] { (void)KnnInverseSensorModel(p).buildMap(part); })});
     }
     s_sweep.push_back({np, 0, seconds([&] {
-                         const RecordedSet r = recordSet(part, truth, kResolution, kSC);
-                         (void)hitCdf(r, parallelKnnDistances(part, 1, kSC), StatsMode::Batch);
+                         (void)recordSet(part, truth, kResolution, kSC);
+                         (void)parallelSetFeature(part, {PointFeature::KnnCdf, 1}, kSC, StatsMode::Batch);
                        })});
   }
   const RuntimeFit f_om = fitEq17(s_om), f_knn = fitEq18(s_knn), f_sweep = fitEq17(s_sweep);

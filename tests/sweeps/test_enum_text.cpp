@@ -7,6 +7,7 @@
 #include "occsweep/core/mapping_params.hpp"
 #include "occsweep/eval/observable_truth.hpp"
 #include "occsweep/sweeps/replay.hpp"
+#include "occsweep/core/method_registry.hpp"
 #include "occsweep/sweeps/sweep_engine.hpp"
 
 using namespace occsweep;
@@ -70,16 +71,16 @@ TEST_CASE("the engine factory makes replay and direct, and refuses any other nam
 }
 
 TEST_CASE("replay batches up to 8 maps that share their hit rule, direct one map each") {
-  MapParams a, b;
-  a.k = b.k = 3;
-  a.p_u = 860000, b.p_u = 900000;  // another p_u: another hit rule
+  const ParameterLayout layout = layoutOf("knn");  // k, p_u, p_l, p_max, p_min, p_m, p_m_out
+  MapParams a{{3 * kFixedScale, 860000, 260000, 980000, 20000, 400000, 450000}}, b = a;
+  b.values[layout.index("p_u")] = 900000;  // another p_u: another hit rule
   std::vector<MapToCount> maps;
   for (int i = 0; i < 10; ++i) maps.push_back({&a, {0.5}});
   maps.push_back({&b, {0.5}});
   using Batches = std::vector<std::vector<std::size_t>>;
-  CHECK(makeSweepEngine("replay")->batches(maps) ==
+  CHECK(makeSweepEngine("replay")->batches(findMethod("knn"), layout, maps) ==
         Batches{{0, 1, 2, 3, 4, 5, 6, 7}, {8, 9}, {10}});
-  CHECK(makeSweepEngine("direct")->batches(maps) ==
+  CHECK(makeSweepEngine("direct")->batches(findMethod("knn"), layout, maps) ==
         Batches{{0}, {1}, {2}, {3}, {4}, {5}, {6}, {7}, {8}, {9}, {10}});
   static_assert(kReplayLanes == 8);
 }

@@ -6,6 +6,7 @@
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
+#include "occsweep/core/method_registry.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "test_helpers.hpp"
 
@@ -68,8 +69,10 @@ TEST_CASE("the golden check fails when a single voxel's classification changes")
   const Dataset data = readDataset(scene);
   const GroundTruth truth = makeGroundTruth(data.truth, data.region, golden.header.resolution);
   const MapResult& m = golden.maps.at(7);
-  SweepConfig c;
-  auto tree = buildOctoMap(data.scans, octomapParams(m.params, c, m.params.p_min));
+  const SweepConfig c;
+  MethodValues values;
+  for (Fixed v : m.params.values) values.push_back(toDouble(v));
+  auto tree = findMethod("octomap").buildMap(data.scans, values, {c.resolution, c.s_c, c.variant, c.stats, {}});
   RegionSample sample = sampleRegion(*tree, truth);
 
   auto withCounts = [&](const RegionSample& s) {

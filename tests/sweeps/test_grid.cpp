@@ -59,7 +59,7 @@ TEST_CASE("occsweep grid count prints Table 1's counts beside Eq. 15, and grid l
 
 TEST_CASE("grid values are exact: 0.98 is 0.98") {
   const GridSpec g = loadGrid(resolveGridPath("octomap-opt"));
-  const auto p_h = g.p_h.values();
+  const auto p_h = g.range("p_h").values();
   REQUIRE(p_h.size() == 5);
   CHECK(p_h.back() == 980000);
   CHECK(toDouble(p_h.back()) == 0.98);

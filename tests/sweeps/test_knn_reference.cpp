@@ -19,6 +19,7 @@
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/ground_truth.hpp"
+#include "occsweep/core/builtin_methods.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "reference/knn_algorithm1.hpp"
 
@@ -113,25 +114,18 @@ Scene randomScene(std::uint64_t seed) {
 }
 
 /// Parameters off the degenerate case: hundredths obeying Eq. 12 with p_u > p_l and p'_m > p_m strictly.
-MapParams randomMapParams(SplitMix64& rng, int k, Fixed p_u, Fixed p_l) {
+/// k-NN's values (KnnMethod::parameters' order: k, p_u, p_l, p_max, p_min, p_m, p_m_out).
+MethodValues randomMapParams(SplitMix64& rng, int k, Fixed p_u, Fixed p_l) {
   auto hundredths = [&](int lo, int hi) { return Fixed(lo + int(rng.below(std::uint64_t(hi - lo + 1)))) * 10'000; };
-  MapParams m;
-  m.k = k;
-  m.p_u = p_u;
-  m.p_l = p_l;
-  m.p_max = hundredths(52, 97);  // low values clamp often
-  m.p_min = hundredths(3, 40);
-  m.p_m = m.p_min + hundredths(0, int(48 - m.p_min / 10'000));
-  m.p_m_out = m.p_m + hundredths(1, int(49 - m.p_m / 10'000));
-  return m;
+  const Fixed p_max = hundredths(52, 97);  // low values clamp often
+  const Fixed p_min = hundredths(3, 40);
+  const Fixed p_m = p_min + hundredths(0, int(48 - p_min / 10'000));
+  const Fixed p_m_out = p_m + hundredths(1, int(49 - p_m / 10'000));
+  return {double(k), toDouble(p_u), toDouble(p_l), toDouble(p_max), toDouble(p_min), toDouble(p_m), toDouble(p_m_out)};
 }
 
-KnnParams knnParams(const MapParams& m, const Scene& scene, UpdateVariant variant, StatsMode stats) {
-  KnnParams p;
-  p.p_u = toDouble(m.p_u), p.p_l = toDouble(m.p_l), p.p_m = toDouble(m.p_m), p.p_m_out = toDouble(m.p_m_out);
-  p.p_max = toDouble(m.p_max), p.p_min = toDouble(m.p_min), p.p_t = p.p_min;
-  p.k = m.k, p.resolution = scene.resolution, p.s_c = scene.s_c, p.variant = variant, p.stats = stats;
-  return p;
+KnnParams knnParams(const MethodValues& m, const Scene& scene, UpdateVariant variant, StatsMode stats) {
+  return KnnMethod().knnParams(m, {scene.resolution, scene.s_c, variant, stats, {}});
 }
 
 /// Thresholds: the grid's p_min..p_max by 0.12, plus probabilities whose log-odds voxels hold exactly.
@@ -326,6 +320,8 @@ TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 r
     countSceneCoverage(scene, cov);
     const GroundTruth truth = makeGroundTruth({scene.boxes, {}, {}}, scene.region, scene.resolution);
     const RecordedSet recorded = recordSet(scene.set, truth, scene.resolution, scene.s_c);
+    std::vector<std::vector<std::uint32_t>> inner;
+    for (const Scan& scan : scene.set) inner.push_back(innerPoints(scan, scene.s_c));
     SplitMix64 rng(seed);
     for (int hit_rule = 0; hit_rule < 2; ++hit_rule) {
       // One hit rule (k, p_u, p_l) and three lanes of other parameters, replayed together as `sweep` does.
@@ -333,19 +329,21 @@ TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 r
       cov.k_seen[k] = true;
       const Fixed p_l = Fixed(2 + rng.below(80)) * 10'000;
       const Fixed p_u = p_l + Fixed(1 + rng.below(std::uint64_t(98 - p_l / 10'000))) * 10'000;
-      std::vector<MapParams> lanes;
+      std::vector<MethodValues> lanes;
       for (int lane = 0; lane < 3; ++lane) lanes.push_back(randomMapParams(rng, k, p_u, p_l));
       const KnnSetDistances distances = computeKnnDistances(scene.set, k, scene.s_c);
       const reference::SetDistances reference_s = reference::averageDistances(scene.set, k, scene.s_c);
       for (const StatsMode stats : {StatsMode::Batch, StatsMode::Online}) {
-        const auto sums = knnHitSums(recorded, hitCdf(recorded, parallelKnnDistances(scene.set, k, scene.s_c), stats),
-                                     toDouble(p_u), toDouble(p_l));
+        const MapRule hit_rule = KnnMethod().rule(lanes[0], {});
+        const auto sums = eventHits(
+            recorded, hitFeatures(recorded, parallelSetFeature(scene.set, hit_rule.hit.feature, scene.s_c, stats), inner),
+            hit_rule.hit);
         for (const UpdateVariant variant : {UpdateVariant::Default, UpdateVariant::Literal}) {
           std::vector<ReplayRule> rules;
           std::vector<std::vector<double>> p_t;
           std::vector<std::vector<RegionVoxel>> reference_regions;
           std::vector<std::string> lane_names;
-          for (const MapParams& m : lanes) {
+          for (const MethodValues& m : lanes) {
             const KnnParams p = knnParams(m, scene, variant, stats);
             lane_names.push_back(paramsText(p));
             INFO(lane_names.back());
@@ -354,7 +352,7 @@ TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 r
             cov.clamped_hit_sums += clampedHitSums(scene, p, reference_s);
             requireLibraryMapsEqual(ref, p, scene, distances);
             reference_regions.push_back(regionOf(ref, truth));
-            rules.push_back(knnRule(m, sums, variant));
+            rules.push_back(replayRule(KnnMethod().rule(m, {variant}), &sums));
             p_t.push_back(thresholds(p));
           }
           requireReplayEqual(recorded, rules, p_t, reference_regions, lane_names, cov);

@@ -10,20 +10,24 @@
 namespace occsweep::cli {
 namespace {
 
-std::string paramsText(const MapParams& p, bool knn) {
-  char buf[160];
-  if (knn)
-    std::snprintf(buf, sizeof buf, "p_u=%g p_l=%g p_m=%g p'_m=%g k=%d", toDouble(p.p_u), toDouble(p.p_l),
-                  toDouble(p.p_m), toDouble(p.p_m_out), p.k);
-  else
-    std::snprintf(buf, sizeof buf, "p_h=%g p_m=%g", toDouble(p.p_h), toDouble(p.p_m));
-  return buf;
+// The best map's parameters but the clamping thresholds (fixed in the paper's grids), in the method's order.
+std::string paramsText(const BestMap& b, const std::vector<ResultsFile>& in) {
+  const ParameterLayout& layout = in[b.file].header.parameters;
+  std::string text;
+  char buf[64];
+  for (std::size_t i = 0; i < layout.names.size(); ++i) {
+    if (layout.names[i] == "p_max" || layout.names[i] == "p_min") continue;
+    std::snprintf(buf, sizeof buf, "%s%s=%g", text.empty() ? "" : " ", layout.names[i].c_str(), toDouble(b.params.values[i]));
+    text += buf;
+  }
+  return text;
 }
 
-nlohmann::json bestJson(const std::optional<BestMap>& b, bool knn, const std::vector<std::string>& names) {
+nlohmann::json bestJson(const std::optional<BestMap>& b, const std::vector<ResultsFile>& in,
+                        const std::vector<std::string>& names) {
   if (!b) return nullptr;
   return {{"auc", b->auc}, {"auc_observed", b->observed}, {"map_index", b->map_index},
-          {"params", paramsText(b->params, knn)}, {"file", names[b->file]}};
+          {"params", paramsText(*b, in)}, {"file", names[b->file]}};
 }
 
 // A number occsweep prints is either right or not printed (docs/robustness.md): "-" where there is none.
@@ -56,19 +60,29 @@ std::vector<std::string> checkMixed(const std::vector<ResultsFile>& in, const Co
   return mixed;
 }
 
-void printHeader() {
-  std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s\n", "data set", "pcs", "OctoMap", "k-NN", "improve%",
+void printHeader(const std::vector<std::string>& others) {
+  std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s", "data set", "pcs", "OctoMap", "k-NN", "improve%",
               "OctoMap best", "k-NN best", "OctoMap file", "k-NN file");
+  for (const std::string& m : others) std::printf(" | %s AUC, vs OctoMap %%, best", m.c_str());
+  std::printf("\n");
 }
 
-void printRow(const ComparisonRow& r, const std::vector<std::string>& files) {
+// Other methods (docs/methods.md) follow the paper's two, each as AUC, improvement over OctoMap and best map.
+void printRow(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
+              const std::vector<std::string>& others) {
   auto auc = [](const std::optional<BestMap>& b) { return b ? b->auc : std::nan(""); };
   auto file = [&](const std::optional<BestMap>& b) { return b ? files[b->file] : std::string("-"); };
-  std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s\n", r.dataset.c_str(), r.point_cloud_set.c_str(),
+  std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s", r.dataset.c_str(), r.point_cloud_set.c_str(),
               cell(auc(r.octomap), "%.4f").c_str(), cell(auc(r.knn), "%.4f").c_str(),
-              cell(r.improvementPercent(), "%.2f").c_str(),
-              r.octomap ? paramsText(r.octomap->params, false).c_str() : "-",
-              r.knn ? paramsText(r.knn->params, true).c_str() : "-", file(r.octomap).c_str(), file(r.knn).c_str());
+              cell(r.improvementPercent(), "%.2f").c_str(), r.octomap ? paramsText(*r.octomap, in).c_str() : "-",
+              r.knn ? paramsText(*r.knn, in).c_str() : "-", file(r.octomap).c_str(), file(r.knn).c_str());
+  for (const std::string& m : others) {
+    const auto it = r.others.find(m);
+    std::printf(" | %s %s %s", cell(it == r.others.end() ? std::nan("") : it->second.auc, "%.4f").c_str(),
+                cell(r.improvementPercent(m), "%+.2f").c_str(),
+                it == r.others.end() ? "-" : paramsText(it->second, in).c_str());
+  }
+  std::printf("\n");
 }
 
 // Why a row lacks a number: in the row's JSON, and (with its data set) in `notes` for the lines after the table.
@@ -87,12 +101,18 @@ nlohmann::json rowNotes(const ComparisonRow& r, const std::vector<ResultsFile>& 
   return row_notes;
 }
 
-nlohmann::json rowJson(const ComparisonRow& r, const std::vector<std::string>& files, nlohmann::json notes) {
-  const double imp = r.improvementPercent();
-  return {{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
-          {"octomap", bestJson(r.octomap, false, files)}, {"knn", bestJson(r.knn, true, files)},
-          {"improvement_percent", std::isfinite(imp) ? nlohmann::json(imp) : nlohmann::json(nullptr)},
-          {"notes", std::move(notes)}};
+nlohmann::json rowJson(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
+                       nlohmann::json notes) {
+  const auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  nlohmann::json j = {{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
+                      {"octomap", bestJson(r.octomap, in, files)}, {"knn", bestJson(r.knn, in, files)},
+                      {"improvement_percent", number(r.improvementPercent())}, {"notes", std::move(notes)}};
+  // The other methods only when given: a comparison of the paper's two stays as it was.
+  for (const auto& [name, best] : r.others) {
+    j["others"][name] = bestJson(best, in, files);
+    j["others"][name]["improvement_percent"] = number(r.improvementPercent(name));
+  }
+  return j;
 }
 
 void printTruth(TruthMode truth) {
@@ -109,12 +129,13 @@ int runCompare(const CompareTask& o) {
   const TruthMode truth = in.front().header.truth;
   const auto mixed = checkMixed(in, o);
   const auto rows = compareBest(in);
-  printHeader();
+  const std::vector<std::string> others = otherMethods(rows);
+  printHeader(others);
   nlohmann::json j = nlohmann::json::array();
   std::vector<std::string> notes;
   for (const auto& r : rows) {
-    printRow(r, o.files);
-    j.push_back(rowJson(r, o.files, rowNotes(r, in, o.files, notes)));
+    printRow(r, in, o.files, others);
+    j.push_back(rowJson(r, in, o.files, rowNotes(r, in, o.files, notes)));
   }
   for (const auto& n : notes) std::cout << "note: " << n << '\n';
   printTruth(truth);

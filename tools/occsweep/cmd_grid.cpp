@@ -1,25 +1,21 @@
 // occsweep grid count|list|shards GRID: the enumeration, Eq. 15 and the Eq. 16 split.
 #include <iostream>
+#include <optional>
 
 #include "command_registry.hpp"
 #include "option_checks.hpp"
 #include "limit_options.hpp"
 #include "occsweep/sweeps/grid.hpp"
+#include "occsweep/sweeps/results.hpp"
 #include "occsweep/sweeps/sharding.hpp"
 
 namespace occsweep::cli {
 namespace {
 
 nlohmann::json paramsJson(const GridSpec& g, const MapParams& m, Fixed p_t) {
-  nlohmann::json j = {{"p_max", toDouble(m.p_max)}, {"p_min", toDouble(m.p_min)}, {"p_m", toDouble(m.p_m)}};
-  if (g.method == GridMethod::Knn) {
-    j["p_m_out"] = toDouble(m.p_m_out);
-    j["p_u"] = toDouble(m.p_u);
-    j["p_l"] = toDouble(m.p_l);
-    j["k"] = m.k;
-  } else {
-    j["p_h"] = toDouble(m.p_h);
-  }
+  MapResult params_only;
+  params_only.params = m;
+  nlohmann::json j = toJson(params_only, g.layout).at("params");
   j["p_t"] = toDouble(p_t);
   return j;
 }
@@ -51,14 +47,17 @@ GridSpec loadNamedGrid(const GridOptions& o) { return loadGrid(resolveGridPath(o
 
 int runGridCount(const GridOptions& o) {
   const GridSpec g = loadNamedGrid(o);
-  // Eq. 15 counts without allocating; the enumeration, a cross-check, only within the limit (issue 13).
-  const auto closed = closedFormCount(g);
+  // Eq. 15 counts without allocating; the enumeration, a cross-check, only within the limit (issue 13). Methods
+  // other than OctoMap and k-NN have no closed form: their maps are counted one by one.
+  const std::optional<std::uint64_t> eq15 = closedFormCount(g);
+  const std::uint64_t closed = eq15 ? *eq15 : combinationCount(g);
+  const char* how = eq15 ? "Eq. 15 closed form" : "counted map by map: no closed form for this method";
   const bool enumerate = closed <= limits().combinations;
   const auto enumerated = enumerate ? enumerateGrid(g).combinations : closed;
   if (enumerate)
-    std::cout << g.name << ": " << enumerated << " combinations (enumerated), " << closed << " (Eq. 15 closed form)\n";
+    std::cout << g.name << ": " << enumerated << " combinations (enumerated), " << closed << " (" << how << ")\n";
   else
-    std::cout << g.name << ": " << closed << " combinations (Eq. 15 closed form; not enumerated: more than "
+    std::cout << g.name << ": " << closed << " combinations (" << how << "; not enumerated: more than "
               << "the limit of " << limits().combinations << ", --max-combinations)\n";
   const auto base = enumerated / o.groups, extra = enumerated % o.groups;
   std::cout << "per group of " << o.groups << " (Eq. 16): " << base;

@@ -7,7 +7,6 @@
 #include <tbb/parallel_for.h>
 
 #include "occsweep/core/log_odds.hpp"
-#include "occsweep/core/normal_cdf.hpp"
 #include "occsweep/core/scan_events.hpp"
 
 namespace occsweep {
@@ -30,11 +29,13 @@ inline void labelTruth(const GroundTruth& truth, const KeyWindow& region, std::u
 }
 
 inline std::vector<ScanEvents> recordScans(const PointCloudSet& set, const KeyWindow& region, double resolution,
-                                           double s_c) {
+                                           double s_c, const SetGateScores& gate_scores) {
   std::vector<ScanEvents> per_scan(set.size());
   tbb::enumerable_thread_specific<ScanEventRecorder> recorders([&] { return ScanEventRecorder(resolution); });
   tbb::parallel_for(std::size_t(0), set.size(), [&](std::size_t t) {
-    recorders.local().record(set[t], innerPoints(set[t], s_c), s_c, region, per_scan[t]);
+    GateScores scores;
+    for (const auto& column : gate_scores) scores.push_back(&column[t]);
+    recorders.local().record(set[t], innerPoints(set[t], s_c), s_c, region, per_scan[t], scores);
     per_scan[t].voxels.shrink_to_fit();
   });
   return per_scan;
@@ -61,9 +62,17 @@ inline void bucketByVoxel(const std::vector<ScanEvents>& per_scan, const KeyWind
   };
   r.flags.resize(events_total);
   r.hit_first.assign(events_total + 1, 0);
-  forEachSorted([&](std::uint32_t, const VoxelEvent& e, std::uint32_t pos) {
+  const std::size_t gate_floats = r.gate_columns * kExtremes;
+  r.extremes.resize(events_total * gate_floats);
+  r.event_scan.resize(gate_floats ? events_total : 0);
+  forEachSorted([&](std::uint32_t t, const VoxelEvent& e, std::uint32_t pos) {
     r.flags[pos] = e.flags;
     r.hit_first[pos + 1] = e.hit_count;
+    if (!gate_floats) return;
+    const std::size_t in_scan = std::size_t(&e - per_scan[t].voxels.data());
+    std::copy_n(per_scan[t].extremes.begin() + long(in_scan * gate_floats), gate_floats,
+                r.extremes.begin() + long(std::size_t(pos) * gate_floats));
+    r.event_scan[pos] = t;
   });
   for (std::size_t e = 0; e < events_total; ++e) r.hit_first[e + 1] += r.hit_first[e];
   r.hit_scan.resize(hits_total);
@@ -91,8 +100,10 @@ inline void summarizeVoxels(std::uint32_t voxels, RecordedSet& r) {
 
 }  // namespace
 
-RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c) {
+RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c,
+                      const SetGateScores& gate_scores) {
   RecordedSet r;
+  r.gate_columns = gate_scores.size();
   const auto& lo = truth.region_min_key;
   const auto& hi = truth.region_max_key;
   const KeyWindow region{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
@@ -104,7 +115,7 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   // Events in scan order, then bucketed by voxel with a stable counting sort done in place over the scans'
   // own lists (three passes: count per voxel, hits per sorted event, copy). Memory matters here (issue 5: the
   // sweep's peak at most 3x the points): no intermediate copy of the events, every vector sized exactly.
-  std::vector<ScanEvents> per_scan = recordScans(set, region, resolution, s_c);
+  std::vector<ScanEvents> per_scan = recordScans(set, region, resolution, s_c, gate_scores);
   bucketByVoxel(per_scan, region, voxels, r);
   std::vector<ScanEvents>().swap(per_scan);
   summarizeVoxels(voxels, r);
@@ -121,42 +132,48 @@ KnnSetDistances parallelKnnDistances(const PointCloudSet& set, int k, double s_c
   return out;
 }
 
-std::vector<double> hitCdf(const RecordedSet& r, const KnnSetDistances& d, StatsMode stats) {
-  std::vector<double> cdf(r.hit_scan.size());
-  for (std::size_t h = 0; h < cdf.size(); ++h) {
-    const auto& scan = d.scans[r.hit_scan[h]];
-    const bool online = stats == StatsMode::Online;
-    cdf[h] = normalCdf(scan.s[r.hit_inner[h]], online ? scan.online_mu : d.mu, online ? scan.online_sigma : d.sigma);
+SetFeature parallelSetFeature(const PointCloudSet& set, const FeatureRequest& request, double s_c, StatsMode stats) {
+  return setFeature(set, request, s_c, stats, [](std::size_t count, auto&& body) {
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t t) { body(t); });
+  });
+}
+
+std::vector<double> hitFeatures(const RecordedSet& r, const SetFeature& feature,
+                                const std::vector<std::vector<std::uint32_t>>& inner) {
+  std::vector<double> out(r.hit_scan.size());
+  for (std::size_t h = 0; h < out.size(); ++h) {
+    const std::uint32_t t = r.hit_scan[h];
+    out[h] = feature.values[t][inner[t][r.hit_inner[h]]];
   }
-  return cdf;
+  return out;
 }
 
-std::vector<float> knnHitSums(const RecordedSet& r, const std::vector<double>& cdf, double p_u, double p_l) {
-  std::vector<float> sums(r.flags.size(), 0.0f);
-  for (std::size_t e = 0; e < sums.size(); ++e) {
-    float sum = 0.0f;  // float, in point order: exactly KnnInverseSensorModel::hitDelta
-    for (std::uint32_t h = r.hit_first[e]; h < r.hit_first[e + 1]; ++h) sum += logOdds(p_u - cdf[h] * (p_u - p_l));
-    sums[e] = sum;
+std::vector<float> eventHits(const RecordedSet& r, const std::vector<double>& features, const HitRule& hit) {
+  std::vector<float> out(r.flags.size(), 0.0f);
+  const bool sum = hit.kind == HitRule::Kind::PointSum;
+  for (std::size_t e = 0; e < out.size(); ++e) {
+    if (r.hit_first[e] == r.hit_first[e + 1]) continue;
+    // float, in point order: exactly the direct mappers' hitDeltaOf before its clamp
+    float value = sum ? 0.0f : -std::numeric_limits<float>::infinity();
+    for (std::uint32_t h = r.hit_first[e]; h < r.hit_first[e + 1]; ++h)
+      value = sum ? value + hit.pointLogOdds(features[h]) : std::max(value, hit.pointLogOdds(features[h]));
+    out[e] = value;
   }
-  return sums;
+  return out;
 }
 
-ReplayRule octomapRule(const MapParams& m) {
-  ReplayRule rule;
-  rule.l_min = logOdds(toDouble(m.p_min));
-  rule.l_max = logOdds(toDouble(m.p_max));
-  rule.update.l_in = rule.update.l_out = logOdds(toDouble(m.p_m));
-  rule.octomap_hit = logOdds(toDouble(m.p_h));
-  return rule;
-}
-
-ReplayRule knnRule(const MapParams& m, const std::vector<float>& hit_sums, UpdateVariant variant) {
-  ReplayRule rule;
-  rule.l_min = logOdds(toDouble(m.p_min));
-  rule.l_max = logOdds(toDouble(m.p_max));
-  rule.update = {logOdds(toDouble(m.p_m)), logOdds(toDouble(m.p_m_out)), variant};
-  rule.knn_hit_sums = &hit_sums;
-  return rule;
+ReplayRule replayRule(const MapRule& rule, const std::vector<float>* event_hits) {
+  ReplayRule r;
+  r.l_min = rule.l_min;
+  r.l_max = rule.l_max;
+  r.update = rule.update;
+  r.constant_hit = rule.hit.l_hit;
+  if (rule.hit.kind != HitRule::Kind::Constant) {
+    if (!event_hits) throw std::invalid_argument("replayRule: a hit rule that reads points needs its events' hits");
+    r.event_hits = event_hits;
+    r.clamp_event_hits = rule.hit.kind == HitRule::Kind::PointSum;
+  }
+  return r;
 }
 
 RegionSample replay(const RecordedSet& r, const ReplayRule& rule) {
@@ -164,7 +181,11 @@ RegionSample replay(const RecordedSet& r, const ReplayRule& rule) {
   s.positives = r.positives - r.excluded;
   s.negatives = r.negatives;
   const float lo = rule.l_min, hi = rule.l_max;
-  const bool knn = rule.knn_hit_sums != nullptr;
+  const auto hitDelta = [&](std::uint32_t e) {
+    if (!rule.event_hits) return rule.constant_hit;
+    const float d = (*rule.event_hits)[e];
+    return rule.clamp_event_hits ? std::min(std::max(d, lo), hi) : d;
+  };
   const std::uint32_t voxels = std::uint32_t(r.truth.size());
   for (std::uint32_t v = 0; v < voxels; ++v) {
     const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
@@ -172,7 +193,7 @@ RegionSample replay(const RecordedSet& r, const ReplayRule& rule) {
     float value = 0.0f;
     for (std::uint32_t e = begin; e < end; ++e)
       rule.update.apply(
-          r.flags[e], [&] { return knn ? std::min(std::max((*rule.knn_hit_sums)[e], lo), hi) : rule.octomap_hit; },
+          r.flags[e], [&] { return hitDelta(e); },
           [&](float delta) { value = clampedUpdate(value, delta, lo, hi); });
     (r.truth[v] ? s.positive_log_odds : s.negative_log_odds).push_back(value);
   }

@@ -1,15 +1,12 @@
-// The two sweep engines and their factory (sweep_engine.hpp).
+// The two sweep engines and their factory (sweep_engine.hpp). Neither knows any method: each asks the method for
+// its rule (replay) or its map (direct) (docs/methods.md).
 #include "occsweep/sweeps/sweep_engine.hpp"
 
 #include <map>
+#include <mutex>
 #include <set>
-#include <tuple>
-
-#include <tbb/parallel_for.h>
 
 #include "occsweep/core/enum_names.hpp"
-#include "occsweep/core/knn_inverse_sensor_model.hpp"
-#include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/sweeps/replay.hpp"
 
 namespace occsweep {
@@ -20,11 +17,27 @@ enum class EngineKind { Replay, Direct };
 constexpr EnumNames<EngineKind, 2> kEngineNames{
     "engine", {{{EngineKind::Replay, "replay"}, {EngineKind::Direct, "direct"}}}};
 
-// The k of the maps, each once, ascending.
-std::vector<int> distinctK(const std::vector<MapToCount>& maps) {
-  std::set<int> ks;
-  for (const MapToCount& m : maps) ks.insert(m.params->k);
-  return {ks.begin(), ks.end()};
+MethodValues valuesOf(const MapParams& m) {
+  MethodValues v;
+  for (Fixed x : m.values) v.push_back(toDouble(x));
+  return v;
+}
+
+// The maps that may be replayed together: those with equal values of the method's sharedByLanes parameters, in
+// the order of their first map; each group's maps in order.
+std::vector<std::vector<std::size_t>> laneGroups(const MappingMethod& method, const ParameterLayout& layout,
+                                                 const std::vector<MapToCount>& maps) {
+  std::vector<std::size_t> shared;
+  for (const std::string& name : method.sharedByLanes()) shared.push_back(layout.index(name));
+  std::map<std::vector<Fixed>, std::vector<std::size_t>> groups;
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    std::vector<Fixed> key;
+    for (std::size_t s : shared) key.push_back(maps[i].params->values[s]);
+    groups[key].push_back(i);
+  }
+  std::vector<std::vector<std::size_t>> out;
+  for (auto& [_, members] : groups) out.push_back(std::move(members));
+  return out;
 }
 
 // Records the region voxels' events once and replays each map from them (replay.hpp).
@@ -34,23 +47,30 @@ class ReplayEngine final : public SweepEngine {
 
   void prepare(const SweepInputs& in, const std::vector<MapToCount>& maps) override {
     const SweepConfig& c = in.config;
-    knn_ = in.method == GridMethod::Knn;
-    variant_ = c.variant;
+    method_ = &in.method;
+    context_ = {c.variant};
     observable_ = c.truth == TruthMode::Observable;
-    recorded_ = recordSet(in.scans, in.marked, c.resolution, c.s_c);
-    // Replay needs only F(s) of the recorded hits: one k at a time, its distances freed at once (memory, issue 5).
-    if (knn_)
-      for (int k : distinctK(maps)) cdf_[k] = hitCdf(recorded_, parallelKnnDistances(in.scans, k, c.s_c), c.stats);
+    // What the maps need per point: one rule per lane group tells (the groups share their features).
+    std::set<FeatureRequest> hit_needs, gate_needs;
+    for (const auto& group : laneGroups(in.method, in.layout, maps)) {
+      const MapRule rule = ruleOf(maps[group.front()]);
+      if (rule.hit.kind != HitRule::Kind::Constant) hit_needs.insert(rule.hit.feature);
+      if (rule.gate) gate_needs.insert(rule.gate->feature);
+    }
+    recordWithGates(in, gate_needs);
+    // Replay needs a hit feature only at the recorded hits: one feature at a time, freed at once (memory, issue 5).
+    std::vector<std::vector<std::uint32_t>> inner(in.scans.size());
+    for (std::size_t t = 0; t < inner.size(); ++t) inner[t] = innerPoints(in.scans[t], c.s_c);
+    for (const FeatureRequest& f : hit_needs)
+      hit_features_[f] = hitFeatures(recorded_, parallelSetFeature(in.scans, f, c.s_c, c.stats), inner);
     // From here on only the recorded events are read: the points (12 bytes each) make room for replay's buffers.
     PointCloudSet().swap(in.scans);
   }
 
-  std::vector<std::vector<std::size_t>> batches(const std::vector<MapToCount>& maps) const override {
-    std::map<std::tuple<int, Fixed, Fixed>, std::vector<std::size_t>> groups;  // by hit rule
-    for (std::size_t i = 0; i < maps.size(); ++i)
-      groups[std::make_tuple(maps[i].params->k, maps[i].params->p_u, maps[i].params->p_l)].push_back(i);
+  std::vector<std::vector<std::size_t>> batches(const MappingMethod& method, const ParameterLayout& layout,
+                                                const std::vector<MapToCount>& maps) const override {
     std::vector<std::vector<std::size_t>> out;
-    for (auto& [_, members] : groups)
+    for (const auto& members : laneGroups(method, layout, maps))
       for (std::size_t b = 0; b < members.size(); b += kReplayLanes)
         out.emplace_back(members.begin() + long(b),
                          members.begin() + long(std::min(b + kReplayLanes, members.size())));
@@ -58,50 +78,91 @@ class ReplayEngine final : public SweepEngine {
   }
 
   BatchCounts count(const std::vector<MapToCount>& maps, const std::vector<std::size_t>& batch) const override {
-    std::vector<float> hit_sums;
-    const MapParams& first = *maps[batch[0]].params;
-    if (knn_) hit_sums = knnHitSums(recorded_, cdf_.at(first.k), toDouble(first.p_u), toDouble(first.p_l));
-    std::vector<ReplayRule> rules;
+    std::vector<MapRule> rules;
+    for (std::size_t i : batch) rules.push_back(ruleOf(maps[i]));
+    const MapRule& first = rules.front();
+    std::vector<float> event_hits;
+    if (first.hit.kind != HitRule::Kind::Constant)
+      event_hits = eventHits(recorded_, hit_features_.at(first.hit.feature), first.hit);
+    std::vector<ReplayRule> lanes;
     std::vector<std::vector<double>> p_t;
-    for (std::size_t i : batch) {
-      rules.push_back(knn_ ? knnRule(*maps[i].params, hit_sums, variant_) : octomapRule(*maps[i].params));
-      p_t.push_back(maps[i].p_t);
+    for (std::size_t l = 0; l < batch.size(); ++l) {
+      lanes.push_back(replayRule(rules[l], &event_hits));
+      p_t.push_back(maps[batch[l]].p_t);
     }
     // Without excluded voxels (full truth, no twin) both outputs are equal.
     BatchCounts out;
-    out.counts = replayCounts(recorded_, rules, p_t, &out.observable);
+    if (first.gate)
+      out.counts = replayGatedCounts(recorded_, lanes, gate_columns_.at(first.gate->feature), laneGates(rules), p_t,
+                                     &out.observable);
+    else
+      out.counts = replayCounts(recorded_, lanes, p_t, &out.observable);
     if (observable_) out.counts.swap(out.observable);
     return out;
   }
 
  private:
-  bool knn_ = false, observable_ = false;
-  UpdateVariant variant_ = UpdateVariant::Default;
+  MapRule ruleOf(const MapToCount& m) const { return method_->rule(valuesOf(*m.params), context_); }
+
+  // The events, with the extremes of every gate feature's scores (filters: docs/methods.md, "Filters").
+  void recordWithGates(const SweepInputs& in, const std::set<FeatureRequest>& gate_needs) {
+    const SweepConfig& c = in.config;
+    SetGateScores scores;
+    for (const FeatureRequest& f : gate_needs) {
+      SetFeature feature = parallelSetFeature(in.scans, f, c.s_c, c.stats);
+      gate_columns_[f] = scores.size();
+      gate_summaries_.push_back(std::move(feature.summaries));
+      auto& column = scores.emplace_back(feature.values.size());
+      for (std::size_t t = 0; t < column.size(); ++t) column[t].assign(feature.values[t].begin(), feature.values[t].end());
+    }
+    recorded_ = recordSet(in.scans, in.marked, c.resolution, c.s_c, scores);
+  }
+
+  // Per lane, per scan: the gate's threshold for that scan's summary.
+  LaneGates laneGates(const std::vector<MapRule>& rules) const {
+    LaneGates gates;
+    for (const MapRule& rule : rules) {
+      const auto& summaries = gate_summaries_.at(gate_columns_.at(rule.gate->feature));
+      auto& lane = gates.emplace_back();
+      for (const FeatureScanSummary& s : summaries) lane.push_back(rule.gate->threshold(s));
+    }
+    return gates;
+  }
+
+  const MappingMethod* method_ = nullptr;
+  RuleContext context_;
+  bool observable_ = false;
   RecordedSet recorded_;
-  std::map<int, std::vector<double>> cdf_;  // F(s) of every recorded hit, per k
+  std::map<FeatureRequest, std::vector<double>> hit_features_;  // per hit feature: its value at every recorded hit
+  std::map<FeatureRequest, std::size_t> gate_columns_;           // per gate feature: its recorded column
+  std::vector<std::vector<FeatureScanSummary>> gate_summaries_;  // per column, per scan
 };
 
-// Builds every map: liboctomap for OctoMap, the k-NN mapper (the reference the replay engine is tested against).
+// Builds every map with the method's own builder: liboctomap for OctoMap and its filters, the k-NN mapper, the
+// rule applied through OcTree::updateNode for the rest (the reference the replay engine is tested against).
 class DirectEngine final : public SweepEngine {
  public:
   std::string name() const override { return kEngineNames.text(EngineKind::Direct); }
 
-  void prepare(const SweepInputs& in, const std::vector<MapToCount>& maps) override {
-    config_ = &in.config;
-    knn_ = in.method == GridMethod::Knn;
+  void prepare(const SweepInputs& in, const std::vector<MapToCount>&) override {
+    const SweepConfig& c = in.config;
+    method_ = &in.method;
     scans_ = &in.scans;
     truth_ = &in.truth;
     marked_ = in.twin ? &in.marked : nullptr;
-    if (!knn_) return;
-    // The distances of each k depend only on the points, k and s_c: shared by every map of that k.
-    const std::vector<int> ks = distinctK(maps);
-    for (int k : ks) distances_[k];
-    tbb::parallel_for(std::size_t(0), ks.size(), [&](std::size_t i) {
-      distances_[ks[i]] = parallelKnnDistances(*scans_, ks[i], config_->s_c);
-    });
+    context_ = {c.resolution, c.s_c, c.variant, c.stats, {}};
+    // The distances of each k depend only on the points, k and s_c: computed once, shared by every map of that k.
+    // Serially, under the lock: a parallel loop here could take another map's task, which would wait for this lock.
+    context_.knn_distances = [this](int k) -> const KnnSetDistances& {
+      const std::lock_guard lock(distances_mutex_);
+      auto it = distances_.find(k);
+      if (it == distances_.end()) it = distances_.emplace(k, computeKnnDistances(*scans_, k, context_.s_c)).first;
+      return it->second;
+    };
   }
 
-  std::vector<std::vector<std::size_t>> batches(const std::vector<MapToCount>& maps) const override {
+  std::vector<std::vector<std::size_t>> batches(const MappingMethod&, const ParameterLayout&,
+                                                const std::vector<MapToCount>& maps) const override {
     std::vector<std::vector<std::size_t>> out;
     for (std::size_t i = 0; i < maps.size(); ++i) out.push_back({i});
     return out;
@@ -110,10 +171,7 @@ class DirectEngine final : public SweepEngine {
   BatchCounts count(const std::vector<MapToCount>& maps, const std::vector<std::size_t>& batch) const override {
     BatchCounts out;
     for (std::size_t i : batch) {
-      const MapParams& m = *maps[i].params;
-      const auto tree = knn_ ? KnnInverseSensorModel(knnParams(m, *config_, m.p_min)).buildMap(*scans_,
-                                                                                              distances_.at(m.k))
-                             : buildOctoMap(*scans_, octomapParams(m, *config_, m.p_min));
+      const auto tree = method_->buildMap(*scans_, valuesOf(*maps[i].params), context_);
       out.counts.push_back(classify(sampleRegion(*tree, *truth_), maps[i].p_t));
       if (marked_) out.observable.push_back(classify(sampleRegion(*tree, *marked_), maps[i].p_t));
     }
@@ -121,12 +179,13 @@ class DirectEngine final : public SweepEngine {
   }
 
  private:
-  const SweepConfig* config_ = nullptr;
-  bool knn_ = false;
+  const MappingMethod* method_ = nullptr;
   const PointCloudSet* scans_ = nullptr;
   const GroundTruth* truth_ = nullptr;
   const GroundTruth* marked_ = nullptr;  // with a twin only
-  std::map<int, KnnSetDistances> distances_;
+  MapContext context_;
+  mutable std::mutex distances_mutex_;
+  mutable std::map<int, KnnSetDistances> distances_;  // std::map: references stay valid as it grows
 };
 
 }  // namespace

@@ -32,12 +32,12 @@ std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const Re
   while (std::getline(in, line)) {
     try {
       const json j = json::parse(line);
-      MapResult m = parseMapResult(j, header.method, partial.string(), "line");
+      MapResult m = parseMapResult(j, header.parameters, partial.string(), "line");
       if (twin) {
         json t = j;  // the same map with the twin's thresholds and AUC, checked as strictly
         t["thresholds"] = j.at(kTwinField).at("thresholds");
         t["auc"] = j.at(kTwinField).at("auc");
-        (*twin)[m.map_index] = parseMapResult(t, header.method, partial.string(), "line");
+        (*twin)[m.map_index] = parseMapResult(t, header.parameters, partial.string(), "line");
       }
       // Lines written before maps recorded their engine were made by the engine of the header's run.
       engine_of[m.map_index] = j.is_object() && j.contains("engine") ? j.at("engine").get<std::string>() : old.engine;

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/sweeps/progress.hpp"
@@ -66,6 +67,7 @@ ResultsHeader sweepHeader(const SweepConfig& c, const GridSpec& grid, const Grid
   h.grid_name = grid.name;
   h.grid_hash = grid.file_hash;
   h.method = grid.method;
+  h.parameters = grid.layout;
   h.grid_combinations = e.combinations;
   h.selection = c.selection;
   h.dataset_name = data.name;
@@ -143,7 +145,7 @@ MapResult withCounts(MapResult r, const std::vector<ConfusionCounts>& counts) {
 CountedMaps countMaps(const SweepEngine& engine, const std::vector<const SweepItem*>& todo,
                       const std::vector<MapToCount>& maps, const GridEnumeration& e, const ResultsHeader& h,
                       bool twin, bool quiet, sweep_detail::PartialLog& log, tbb::task_arena& arena) {
-  const std::vector<std::vector<std::size_t>> batches = engine.batches(maps);
+  const std::vector<std::vector<std::size_t>> batches = engine.batches(findMethod(h.method), h.parameters, maps);
   CountedMaps out;
   out.maps.resize(todo.size());
   out.twin.resize(twin ? todo.size() : 0);
@@ -158,11 +160,11 @@ CountedMaps countMaps(const SweepEngine& engine, const std::vector<const SweepIt
       const double seconds = std::chrono::duration<double>(Clock::now() - t0).count() / double(batch.size());
       for (std::size_t j = 0; j < batch.size(); ++j) {
         MapResult r = mapResult(*todo[batch[j]], e, counts.counts[j], seconds);
-        json line = toJson(r, h.method);
+        json line = toJson(r, h.parameters);
         line["engine"] = engine.name();
         if (twin) {
           MapResult o = withCounts(r, counts.observable[j]);
-          const json oj = toJson(o, h.method);
+          const json oj = toJson(o, h.parameters);
           line[sweep_detail::kTwinField] = {{"thresholds", oj.at("thresholds")}, {"auc", oj.at("auc")}};
           out.twin[batch[j]] = std::move(o);
         }
@@ -246,7 +248,7 @@ ResultsFile runSweep(const SweepConfig& c) {
 
   tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
   const std::vector<MapToCount> maps = mapsToCount(todo, e);
-  const SweepInputs inputs{c, grid.method, data.scans, truths.counted(c.truth), truths.marked, hasTwin(c)};
+  const SweepInputs inputs{c, findMethod(grid.method), grid.layout, data.scans, truths.counted(c.truth), truths.marked, hasTwin(c)};
   arena.execute([&] { engine->prepare(inputs, maps); });
   CountedMaps counted = countMaps(*engine, todo, maps, e, h, hasTwin(c), c.quiet, log, arena);
 

@@ -1,10 +1,12 @@
 // Reading grid files: every rule broken is named with the file and the key.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <set>
 #include <stdexcept>
 
+#include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/fnv1a.hpp"
 #include "occsweep/sweeps/grid.hpp"
 
@@ -64,16 +66,49 @@ struct GridReader {
     return r;
   }
 
-  // Eq. 12's bounds on one parameter's whole range; the relations between parameters are enumerated.
-  void bounds(const ParamRange& r, const std::string& name, Fixed lo, bool lo_open, Fixed hi, bool hi_open,
-              const std::string& relation) const {
-    const bool lo_ok = lo_open ? r.min > lo : r.min >= lo;
-    const bool hi_ok = hi_open ? r.max < hi : r.max <= hi;
-    if (!lo_ok || !hi_ok) fail("parameters." + name, "values must satisfy " + relation);
+  // A method's bounds on one parameter's whole range (Eq. 12's for OctoMap and k-NN); the relations between
+  // parameters are enumerated.
+  void bounds(const ParamRange& r, const MethodParameter& p) const {
+    const double lo = toDouble(r.listed.empty() ? r.min : *std::min_element(r.listed.begin(), r.listed.end()));
+    const double hi = toDouble(r.listed.empty() ? r.max : *std::max_element(r.listed.begin(), r.listed.end()));
+    const bool lo_ok = p.lowest_open ? lo > p.lowest : lo >= p.lowest;
+    const bool hi_ok = p.highest_open ? hi < p.highest : hi <= p.highest;
+    if (!lo_ok || !hi_ok) fail("parameters." + p.name, "values must satisfy " + boundText(p));
+  }
+
+  static std::string boundText(const MethodParameter& p) {
+    const auto fmt = [](double v) { return detail::fmt(v); };
+    return fmt(p.highest) + (p.highest_open ? " > " : " >= ") + p.symbol + (p.lowest_open ? " > " : " >= ") +
+           fmt(p.lowest) + " (" + p.bound_source + ")";
+  }
+
+  // An integer parameter (k): a non-empty list of distinct integers within its bounds.
+  ParamRange integers(const json& params, const MethodParameter& p) const {
+    const std::string where = "parameters." + p.name;
+    const std::string rule = "must be a non-empty list of distinct integers, " + boundText(p);
+    if (!params.contains(p.name) || !params.at(p.name).is_array() || params.at(p.name).empty()) fail(where, rule);
+    ParamRange r;
+    std::set<long long> seen;
+    for (const auto& v : params.at(p.name)) {
+      if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() > 1000000) fail(where, rule);
+      if (!seen.insert(v.get<long long>()).second) fail(where, "lists " + v.dump() + " twice");
+      r.listed.push_back(Fixed(v.get<long long>()) * kFixedScale);
+    }
+    bounds(r, p);
+    return r;
   }
 };
 
-constexpr Fixed kHalf = kFixedScale / 2, kOne = kFixedScale;
+// The method named by the file, registered (method_registry.hpp).
+const MappingMethod& gridMethod(const GridReader& r, const json& j) {
+  const std::string rule = "must name a registered method: " + registeredMethodNames();
+  if (!j.contains("method") || !j.at("method").is_string()) r.fail("method", rule);
+  try {
+    return findMethod(j.at("method").get<std::string>());
+  } catch (const std::invalid_argument&) {
+    r.fail("method", "'" + j.at("method").get<std::string>() + "' " + rule);
+  }
+}
 
 }  // namespace
 
@@ -84,45 +119,21 @@ GridSpec parseGrid(const json& j, const std::string& file) {
   if (!j.contains("name") || !j.at("name").is_string() || j.at("name").get<std::string>().empty())
     r.fail("name", "must be a non-empty string");
   g.name = j.at("name").get<std::string>();
-  if (!j.contains("method") || !j.at("method").is_string()) r.fail("method", "must be \"knn\" or \"octomap\"");
-  const std::string method = j.at("method").get<std::string>();
-  if (method != "knn" && method != "octomap") r.fail("method", "must be \"knn\" or \"octomap\"");
-  g.method = method == "knn" ? GridMethod::Knn : GridMethod::OctoMap;
+  const MappingMethod& method = gridMethod(r, j);
+  g.method = method.name();
+  g.layout = layoutOf(g.method);
   if (j.contains("description")) {
     if (!j.at("description").is_string()) r.fail("description", "must be a string");
     g.description = j.at("description").get<std::string>();
   }
   if (!j.contains("parameters")) r.fail("parameters", "is missing");
   const json& p = j.at("parameters");
-  const bool knn = g.method == GridMethod::Knn;
-  r.onlyKeys(p, knn ? std::set<std::string>{"p_max", "p_min", "p_m", "p_m_out", "p_u", "p_l", "p_t", "k"}
-                    : std::set<std::string>{"p_max", "p_min", "p_m", "p_h", "p_t"},
-             "parameters");
-  g.p_max = r.range(p, "p_max");
-  r.bounds(g.p_max, "p_max", kHalf, false, kOne, true, "1 > p_max >= 0.5 (Eq. 12)");
-  g.p_min = r.range(p, "p_min");
-  r.bounds(g.p_min, "p_min", 0, true, kHalf, true, "0.5 > p_min > 0 (Eq. 12)");
-  g.p_m = r.range(p, "p_m");
-  r.bounds(g.p_m, "p_m", 0, true, kHalf, true, "0.5 > p_m > 0 (Eq. 12)");
-  if (knn) {
-    g.p_m_out = r.range(p, "p_m_out");
-    r.bounds(g.p_m_out, "p_m_out", 0, true, kHalf, true, "0.5 > p'_m > 0 (Eq. 12)");
-    g.p_u = r.range(p, "p_u");
-    r.bounds(g.p_u, "p_u", 0, true, kOne, true, "1 > p_u > 0 (l(p(s)) finite)");
-    g.p_l = r.range(p, "p_l");
-    r.bounds(g.p_l, "p_l", 0, true, kOne, true, "1 > p_l > 0 (l(p(s)) finite)");
-    if (!p.contains("k") || !p.at("k").is_array() || p.at("k").empty())
-      r.fail("parameters.k", "must be a non-empty list of integers >= 1");
-    std::set<int> seen;
-    for (const auto& v : p.at("k")) {
-      if (!v.is_number_integer() || v.get<long long>() < 1 || v.get<long long>() > 100000)
-        r.fail("parameters.k", "must be a non-empty list of integers >= 1");
-      if (!seen.insert(v.get<int>()).second) r.fail("parameters.k", "lists " + v.dump() + " twice");
-      g.k.push_back(v.get<int>());
-    }
-  } else {
-    g.p_h = r.range(p, "p_h");
-    r.bounds(g.p_h, "p_h", kHalf, false, kOne, true, "1 > p_h >= 0.5 (Eq. 12)");
+  std::set<std::string> keys(g.layout.names.begin(), g.layout.names.end());
+  keys.insert("p_t");
+  r.onlyKeys(p, keys, "parameters");
+  for (const MethodParameter& parameter : method.parameters()) {
+    g.ranges.push_back(parameter.integer ? r.integers(p, parameter) : r.range(p, parameter.name));
+    r.bounds(g.ranges.back(), parameter);
   }
   if (!p.contains("p_t")) r.fail("parameters.p_t", "is missing");
   r.onlyKeys(p.at("p_t"), {"step"}, "parameters.p_t");
@@ -169,7 +180,5 @@ std::filesystem::path resolveGridPath(const std::string& name_or_path) {
   for (const auto& dir : places) message.append(" ").append(dir.string());
   throw std::runtime_error(message);
 }
-
-const char* methodName(GridMethod m) { return m == GridMethod::Knn ? "knn" : "octomap"; }
 
 }  // namespace occsweep

@@ -10,17 +10,12 @@ using reproduce::number;
 
 namespace {
 
-json paramsJson(const MapParams& p, bool knn) {
-  if (!knn) return {{"p_h", toDouble(p.p_h)}, {"p_m", toDouble(p.p_m)}, {"p_max", toDouble(p.p_max)},
-                    {"p_min", toDouble(p.p_min)}};
-  return {{"p_u", toDouble(p.p_u)}, {"p_l", toDouble(p.p_l)}, {"p_m", toDouble(p.p_m)},
-          {"p_m_out", toDouble(p.p_m_out)}, {"k", p.k}, {"p_max", toDouble(p.p_max)}, {"p_min", toDouble(p.p_min)}};
-}
-
-json bestJson(const std::optional<BestMap>& b, bool knn) {
+json bestJson(const std::optional<BestMap>& b, const ResultsFile& f) {
   if (!b) return nullptr;
+  MapResult params_only;
+  params_only.params = b->params;
   return {{"auc", number(b->auc)}, {"auc_observed", number(b->observed)}, {"map_index", b->map_index},
-          {"params", paramsJson(b->params, knn)}};
+          {"params", toJson(params_only, f.header.parameters).at("params")}};
 }
 
 // The highest TPR any map of either grid reaches at any p_t: the ceiling the truth puts on the curves (issue 14:
@@ -40,7 +35,7 @@ json truthJson(const ResultsFile& om, const ResultsFile& knn) {
   std::uint64_t positives = 0;
   if (!om.maps.empty() && !om.maps.front().thresholds.empty())
     positives = om.maps.front().thresholds.front().counts.tp + om.maps.front().thresholds.front().counts.fn;
-  return {{"octomap", bestJson(row.octomap, false)}, {"knn", bestJson(row.knn, true)},
+  return {{"octomap", bestJson(row.octomap, om)}, {"knn", bestJson(row.knn, knn)},
           {"improvement_percent", number(row.improvementPercent())}, {"tpr_ceiling", number(tprCeiling(om, knn))},
           {"true_voxels", positives}};
 }

@@ -111,12 +111,15 @@ json runCurvesAndMaps(const ReproduceConfig& c, const std::vector<RankedDataset>
   const Dataset data = readDataset(d.root / d.folders[0]);
   const double resolution = 0.1, s_c = 4.0;
   const GroundTruth truth = makeGroundTruth(data.truth, data.region, resolution);
-  const OctoMapParams om{toDouble(om_params.p_h), toDouble(om_params.p_m), toDouble(om_params.p_max),
-                         toDouble(om_params.p_min), om_curve[a].p_t, resolution, s_c};
+  const ParameterLayout om_layout = layoutOf("octomap"), knn_layout = layoutOf("knn");
+  const auto om_value = [&](const char* name) { return parameterValue(om_layout, om_params, name); };
+  const auto knn_value = [&](const char* name) { return parameterValue(knn_layout, knn_params, name); };
+  const OctoMapParams om{om_value("p_h"), om_value("p_m"), om_value("p_max"), om_value("p_min"), om_curve[a].p_t,
+                         resolution, s_c};
   KnnParams kp;
-  kp.p_u = toDouble(knn_params.p_u), kp.p_l = toDouble(knn_params.p_l), kp.p_m = toDouble(knn_params.p_m);
-  kp.p_m_out = toDouble(knn_params.p_m_out), kp.p_max = toDouble(knn_params.p_max);
-  kp.p_min = toDouble(knn_params.p_min), kp.p_t = knn_curve[b].p_t, kp.k = knn_params.k;
+  kp.p_u = knn_value("p_u"), kp.p_l = knn_value("p_l"), kp.p_m = knn_value("p_m");
+  kp.p_m_out = knn_value("p_m_out"), kp.p_max = knn_value("p_max");
+  kp.p_min = knn_value("p_min"), kp.p_t = knn_curve[b].p_t, kp.k = int(knn_value("k"));
   kp.resolution = resolution, kp.s_c = s_c;
   const fs::path dir = c.out / "maps";
   fs::create_directories(dir);

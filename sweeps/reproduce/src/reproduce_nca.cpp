@@ -32,9 +32,9 @@ Samples collect(const ResultsFile& f, bool tpr) {
     for (const auto& t : m.thresholds) {
       const double y = tpr ? t.counts.tpr() : t.counts.fdr();
       if (!std::isfinite(y)) continue;
-      const MapParams& p = m.params;
-      s.x.push_back({toDouble(p.p_max), toDouble(p.p_min), toDouble(p.p_m), toDouble(p.p_m_out), toDouble(p.p_u),
-                     toDouble(p.p_l), toDouble(t.p_t), double(p.k)});
+      const auto value = [&](const char* name) { return parameterValue(f.header.parameters, m.params, name); };
+      s.x.push_back({value("p_max"), value("p_min"), value("p_m"), value("p_m_out"), value("p_u"), value("p_l"),
+                     toDouble(t.p_t), value("k")});
       s.y.push_back(y);
     }
   return s;

@@ -1,6 +1,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "occsweep/sweeps/merge.hpp"
@@ -10,6 +11,19 @@ namespace occsweep {
 double ComparisonRow::improvementPercent() const {
   if (!octomap || !knn || !(octomap->auc > 0)) return std::numeric_limits<double>::quiet_NaN();
   return (knn->auc - octomap->auc) / octomap->auc * 100.0;
+}
+
+double ComparisonRow::improvementPercent(const std::string& method) const {
+  const auto it = others.find(method);
+  if (!octomap || it == others.end() || !(octomap->auc > 0)) return std::numeric_limits<double>::quiet_NaN();
+  return (it->second.auc - octomap->auc) / octomap->auc * 100.0;
+}
+
+std::vector<std::string> otherMethods(const std::vector<ComparisonRow>& rows) {
+  std::set<std::string> names;
+  for (const ComparisonRow& row : rows)
+    for (const auto& [name, _] : row.others) names.insert(name);
+  return {names.begin(), names.end()};
 }
 
 std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files) {
@@ -26,14 +40,17 @@ std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files) {
       const auto& pcs = h.point_cloud_set;
       row.point_cloud_set = pcs.contains("pcs_id") ? pcs.at("pcs_id").dump() : "-";
     }
-    const bool knn = h.method == GridMethod::Knn;
-    auto& best = knn ? row.knn : row.octomap;
-    (knn ? row.knn_files : row.octomap_files).push_back(std::size_t(&f - files.data()));
+    const bool knn = h.method == "knn";
+    std::optional<BestMap> other;
+    if (h.method != "knn" && h.method != "octomap" && row.others.count(h.method)) other = row.others.at(h.method);
+    auto& best = knn ? row.knn : (h.method == "octomap" ? row.octomap : other);
+    if (knn || h.method == "octomap") (knn ? row.knn_files : row.octomap_files).push_back(std::size_t(&f - files.data()));
     for (const auto& m : f.maps) {
       // Ties keep the first (lowest map index): stable across runs.
       if (std::isnan(m.area.anchored) || (best && !(m.area.anchored > best->auc))) continue;
       best = BestMap{m.area.anchored, m.area.observed, m.params, m.map_index, std::size_t(&f - files.data())};
     }
+    if (other) row.others.insert_or_assign(h.method, *other);
   }
   std::vector<ComparisonRow> out;
   for (const auto& hash : order) out.push_back(rows.at(hash));
@@ -45,7 +62,7 @@ namespace {
 std::string settingsText(const ResultsHeader& h) {
   std::ostringstream s;
   s << "resolution " << h.resolution << " m, s_c " << h.s_c << " m";
-  if (h.method == GridMethod::Knn) s << ", variant " << h.variant << ", stats " << h.stats;
+  if (h.method == "knn") s << ", variant " << h.variant << ", stats " << h.stats;
   return s.str();
 }
 
@@ -75,7 +92,7 @@ std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, co
     if (!fresh && (o.resolution != h.resolution || o.s_c != h.s_c))
       problems.push_back(names[i] + " (" + settingsText(h) + ") and " + names[same->second] + " (" + settingsText(o) +
                          "): another resolution or s_c on the same data set");
-    if (h.method == GridMethod::Knn) {
+    if (h.method == "knn") {
       const auto [k, k_fresh] = first_knn_of_hash.try_emplace(h.dataset_hash, i);
       const ResultsHeader& ko = files[k->second].header;
       if (!k_fresh && (ko.variant != h.variant || ko.stats != h.stats))
@@ -95,7 +112,7 @@ std::string missingReason(const ComparisonRow& row, bool knn, const std::vector<
     // Rows are data-set contents (hash): a file of the same name but other scans, region or truth is not compared.
     for (std::size_t i = 0; i < files.size(); ++i) {
       const ResultsHeader& h = files[i].header;
-      if (h.dataset_name == row.dataset && h.dataset_hash != row.dataset_hash && (h.method == GridMethod::Knn) == knn)
+      if (h.dataset_name == row.dataset && h.dataset_hash != row.dataset_hash && (h.method == (knn ? "knn" : "octomap")))
         return method + ": " + names[i] + " is of data set " + row.dataset + " with other contents (hash " +
                h.dataset_hash + ", not " + row.dataset_hash + ": other scans, region or truth), so not compared";
     }

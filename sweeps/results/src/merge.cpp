@@ -33,8 +33,7 @@ bool checkAgainstGrid(const ResultsFile& f, const std::string& file) {
     if (m.map_index >= e.maps.size()) throw std::runtime_error(where + ": no such map in grid " + grid.name);
     const MapParams& g = e.maps[m.map_index];
     const MapParams& p = m.params;
-    if (g.p_max != p.p_max || g.p_min != p.p_min || g.p_m != p.p_m || g.p_h != p.p_h || g.p_m_out != p.p_m_out ||
-        g.p_u != p.p_u || g.p_l != p.p_l || g.k != p.k)
+    if (g != p)
       throw std::runtime_error(where + ": parameters differ from the grid's (edited by hand?)");
     for (const auto& t : m.thresholds) {
       const std::uint64_t first = e.first_id[m.map_index];

@@ -70,7 +70,7 @@ void compareCombination(std::vector<ResultsDifference>& out, const ResultsDiffer
 
 /// The rows of one golden map: its combinations, then (when the candidate holds the map) its parameters and AUCs.
 void compareMap(std::vector<ResultsDifference>& out, const MapResult& golden, const CandidateIndex& index,
-                GridMethod method, double auc_tolerance, CountsCheck counts) {
+                const ParameterLayout& method, double auc_tolerance, CountsCheck counts) {
   for (const auto& t : golden.thresholds) {
     const auto found = index.thresholds.find(t.id);
     const ResultsDifference where{golden.map_index, t.id, combinationText(golden.params, method, t.p_t), "", "", ""};
@@ -99,7 +99,7 @@ void listExtras(std::vector<ResultsDifference>& out, const ResultsFile& golden, 
   for (const auto& m : candidate.maps)
     for (const auto& t : m.thresholds)
       if (!golden_ids.count(t.id))
-        out.push_back({m.map_index, t.id, combinationText(m.params, candidate.header.method, t.p_t), "combination",
+        out.push_back({m.map_index, t.id, combinationText(m.params, candidate.header.parameters, t.p_t), "combination",
                        "missing", "present"});
 }
 
@@ -127,13 +127,11 @@ std::vector<ResultsDifference> incomparableHeaderFields(const ResultsHeader& a, 
   return out;
 }
 
-std::string combinationText(const MapParams& p, GridMethod method, std::optional<Fixed> p_t) {
-  std::string text = "p_max=" + fixedText(p.p_max) + " p_min=" + fixedText(p.p_min);
-  if (method == GridMethod::Knn)
-    text += " p_u=" + fixedText(p.p_u) + " p_l=" + fixedText(p.p_l) + " p_m=" + fixedText(p.p_m) +
-            " p'_m=" + fixedText(p.p_m_out) + " k=" + std::to_string(p.k);
-  else
-    text += " p_h=" + fixedText(p.p_h) + " p_m=" + fixedText(p.p_m);
+std::string combinationText(const MapParams& p, const ParameterLayout& parameters, std::optional<Fixed> p_t) {
+  std::string text;
+  for (std::size_t i = 0; i < parameters.names.size() && i < p.values.size(); ++i)
+    text += (text.empty() ? "" : " ") + parameters.names[i] + "=" +
+            (parameters.integer[i] ? std::to_string(p.values[i] / kFixedScale) : fixedText(p.values[i]));
   if (p_t) text += " p_t=" + fixedText(*p_t);
   return text;
 }
@@ -147,7 +145,7 @@ ResultsDiff diffResults(const ResultsFile& golden, const ResultsFile& candidate,
   if (!diff.header.empty()) return diff;
   const CandidateIndex index = indexCandidate(candidate);
   for (const auto& m : golden.maps)
-    compareMap(diff.combinations, m, index, golden.header.method, auc_tolerance, counts);
+    compareMap(diff.combinations, m, index, golden.header.parameters, auc_tolerance, counts);
   listExtras(diff.combinations, golden, candidate);
   return diff;
 }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/results.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
@@ -70,6 +71,19 @@ std::string workDifferenceText(const ResultsDifference& d) {
   return "another truth (map.truth: " + d.candidate + " against " + d.golden + ")";
 }
 
+// The parameters of a method this program has not registered, from a map's params: names in order, integers as
+// written (docs/results-format.md).
+ParameterLayout layoutFromMap(const json& map, const Reader& r) {
+  const json& p = r.at(map, "params", "maps[0]");
+  if (!p.is_object() || p.empty()) r.fail("maps[0].params", "must be an object of the method's parameters");
+  ParameterLayout layout;
+  for (const auto& [name, value] : p.items()) {
+    layout.names.push_back(name);
+    layout.integer.push_back(value.is_number_integer());
+  }
+  return layout;
+}
+
 }  // namespace
 
 void setEngines(ResultsHeader& h, const std::set<std::string>& engines) {
@@ -91,7 +105,7 @@ json toJson(const ResultsHeader& h) {
     sel["group"] = {{"index", h.selection.group->index}, {"count", h.selection.group->count},
                     {"seed", h.selection.group->seed}};
   json j = {{"occsweep", {{"version", h.version}, {"commit", h.commit}}},
-            {"grid", {{"name", h.grid_name}, {"file_hash", h.grid_hash}, {"method", methodName(h.method)},
+            {"grid", {{"name", h.grid_name}, {"file_hash", h.grid_hash}, {"method", h.method},
                       {"combinations", h.grid_combinations}}},
             {"selection", sel},
             {"dataset", {{"name", h.dataset_name}, {"content_hash", h.dataset_hash},
@@ -103,16 +117,11 @@ json toJson(const ResultsHeader& h) {
   return j;
 }
 
-json toJson(const MapResult& m, GridMethod method) {
-  json params = {{"p_max", toDouble(m.params.p_max)}, {"p_min", toDouble(m.params.p_min)},
-                 {"p_m", toDouble(m.params.p_m)}};
-  if (method == GridMethod::Knn) {
-    params["p_m_out"] = toDouble(m.params.p_m_out);
-    params["p_u"] = toDouble(m.params.p_u);
-    params["p_l"] = toDouble(m.params.p_l);
-    params["k"] = m.params.k;
-  } else {
-    params["p_h"] = toDouble(m.params.p_h);
+json toJson(const MapResult& m, const ParameterLayout& parameters) {
+  json params = json::object();
+  for (std::size_t i = 0; i < parameters.names.size(); ++i) {
+    const Fixed v = m.params.values.at(i);
+    params[parameters.names[i]] = parameters.integer[i] ? json(std::uint64_t(v / kFixedScale)) : json(toDouble(v));
   }
   json thresholds = json::array();
   for (const auto& t : m.thresholds) {
@@ -133,7 +142,7 @@ json toJson(const ResultsFile& f) {
   j["complete"] = f.complete;
   j["seconds"] = f.seconds;
   j["maps"] = json::array();
-  for (const auto& m : f.maps) j["maps"].push_back(toJson(m, f.header.method));
+  for (const auto& m : f.maps) j["maps"].push_back(toJson(m, f.header.parameters));
   return j;
 }
 
@@ -146,9 +155,13 @@ ResultsHeader parseHeader(const json& j, const std::string& file) {
   const json& g = r.at(j, "grid", "");
   h.grid_name = r.str(g, "name", "grid");
   h.grid_hash = r.str(g, "file_hash", "grid");
-  const std::string method = r.str(g, "method", "grid");
-  if (method != "knn" && method != "octomap") r.fail("grid.method", "must be knn or octomap");
-  h.method = method == "knn" ? GridMethod::Knn : GridMethod::OctoMap;
+  h.method = r.str(g, "method", "grid");
+  if (h.method.empty()) r.fail("grid.method", "must name a method");
+  try {
+    h.parameters = layoutOf(h.method);
+  } catch (const std::invalid_argument&) {
+    // Not registered here (a method of another program): parseResults takes the layout from the maps.
+  }
   h.grid_combinations = r.count(g, "combinations", "grid");
   const json& sel = r.at(j, "selection", "");
   const json& shard = r.at(sel, "shard", "selection");
@@ -193,24 +206,24 @@ ResultsHeader parseHeader(const json& j, const std::string& file) {
   return h;
 }
 
-MapResult parseMapResult(const json& j, GridMethod method, const std::string& file, const std::string& where) {
+MapResult parseMapResult(const json& j, const ParameterLayout& parameters, const std::string& file,
+                         const std::string& where) {
   const Reader r{file};
   MapResult m;
   m.map_index = r.count(j, "map_index", where);
   const json& p = r.at(j, "params", where);
   const std::string pw = where + ".params";
-  m.params.p_max = r.fixed(p, "p_max", pw);
-  m.params.p_min = r.fixed(p, "p_min", pw);
-  m.params.p_m = r.fixed(p, "p_m", pw);
-  if (method == GridMethod::Knn) {
-    m.params.p_m_out = r.fixed(p, "p_m_out", pw);
-    m.params.p_u = r.fixed(p, "p_u", pw);
-    m.params.p_l = r.fixed(p, "p_l", pw);
-    const std::uint64_t k = r.count(p, "k", pw);
-    if (k < 1 || k > std::uint64_t(std::numeric_limits<int>::max())) r.fail(pw + ".k", "must be an integer in [1, 2^31-1]");
-    m.params.k = int(k);
-  } else {
-    m.params.p_h = r.fixed(p, "p_h", pw);
+  if (!p.is_object() || p.size() != parameters.names.size())
+    r.fail(pw, "must hold exactly the method's parameters (" + std::to_string(parameters.names.size()) + ")");
+  for (std::size_t i = 0; i < parameters.names.size(); ++i) {
+    const std::string& name = parameters.names[i];
+    if (parameters.integer[i]) {
+      const std::uint64_t v = r.count(p, name, pw);
+      if (v > 1000000) r.fail(pw + "." + name, "must be an integer in [0, 1000000]");
+      m.params.values.push_back(Fixed(v) * kFixedScale);
+    } else {
+      m.params.values.push_back(r.fixed(p, name, pw));
+    }
   }
   const json& ts = r.at(j, "thresholds", where);
   if (!ts.is_array() || ts.empty()) r.fail(where + ".thresholds", "must be a non-empty array");
@@ -260,8 +273,9 @@ ResultsFile parseResults(const json& j, const std::string& file) {
   f.seconds = r.real(j, "seconds", "");
   const json& maps = r.at(j, "maps", "");
   if (!maps.is_array()) r.fail("maps", "must be an array");
+  if (f.header.parameters.names.empty() && !maps.empty()) f.header.parameters = layoutFromMap(maps[0], r);
   for (std::size_t i = 0; i < maps.size(); ++i)
-    f.maps.push_back(parseMapResult(maps[i], f.header.method, file, "maps[" + std::to_string(i) + "]"));
+    f.maps.push_back(parseMapResult(maps[i], f.header.parameters, file, "maps[" + std::to_string(i) + "]"));
   verifyClaims(f, file);
   return f;
 }

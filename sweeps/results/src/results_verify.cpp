@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/sweeps/sharding.hpp"
@@ -44,12 +45,22 @@ struct Claims {
     if (v < 0 || v > kFixedScale) fail(where, "must be a probability in [0, 1]");
   }
 
+  // Each value within its parameter's bounds, when this program has the method registered (docs/methods.md).
   void params(const MapResult& m, const std::string& where) const {
-    const MapParams& p = m.params;
-    for (const auto& [name, v] : {std::pair{"p_max", p.p_max}, {"p_min", p.p_min}, {"p_m", p.p_m}, {"p_h", p.p_h},
-                                  {"p_m_out", p.p_m_out}, {"p_u", p.p_u}, {"p_l", p.p_l}})
-      probability(v, where + ".params." + name);
-    if (f.header.method == GridMethod::Knn && p.k < 1) fail(where + ".params.k", "must be at least 1");
+    if (m.params.values.size() != f.header.parameters.names.size()) fail(where + ".params", "has other parameters");
+    const MappingMethod* method = nullptr;
+    try {
+      method = &findMethod(f.header.method);
+    } catch (const std::invalid_argument&) {
+      return;  // another program's method: its bounds are not known here
+    }
+    const std::vector<MethodParameter> parameters = method->parameters();
+    for (std::size_t i = 0; i < parameters.size() && i < m.params.values.size(); ++i) {
+      const MethodParameter& p = parameters[i];
+      const double v = toDouble(m.params.values[i]);
+      if ((p.lowest_open ? !(v > p.lowest) : !(v >= p.lowest)) || (p.highest_open ? !(v < p.highest) : !(v <= p.highest)))
+        fail(where + ".params." + p.name, "is outside the bounds of " + f.header.method + "'s " + p.name);
+    }
   }
 
   // Ids unique across the file, inside the grid; p_t increasing within a map; one region for every map.

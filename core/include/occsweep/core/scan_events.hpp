@@ -29,7 +29,18 @@ struct VoxelEvent {
 struct ScanEvents {
   std::vector<VoxelEvent> voxels;        ///< each touched voxel once, in first-touch order
   std::vector<std::uint32_t> hit_points; ///< per voxel, the z_in indices j of its points, in point order
+  /// With gate scores (a filter's per-point score, one column each): per voxel and column, the largest score over
+  /// the in-range points in it, over the rays to in-range points that cross it, and over the cut rays to points
+  /// beyond s_c that cross it (kExtremes floats, -inf where none). A filter that keeps a point when its score reaches
+  /// a threshold keeps the voxel's event exactly when that extreme does (docs/methods.md, "Filters").
+  std::vector<float> extremes;
 };
+
+/// The extremes of one voxel and gate column: ScanEvents::extremes[(voxel * columns + column) * 3 + kind].
+enum GateExtreme : std::uint8_t { kHitExtreme = 0, kCrossedInExtreme = 1, kCrossedOutExtreme = 2, kExtremes = 3 };
+
+/// Per gate column, the score of every point of the scan (point order); empty without a gate.
+using GateScores = std::vector<const std::vector<float>*>;
 
 /// An inclusive box of keys: the voxels whose events are kept.
 struct KeyWindow {
@@ -57,7 +68,7 @@ class ScanEventRecorder {
 
   /// Keeps the voxels of `window` (rays that cannot reach it are skipped).
   void record(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c, const KeyWindow& window,
-              ScanEvents& out);
+              ScanEvents& out, const GateScores& scores = {});
   /// Keeps every voxel the scan touches (the window: windowOf).
   void recordAll(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c, ScanEvents& out);
 
@@ -71,7 +82,10 @@ class ScanEventRecorder {
   [[nodiscard]] std::uint16_t startScan(const KeyWindow& window);
   void mark(std::uint32_t cell, std::uint8_t flag, std::uint16_t stamp);
   void markHits(const Scan& scan, const std::vector<std::uint32_t>& inner, const KeyWindow& window, std::uint16_t stamp);
+  template <bool kGated>
   void markRays(const Scan& scan, double s_c, const KeyWindow& window, std::uint16_t stamp);
+  // Gate scores: the largest score of point i over kind (GateExtreme) in cell's extremes.
+  void raiseExtremes(std::uint32_t cell, std::size_t i, std::uint8_t kind);
   [[nodiscard]] static octomap::OcTreeKey keyOfCell(const KeyWindow& window, std::uint32_t cell);
   void groupHitPoints(ScanEvents& out);
 
@@ -83,6 +97,11 @@ class ScanEventRecorder {
   std::vector<std::uint32_t> touched_;                         // cells touched this scan, in first-touch order
   std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (cell, j) in point order
   std::vector<std::uint8_t> is_inner_;
+  // With gate scores only: per window cell its index in touched_ (valid while its stamp is this scan's), and per
+  // touched cell its extremes.
+  const GateScores* scores_ = nullptr;
+  std::vector<std::uint32_t> slot_;
+  std::vector<float> extremes_;
 };
 
 // ---------------------------------------------------------------------------------------------------------
@@ -165,9 +184,19 @@ inline void ScanEventRecorder::mark(std::uint32_t cell, std::uint8_t flag, std::
   std::uint16_t& c = cells_[cell];
   if ((c & 0xFF00) != stamp) {
     c = stamp;
+    if (scores_) {
+      slot_[cell] = std::uint32_t(touched_.size());
+      extremes_.resize(extremes_.size() + scores_->size() * kExtremes, -std::numeric_limits<float>::infinity());
+    }
     touched_.push_back(cell);
   }
   c |= flag;
+}
+
+inline void ScanEventRecorder::raiseExtremes(std::uint32_t cell, std::size_t i, std::uint8_t kind) {
+  const std::size_t columns = scores_->size();
+  float* e = extremes_.data() + std::size_t(slot_[cell]) * columns * kExtremes + kind;
+  for (std::size_t c = 0; c < columns; ++c) e[c * kExtremes] = std::max(e[c * kExtremes], (*(*scores_)[c])[i]);
 }
 
 // The voxels holding an in-range point (z_in index j), and which points are in range.
@@ -180,6 +209,7 @@ inline void ScanEventRecorder::markHits(const Scan& scan, const std::vector<std:
     if (!grid_.coordToKeyChecked(scan.points[inner[j]], key) || !window.contains(key)) continue;
     const auto cell = std::uint32_t(window.index(key));
     mark(cell, kHit, stamp);
+    if (scores_) raiseExtremes(cell, inner[j], kHitExtreme);
     hits_.emplace_back(cell, j);
   }
 }
@@ -187,6 +217,8 @@ inline void ScanEventRecorder::markHits(const Scan& scan, const std::vector<std:
 // The voxels each ray crosses: to an in-range point, or cut at s_c. The hot loop, kept a function of its own:
 // inlined into a caller's loop (recordSet's parallel_for body, the k-NN mapper's), g++ 12 compiles the ray
 // loop with 9% (recordSet) and 4% (k-NN build) more instructions (callgrind, built-in scene).
+// kGated: also raise the cells' gate extremes (a separate instantiation keeps the plain loop as it was).
+template <bool kGated>
 [[gnu::noinline]] inline void ScanEventRecorder::markRays(const Scan& scan, double s_c, const KeyWindow& window, std::uint16_t stamp) {
   for (std::size_t i = 0; i < scan.points.size(); ++i) {
     const auto& p = scan.points[i];
@@ -199,7 +231,9 @@ inline void ScanEventRecorder::markHits(const Scan& scan, const std::vector<std:
     traverseRay(grid_, scan.origin, end, [&](const octomap::OcTreeKey& key) {
       if (!window.contains(key)) return !entered;
       entered = true;
-      mark(std::uint32_t(window.index(key)), flag, stamp);
+      const auto cell = std::uint32_t(window.index(key));
+      mark(cell, flag, stamp);
+      if constexpr (kGated) raiseExtremes(cell, i, flag == kCrossedIn ? kCrossedInExtreme : kCrossedOutExtreme);
       return true;
     });
   }
@@ -238,12 +272,21 @@ inline void ScanEventRecorder::groupHitPoints(ScanEvents& out) {
 }
 
 inline void ScanEventRecorder::record(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c,
-                                      const KeyWindow& window, ScanEvents& out) {
+                                      const KeyWindow& window, ScanEvents& out, const GateScores& scores) {
   out.voxels.clear();
   out.hit_points.clear();
+  out.extremes.clear();
+  scores_ = scores.empty() ? nullptr : &scores;
   const std::uint16_t stamp = startScan(window);
+  if (scores_ && slot_.size() < window.volume()) slot_.resize(window.volume());
+  extremes_.clear();
   markHits(scan, inner, window, stamp);
-  markRays(scan, s_c, window, stamp);
+  if (scores_)
+    markRays<true>(scan, s_c, window, stamp);
+  else
+    markRays<false>(scan, s_c, window, stamp);
+  if (scores_) out.extremes.swap(extremes_);
+  scores_ = nullptr;
   // One event per touched cell, in first-touch order; hit points grouped per voxel in point order.
   out.voxels.reserve(touched_.size());
   for (std::uint32_t cell : touched_)

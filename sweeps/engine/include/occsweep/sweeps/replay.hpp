@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "occsweep/core/knn_set_distances.hpp"
+#include "occsweep/core/mapping_method.hpp"
+#include "occsweep/core/method_features.hpp"
 #include "occsweep/core/mapping_params.hpp"
 #include "occsweep/core/voxel_update_rule.hpp"
 #include "occsweep/eval/confusion.hpp"
@@ -27,37 +29,53 @@ struct RecordedSet {
   std::vector<std::uint8_t> uniform;         ///< per voxel: its events' flags when all are equal, else 0
   std::uint32_t longest = 0;                 ///< most events of one voxel
   std::uint64_t scan_voxel_updates = 0;      ///< events in the region over all scans (for reports)
+  // With gate scores (filters: docs/methods.md, "Filters") only:
+  std::size_t gate_columns = 0;              ///< gate features recorded
+  std::vector<float> extremes;               ///< per event and column, kExtremes floats (ScanEvents::extremes)
+  std::vector<std::uint32_t> event_scan;     ///< per event: its scan
 };
+
+/// Per gate feature, per scan, per point: the score a filter compares with its threshold (float, as recorded).
+using SetGateScores = std::vector<std::vector<std::vector<float>>>;
 
 /// Records the region voxels' events with the same traversal as the mappers (ScanEventRecorder), scans in
 /// parallel (TBB), merged in scan order.
-[[nodiscard]] RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c);
+/// With `gate_scores`, also each event's gate extremes and scan.
+[[nodiscard]] RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c,
+                                    const SetGateScores& gate_scores = {});
 
 /// computeKnnDistances with the scans' k-NN searches in parallel (TBB); the statistics are then accumulated in
 /// scan order, so the result is identical.
 [[nodiscard]] KnnSetDistances parallelKnnDistances(const PointCloudSet& set, int k, double s_c);
 
-/// F(s_j) (Eq. 8) of every recorded hit for one k and statistics mode.
-[[nodiscard]] std::vector<double> hitCdf(const RecordedSet& r, const KnnSetDistances& d, StatsMode stats);
+/// A feature of every point (method_features.hpp) with the scans in parallel (TBB); identical to setFeature.
+[[nodiscard]] SetFeature parallelSetFeature(const PointCloudSet& set, const FeatureRequest& request, double s_c,
+                                            StatsMode stats);
 
-/// Per event, the float sum of l(p(s_j)) over its hits, in point order (unclamped): depends on k, p_u, p_l only.
-[[nodiscard]] std::vector<float> knnHitSums(const RecordedSet& r, const std::vector<double>& cdf, double p_u,
-                                            double p_l);
+/// The feature of every recorded hit's point (`inner[t]`: scan t's z_in, innerPoints).
+[[nodiscard]] std::vector<double> hitFeatures(const RecordedSet& r, const SetFeature& feature,
+                                              const std::vector<std::vector<std::uint32_t>>& inner);
+
+/// Per event, its hit delta from its points' features (`hit_features`: hitFeatures) before any clamp: the float
+/// sum of pointLogOdds in point order (PointSum), or the largest (PointMax). Depends on the hit rule only.
+[[nodiscard]] std::vector<float> eventHits(const RecordedSet& r, const std::vector<double>& hit_features,
+                                           const HitRule& hit);
 
 /// How to replay one map.
 struct ReplayRule {
   float l_min = 0, l_max = 0;
   VoxelUpdateRule<float> update;           ///< l_in, l_out, variant (OctoMap: l_in = l_out = l(p_m), default)
-  float octomap_hit = 0;                   ///< OctoMap: l(p_h) for every hit
-  const std::vector<float>* knn_hit_sums = nullptr;  ///< k-NN: per-event sums (clamped once when applied)
+  float constant_hit = 0;                  ///< HitRule::Constant: the delta of every hit (OctoMap's l(p_h))
+  const std::vector<float>* event_hits = nullptr;  ///< PointSum, PointMax: per event (eventHits)
+  bool clamp_event_hits = false;           ///< PointSum: clamped once to [l_min, l_max] (Algorithm 1)
 };
+
+/// The replay of a method's rule, with its events' hit deltas when the hit rule reads points (eventHits).
+[[nodiscard]] ReplayRule replayRule(const MapRule& rule, const std::vector<float>* event_hits);
 
 /// Replays every region voxel and returns what the map would say about the region: the same RegionSample that
 /// sampleRegion gives for the directly built map (excluded voxels left out, as there).
 [[nodiscard]] RegionSample replay(const RecordedSet& r, const ReplayRule& rule);
-
-[[nodiscard]] ReplayRule octomapRule(const MapParams& m);
-[[nodiscard]] ReplayRule knnRule(const MapParams& m, const std::vector<float>& hit_sums, UpdateVariant variant);
 
 /// Maps replayed together: they must share the hit rule (OctoMap, or k-NN maps of one k, p_u, p_l).
 inline constexpr std::size_t kReplayLanes = 8;
@@ -70,5 +88,15 @@ inline constexpr std::size_t kReplayLanes = 8;
 [[nodiscard]] std::vector<std::vector<ConfusionCounts>> replayCounts(
     const RecordedSet& r, const std::vector<ReplayRule>& lanes, const std::vector<std::vector<double>>& p_t,
     std::vector<std::vector<ConfusionCounts>>* observable = nullptr);
+
+/// A filter's lanes: per lane, per scan, the gate threshold (PointGate::threshold of the scan's summary).
+using LaneGates = std::vector<std::vector<double>>;
+
+/// replayCounts for a filter: each event of lane l happens only when its extreme of gate column `column` reaches
+/// the lane's threshold for the event's scan, and a voxel none of whose events happen stays unknown. Lanes share
+/// `column` and a constant hit.
+[[nodiscard]] std::vector<std::vector<ConfusionCounts>> replayGatedCounts(
+    const RecordedSet& r, const std::vector<ReplayRule>& lanes, std::size_t column, const LaneGates& gates,
+    const std::vector<std::vector<double>>& p_t, std::vector<std::vector<ConfusionCounts>>* observable = nullptr);
 
 }  // namespace occsweep

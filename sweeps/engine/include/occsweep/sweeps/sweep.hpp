@@ -36,8 +36,4 @@ struct SweepConfig {
 /// left as it is and returned.
 ResultsFile runSweep(const SweepConfig& config);
 
-/// Map-level parameters as the core's structs (resolution, s_c and variant from the sweep).
-[[nodiscard]] KnnParams knnParams(const MapParams& m, const SweepConfig& c, Fixed p_t);
-[[nodiscard]] OctoMapParams octomapParams(const MapParams& m, const SweepConfig& c, Fixed p_t);
-
 }  // namespace occsweep

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "occsweep/core/mapping_method.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/ground_truth.hpp"
@@ -25,7 +26,8 @@ struct MapToCount {
 /// What every map of a sweep shares.
 struct SweepInputs {
   const SweepConfig& config;
-  GridMethod method;
+  const MappingMethod& method;     ///< the grid's method (docs/methods.md)
+  const ParameterLayout& layout;   ///< its parameters, the order of MapParams::values
   PointCloudSet& scans;       ///< the data set's points; an engine frees them once it no longer needs them
   const GroundTruth& truth;   ///< the truth the results count (SweepConfig::truth)
   /// The truth with its unobservable voxels in `excluded` when the sweep counts observable truth or has a twin
@@ -47,13 +49,15 @@ class SweepEngine {
   /// the partial log: docs/results-format.md).
   [[nodiscard]] virtual std::string name() const = 0;
 
-  /// Computes what the maps share (replay: the recorded events and the hits' F(s) of each k; direct: the k-NN
-  /// distances of each k). Runs TBB loops in the caller's arena; keeps references to `inputs`' truths and points.
+  /// Computes what the maps share (replay: the recorded events, with the gate extremes of filters, and each hit
+  /// feature at the recorded hits; direct: the k-NN distances of each k, on first use). Runs TBB loops in the caller's arena; keeps references to `inputs`' truths and points.
   virtual void prepare(const SweepInputs& inputs, const std::vector<MapToCount>& maps) = 0;
 
   /// The maps counted together, as indices into `maps`, each map once: replay, up to kReplayLanes maps that share
-  /// their hit rule (k-NN: k, p_u, p_l); direct, one map each.
-  [[nodiscard]] virtual std::vector<std::vector<std::size_t>> batches(const std::vector<MapToCount>& maps) const = 0;
+  /// their hit rule and gate feature (the method's sharedByLanes: k-NN's k, p_u, p_l); direct, one map each.
+  [[nodiscard]] virtual std::vector<std::vector<std::size_t>> batches(const MappingMethod& method,
+                                                                      const ParameterLayout& layout,
+                                                                      const std::vector<MapToCount>& maps) const = 0;
 
   /// The counts of one batch, in the batch's order. Safe to call from several threads at once after prepare.
   [[nodiscard]] virtual BatchCounts count(const std::vector<MapToCount>& maps,

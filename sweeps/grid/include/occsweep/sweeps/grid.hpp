@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,30 +20,48 @@ inline constexpr Fixed kFixedScale = 1'000'000;
 /// A fixed value has min == max.
 struct ParamRange {
   Fixed min = 0, max = 0, step = 0;
+  std::vector<Fixed> listed;  ///< an integer parameter's values as listed (k: [1, 3]); then min, max, step unused
   [[nodiscard]] std::vector<Fixed> values() const;
   [[nodiscard]] std::int64_t count() const;  ///< g(T) of Eq. 13, with floor: exact for any step
 };
 
-enum class GridMethod { OctoMap, Knn };
+/// What results need of a method's parameters (every one but p_t): their names in the method's order
+/// (MappingMethod::parameters) and which are integers (written as JSON integers, as k).
+struct ParameterLayout {
+  std::vector<std::string> names;
+  std::vector<bool> integer;
+  /// The index of `name`; std::invalid_argument naming it when the layout has none.
+  [[nodiscard]] std::size_t index(const std::string& name) const;
+  [[nodiscard]] bool has(const std::string& name) const;
+  friend bool operator==(const ParameterLayout&, const ParameterLayout&) = default;
+};
 
-/// One grid file. Unused parameters of the other method stay empty.
+/// One grid file: a registered method (docs/methods.md) and a range of values for each of its parameters.
 struct GridSpec {
   std::string name;
-  GridMethod method = GridMethod::Knn;
+  std::string method = "knn";         ///< a registered method's name (method_registry.hpp)
   std::string description;
-  ParamRange p_max, p_min, p_m;       ///< both methods
-  ParamRange p_h;                     ///< OctoMap
-  ParamRange p_m_out, p_u, p_l;       ///< k-NN
+  ParameterLayout layout;             ///< the method's parameters
+  std::vector<ParamRange> ranges;     ///< per parameter of `layout`; integer parameters list their values
   Fixed p_t_step = 0;                 ///< p_t runs from p_min to p_max by this step
-  std::vector<int> k;                 ///< k-NN
   std::string file_hash;              ///< FNV-1a 64 of the file's bytes, hex
+  /// The range of parameter `name`.
+  [[nodiscard]] const ParamRange& range(const std::string& name) const { return ranges.at(layout.index(name)); }
 };
 
-/// The parameters of one map: everything but p_t.
+/// The parameters of one map: every parameter of its method but p_t, in the order of its ParameterLayout.
 struct MapParams {
-  Fixed p_max = 0, p_min = 0, p_m = 0, p_h = 0, p_m_out = 0, p_u = 0, p_l = 0;
-  int k = 0;
+  std::vector<Fixed> values;
+  friend bool operator==(const MapParams&, const MapParams&) = default;
 };
+
+/// The value of parameter `name` of a map.
+[[nodiscard]] Fixed parameter(const ParameterLayout& layout, const MapParams& params, const std::string& name);
+/// The same as a double.
+[[nodiscard]] inline double parameterValue(const ParameterLayout& layout, const MapParams& params,
+                                           const std::string& name) {
+  return toDouble(parameter(layout, params, name));
+}
 
 /// The grid enumerated: maps in canonical order, each with its p_t values. A combination's id is its index in
 /// the canonical order (maps in order, p_t innermost), so the ids of one map are contiguous.
@@ -68,9 +87,14 @@ void addGridFolder(const std::filesystem::path& folder);
 [[nodiscard]] GridEnumeration enumerateGrid(const GridSpec& grid);
 
 /// Eq. 15's closed form (Eq. 13-14 with floor so it holds for steps that do not divide the range; the paper's
-/// ceiling over-counts then). Must equal enumerateGrid(grid).combinations for every grid.
-[[nodiscard]] std::uint64_t closedFormCount(const GridSpec& grid);
+/// ceiling over-counts then) for knn and octomap grids; none for other methods. Must equal
+/// enumerateGrid(grid).combinations for every grid it has.
+[[nodiscard]] std::optional<std::uint64_t> closedFormCount(const GridSpec& grid);
 
-[[nodiscard]] const char* methodName(GridMethod m);
+/// The grid's combinations without enumerating them: Eq. 15 where it holds, else a count over the maps.
+[[nodiscard]] std::uint64_t combinationCount(const GridSpec& grid);
+
+/// The layout of a registered method's parameters.
+[[nodiscard]] ParameterLayout layoutOf(const std::string& method);
 
 }  // namespace occsweep

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -33,8 +34,15 @@ struct ComparisonRow {
   std::string dataset, point_cloud_set, dataset_hash;
   std::optional<BestMap> octomap, knn;
   std::vector<std::size_t> octomap_files, knn_files;  ///< indices of the files of each method given for this row
+  /// Every other method's best (the baselines of docs/methods.md), by method name.
+  std::map<std::string, BestMap> others;
   [[nodiscard]] double improvementPercent() const;  ///< (knn - octomap) / octomap * 100; NaN if one is missing
+  /// (method - octomap) / octomap * 100 for a method of `others`; NaN if either is missing.
+  [[nodiscard]] double improvementPercent(const std::string& method) const;
 };
+
+/// The methods of `others` over all rows, by name: the columns compare adds after OctoMap and k-NN.
+[[nodiscard]] std::vector<std::string> otherMethods(const std::vector<ComparisonRow>& rows);
 
 [[nodiscard]] std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files);
 

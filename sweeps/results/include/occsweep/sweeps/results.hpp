@@ -25,7 +25,10 @@ namespace occsweep {
 struct ResultsHeader {
   std::string version, commit;                 ///< occsweep that wrote it
   std::string grid_name, grid_hash;            ///< grid file and FNV-1a of its bytes
-  GridMethod method = GridMethod::Knn;
+  std::string method = "knn";                  ///< the grid's method (docs/methods.md)
+  /// The method's parameters as the maps' params hold them: from the registry, or, for a method this program has
+  /// not registered, from the first map's keys in name order (results are readable without the method's code).
+  ParameterLayout parameters;
   std::uint64_t grid_combinations = 0;
   SweepSelection selection;
   std::string dataset_name, dataset_hash;
@@ -69,13 +72,13 @@ struct ResultsFile {
 void setEngines(ResultsHeader& h, const std::set<std::string>& engines);
 
 [[nodiscard]] nlohmann::json toJson(const ResultsHeader& h);
-[[nodiscard]] nlohmann::json toJson(const MapResult& m, GridMethod method);
+[[nodiscard]] nlohmann::json toJson(const MapResult& m, const ParameterLayout& parameters);
 [[nodiscard]] nlohmann::json toJson(const ResultsFile& f);
 
 /// Parsers: std::runtime_error naming the file and the field for anything missing, mistyped or inconsistent
 /// (counts that do not add up, TPR/FDR/AUC that do not match the counts: a file edited by hand).
 [[nodiscard]] ResultsHeader parseHeader(const nlohmann::json& j, const std::string& file);
-[[nodiscard]] MapResult parseMapResult(const nlohmann::json& j, GridMethod method, const std::string& file,
+[[nodiscard]] MapResult parseMapResult(const nlohmann::json& j, const ParameterLayout& parameters, const std::string& file,
                                        const std::string& where);
 [[nodiscard]] ResultsFile parseResults(const nlohmann::json& j, const std::string& file);
 [[nodiscard]] ResultsFile readResults(const std::filesystem::path& file);

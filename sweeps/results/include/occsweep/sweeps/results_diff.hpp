@@ -49,6 +49,7 @@ enum class CountsCheck { Exact, Ignored };
                                                                       bool compare_shard);
 
 /// A map's parameters as text, with `p_t` when given: "p_max=0.98 p_min=0.02 p_h=0.7 p_m=0.4 p_t=0.5".
-[[nodiscard]] std::string combinationText(const MapParams& params, GridMethod method, std::optional<Fixed> p_t);
+[[nodiscard]] std::string combinationText(const MapParams& params, const ParameterLayout& parameters,
+                                           std::optional<Fixed> p_t);
 
 }  // namespace occsweep

@@ -1,0 +1,197 @@
+// A mapping method as data the engines can sweep (docs/methods.md): its parameters and the relations among them
+// (as Eq. 12 states them for OctoMap and k-NN), what it needs per point, and how one scan's events change a voxel.
+// A method written this way is replayed from recorded events and built directly through the same rule, with no
+// code of its own in either engine.
+#pragma once
+
+#include <compare>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <octomap/OcTree.h>
+
+#include "knn_set_distances.hpp"
+#include "mapping_params.hpp"
+#include "point_cloud_set.hpp"
+#include "voxel_update_rule.hpp"
+
+namespace occsweep {
+
+/// One parameter of a method, as grid files and results name it.
+struct MethodParameter {
+  std::string name;              ///< key in grid files and results ("p_h", "std_mul")
+  std::string symbol;            ///< as docs/methods.md writes it ("p'_m")
+  std::string meaning;           ///< one line for `occsweep methods`
+  double default_value = 0.0;    ///< what `occsweep map` and the docs use unless told otherwise
+  double lowest = 0.0, highest = 1.0;  ///< the values it may take
+  bool lowest_open = false, highest_open = false;  ///< whether `lowest`, `highest` themselves are refused
+  bool integer = false;          ///< a list of integers in grid files (as k), not a min/max/step range
+  std::string bound_source;      ///< why the bounds hold ("Eq. 12", "l(p(s)) finite")
+};
+
+/// `larger >= smaller` (or `>` when strict) must hold among the values of one map, as Eq. 12's p_u >= p_l.
+struct ParameterRelation {
+  std::string larger, smaller;
+  bool strict = false;
+  std::string source;  ///< "Eq. 12"
+};
+
+/// What a method may need per point of a scan; the engines compute each requested feature once per sweep
+/// (method_features.hpp), for every point of every scan.
+enum class PointFeature : std::uint8_t {
+  KnnCdf,         ///< F(s_j) of Eq. 8: the normal CDF of the point's mean distance to its k nearest neighbours in
+                  ///< z_in (argument: k); mu, sigma of the set (batch) or of the scans so far (online). In-range
+                  ///< points only.
+  Range,          ///< |p_j - x_t| as OctoMap's computeUpdate measures it (float components)
+  SorScore,       ///< minus PCL StatisticalOutlierRemoval's mean distance to the k nearest points of the whole
+                  ///< scan (argument: k); the scan's summary holds PCL's mean and standard deviation of them
+  RorNeighbours,  ///< how many other points of the scan PCL's RadiusOutlierRemoval finds within the radius
+                  ///< (argument: radius in metres)
+};
+
+/// A feature with its argument (k, radius). Ordered, so the engines compute each once.
+struct FeatureRequest {
+  PointFeature feature = PointFeature::Range;
+  double argument = 0.0;
+  friend auto operator<=>(const FeatureRequest&, const FeatureRequest&) = default;
+};
+
+/// What a feature says about a whole scan (SorScore: PCL's mean and standard deviation of the distances).
+struct FeatureScanSummary {
+  double mean = 0.0, stddev = 0.0;
+};
+
+/// How one scan's hits change a voxel (Algorithm 1 lines 3-10 for k-NN; one l(p_h) for OctoMap).
+struct HitRule {
+  enum class Kind : std::uint8_t {
+    Constant,  ///< l_hit, whatever points the voxel holds (OctoMap)
+    PointSum,  ///< the float sum of pointLogOdds over the voxel's in-range points in point order, clamped once to
+               ///< [l_min, l_max] (Algorithm 1)
+    PointMax,  ///< the largest pointLogOdds over the voxel's in-range points: one update, from its most reliable
+               ///< point (OctoMap's one update per voxel and scan)
+  };
+  Kind kind = Kind::Constant;
+  float l_hit = 0.0f;                           ///< Constant
+  FeatureRequest feature{};                     ///< PointSum, PointMax: the feature pointLogOdds reads
+  std::function<float(double)> pointLogOdds;    ///< PointSum, PointMax: l(p(feature)) of one point
+};
+
+/// A point filter (a removed point casts no ray and is no hit): a point is kept when its feature's score reaches
+/// the threshold of its scan. Replayable because a voxel's event happens exactly when the largest score over the
+/// points in it (hit) or over the rays that cross it (crossed) reaches the threshold (docs/methods.md, "Filters").
+struct PointGate {
+  FeatureRequest feature{};
+  std::function<double(const FeatureScanSummary&)> threshold;  ///< per scan; -inf keeps every point
+};
+
+/// How one map's voxels change: every update is OctoMap's clamped one (Eq. 5), in the order of VoxelUpdateRule.
+struct MapRule {
+  float l_min = 0.0f, l_max = 0.0f;  ///< l(p_min), l(p_max)
+  VoxelUpdateRule<float> update;     ///< l_in, l_out, the variant
+  HitRule hit;
+  std::optional<PointGate> gate;     ///< filters only; needs a Constant hit
+};
+
+/// What a rule may take from the sweep rather than from the grid.
+struct RuleContext {
+  UpdateVariant variant = UpdateVariant::Default;
+};
+
+/// The values of one map's parameters, in the order of MappingMethod::parameters().
+using MethodValues = std::vector<double>;
+
+/// What a direct build needs besides the values (sweep settings; features are computed on demand).
+struct MapContext {
+  double resolution = 0.1, s_c = 4.0;
+  UpdateVariant variant = UpdateVariant::Default;
+  StatsMode stats = StatsMode::Batch;
+  /// The set's k-NN distances for k and s_c, shared by the maps of a sweep (the direct engine computes each k
+  /// once); empty: a method computes its own.
+  std::function<const KnnSetDistances&(int k)> knn_distances;
+};
+
+/// The interface every method implements (docs/methods.md, "Bring your own method").
+class MappingMethod {
+ public:
+  virtual ~MappingMethod() = default;
+
+  /// The registered name: grid files' "method", results' grid.method.
+  [[nodiscard]] virtual std::string name() const = 0;
+  /// One line for `occsweep methods`.
+  [[nodiscard]] virtual std::string description() const = 0;
+  /// Where the model comes from (docs/methods.md cites it in full).
+  [[nodiscard]] virtual std::string reference() const = 0;
+  /// Every parameter but p_t, in the order grids enumerate them (the outermost first). Every method has p_max and
+  /// p_min: the clamping thresholds, between which p_t runs.
+  [[nodiscard]] virtual std::vector<MethodParameter> parameters() const = 0;
+  /// The relations that must hold among the values of one map; grids skip the combinations that break one.
+  [[nodiscard]] virtual std::vector<ParameterRelation> relations() const = 0;
+  /// The parameters the hit rule and the gate's feature depend on: maps replayed together (lanes) share them.
+  [[nodiscard]] virtual std::vector<std::string> sharedByLanes() const { return {}; }
+  /// How a map with these values updates its voxels.
+  [[nodiscard]] virtual MapRule rule(const MethodValues& values, const RuleContext& context) const = 0;
+  /// The map built directly, the reference replay is tested against. By default the rule applied scan by scan
+  /// through OcTree::updateNode (method_mapper.hpp); OctoMap and its filters use liboctomap itself.
+  [[nodiscard]] virtual std::unique_ptr<octomap::OcTree> buildMap(const PointCloudSet& set, const MethodValues& values,
+                                                                  const MapContext& context) const;
+};
+
+/// The index of parameter `name` in `method`'s parameters; std::invalid_argument naming both when it has none.
+[[nodiscard]] std::size_t parameterIndex(const MappingMethod& method, const std::string& name);
+/// The value of parameter `name` among `values`.
+[[nodiscard]] double parameterValue(const MappingMethod& method, const MethodValues& values, const std::string& name);
+/// Every parameter at its default value.
+[[nodiscard]] MethodValues defaultValues(const MappingMethod& method);
+/// The first bound or relation `values` break, as a sentence naming it; none if every one holds.
+[[nodiscard]] std::optional<std::string> brokenRelation(const MappingMethod& method, const MethodValues& values);
+
+// ---------------------------------------------------------------------------------------------------------
+
+inline std::size_t parameterIndex(const MappingMethod& method, const std::string& name) {
+  const std::vector<MethodParameter> parameters = method.parameters();
+  for (std::size_t i = 0; i < parameters.size(); ++i)
+    if (parameters[i].name == name) return i;
+  throw std::invalid_argument("method " + method.name() + " has no parameter " + name);
+}
+
+inline double parameterValue(const MappingMethod& method, const MethodValues& values, const std::string& name) {
+  return values.at(parameterIndex(method, name));
+}
+
+inline MethodValues defaultValues(const MappingMethod& method) {
+  MethodValues values;
+  for (const MethodParameter& p : method.parameters()) values.push_back(p.default_value);
+  return values;
+}
+
+inline std::optional<std::string> brokenRelation(const MappingMethod& method, const MethodValues& values) {
+  const std::vector<MethodParameter> parameters = method.parameters();
+  if (values.size() != parameters.size())
+    return method.name() + " takes " + std::to_string(parameters.size()) + " parameters, not " +
+           std::to_string(values.size());
+  for (std::size_t i = 0; i < parameters.size(); ++i) {
+    const MethodParameter& p = parameters[i];
+    const double v = values[i];
+    const bool low_ok = p.lowest_open ? v > p.lowest : v >= p.lowest;
+    const bool high_ok = p.highest_open ? v < p.highest : v <= p.highest;
+    if (!low_ok || !high_ok || (p.integer && v != double(static_cast<long long>(v))))
+      return p.name + " = " + detail::fmt(v) + " must lie in " + (p.lowest_open ? "(" : "[") + detail::fmt(p.lowest) +
+             ", " + detail::fmt(p.highest) + (p.highest_open ? ")" : "]") + (p.integer ? ", an integer" : "") +
+             " (" + p.bound_source + ")";
+  }
+  for (const ParameterRelation& r : method.relations()) {
+    const double a = parameterValue(method, values, r.larger), b = parameterValue(method, values, r.smaller);
+    if (r.strict ? a > b : a >= b) continue;
+    return "parameters break " + r.source + ": " + r.larger + (r.strict ? " > " : " >= ") + r.smaller +
+           " does not hold (" + r.larger + " = " + detail::fmt(a) + ", " + r.smaller + " = " + detail::fmt(b) + ")";
+  }
+  return std::nullopt;
+}
+
+}  // namespace occsweep
+
+#include "method_mapper.hpp"  // MappingMethod::buildMap's default: the rule through OcTree::updateNode
