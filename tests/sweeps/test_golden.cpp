@@ -3,10 +3,10 @@
 // tools/regenerate_golden.sh only when a change is intended.
 #include <catch2/catch.hpp>
 
+#include "occsweep/core/method_registry.hpp"
 #include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
-#include "occsweep/core/method_registry.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "test_helpers.hpp"
 

@@ -13,13 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "occsweep/core/builtin_methods.hpp"
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/knn_set_distances.hpp"
 #include "occsweep/core/map_voxels.hpp"
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/ground_truth.hpp"
-#include "occsweep/core/builtin_methods.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "reference/knn_algorithm1.hpp"
 

@@ -3,7 +3,8 @@
 #   install_test.sh BUILD_DIR
 # installs into a temporary prefix, hides the source tree's grids, runs the installed command from another folder
 # (grid count, the built-in scene, a sweep), then builds examples/ against the installed package and runs it and
-# its AUC guard. Exit 0 only when every step does.
+# its AUC guard, and sweeps the example method (examples/occupancy_method) and compares it with OctoMap.
+# Exit 0 only when every step does.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=$(cd "${1:?usage: install_test.sh BUILD_DIR}" && pwd)
@@ -29,4 +30,9 @@ cmake -S "$root/examples" -B "$work/example-build" -DCMAKE_PREFIX_PATH="$prefix"
 cmake --build "$work/example-build" -j "$(nproc)" >/dev/null
 "$work/example-build/knn_counts" "$work/scene"
 "$root/examples/guard_auc.sh" "$occsweep" "$work/scene" "$work/octomap-opt.json"
+echo "== a method of the example's own: registered, swept, compared by the installed command"
+"$work/example-build/sweep_example_method" "$work/scene" "$root/examples/occupancy_method/density-octomap-opt.json" \
+  "$work/density-octomap.json"
+"$occsweep" compare "$work/octomap-opt.json" "$work/density-octomap.json" | tee "$work/compare.txt"
+grep -q "density-octomap AUC" "$work/compare.txt"
 echo "== install test passed"
