@@ -99,6 +99,21 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
     CHECK(truths.at("full").at("octomap").at("auc") == row.at("octomap").at("auc"));
     CHECK(truths.at("observable").at("true_voxels").get<int>() < truths.at("full").at("true_voxels").get<int>());
     CHECK(std::filesystem::is_regular_file(sweeps / (set + "-knn-opt-observable.json")));
+    // The baselines of docs/methods.md join the comparison: each agrees with `occsweep compare` on its own sweep.
+    const json& baselines = row.at("baselines");
+    REQUIRE(baselines.size() == 3);
+    for (const auto& [method, b] : baselines.items()) {
+      INFO(method);
+      const auto file = sweeps / (set + "-" + b.at("grid").get<std::string>() + ".json");
+      const auto cb = test::runCli("compare " + (sweeps / (set + "-octomap-opt.json")).string() + " " + file.string() +
+                                   " --force --json " + (dir / "cb.json").string());
+      REQUIRE(cb.exit_code == 0);
+      const json other = readJsonFile(dir / "cb.json").at("rows").at(0).at("others").at(method);
+      CHECK(b.at("full").at("best").at("auc") == other.at("auc"));
+      CHECK(b.at("full").at("improvement_over_octomap_percent") == other.at("improvement_percent"));
+      const double base = other.at("auc");
+      CHECK(b.at("full").at("knn_improvement_percent").get<double>() == Approx((knn - base) / base * 100.0));
+    }
   }
 
   const json curves = readJsonFile(dir / "curves.json");
@@ -112,7 +127,7 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
   CHECK(runtime.at("knn").at("samples").size() == 2 * 4 * 4);  // 2 data sets x 4 fractions x k in {1,3,5,7}
 
   const std::string report = readText(dir / "report.md");
-  for (const char* heading : {"## 1.", "## 2.", "## 3.", "## 3b.", "## 4.", "## 5.", "## 6."})
+  for (const char* heading : {"## 1.", "## 2.", "## 3.", "## 3b.", "## 3c.", "## 4.", "## 5.", "## 6."})
     CHECK(report.find(heading) != std::string::npos);
   if (figures)
     for (const char* png : {"fig3_distribution_fits.png", "fig4_nca_weights.png", "fig5_improvement.png",

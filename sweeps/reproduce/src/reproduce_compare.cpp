@@ -40,6 +40,34 @@ json truthJson(const ResultsFile& om, const ResultsFile& knn) {
           {"true_voxels", positives}};
 }
 
+// The baselines of docs/methods.md (issue 16): "does k-NN beat filtering the outliers first, then OctoMap?"
+constexpr const char* kBaselineGrids[] = {"sor-octomap-opt", "ror-octomap-opt", "range-octomap-opt"};
+
+// One truth's side of a baseline on one set: its best map, its improvement over the optimal OctoMap, and k-NN's
+// improvement over it (percent of the baseline's AUC).
+json baselineTruthJson(const ResultsFile& om, const ResultsFile& knn, const ResultsFile& baseline) {
+  const ComparisonRow row = compareBest({om, knn, baseline}).at(0);
+  const auto it = row.others.find(baseline.header.method);
+  const std::optional<BestMap> best = it == row.others.end() ? std::nullopt : std::optional<BestMap>(it->second);
+  const double knn_over = best && row.knn && best->auc > 0 ? (row.knn->auc - best->auc) / best->auc * 100.0 : NAN;
+  return {{"best", bestJson(best, baseline)},
+          {"improvement_over_octomap_percent", number(row.improvementPercent(baseline.header.method))},
+          {"knn_improvement_percent", number(knn_over)}};
+}
+
+// Every baseline swept on the set, both truths from the same maps, by method name.
+json baselinesJson(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank,
+                   const reproduce::BothTruths& om, const reproduce::BothTruths& knn) {
+  json out = json::object();
+  for (const char* grid : kBaselineGrids) {
+    const reproduce::BothTruths b = reproduce::sweepSetBothTruths(c, d, rank, grid);
+    out[b.full.header.method] = {{"grid", grid}, {"sweep_seconds", b.full.seconds},
+                                 {"full", baselineTruthJson(om.full, knn.full, b.full)},
+                                 {"observable", baselineTruthJson(om.observable, knn.observable, b.observable)}};
+  }
+  return out;
+}
+
 const char* rankLabel(std::size_t i, std::size_t count) {
   if (i == 0) return "1st";
   return i + 1 == count ? "last" : "median";
@@ -65,11 +93,12 @@ json runOptimalComparison(const ReproduceConfig& c, const std::vector<RankedData
                       {"pointcloud_id", d.ids[ranks[i]]}, {"octomap", full.at("octomap")}, {"knn", full.at("knn")},
                       {"improvement_percent", full.at("improvement_percent")},
                       {"sweep_seconds", {{"octomap", om_both.full.seconds}, {"knn", knn_both.full.seconds}}},
-                      {"truths", {{"full", full}, {"observable", truthJson(om_both.observable, knn_both.observable)}}}});
+                      {"truths", {{"full", full}, {"observable", truthJson(om_both.observable, knn_both.observable)}}},
+                      {"baselines", baselinesJson(c, d, ranks[i], om_both, knn_both)}});
     }
   }
   return {{"format", "occsweep-reproduce-comparison"}, {"figure", "Fig. 5"},
-          {"grids", {{"octomap", "octomap-opt"}, {"knn", "knn-opt"}}},
+          {"grids", {{"octomap", "octomap-opt"}, {"knn", "knn-opt"}}}, {"baseline_grids", kBaselineGrids},
           {"auc", "anchored TPR-FDR trapezoid (docs/definitions.md, Confusion counts and AUC)"}, {"rows", rows}};
 }
 

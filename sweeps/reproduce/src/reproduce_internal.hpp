@@ -61,4 +61,7 @@ void comparisonSection(std::ostringstream& o, const nlohmann::json& comparison);
 /// report.md's section on the same comparison under full and observable truth, side by side.
 void truthSection(std::ostringstream& o, const nlohmann::json& comparison);
 
+/// report.md's section on k-NN against the baselines of docs/methods.md (sor-octomap, ror-octomap, range-octomap).
+void baselineSection(std::ostringstream& o, const nlohmann::json& comparison);
+
 }  // namespace occsweep::reproduce
