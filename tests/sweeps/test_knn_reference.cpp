@@ -320,8 +320,6 @@ TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 r
     countSceneCoverage(scene, cov);
     const GroundTruth truth = makeGroundTruth({scene.boxes, {}, {}}, scene.region, scene.resolution);
     const RecordedSet recorded = recordSet(scene.set, truth, scene.resolution, scene.s_c);
-    std::vector<std::vector<std::uint32_t>> inner;
-    for (const Scan& scan : scene.set) inner.push_back(innerPoints(scan, scene.s_c));
     SplitMix64 rng(seed);
     for (int hit_rule = 0; hit_rule < 2; ++hit_rule) {
       // One hit rule (k, p_u, p_l) and three lanes of other parameters, replayed together as `sweep` does.
@@ -336,8 +334,7 @@ TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 r
       for (const StatsMode stats : {StatsMode::Batch, StatsMode::Online}) {
         const MapRule hit_rule = KnnMethod().rule(lanes[0], {});
         const auto sums = eventHits(
-            recorded, hitFeatures(recorded, parallelSetFeature(scene.set, hit_rule.hit.feature, scene.s_c, stats), inner),
-            hit_rule.hit);
+            recorded, recordedHitFeatures(recorded, scene.set, hit_rule.hit.feature, scene.s_c, stats), hit_rule.hit);
         for (const UpdateVariant variant : {UpdateVariant::Default, UpdateVariant::Literal}) {
           std::vector<ReplayRule> rules;
           std::vector<std::vector<double>> p_t;

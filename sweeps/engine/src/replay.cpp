@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "occsweep/core/log_odds.hpp"
+#include "occsweep/core/normal_cdf.hpp"
 #include "occsweep/core/scan_events.hpp"
 
 namespace occsweep {
@@ -138,12 +139,25 @@ SetFeature parallelSetFeature(const PointCloudSet& set, const FeatureRequest& re
   });
 }
 
-std::vector<double> hitFeatures(const RecordedSet& r, const SetFeature& feature,
-                                const std::vector<std::vector<std::uint32_t>>& inner) {
+std::vector<double> recordedHitFeatures(const RecordedSet& r, const PointCloudSet& set, const FeatureRequest& feature,
+                                        double s_c, StatsMode stats) {
   std::vector<double> out(r.hit_scan.size());
+  if (feature.feature == PointFeature::KnnCdf) {
+    // F(s_j) exactly as knnCdfFeature computes it, at the hits only (hit_inner is the point's index j in z_in).
+    const KnnSetDistances d = parallelKnnDistances(set, int(feature.argument), s_c);
+    const bool online = stats == StatsMode::Online;
+    for (std::size_t h = 0; h < out.size(); ++h) {
+      const KnnScanDistances& scan = d.scans[r.hit_scan[h]];
+      out[h] = normalCdf(scan.s[r.hit_inner[h]], online ? scan.online_mu : d.mu, online ? scan.online_sigma : d.sigma);
+    }
+    return out;
+  }
+  const SetFeature values = parallelSetFeature(set, feature, s_c, stats);
+  std::vector<std::vector<std::uint32_t>> inner(set.size());
+  for (std::size_t t = 0; t < set.size(); ++t) inner[t] = innerPoints(set[t], s_c);
   for (std::size_t h = 0; h < out.size(); ++h) {
     const std::uint32_t t = r.hit_scan[h];
-    out[h] = feature.values[t][inner[t][r.hit_inner[h]]];
+    out[h] = values.values[t][inner[t][r.hit_inner[h]]];
   }
   return out;
 }

@@ -80,6 +80,7 @@ class ScanEventRecorder {
   [[nodiscard]] bool mayReach(const octomap::point3d& a, const octomap::point3d& b, const KeyWindow& w) const;
   // The steps of record(), in order.
   [[nodiscard]] std::uint16_t startScan(const KeyWindow& window);
+  template <bool kGated>
   void mark(std::uint32_t cell, std::uint8_t flag, std::uint16_t stamp);
   void markHits(const Scan& scan, const std::vector<std::uint32_t>& inner, const KeyWindow& window, std::uint16_t stamp);
   template <bool kGated>
@@ -180,11 +181,14 @@ inline std::uint16_t ScanEventRecorder::startScan(const KeyWindow& window) {
   return std::uint16_t(generation_) << 8;
 }
 
+// kGated: also give a newly touched cell its slot of gate extremes. A template, so that the plain recording's hot
+// loop carries no test for it (measured: 12 % more time for octomap-opt's sweep with a run-time test).
+template <bool kGated>
 inline void ScanEventRecorder::mark(std::uint32_t cell, std::uint8_t flag, std::uint16_t stamp) {
   std::uint16_t& c = cells_[cell];
   if ((c & 0xFF00) != stamp) {
     c = stamp;
-    if (scores_) {
+    if constexpr (kGated) {
       slot_[cell] = std::uint32_t(touched_.size());
       extremes_.resize(extremes_.size() + scores_->size() * kExtremes, -std::numeric_limits<float>::infinity());
     }
@@ -208,8 +212,12 @@ inline void ScanEventRecorder::markHits(const Scan& scan, const std::vector<std:
     octomap::OcTreeKey key;
     if (!grid_.coordToKeyChecked(scan.points[inner[j]], key) || !window.contains(key)) continue;
     const auto cell = std::uint32_t(window.index(key));
-    mark(cell, kHit, stamp);
-    if (scores_) raiseExtremes(cell, inner[j], kHitExtreme);
+    if (scores_) {
+      mark<true>(cell, kHit, stamp);
+      raiseExtremes(cell, inner[j], kHitExtreme);
+    } else {
+      mark<false>(cell, kHit, stamp);
+    }
     hits_.emplace_back(cell, j);
   }
 }
@@ -232,7 +240,7 @@ template <bool kGated>
       if (!window.contains(key)) return !entered;
       entered = true;
       const auto cell = std::uint32_t(window.index(key));
-      mark(cell, flag, stamp);
+      mark<kGated>(cell, flag, stamp);
       if constexpr (kGated) raiseExtremes(cell, i, flag == kCrossedIn ? kCrossedInExtreme : kCrossedOutExtreme);
       return true;
     });

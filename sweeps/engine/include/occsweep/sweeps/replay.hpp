@@ -52,11 +52,12 @@ using SetGateScores = std::vector<std::vector<std::vector<float>>>;
 [[nodiscard]] SetFeature parallelSetFeature(const PointCloudSet& set, const FeatureRequest& request, double s_c,
                                             StatsMode stats);
 
-/// The feature of every recorded hit's point (`inner[t]`: scan t's z_in, innerPoints).
-[[nodiscard]] std::vector<double> hitFeatures(const RecordedSet& r, const SetFeature& feature,
-                                              const std::vector<std::vector<std::uint32_t>>& inner);
+/// A feature of every recorded hit's point, equal to setFeature's value for it. KnnCdf is computed at the hits
+/// only (the normal CDF is the costly part, and most points of a scan are no hit inside the region).
+[[nodiscard]] std::vector<double> recordedHitFeatures(const RecordedSet& r, const PointCloudSet& set,
+                                                      const FeatureRequest& feature, double s_c, StatsMode stats);
 
-/// Per event, its hit delta from its points' features (`hit_features`: hitFeatures) before any clamp: the float
+/// Per event, its hit delta from its points' features (`hit_features`: recordedHitFeatures) before any clamp: the float
 /// sum of pointLogOdds in point order (PointSum), or the largest (PointMax). Depends on the hit rule only.
 [[nodiscard]] std::vector<float> eventHits(const RecordedSet& r, const std::vector<double>& hit_features,
                                            const HitRule& hit);
