@@ -112,7 +112,9 @@ TEST_CASE("merge, compare and select tasks parse back to themselves over many ra
     const MergeTask merge{randomFiles(rng), randomName(rng), bool(rng.below(2))};
     CHECK(parseTask<MergeTask>(taskArgv(merge), addMergeOptions) == merge);
     const CompareTask compare{randomFiles(rng), rng.below(2) ? randomName(rng) : "", bool(rng.below(2)),
-                              bool(rng.below(2))};
+                              bool(rng.below(2)), rng.below(2) ? randomName(rng) : "octomap",
+                              rng.below(2) ? randomName(rng) : "", rng.below(2) ? randomName(rng) : "",
+                              rng.below(2) ? randomName(rng) : ""};
     CHECK(parseTask<CompareTask>(taskArgv(compare), addCompareOptions) == compare);
     const SelectTask select{randomFiles(rng), randomName(rng)};
     CHECK(parseTask<SelectTask>(taskArgv(select), addSelectOptions) == select);

@@ -21,7 +21,7 @@ ALLOWED = {
     "eval": ["core"],
     "stats": ["core"],
     "grid": ["core", "eval"],
-    "results": ["core", "eval", "grid"],
+    "results": ["core", "eval", "stats", "grid"],
     "engine": ["core", "eval", "grid", "results"],
     "cluster": ["core", "eval", "grid", "results", "engine"],
     "reproduce": ["core", "eval", "stats", "grid", "results", "engine"],

@@ -1,10 +1,13 @@
 // occsweep compare: best AUC of each method per data set and point cloud set (the table behind Fig. 5).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 
 #include "command_registry.hpp"
 #include "task_options.hpp"
+#include "compare_tables.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
 namespace occsweep::cli {
@@ -27,7 +30,7 @@ nlohmann::json bestJson(const std::optional<BestMap>& b, const std::vector<Resul
                         const std::vector<std::string>& names) {
   if (!b) return nullptr;
   return {{"auc", b->auc}, {"auc_observed", b->observed}, {"map_index", b->map_index},
-          {"params", paramsText(*b, in)}, {"file", names[b->file]}};
+          {"params", paramsText(*b, in)}, {"parameters", parameterFields(*b, in)}, {"file", names[b->file]}};
 }
 
 // A number occsweep prints is either right or not printed (docs/robustness.md): "-" where there is none.
@@ -122,8 +125,46 @@ void printTruth(TruthMode truth) {
             << '\n';
 }
 
-int runCompare(const CompareTask& o) {
+// A table compare wrote before: a regular file whose first line starts with `first_line` (the CSV header, or the
+// Markdown and LaTeX files' comment naming occsweep compare); --force replaces nothing else.
+ReplaceableOutput tableOutput(const std::string& name, const std::string& first_line) {
+  return {name, [first_line](const std::filesystem::path& file) {
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(file, ec)) return false;
+            std::ifstream in(file);
+            std::string line;
+            return bool(std::getline(in, line)) && line.starts_with(first_line);
+          }};
+}
+
+// Each output given is checked before anything is read or written: a user's file is never replaced.
+void checkOutputs(const CompareTask& o) {
   if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("comparison", "occsweep-comparison"));
+  if (!o.csv.empty()) checkOutputTarget(o.csv, o.force, tableOutput("comparison CSV", "dataset,point_cloud_set,"));
+  if (!o.markdown.empty())
+    checkOutputTarget(o.markdown, o.force, tableOutput("comparison Markdown", "<!-- occsweep compare"));
+  if (!o.latex.empty()) checkOutputTarget(o.latex, o.force, tableOutput("comparison LaTeX", "% occsweep compare"));
+}
+
+// The statistics against the baseline; none (with a note) when the default baseline was not given at all.
+std::vector<MethodStatistics> statisticsOf(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& in,
+                                           const CompareTask& o, std::vector<std::string>& notes) {
+  const std::vector<std::string> methods = comparedMethods(rows);
+  if (o.baseline == CompareTask{}.baseline && std::find(methods.begin(), methods.end(), o.baseline) == methods.end()) {
+    notes.push_back("no statistics: no results of the baseline " + o.baseline + " given (--baseline names another)");
+    return {};
+  }
+  return compareStatistics(rows, in, {o.baseline});
+}
+
+void writeTables(const CompareTask& o, const ComparisonTables& t) {
+  if (!o.csv.empty()) writeFileAtomically(o.csv, csvTable(t));
+  if (!o.markdown.empty()) writeFileAtomically(o.markdown, "<!-- occsweep compare --markdown -->\n" + markdownTables(t));
+  if (!o.latex.empty()) writeFileAtomically(o.latex, latexTables(t));  // its first line names occsweep compare
+}
+
+int runCompare(const CompareTask& o) {
+  checkOutputs(o);
   const std::vector<ResultsFile> in = readChecked(o.files);
   if (const std::string why = mixedTruths(in, o.files); !why.empty()) throw std::runtime_error("cannot compare: " + why);
   const TruthMode truth = in.front().header.truth;
@@ -137,16 +178,24 @@ int runCompare(const CompareTask& o) {
     printRow(r, in, o.files, others);
     j.push_back(rowJson(r, in, o.files, rowNotes(r, in, o.files, notes)));
   }
+  const std::vector<MethodStatistics> statistics = statisticsOf(rows, in, o, notes);
   for (const auto& n : notes) std::cout << "note: " << n << '\n';
   printTruth(truth);
+  std::vector<std::string> methods;
+  for (const auto& s : statistics) methods.push_back(s.method);
+  const ComparisonTables tables{rows, in, o.files, methods, statistics, o.baseline};
+  std::cout << statisticsText(tables);
   if (!o.json.empty())
     writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", o.files}, {"allow_mixed", o.allow_mixed},
-                         {"mixed", mixed}, {"truth", truthModeName(truth)}, {"rows", j}},
+                         {"mixed", mixed}, {"truth", truthModeName(truth)}, {"rows", j}, {"baseline", o.baseline},
+                         {"statistics", statisticsJson(statistics, CompareStatisticsOptions{o.baseline})}},
                         o.json);
+  writeTables(o, tables);
   return 0;
 }
 
-const RegisterCommand kCompare{"compare", "Best AUC of OctoMap and k-NN per data set, and the improvement in percent",
+const RegisterCommand kCompare{"compare", "Best AUC of every method per data set, the improvement over a baseline, and "
+                                          "whether it is real (docs/statistics.md)",
                                [](CLI::App& app) {
   auto task = std::make_shared<CompareTask>();
   addCompareOptions(app, *task);  // task_options.cpp: also what `cluster plan` tasks are parsed with

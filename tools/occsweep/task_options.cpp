@@ -67,8 +67,14 @@ void addMergeOptions(CLI::App& app, MergeTask& task) {
 void addCompareOptions(CLI::App& app, CompareTask& task) {
   app.add_option("files", task.files, "Complete results files of whole grids (any mix of methods and data sets; "
                                       "each passes `results check`)")->required();
-  app.add_option("--json", task.json, "Also write the table as JSON");
-  app.add_flag("--force", task.force, "Replace occsweep's own previous comparison at --json (nothing else)");
+  app.add_option("--json", task.json, "Also write the table and the statistics as JSON");
+  app.add_option("--csv", task.csv, "Also write the table as CSV: one line per set, best parameters as fields");
+  app.add_option("--markdown", task.markdown, "Also write the table and the statistics as Markdown");
+  app.add_option("--latex", task.latex, "Also write the table and the statistics as LaTeX (booktabs)");
+  app.add_option("--baseline", task.baseline, "Method every other one is compared with (docs/statistics.md)")
+      ->capture_default_str();
+  app.add_flag("--force", task.force, "Replace occsweep's own previous outputs at --json, --csv, --markdown, --latex "
+                                      "(nothing else)");
   app.add_flag("--allow-mixed", task.allow_mixed, "Compare anyway when files of one data set differ in resolution, "
                                                   "s_c, k-NN variant or statistics mode, or are shards (each is listed "
                                                   "on stderr)");

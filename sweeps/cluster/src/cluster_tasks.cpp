@@ -77,6 +77,10 @@ std::vector<std::string> taskArgv(const CompareTask& c) {
   if (c.force) argv.push_back("--force");
   if (!c.json.empty()) argv.insert(argv.end(), {"--json", value(c.json, "--json")});
   if (c.allow_mixed) argv.push_back("--allow-mixed");
+  if (c.baseline != CompareTask{}.baseline) argv.insert(argv.end(), {"--baseline", value(c.baseline, "--baseline")});
+  if (!c.csv.empty()) argv.insert(argv.end(), {"--csv", value(c.csv, "--csv")});
+  if (!c.markdown.empty()) argv.insert(argv.end(), {"--markdown", value(c.markdown, "--markdown")});
+  if (!c.latex.empty()) argv.insert(argv.end(), {"--latex", value(c.latex, "--latex")});
   return argv;
 }
 

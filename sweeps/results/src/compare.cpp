@@ -19,6 +19,13 @@ double ComparisonRow::improvementPercent(const std::string& method) const {
   return (it->second.auc - octomap->auc) / octomap->auc * 100.0;
 }
 
+std::optional<BestMap> ComparisonRow::best(const std::string& method) const {
+  if (method == "octomap") return octomap;
+  if (method == "knn") return knn;
+  const auto it = others.find(method);
+  return it == others.end() ? std::nullopt : std::optional<BestMap>(it->second);
+}
+
 std::vector<std::string> otherMethods(const std::vector<ComparisonRow>& rows) {
   std::set<std::string> names;
   for (const ComparisonRow& row : rows)

@@ -23,6 +23,8 @@ struct CompareTask {
   std::vector<std::string> files;  ///< complete results files
   std::string json;                ///< the table as JSON; empty: none
   bool force = false, allow_mixed = false;
+  std::string baseline = "octomap";  ///< every other method's statistics are against it (docs/statistics.md)
+  std::string csv, markdown, latex;  ///< the table in these formats too; empty: none
   friend bool operator==(const CompareTask&, const CompareTask&) = default;
 };
 

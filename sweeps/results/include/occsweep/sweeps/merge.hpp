@@ -39,6 +39,8 @@ struct ComparisonRow {
   [[nodiscard]] double improvementPercent() const;  ///< (knn - octomap) / octomap * 100; NaN if one is missing
   /// (method - octomap) / octomap * 100 for a method of `others`; NaN if either is missing.
   [[nodiscard]] double improvementPercent(const std::string& method) const;
+  /// The best map of any method (octomap, knn or one of `others`); none when this row has none.
+  [[nodiscard]] std::optional<BestMap> best(const std::string& method) const;
 };
 
 /// The methods of `others` over all rows, by name: the columns compare adds after OctoMap and k-NN.

@@ -1,0 +1,77 @@
+// Whether a method's gain over a baseline is real (docs/statistics.md): over the compared point cloud sets, the
+// paired improvement with a bootstrap interval, Wilcoxon's signed-rank and the sign test, an effect size; per
+// method, its cross-validated score (parameters chosen on the other sets) and its budget curve (the expected best
+// of n maps of its grid), so a bigger grid is not mistaken for a better method.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "occsweep/stats/bootstrap.hpp"
+#include "occsweep/stats/effect_size.hpp"
+#include "occsweep/stats/sign_test.hpp"
+#include "occsweep/stats/wilcoxon.hpp"
+#include "occsweep/sweeps/merge.hpp"
+
+namespace occsweep {
+
+struct CompareStatisticsOptions {
+  std::string baseline = "octomap";  ///< every other method is compared with this one
+  double level = 0.95;               ///< of the bootstrap interval
+  std::size_t resamples = 10000;     ///< bootstrap resamples (BCa)
+  std::uint64_t seed = 1;            ///< bootstrap seed: the same files give the same interval
+  std::size_t budget_max_maps = 20000;  ///< budget curves cost O(maps^2) per set: none for larger grids
+};
+
+/// How a method's optimum holds up when its parameters are chosen elsewhere (stats::leaveOneGroupOut): the mean
+/// per-set optimum, the mean score of the parameters chosen on the other groups, and their gap (overfitting).
+struct CrossValidated {
+  std::size_t groups = 0;  ///< 0: not computed (fewer than 2 groups, grids that differ, or an undefined AUC)
+  double optimum = 0.0, score = 0.0, gap = 0.0;
+};
+
+/// What the budget curves say against the baseline: the mean over sets of the expected best AUC of `budget` maps
+/// (the baseline grid's size), and the smallest budget whose mean expected best passes the baseline's mean best.
+struct BudgetSummary {
+  std::size_t maps = 0;                    ///< maps in the method's grid (0: not computed)
+  std::size_t budget = 0;                  ///< the baseline grid's maps
+  double expected_best_at_budget = 0.0;    ///< mean over sets
+  std::optional<std::size_t> first_above_baseline;  ///< none: never, even with the whole grid
+};
+
+/// One method over the sets where it and the baseline both have an AUC.
+struct MethodStatistics {
+  std::string method;
+  bool is_baseline = false;
+  std::size_t sets = 0;              ///< sets with an AUC of this method (and, but for the baseline, of the baseline)
+  double mean_best_auc = 0.0;        ///< mean per-set optimum (the paper's number)
+  CrossValidated leave_one_set_out, leave_one_dataset_out;
+  BudgetSummary budget;
+  // Against the baseline (not for the baseline itself); differences are method - baseline on each set.
+  std::size_t better = 0, worse = 0, ties = 0;
+  std::optional<stats::BootstrapInterval> improvement_percent;  ///< mean of (m - b) / b * 100; none below 2 sets
+  /// The same over data sets: each data set's mean improvement over its sets; none below 2 data sets.
+  std::optional<stats::BootstrapInterval> improvement_over_datasets;
+  /// The cross-validated improvement: on each set, the method's leave-one-set-out score against the baseline's,
+  /// in percent of the baseline's; none when either has no leave-one-set-out score on the same sets.
+  std::optional<stats::BootstrapInterval> cross_validated_improvement;
+  std::optional<stats::SignedRankResult> wilcoxon;              ///< of the AUC differences; none when all are zero
+  std::optional<stats::SignTestResult> sign;
+  std::optional<stats::PairedEffectSize> effect;
+  /// "gain", "loss", or why neither is claimed: "no clear difference (the interval contains 0)", "too few sets";
+  /// of the per-set optima (`verdict`) and of the cross-validated scores (`cross_validated_verdict`).
+  std::string verdict, cross_validated_verdict;
+};
+
+/// The methods of `rows` (the baseline first, then by name).
+[[nodiscard]] std::vector<std::string> comparedMethods(const std::vector<ComparisonRow>& rows);
+
+/// Every method's statistics, the baseline's first. Throws std::invalid_argument naming the baseline and the
+/// methods given when no file of the baseline was given.
+[[nodiscard]] std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>& rows,
+                                                              const std::vector<ResultsFile>& files,
+                                                              const CompareStatisticsOptions& options = {});
+
+}  // namespace occsweep

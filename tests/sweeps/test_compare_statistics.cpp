@@ -1,0 +1,180 @@
+// The statistics of `occsweep compare` (docs/statistics.md): identical methods show no gain, no budget gap and an
+// interval containing zero; a uniform gain is called a gain; leave-one-out selection against a brute-force loop;
+// the CSV reads back (Python's csv module) into the numbers of --json; the LaTeX table is the golden one.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+
+#include "occsweep/core/splitmix64.hpp"
+#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/sweeps/compare_statistics.hpp"
+#include "test_helpers.hpp"
+
+using namespace occsweep;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A results file of `method` for point cloud set `set` of data set `dataset`: one map per AUC.
+ResultsFile syntheticResults(const std::string& method, const std::string& dataset, int set,
+                             const std::vector<double>& aucs) {
+  ResultsFile f;
+  f.header.method = method;
+  f.header.grid_name = method + "-grid";
+  f.header.grid_hash = method + "-hash";
+  f.header.dataset_name = dataset + "/pcs-" + std::to_string(set);
+  f.header.dataset_hash = dataset + std::to_string(set);
+  f.header.parameters = {{"p_max", "p_min", "x"}, {false, false, false}};
+  for (std::size_t m = 0; m < aucs.size(); ++m) {
+    MapResult r;
+    r.map_index = m;
+    r.params.values = {980000, 20000, Fixed(m) * 1000};
+    r.area.anchored = r.area.observed = aucs[m];
+    f.maps.push_back(r);
+  }
+  f.complete = true;
+  return f;
+}
+
+// Sets of several data sets, each with a grid of random AUCs per method; `shift` is added to method b's.
+std::vector<ResultsFile> syntheticComparison(std::uint64_t seed, std::size_t maps_a, std::size_t maps_b, double shift,
+                                             bool b_copies_a) {
+  SplitMix64 rng(seed);
+  std::vector<ResultsFile> files;
+  for (int d = 0; d < 4; ++d)
+    for (int set = 0; set < 3; ++set) {
+      std::vector<double> a, b;
+      for (std::size_t m = 0; m < maps_a; ++m) a.push_back(0.5 + 0.3 * rng.uniform());
+      for (std::size_t m = 0; m < maps_b; ++m) b.push_back(b_copies_a ? a[m] + shift : 0.5 + 0.3 * rng.uniform() + shift);
+      files.push_back(syntheticResults("base", "d" + std::to_string(d), set, a));
+      files.push_back(syntheticResults("other", "d" + std::to_string(d), set, b));
+    }
+  return files;
+}
+
+const MethodStatistics& statisticsOf(const std::vector<MethodStatistics>& all, const std::string& method) {
+  for (const auto& s : all)
+    if (s.method == method) return s;
+  FAIL("no statistics of " << method);
+  return all.front();
+}
+
+}  // namespace
+
+TEST_CASE("identical methods: no gain, an interval at zero, no budget gap, the same cross-validated score") {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const auto files = syntheticComparison(seed, 15, 15, 0.0, true);
+    const auto rows = compareBest(files);
+    const auto all = compareStatistics(rows, files, {"base"});
+    REQUIRE(all.size() == 2);
+    CHECK(all[0].method == "base");
+    const MethodStatistics& s = statisticsOf(all, "other");
+    CHECK(s.sets == 12);
+    CHECK(s.ties == 12);
+    REQUIRE(s.improvement_percent);
+    CHECK(s.improvement_percent->contains(0.0));
+    CHECK(s.verdict == "no clear difference (the interval contains 0)");
+    CHECK(s.cross_validated_verdict == "no clear difference (the interval contains 0)");
+    CHECK_FALSE(s.wilcoxon);  // every difference is zero
+    CHECK(s.sign->p_value == 1.0);
+    CHECK_FALSE(s.budget.first_above_baseline);  // a curve never passes its own grid's best
+    CHECK(s.leave_one_set_out.score == all[0].leave_one_set_out.score);
+    CHECK(s.leave_one_dataset_out.score == all[0].leave_one_dataset_out.score);
+  }
+}
+
+TEST_CASE("a method better on every map by 0.05 is a gain, per set and cross-validated") {
+  const auto files = syntheticComparison(7, 15, 15, 0.05, true);
+  const auto all = compareStatistics(compareBest(files), files, {"base"});
+  const MethodStatistics& s = statisticsOf(all, "other");
+  CHECK(s.better == 12);
+  CHECK(s.improvement_percent->lower > 0);
+  CHECK(s.verdict == "gain");
+  CHECK(s.cross_validated_verdict == "gain");
+  CHECK(s.sign->p_value == Approx(2.0 / 4096.0));  // 12 of 12 positive, two-sided
+  CHECK(s.budget.first_above_baseline.has_value());
+}
+
+TEST_CASE("leave-one-set-out and leave-one-data-set-out scores equal a brute-force loop") {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const auto files = syntheticComparison(seed, 6, 9, 0.0, false);
+    const auto all = compareStatistics(compareBest(files), files, {"base"});
+    for (const char* method : {"base", "other"}) {
+      std::vector<std::vector<double>> sets;  // per set, every map's AUC
+      std::vector<int> dataset;
+      for (std::size_t i = 0; i < files.size(); ++i)
+        if (files[i].header.method == method) {
+          sets.emplace_back();
+          for (const auto& m : files[i].maps) sets.back().push_back(m.area.anchored);
+          dataset.push_back(int(sets.size() - 1) / 3);
+        }
+      // Brute force: for each held-out group, the map with the best mean over the other groups (first on ties),
+      // scored on the group; groups are sets, or data sets with each map's AUC averaged over their sets.
+      auto bruteForce = [](const std::vector<std::vector<double>>& groups) {
+        double score = 0;
+        for (std::size_t out = 0; out < groups.size(); ++out) {
+          std::size_t chosen = 0;
+          double best = -1;
+          for (std::size_t m = 0; m < groups[out].size(); ++m) {
+            double sum = 0;
+            for (std::size_t g = 0; g < groups.size(); ++g)
+              if (g != out) sum += groups[g][m];
+            if (sum / double(groups.size() - 1) > best) best = sum / double(groups.size() - 1), chosen = m;
+          }
+          score += groups[out][chosen];
+        }
+        return score / double(groups.size());
+      };
+      std::vector<std::vector<double>> datasets(4, std::vector<double>(sets[0].size(), 0.0));
+      for (std::size_t i = 0; i < sets.size(); ++i)
+        for (std::size_t m = 0; m < sets[i].size(); ++m) datasets[std::size_t(dataset[i])][m] += sets[i][m] / 3.0;
+      const MethodStatistics& s = statisticsOf(all, method);
+      INFO(method << " seed " << seed);
+      CHECK(s.leave_one_set_out.score == Approx(bruteForce(sets)).epsilon(1e-12));
+      CHECK(s.leave_one_dataset_out.score == Approx(bruteForce(datasets)).epsilon(1e-12));
+      CHECK(s.leave_one_set_out.groups == 12);
+      CHECK(s.leave_one_dataset_out.groups == 4);
+    }
+  }
+}
+
+TEST_CASE("a baseline that was not given is refused, naming the methods that were") {
+  const auto files = syntheticComparison(3, 5, 5, 0.0, true);
+  CHECK_THROWS_WITH(compareStatistics(compareBest(files), files, {"octomap"}),
+                    Catch::Contains("baseline octomap") && Catch::Contains("base, other"));
+}
+
+TEST_CASE("compare --csv reads back with Python's csv module into the numbers of --json, and --latex is the golden table") {
+  const auto dir = test::processScratch("compare-tables");
+  const fs::path golden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin";
+  const std::string files = (golden / "octomap-opt.json").string() + " " + (golden / "knn-opt.json").string();
+  const auto r = test::runIn(dir, "compare " + files + " --json c.json --csv c.csv --latex c.tex --markdown c.md");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("statistics against octomap") != std::string::npos);
+  const char* check = R"(python3 -c "
+import csv, json, sys
+rows = list(csv.DictReader(open('c.csv')))
+j = json.load(open('c.json'))
+assert len(rows) == len(j['rows']) == 1, 'rows'
+for row, jr in zip(rows, j['rows']):
+    for m in ('octomap', 'knn'):
+        assert float(row[m + '.auc']) == jr[m]['auc'], m
+        for name, value in jr[m]['parameters'].items():
+            assert float(row[m + '.' + name]) == value, name
+    assert float(row['knn.improvement_percent']) == jr['improvement_percent']
+print('csv equals json')
+")";
+  const auto py = test::runShell("cd " + dir.string() + " && " + check);
+  INFO(py.output);
+  CHECK(py.exit_code == 0);
+  CHECK(py.output.find("csv equals json") != std::string::npos);
+  // The LaTeX of the golden files is itself golden (made by this command; results/builtin/compare.tex).
+  CHECK(test::bytesOf(dir / "c.tex") == test::bytesOf(golden / "compare.tex"));
+  CHECK(test::bytesOf(dir / "c.md").find("| knn |") != std::string::npos);
+  // A table of another program's is never replaced, even with --force.
+  std::ofstream(dir / "mine.csv") << "my,own,data\n";
+  const auto refused = test::runIn(dir, "compare " + files + " --csv mine.csv --force");
+  CHECK(refused.exit_code == 2);
+  CHECK(test::bytesOf(dir / "mine.csv") == "my,own,data\n");
+}

@@ -1,0 +1,243 @@
+// The tables of `occsweep compare` (compare_tables.hpp): every format is made from the same cells.
+#include "compare_tables.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace occsweep::cli {
+namespace {
+
+using Cells = std::vector<std::vector<std::string>>;  // a header line, then the body
+
+// A number occsweep prints is either right or not printed (docs/robustness.md): "-" where there is none.
+std::string cell(double v, const char* format) {
+  if (!std::isfinite(v)) return "-";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+// Round-trip precision: a CSV number reads back as the JSON number it stands for.
+std::string exact(double v) { return cell(v, "%.17g"); }
+
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+double improvementOver(const ComparisonRow& row, const std::string& method, const std::string& baseline) {
+  const auto m = row.best(method), b = row.best(baseline);
+  return m && b && b->auc > 0 ? (m->auc - b->auc) / b->auc * 100.0 : NAN;
+}
+
+std::string intervalText(const std::optional<stats::BootstrapInterval>& interval) {
+  if (!interval) return "-";
+  const auto& i = *interval;
+  return cell(i.estimate, "%+.2f") + " [" + cell(i.lower, "%+.2f") + ", " + cell(i.upper, "%+.2f") + "]";
+}
+
+std::string crossValidatedText(const CrossValidated& c) {
+  return c.groups ? cell(c.score, "%.4f") + " (gap " + cell(c.gap, "%.4f") + ")" : "-";
+}
+
+std::string budgetText(const BudgetSummary& b) {
+  if (!b.maps) return "-";
+  return cell(b.expected_best_at_budget, "%.4f") + " at " + std::to_string(b.budget) + " maps; passes at " +
+         (b.first_above_baseline ? std::to_string(*b.first_above_baseline) : std::string("never")) + " of " +
+         std::to_string(b.maps);
+}
+
+Cells statisticsCells(const std::vector<MethodStatistics>& statistics, const std::string& baseline) {
+  Cells c{{"method", "sets", "better/worse/tie", "improvement % over sets [95% CI]", "over data sets",
+           "Wilcoxon p", "sign p", "rank-biserial", "per-set optimum", "leave-one-set-out (gap)",
+           "leave-one-data-set-out (gap)", "cross-validated improvement %", "budget: expected best (vs " + baseline +
+           "'s best)", "verdict (optima)", "verdict (cross-validated)"}};
+  for (const MethodStatistics& s : statistics) {
+    const bool base = s.is_baseline;
+    c.push_back({s.method, std::to_string(s.sets),
+                 base ? "-" : std::to_string(s.better) + "/" + std::to_string(s.worse) + "/" + std::to_string(s.ties),
+                 intervalText(s.improvement_percent), intervalText(s.improvement_over_datasets),
+                 s.wilcoxon ? cell(s.wilcoxon->p_value, "%.3g") : "-", s.sign ? cell(s.sign->p_value, "%.3g") : "-",
+                 s.effect ? cell(s.effect->rank_biserial, "%+.3f") : "-", cell(s.mean_best_auc, "%.4f"),
+                 crossValidatedText(s.leave_one_set_out), crossValidatedText(s.leave_one_dataset_out),
+                 intervalText(s.cross_validated_improvement), base ? "-" : budgetText(s.budget), s.verdict,
+                 s.cross_validated_verdict});
+  }
+  return c;
+}
+
+// Per set: the data set, its point cloud set, each method's AUC and (but the baseline) its improvement.
+Cells perSetCells(const ComparisonTables& t) {
+  Cells c{{"data set", "pcs"}};
+  for (const std::string& m : t.methods) {
+    c[0].push_back(m + " AUC");
+    if (m != t.baseline) c[0].push_back(m + " vs " + t.baseline + " %");
+  }
+  for (const ComparisonRow& row : t.rows) {
+    std::vector<std::string> line{row.dataset, row.point_cloud_set};
+    for (const std::string& m : t.methods) {
+      const auto best = row.best(m);
+      line.push_back(best ? cell(best->auc, "%.4f") : "-");
+      if (m != t.baseline) line.push_back(cell(improvementOver(row, m, t.baseline), "%+.2f"));
+    }
+    c.push_back(std::move(line));
+  }
+  return c;
+}
+
+std::string markdown(const Cells& c) {
+  std::ostringstream o;
+  for (std::size_t r = 0; r < c.size(); ++r) {
+    o << "|";
+    for (const auto& v : c[r]) o << ' ' << v << " |";
+    o << '\n';
+    if (r == 0) {
+      o << "|";
+      for (std::size_t i = 0; i < c[0].size(); ++i) o << "---|";
+      o << '\n';
+    }
+  }
+  return o.str();
+}
+
+std::string latexEscaped(const std::string& s) {
+  std::string out;
+  for (char ch : s) {
+    if (ch == '_' || ch == '%' || ch == '&' || ch == '#') out += '\\';
+    out += ch;
+  }
+  return out;
+}
+
+std::string latex(const Cells& c, const std::string& caption) {
+  std::ostringstream o;
+  o << "\\begin{table}\n\\centering\n\\caption{" << latexEscaped(caption) << "}\n\\begin{tabular}{"
+    << std::string(c[0].size(), 'l') << "}\n\\toprule\n";
+  for (std::size_t r = 0; r < c.size(); ++r) {
+    for (std::size_t i = 0; i < c[r].size(); ++i) o << (i ? " & " : "") << latexEscaped(c[r][i]);
+    o << " \\\\\n" << (r == 0 ? "\\midrule\n" : "");
+  }
+  o << "\\bottomrule\n\\end{tabular}\n\\end{table}\n";
+  return o.str();
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char ch : s) out += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string statisticsText(const ComparisonTables& t) {
+  if (t.statistics.empty()) return "";
+  const Cells c = statisticsCells(t.statistics, t.baseline);
+  std::vector<std::size_t> width(c[0].size(), 0);
+  for (const auto& line : c)
+    for (std::size_t i = 0; i < line.size(); ++i) width[i] = std::max(width[i], line[i].size());
+  std::ostringstream o;
+  o << "statistics against " << t.baseline << " over the sets where both have an AUC (docs/statistics.md):\n";
+  for (const auto& line : c) {
+    for (std::size_t i = 0; i < line.size(); ++i)
+      o << (i ? "  " : "") << line[i] << std::string(i + 1 < line.size() ? width[i] - line[i].size() : 0, ' ');
+    o << '\n';
+  }
+  return o.str();
+}
+
+nlohmann::json statisticsJson(const std::vector<MethodStatistics>& statistics, const CompareStatisticsOptions& o) {
+  nlohmann::json out = nlohmann::json::array();
+  const auto cv = [](const CrossValidated& c) -> nlohmann::json {
+    if (!c.groups) return nullptr;
+    return {{"groups", c.groups}, {"optimum", number(c.optimum)}, {"score", number(c.score)}, {"gap", number(c.gap)}};
+  };
+  for (const MethodStatistics& s : statistics) {
+    nlohmann::json j = {{"method", s.method}, {"baseline", s.is_baseline}, {"sets", s.sets},
+                        {"mean_best_auc", number(s.mean_best_auc)}, {"leave_one_set_out", cv(s.leave_one_set_out)},
+                        {"leave_one_dataset_out", cv(s.leave_one_dataset_out)}, {"verdict", s.verdict}};
+    if (s.budget.maps)
+      j["budget"] = {{"maps", s.budget.maps}, {"budget", s.budget.budget},
+                     {"expected_best_at_budget", number(s.budget.expected_best_at_budget)},
+                     {"first_above_baseline", s.budget.first_above_baseline ? nlohmann::json(*s.budget.first_above_baseline)
+                                                                            : nlohmann::json(nullptr)}};
+    if (!s.is_baseline) {
+      j["better"] = s.better, j["worse"] = s.worse, j["ties"] = s.ties;
+      j["cross_validated_verdict"] = s.cross_validated_verdict;
+      const auto interval = [&](const std::optional<stats::BootstrapInterval>& i) -> nlohmann::json {
+        if (!i) return nullptr;
+        return {{"mean", number(i->estimate)}, {"lower", number(i->lower)}, {"upper", number(i->upper)},
+                {"level", o.level}, {"resamples", o.resamples}, {"seed", o.seed}, {"method", "BCa bootstrap"}};
+      };
+      j["improvement_percent"] = interval(s.improvement_percent);
+      j["improvement_percent_over_datasets"] = interval(s.improvement_over_datasets);
+      j["cross_validated_improvement_percent"] = interval(s.cross_validated_improvement);
+      if (s.wilcoxon) j["wilcoxon"] = {{"statistic", s.wilcoxon->statistic}, {"p_value", s.wilcoxon->p_value},
+                                       {"exact", s.wilcoxon->exact}, {"used", s.wilcoxon->used}};
+      if (s.sign) j["sign_test"] = {{"positive", s.sign->positive}, {"negative", s.sign->negative}, {"p_value", s.sign->p_value}};
+      if (s.effect) j["effect"] = {{"mean_difference", s.effect->mean_difference},
+                                   {"median_difference", s.effect->median_difference},
+                                   {"rank_biserial", s.effect->rank_biserial}};
+    }
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
+nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFile>& files) {
+  const ParameterLayout& layout = files[best.file].header.parameters;
+  nlohmann::json out = nlohmann::json::object();
+  for (std::size_t i = 0; i < layout.names.size(); ++i) out[layout.names[i]] = toDouble(best.params.values[i]);
+  return out;
+}
+
+std::string csvTable(const ComparisonTables& t) {
+  // Columns: every method's, and every parameter any of its best maps has.
+  std::vector<std::string> header{"dataset", "point_cloud_set", "dataset_hash"};
+  std::vector<std::pair<std::string, std::vector<std::string>>> columns;  // method, its parameters
+  for (const std::string& m : t.methods) {
+    std::vector<std::string> params;
+    for (const ComparisonRow& row : t.rows)
+      if (const auto best = row.best(m)) {
+        for (const auto& name : t.files[best->file].header.parameters.names) params.push_back(name);
+        break;
+      }
+    header.insert(header.end(), {m + ".auc", m + ".improvement_percent", m + ".file"});
+    for (const auto& p : params) header.push_back(m + "." + p);
+    columns.emplace_back(m, params);
+  }
+  std::ostringstream o;
+  for (std::size_t i = 0; i < header.size(); ++i) o << (i ? "," : "") << csvField(header[i]);
+  o << '\n';
+  for (const ComparisonRow& row : t.rows) {
+    o << csvField(row.dataset) << ',' << csvField(row.point_cloud_set) << ',' << row.dataset_hash;
+    for (const auto& [m, params] : columns) {
+      const auto best = row.best(m);
+      const bool base = m == t.baseline;
+      o << ',' << (best ? exact(best->auc) : "") << ',' << (base ? "" : exact(improvementOver(row, m, t.baseline)))
+        << ',' << (best ? csvField(t.names[best->file]) : "");
+      const nlohmann::json fields = best ? parameterFields(*best, t.files) : nlohmann::json::object();
+      for (const auto& p : params) o << ',' << (fields.contains(p) ? exact(fields.at(p).get<double>()) : "");
+    }
+    o << '\n';
+  }
+  return o.str();
+}
+
+std::string markdownTables(const ComparisonTables& t) {
+  std::string out = "Best AUC per set, and the improvement over " + t.baseline + " in percent:\n\n" +
+                    markdown(perSetCells(t));
+  if (!t.statistics.empty())
+    out += "\nStatistics against " + t.baseline + " (docs/statistics.md):\n\n" +
+           markdown(statisticsCells(t.statistics, t.baseline));
+  return out;
+}
+
+std::string latexTables(const ComparisonTables& t) {
+  std::string out = "% occsweep compare --latex: needs \\usepackage{booktabs}\n" +
+                    latex(perSetCells(t), "Best AUC per set, and the improvement over " + t.baseline + " in percent");
+  if (!t.statistics.empty())
+    out += latex(statisticsCells(t.statistics, t.baseline), "Statistics against " + t.baseline);
+  return out;
+}
+
+}  // namespace occsweep::cli

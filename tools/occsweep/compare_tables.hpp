@@ -1,0 +1,39 @@
+// The tables of `occsweep compare` beyond its terminal output (docs/statistics.md): the statistics against the
+// baseline as text and JSON, and the whole comparison as CSV (best parameters as fields), Markdown and LaTeX.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "occsweep/sweeps/compare_statistics.hpp"
+
+namespace occsweep::cli {
+
+/// What every table is made of.
+struct ComparisonTables {
+  const std::vector<ComparisonRow>& rows;
+  const std::vector<ResultsFile>& files;      ///< the results files, in the order of `names`
+  const std::vector<std::string>& names;      ///< their paths as given
+  const std::vector<std::string>& methods;    ///< the baseline first (compareStatistics' order)
+  const std::vector<MethodStatistics>& statistics;  ///< empty when the baseline was not given
+  std::string baseline;
+};
+
+/// The statistics block printed after the table.
+[[nodiscard]] std::string statisticsText(const ComparisonTables& t);
+/// The statistics as JSON (the "statistics" of --json), with the options that made them.
+[[nodiscard]] nlohmann::json statisticsJson(const std::vector<MethodStatistics>& statistics,
+                                            const CompareStatisticsOptions& options);
+/// A best map's parameters as fields: {"p_h": 0.62, "p_m": 0.38, ...}.
+[[nodiscard]] nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFile>& files);
+/// One line per set: data set, point cloud set, then per method its AUC, its improvement over the baseline in
+/// percent, its file and each best parameter (METHOD.auc, METHOD.improvement_percent, METHOD.file, METHOD.p_h, ...).
+[[nodiscard]] std::string csvTable(const ComparisonTables& t);
+/// The per-set AUCs and the statistics as two Markdown tables.
+[[nodiscard]] std::string markdownTables(const ComparisonTables& t);
+/// The same as two LaTeX booktabs tables.
+[[nodiscard]] std::string latexTables(const ComparisonTables& t);
+
+}  // namespace occsweep::cli
