@@ -16,7 +16,9 @@ packages=(g++ cmake make git pkg-config liboctomap-dev libnanoflann-dev libeigen
 # The test command only: PCL 1.13, the oracle that test_point_filters_pcl checks core/point_filters.hpp against
 # (docs/methods.md, outlier filters): about 280 packages, 140 MB to download, 870 MB installed, 30 s to install
 # (download included) on this project's machine kind. `run` never needs it: the filters are header-only, on nanoflann.
-test_packages=(libpcl-dev)
+# And pdflatex with booktabs, which test_compare_statistics compiles `compare --latex` with (docs/statistics.md): 17
+# packages, 48 MB, 26 s.
+test_packages=(libpcl-dev texlive-latex-base texlive-latex-recommended)
 if [[ "$mode" == test ]]; then packages+=("${test_packages[@]}"); fi
 missing=()
 for p in "${packages[@]}"; do

@@ -3,6 +3,7 @@
 // the CSV reads back (Python's csv module) into the numbers of --json; the LaTeX table is the golden one.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <fstream>
 
 #include "occsweep/core/splitmix64.hpp"
@@ -138,6 +139,18 @@ TEST_CASE("leave-one-set-out and leave-one-data-set-out scores equal a brute-for
   }
 }
 
+TEST_CASE("the statistics do not depend on the order the files are given in") {
+  auto files = syntheticComparison(11, 8, 12, 0.01, false);
+  const auto forward = compareStatistics(compareBest(files), files, {"base"});
+  std::reverse(files.begin(), files.end());
+  const auto backward = compareStatistics(compareBest(files), files, {"base"});
+  const MethodStatistics &a = statisticsOf(forward, "other"), &b = statisticsOf(backward, "other");
+  CHECK(a.improvement_percent->lower == b.improvement_percent->lower);
+  CHECK(a.improvement_percent->upper == b.improvement_percent->upper);
+  CHECK(a.improvement_over_datasets->lower == b.improvement_over_datasets->lower);
+  CHECK(a.wilcoxon->p_value == b.wilcoxon->p_value);
+}
+
 TEST_CASE("a baseline that was not given is refused, naming the methods that were") {
   const auto files = syntheticComparison(3, 5, 5, 0.0, true);
   CHECK_THROWS_WITH(compareStatistics(compareBest(files), files, {"octomap"}),
@@ -169,8 +182,19 @@ print('csv equals json')
   INFO(py.output);
   CHECK(py.exit_code == 0);
   CHECK(py.output.find("csv equals json") != std::string::npos);
-  // The LaTeX of the golden files is itself golden (made by this command; results/builtin/compare.tex).
+  // The LaTeX of the golden files is itself golden (made by this command; results/builtin/compare.tex), and it
+  // compiles with booktabs where pdflatex is installed (the test command installs it: tools/setup.sh).
   CHECK(test::bytesOf(dir / "c.tex") == test::bytesOf(golden / "compare.tex"));
+  if (test::runShell("command -v pdflatex").exit_code == 0) {
+    std::ofstream(dir / "doc.tex") << "\\documentclass{article}\n\\usepackage{booktabs}\n\\usepackage[landscape]{geometry}\n"
+                                      "\\begin{document}\n\\input{c.tex}\n\\end{document}\n";
+    const auto tex = test::runShell("cd " + dir.string() + " && pdflatex -interaction=nonstopmode -halt-on-error doc.tex");
+    INFO(tex.output);
+    CHECK(tex.exit_code == 0);
+    CHECK(fs::file_size(dir / "doc.pdf") > 1000);
+  } else {
+    WARN("pdflatex not installed: the LaTeX table is checked against its golden text only");
+  }
   CHECK(test::bytesOf(dir / "c.md").find("| knn |") != std::string::npos);
   // A table of another program's is never replaced, even with --force.
   std::ofstream(dir / "mine.csv") << "my,own,data\n";

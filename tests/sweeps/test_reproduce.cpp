@@ -116,6 +116,14 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
     }
   }
 
+  // Is the gain real? Every method against OctoMap under both truths (docs/statistics.md).
+  for (const char* truth : {"full", "observable"}) {
+    const json& statistics = comparison.at("statistics").at(truth);
+    REQUIRE(statistics.size() == 5);
+    CHECK(statistics.at(0).at("method") == "octomap");
+    for (const auto& s : statistics) CHECK(s.at("sets") == 6);
+  }
+
   const json curves = readJsonFile(dir / "curves.json");
   CHECK(curves.at("dataset") == "parking-voronoi-O");
   CHECK(curves.at("direct_build_matches_sweep") == true);  // liboctomap and the k-NN mapper against the replay
@@ -127,7 +135,7 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
   CHECK(runtime.at("knn").at("samples").size() == 2 * 4 * 4);  // 2 data sets x 4 fractions x k in {1,3,5,7}
 
   const std::string report = readText(dir / "report.md");
-  for (const char* heading : {"## 1.", "## 2.", "## 3.", "## 3b.", "## 3c.", "## 4.", "## 5.", "## 6."})
+  for (const char* heading : {"## 1.", "## 2.", "## 3.", "## 3b.", "## 3c.", "## 3d.", "## 4.", "## 5.", "## 6."})
     CHECK(report.find(heading) != std::string::npos);
   if (figures)
     for (const char* png : {"fig3_distribution_fits.png", "fig4_nca_weights.png", "fig5_improvement.png",

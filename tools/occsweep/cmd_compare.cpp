@@ -188,7 +188,7 @@ int runCompare(const CompareTask& o) {
   if (!o.json.empty())
     writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", o.files}, {"allow_mixed", o.allow_mixed},
                          {"mixed", mixed}, {"truth", truthModeName(truth)}, {"rows", j}, {"baseline", o.baseline},
-                         {"statistics", statisticsJson(statistics, CompareStatisticsOptions{o.baseline})}},
+                         {"statistics", toJson(statistics, CompareStatisticsOptions{o.baseline})}},
                         o.json);
   writeTables(o, tables);
   return 0;

@@ -22,8 +22,6 @@ std::string cell(double v, const char* format) {
 // Round-trip precision: a CSV number reads back as the JSON number it stands for.
 std::string exact(double v) { return cell(v, "%.17g"); }
 
-nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
 double improvementOver(const ComparisonRow& row, const std::string& method, const std::string& baseline) {
   const auto m = row.best(method), b = row.best(baseline);
   return m && b && b->auc > 0 ? (m->auc - b->auc) / b->auc * 100.0 : NAN;
@@ -143,44 +141,6 @@ std::string statisticsText(const ComparisonTables& t) {
     o << '\n';
   }
   return o.str();
-}
-
-nlohmann::json statisticsJson(const std::vector<MethodStatistics>& statistics, const CompareStatisticsOptions& o) {
-  nlohmann::json out = nlohmann::json::array();
-  const auto cv = [](const CrossValidated& c) -> nlohmann::json {
-    if (!c.groups) return nullptr;
-    return {{"groups", c.groups}, {"optimum", number(c.optimum)}, {"score", number(c.score)}, {"gap", number(c.gap)}};
-  };
-  for (const MethodStatistics& s : statistics) {
-    nlohmann::json j = {{"method", s.method}, {"baseline", s.is_baseline}, {"sets", s.sets},
-                        {"mean_best_auc", number(s.mean_best_auc)}, {"leave_one_set_out", cv(s.leave_one_set_out)},
-                        {"leave_one_dataset_out", cv(s.leave_one_dataset_out)}, {"verdict", s.verdict}};
-    if (s.budget.maps)
-      j["budget"] = {{"maps", s.budget.maps}, {"budget", s.budget.budget},
-                     {"expected_best_at_budget", number(s.budget.expected_best_at_budget)},
-                     {"first_above_baseline", s.budget.first_above_baseline ? nlohmann::json(*s.budget.first_above_baseline)
-                                                                            : nlohmann::json(nullptr)}};
-    if (!s.is_baseline) {
-      j["better"] = s.better, j["worse"] = s.worse, j["ties"] = s.ties;
-      j["cross_validated_verdict"] = s.cross_validated_verdict;
-      const auto interval = [&](const std::optional<stats::BootstrapInterval>& i) -> nlohmann::json {
-        if (!i) return nullptr;
-        return {{"mean", number(i->estimate)}, {"lower", number(i->lower)}, {"upper", number(i->upper)},
-                {"level", o.level}, {"resamples", o.resamples}, {"seed", o.seed}, {"method", "BCa bootstrap"}};
-      };
-      j["improvement_percent"] = interval(s.improvement_percent);
-      j["improvement_percent_over_datasets"] = interval(s.improvement_over_datasets);
-      j["cross_validated_improvement_percent"] = interval(s.cross_validated_improvement);
-      if (s.wilcoxon) j["wilcoxon"] = {{"statistic", s.wilcoxon->statistic}, {"p_value", s.wilcoxon->p_value},
-                                       {"exact", s.wilcoxon->exact}, {"used", s.wilcoxon->used}};
-      if (s.sign) j["sign_test"] = {{"positive", s.sign->positive}, {"negative", s.sign->negative}, {"p_value", s.sign->p_value}};
-      if (s.effect) j["effect"] = {{"mean_difference", s.effect->mean_difference},
-                                   {"median_difference", s.effect->median_difference},
-                                   {"rank_biserial", s.effect->rank_biserial}};
-    }
-    out.push_back(std::move(j));
-  }
-  return out;
 }
 
 nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFile>& files) {

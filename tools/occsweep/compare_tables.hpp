@@ -1,5 +1,5 @@
 // The tables of `occsweep compare` beyond its terminal output (docs/statistics.md): the statistics against the
-// baseline as text and JSON, and the whole comparison as CSV (best parameters as fields), Markdown and LaTeX.
+// baseline as text, and the whole comparison as CSV (best parameters as fields), Markdown and LaTeX.
 #pragma once
 
 #include <string>
@@ -23,9 +23,6 @@ struct ComparisonTables {
 
 /// The statistics block printed after the table.
 [[nodiscard]] std::string statisticsText(const ComparisonTables& t);
-/// The statistics as JSON (the "statistics" of --json), with the options that made them.
-[[nodiscard]] nlohmann::json statisticsJson(const std::vector<MethodStatistics>& statistics,
-                                            const CompareStatisticsOptions& options);
 /// A best map's parameters as fields: {"p_h": 0.62, "p_m": 0.38, ...}.
 [[nodiscard]] nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFile>& files);
 /// One line per set: data set, point cloud set, then per method its AUC, its improvement over the baseline in

@@ -1,6 +1,7 @@
 // Fig. 5 (Section 4.3-4.4): the best AUC of OctoMap over octomap-opt (180 combinations) and of k-NN over knn-opt
 // (4,050) on the 1st, 800th and 1,600th ranked point cloud sets of each data set (first, median, last at smaller
 // scales), and the improvement of k-NN in percent.
+#include "occsweep/sweeps/compare_statistics.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "reproduce_internal.hpp"
 
@@ -55,12 +56,22 @@ json baselineTruthJson(const ResultsFile& om, const ResultsFile& knn, const Resu
           {"knn_improvement_percent", number(knn_over)}};
 }
 
+// Every results file of the comparison, per truth: what the statistics of "Is the gain real?" are computed from.
+struct ComparedFiles {
+  std::vector<ResultsFile> full, observable;
+  void add(const reproduce::BothTruths& b) {
+    full.push_back(b.full);
+    observable.push_back(b.observable);
+  }
+};
+
 // Every baseline swept on the set, both truths from the same maps, by method name.
 json baselinesJson(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank,
-                   const reproduce::BothTruths& om, const reproduce::BothTruths& knn) {
+                   const reproduce::BothTruths& om, const reproduce::BothTruths& knn, ComparedFiles& files) {
   json out = json::object();
   for (const char* grid : kBaselineGrids) {
     const reproduce::BothTruths b = reproduce::sweepSetBothTruths(c, d, rank, grid);
+    files.add(b);
     out[b.full.header.method] = {{"grid", grid}, {"sweep_seconds", b.full.seconds},
                                  {"full", baselineTruthJson(om.full, knn.full, b.full)},
                                  {"observable", baselineTruthJson(om.observable, knn.observable, b.observable)}};
@@ -75,14 +86,27 @@ const char* rankLabel(std::size_t i, std::size_t count) {
 
 }  // namespace
 
+// Is the gain real? Every method against OctoMap over the compared sets (docs/statistics.md), per truth.
+json statisticsJson(const ComparedFiles& files) {
+  json out = json::object();
+  for (const auto& [truth, f] : {std::pair{"full", &files.full}, {"observable", &files.observable}}) {
+    const CompareStatisticsOptions options;  // baseline octomap, 95 % BCa, 10,000 resamples, seed 1
+    out[truth] = toJson(compareStatistics(compareBest(*f), *f, options), options);
+  }
+  return out;
+}
+
 json runOptimalComparison(const ReproduceConfig& c, const std::vector<RankedDataset>& all) {
   json rows = json::array();
+  ComparedFiles files;
   for (const RankedDataset& d : all) {
     const auto ranks = d.paperRanks();
     for (std::size_t i = 0; i < ranks.size(); ++i) {
       // Both truths from the same maps (docs/results-format.md, "Truth").
       const reproduce::BothTruths om_both = reproduce::sweepSetBothTruths(c, d, ranks[i], "octomap-opt");
       const reproduce::BothTruths knn_both = reproduce::sweepSetBothTruths(c, d, ranks[i], "knn-opt");
+      files.add(om_both);
+      files.add(knn_both);
       const json full = truthJson(om_both.full, knn_both.full);  // also the row's own columns, the paper's truth
       // name = environment-texture-layout (docs/datasets.md)
       const auto dash1 = d.name.find('-'), dash2 = d.name.rfind('-');
@@ -94,12 +118,13 @@ json runOptimalComparison(const ReproduceConfig& c, const std::vector<RankedData
                       {"improvement_percent", full.at("improvement_percent")},
                       {"sweep_seconds", {{"octomap", om_both.full.seconds}, {"knn", knn_both.full.seconds}}},
                       {"truths", {{"full", full}, {"observable", truthJson(om_both.observable, knn_both.observable)}}},
-                      {"baselines", baselinesJson(c, d, ranks[i], om_both, knn_both)}});
+                      {"baselines", baselinesJson(c, d, ranks[i], om_both, knn_both, files)}});
     }
   }
   return {{"format", "occsweep-reproduce-comparison"}, {"figure", "Fig. 5"},
           {"grids", {{"octomap", "octomap-opt"}, {"knn", "knn-opt"}}}, {"baseline_grids", kBaselineGrids},
-          {"auc", "anchored TPR-FDR trapezoid (docs/definitions.md, Confusion counts and AUC)"}, {"rows", rows}};
+          {"auc", "anchored TPR-FDR trapezoid (docs/definitions.md, Confusion counts and AUC)"}, {"rows", rows},
+          {"statistics", statisticsJson(files)}};
 }
 
 }  // namespace occsweep

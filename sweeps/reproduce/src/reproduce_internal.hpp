@@ -64,4 +64,8 @@ void truthSection(std::ostringstream& o, const nlohmann::json& comparison);
 /// report.md's section on k-NN against the baselines of docs/methods.md (sor-octomap, ror-octomap, range-octomap).
 void baselineSection(std::ostringstream& o, const nlohmann::json& comparison);
 
+/// report.md's "Is the gain real?": every method against the optimal OctoMap with intervals, tests, cross-validated
+/// scores and budget curves (docs/statistics.md).
+void gainSection(std::ostringstream& o, const nlohmann::json& comparison);
+
 }  // namespace occsweep::reproduce

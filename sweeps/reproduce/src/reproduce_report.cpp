@@ -148,6 +148,7 @@ std::string reproductionReport(const ReproduceConfig& c, const ReproductionResul
     reproduce::comparisonSection(o, r.comparison);
     reproduce::truthSection(o, r.comparison);
     reproduce::baselineSection(o, r.comparison);
+    reproduce::gainSection(o, r.comparison);
   }
   if (r.curves.is_null()) notRun(o, "5. Curves and maps (Fig. 6)");
   else curvesSection(o, r.curves);

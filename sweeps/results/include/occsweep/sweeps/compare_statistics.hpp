@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "occsweep/stats/bootstrap.hpp"
 #include "occsweep/stats/effect_size.hpp"
 #include "occsweep/stats/sign_test.hpp"
@@ -73,5 +75,10 @@ struct MethodStatistics {
 [[nodiscard]] std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>& rows,
                                                               const std::vector<ResultsFile>& files,
                                                               const CompareStatisticsOptions& options = {});
+
+/// The statistics as JSON (`compare --json`'s "statistics", reproduce's comparison.json), with the options that
+/// made the intervals.
+[[nodiscard]] nlohmann::json toJson(const std::vector<MethodStatistics>& statistics,
+                                    const CompareStatisticsOptions& options);
 
 }  // namespace occsweep
