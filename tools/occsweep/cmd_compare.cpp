@@ -41,17 +41,6 @@ std::string cell(double v, const char* format) {
   return buf;
 }
 
-// Only complete files that pass every check of `results check` (docs/results-format.md).
-std::vector<ResultsFile> readChecked(const std::vector<std::string>& files) {
-  std::vector<ResultsFile> in;
-  for (const auto& f : files) {
-    in.push_back(readResults(f));
-    if (!in.back().complete) throw std::runtime_error(f + ": incomplete results (the sweep did not finish)");
-    (void)checkAgainstGrid(in.back(), f);
-  }
-  return in;
-}
-
 // Files of one data set that differ in their settings: refused, or with --allow-mixed each listed on stderr.
 std::vector<std::string> checkMixed(const std::vector<ResultsFile>& in, const CompareTask& o) {
   const auto mixed = mixedSettings(in, o.files);

@@ -6,6 +6,7 @@
 
 #include "cmd_dataset.hpp"
 #include "command_registry.hpp"
+#include "figure_script.hpp"
 #include "install_paths.hpp"
 #include "option_checks.hpp"
 #include "occsweep/sweeps/cluster_state.hpp"
@@ -26,27 +27,11 @@ struct ReproduceOptions {
   bool no_figures = false, quiet = false, realistic = false;
 };
 
-/// A Python 3 that imports matplotlib and numpy: `configured` if given, else $OCCSWEEP_PYTHON, /usr/bin/python3,
-/// python3. Throws std::runtime_error saying what to install when none does.
-std::string findPython(const std::string& configured) {
-  std::vector<std::string> candidates;
-  if (!configured.empty()) candidates.push_back(configured);
-  if (const char* env = std::getenv("OCCSWEEP_PYTHON")) candidates.emplace_back(env);
-  candidates.insert(candidates.end(), {"/usr/bin/python3", "python3"});
-  for (const auto& p : candidates)
-    if (runCapture({p, "-c", "import matplotlib, numpy"}, true).exit_code == 0) return p;
-  throw std::runtime_error("reproduce: no Python 3 with matplotlib and numpy (tried " +
-                           (configured.empty() ? std::string() : configured + ", ") +
-                           "$OCCSWEEP_PYTHON, /usr/bin/python3, python3); install python3-matplotlib "
-                           "(apt-get install python3-matplotlib) or pass --python, or use --no-figures");
-}
-
 /// The figures: plot_reproduction.py (installed beside the binary, install_paths.hpp) on the step files. Python and
 /// the script are looked up now, so that a run cannot fail at its end for want of them.
 auto figureDrawer(const std::string& configured_python) {
-  const std::string python = findPython(configured_python);
-  const std::string script = (installedDataDir() / "plot_reproduction.py").string();
-  if (!std::filesystem::is_regular_file(script)) throw std::runtime_error(script + ": not found (the figure script)");
+  const std::string python = findPython(configured_python, "reproduce");
+  const std::string script = figureScript("plot_reproduction.py").string();
   return [python, script](const std::filesystem::path& out, const std::vector<std::string>& steps) {
     std::vector<std::string> argv{python, script, out.string()};
     argv.insert(argv.end(), steps.begin(), steps.end());

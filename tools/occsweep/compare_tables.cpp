@@ -127,6 +127,16 @@ std::string csvField(const std::string& s) {
 
 }  // namespace
 
+std::vector<ResultsFile> readChecked(const std::vector<std::string>& files) {
+  std::vector<ResultsFile> in;
+  for (const auto& f : files) {
+    in.push_back(readResults(f));
+    if (!in.back().complete) throw std::runtime_error(f + ": incomplete results (the sweep did not finish)");
+    (void)checkAgainstGrid(in.back(), f);
+  }
+  return in;
+}
+
 std::string statisticsText(const ComparisonTables& t) {
   if (t.statistics.empty()) return "";
   const Cells c = statisticsCells(t.statistics, t.baseline);

@@ -21,6 +21,10 @@ struct ComparisonTables {
   std::string baseline;
 };
 
+/// The results files compare and plot read: only complete files that pass every check of `results check`
+/// (docs/results-format.md); std::runtime_error naming the file otherwise.
+[[nodiscard]] std::vector<ResultsFile> readChecked(const std::vector<std::string>& files);
+
 /// The statistics block printed after the table.
 [[nodiscard]] std::string statisticsText(const ComparisonTables& t);
 /// A best map's parameters as fields: {"p_h": 0.62, "p_m": 0.38, ...}.

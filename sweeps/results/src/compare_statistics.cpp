@@ -88,14 +88,21 @@ std::vector<std::vector<double>> perDataset(const AucTable& t) {
 
 // The mean over sets of each budget's expected best (every set's grid of the same size), and where it passes the
 // baseline's mean best.
-BudgetSummary budgetSummary(const AucTable& t, std::size_t budget, double baseline_best, std::size_t max_maps) {
-  if (!t.one_grid || t.per_set.empty() || t.per_set.front().size() > max_maps || budget == 0) return {};
+std::vector<double> meanCurve(const AucTable& t, std::size_t max_maps) {
+  if (!t.one_grid || t.per_set.empty() || t.per_set.front().size() > max_maps) return {};
   const std::size_t maps = t.per_set.front().size();
   std::vector<double> mean_curve(maps, 0.0);
   for (const auto& aucs : t.per_set) {
     const std::vector<double> curve = stats::expectedBestCurve(aucs);
     for (std::size_t n = 0; n < maps; ++n) mean_curve[n] += curve[n] / double(t.per_set.size());
   }
+  return mean_curve;
+}
+
+BudgetSummary budgetSummary(const AucTable& t, std::size_t budget, double baseline_best, std::size_t max_maps) {
+  const std::vector<double> mean_curve = meanCurve(t, max_maps);
+  if (mean_curve.empty() || budget == 0) return {};
+  const std::size_t maps = mean_curve.size();
   BudgetSummary b;
   b.maps = maps;
   b.budget = budget;
@@ -167,6 +174,11 @@ std::string verdictOf(const std::optional<stats::BootstrapInterval>& interval) {
 }
 
 }  // namespace
+
+std::vector<double> meanBudgetCurve(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& files,
+                                    const std::string& method, std::size_t max_maps) {
+  return meanCurve(aucTable(rows, files, method), max_maps);
+}
 
 std::vector<std::string> comparedMethods(const std::vector<ComparisonRow>& rows) {
   std::set<std::string> names;

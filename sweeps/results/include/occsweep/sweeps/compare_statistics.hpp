@@ -67,7 +67,14 @@ struct MethodStatistics {
   std::string verdict, cross_validated_verdict;
 };
 
-/// The methods of `rows` (the baseline first, then by name).
+/// The mean over sets of a method's budget curve: entry n-1 is the expected best AUC of n maps of its grid drawn at
+/// random (stats::expectedBestCurve). Empty when its sets do not share one grid, an AUC is undefined, or the grid
+/// has more than `max_maps` maps.
+[[nodiscard]] std::vector<double> meanBudgetCurve(const std::vector<ComparisonRow>& rows,
+                                                  const std::vector<ResultsFile>& files, const std::string& method,
+                                                  std::size_t max_maps = CompareStatisticsOptions{}.budget_max_maps);
+
+/// The methods of `rows`, by name.
 [[nodiscard]] std::vector<std::string> comparedMethods(const std::vector<ComparisonRow>& rows);
 
 /// Every method's statistics, the baseline's first. Throws std::invalid_argument naming the baseline and the

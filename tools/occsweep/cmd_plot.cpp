@@ -1,0 +1,99 @@
+// occsweep plot curves|budget|improvement|params FILES... --out FIG.png [--json DATA.json]: the figures of a
+// comparison for the user's own sweeps, drawn by share/occsweep/plot_results.py from the data computed here
+// (docs/statistics.md, "Figures").
+#include <fstream>
+#include <map>
+#include <iostream>
+#include <unistd.h>
+
+#include "command_registry.hpp"
+#include "compare_tables.hpp"
+#include "figure_script.hpp"
+#include "plot_data.hpp"
+#include "occsweep/eval/output_file.hpp"
+#include "occsweep/sweeps/cluster_state.hpp"
+
+namespace occsweep::cli {
+namespace {
+
+struct PlotOptions {
+  std::vector<std::string> files;
+  std::string out, json, baseline = "octomap", method, python;
+  bool force = false;
+};
+
+// A figure occsweep plot drew before: a PNG whose text chunk names it (plot_results.py writes "occsweep plot" as
+// its Software); --force replaces nothing else.
+ReplaceableOutput figureOutput() {
+  return {"figure", [](const std::filesystem::path& file) {
+            std::ifstream in(file, std::ios::binary);
+            std::string head(4096, '\0');
+            in.read(head.data(), std::streamsize(head.size()));
+            head.resize(std::size_t(in.gcount()));
+            return head.starts_with("\x89PNG") && head.find("occsweep plot") != std::string::npos;
+          }};
+}
+
+// The method `params` draws: --method, or the only one given, or the first that is not the baseline.
+std::string paramsMethod(const PlotOptions& o, const std::vector<ComparisonRow>& rows) {
+  if (!o.method.empty()) return o.method;
+  const std::vector<std::string> methods = comparedMethods(rows);
+  for (const std::string& m : methods)
+    if (m != o.baseline || methods.size() == 1) return m;
+  throw std::invalid_argument("plot params: no method to draw (--method)");
+}
+
+int runPlot(const std::string& kind, const PlotOptions& o) {
+  checkOutputTarget(o.out, o.force, figureOutput());
+  if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("plot data", "occsweep-plot"));
+  const std::string python = findPython(o.python, "plot");  // before any work: fail now if it cannot draw
+  const std::string script = figureScript("plot_results.py").string();
+  const std::vector<ResultsFile> in = readChecked(o.files);
+  const std::vector<ComparisonRow> rows = compareBest(in);
+  const PlotInputs inputs{rows, in, o.baseline, kind == "params" ? paramsMethod(o, rows) : ""};
+  nlohmann::json data = plotData(kind, inputs);
+  data["format"] = "occsweep-plot";
+  data["files"] = o.files;
+  const std::filesystem::path data_file =
+      o.json.empty() ? std::filesystem::path(o.out).concat(".data-" + std::to_string(::getpid()) + ".json")
+                     : std::filesystem::path(o.json);
+  writeFileAtomically(data_file, data.dump(1) + '\n');
+  const int code = runWaiting({python, script, data_file.string(), o.out});
+  if (o.json.empty()) std::filesystem::remove(data_file);
+  if (code != 0) throw std::runtime_error("plot: " + python + " " + script + " failed (exit code " + std::to_string(code) + ")");
+  std::cout << "wrote " << o.out << (o.json.empty() ? "" : " and " + o.json) << '\n';
+  return 0;
+}
+
+const RegisterCommand kPlot{"plot", "Figures of a comparison: best curves, budget curves, improvement, AUC by "
+                                    "parameter (docs/statistics.md)",
+                            [](CLI::App& app) {
+  auto o = std::make_shared<PlotOptions>();
+  auto subs = std::make_shared<std::vector<std::pair<std::string, CLI::App*>>>();
+  const std::map<std::string, std::string> what = {
+      {"curves", "TPR against FDR of each method's best map on each set (up to 12 sets)"},
+      {"budget", "each method's expected best AUC against the number of maps tried, and the baseline's best"},
+      {"improvement", "per set, the improvement over the baseline against the baseline's AUC, with the mean's "
+                      "95 % interval (Fig. 5)"},
+      {"params", "AUC against each parameter: mean and best over the maps with each value (the grid's marginal)"}};
+  for (const std::string& k : kPlotKinds) {
+    CLI::App* sub = app.add_subcommand(k, what.at(k));
+    sub->add_option("files", o->files, "Complete results files (as for compare)")->required();
+    sub->add_option("--out", o->out, "The figure (PNG)")->required();
+    sub->add_option("--json", o->json, "Also write the plotted data");
+    sub->add_option("--baseline", o->baseline, "Method the others are measured against")->capture_default_str();
+    if (k == "params") sub->add_option("--method", o->method, "Method whose grid is drawn (default: the first not the baseline)");
+    sub->add_option("--python", o->python, "Python 3 with matplotlib (default $OCCSWEEP_PYTHON, /usr/bin/python3)");
+    sub->add_flag("--force", o->force, "Replace occsweep's own previous figure or data (nothing else)");
+    subs->emplace_back(k, sub);
+  }
+  app.require_subcommand(1);
+  return [o, subs] {
+    for (const auto& [k, sub] : *subs)
+      if (sub->parsed()) return runPlot(k, *o);
+    return 2;  // unreachable: CLI11 requires one subcommand
+  };
+}};
+
+}  // namespace
+}  // namespace occsweep::cli
