@@ -153,6 +153,18 @@ TEST_CASE("the statistics do not depend on the order the files are given in") {
   CHECK(a.wilcoxon->p_value == b.wilcoxon->p_value);
 }
 
+TEST_CASE("sets of one grid with different numbers of maps (Eq. 16 groups) get no budget curve") {
+  auto files = syntheticComparison(5, 6, 9, 0.0, false);
+  files.back().maps.pop_back();  // the last set of "other" holds one map fewer
+  const auto all = compareStatistics(compareBest(files), files, {"base"});
+  const MethodStatistics& s = statisticsOf(all, "other");
+  CHECK(s.budget.maps == 0);
+  CHECK(s.leave_one_set_out.groups == 0);
+  CHECK_FALSE(s.cross_validated_improvement);
+  CHECK(s.cross_validated_verdict == "not computed (the sets differ in grid or maps, or an AUC is undefined)");
+  CHECK(s.sets == 12);
+}
+
 TEST_CASE("a baseline that was not given is refused, naming the methods that were") {
   const auto files = syntheticComparison(3, 5, 5, 0.0, true);
   CHECK_THROWS_WITH(compareStatistics(compareBest(files), files, {"octomap"}),

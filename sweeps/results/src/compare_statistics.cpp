@@ -58,10 +58,16 @@ AucTable aucTable(const std::vector<ComparisonRow>& rows, const std::vector<Resu
   return t;
 }
 
-CrossValidated crossValidated(const std::vector<std::vector<double>>& groups) {
-  if (groups.size() < 2) return {};
+// At least 2 groups, each with the same combinations (leaveOneGroupOut's table).
+bool rectangular(const std::vector<std::vector<double>>& groups) {
+  if (groups.size() < 2) return false;
   for (const auto& g : groups)
-    if (g.size() != groups.front().size() || g.empty()) return {};
+    if (g.size() != groups.front().size() || g.empty()) return false;
+  return true;
+}
+
+CrossValidated crossValidated(const std::vector<std::vector<double>>& groups) {
+  if (!rectangular(groups)) return {};
   const stats::LeaveOneGroupOut cv = stats::leaveOneGroupOut(groups);
   return {groups.size(), cv.mean_optimum, cv.mean_cv_score, cv.mean_gap};
 }
@@ -91,6 +97,8 @@ std::vector<std::vector<double>> perDataset(const AucTable& t) {
 std::vector<double> meanCurve(const AucTable& t, std::size_t max_maps) {
   if (!t.one_grid || t.per_set.empty() || t.per_set.front().size() > max_maps) return {};
   const std::size_t maps = t.per_set.front().size();
+  for (const auto& aucs : t.per_set)  // one grid but other selections (Eq. 16 groups): no common budget axis
+    if (aucs.size() != maps) return {};
   std::vector<double> mean_curve(maps, 0.0);
   for (const auto& aucs : t.per_set) {
     const std::vector<double> curve = stats::expectedBestCurve(aucs);
@@ -158,7 +166,9 @@ void pairedTests(const PairedSets& p, const CompareStatisticsOptions& o, MethodS
 // Leave one set out for both, paired by set: the method's held-out score against the baseline's, in percent.
 std::optional<stats::BootstrapInterval> crossValidatedImprovement(const AucTable& mine, const AucTable& base,
                                                                   const CompareStatisticsOptions& o) {
-  if (!mine.one_grid || !base.one_grid || mine.row != base.row || mine.per_set.size() < 2) return std::nullopt;
+  if (!mine.one_grid || !base.one_grid || mine.row != base.row || !rectangular(mine.per_set) ||
+      !rectangular(base.per_set))
+    return std::nullopt;
   const stats::LeaveOneGroupOut m = stats::leaveOneGroupOut(mine.per_set), b = stats::leaveOneGroupOut(base.per_set);
   std::vector<double> improvement;
   for (std::size_t i = 0; i < m.groups.size(); ++i)
@@ -234,7 +244,9 @@ std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>
       pairedTests(paired, o, s);
       s.verdict = verdictOf(s.improvement_percent);
       s.cross_validated_improvement = crossValidatedImprovement(table, baseline_table, o);
-      s.cross_validated_verdict = verdictOf(s.cross_validated_improvement);
+      s.cross_validated_verdict = s.cross_validated_improvement || s.sets < 2
+                                      ? verdictOf(s.cross_validated_improvement)
+                                      : "not computed (the sets differ in grid or maps, or an AUC is undefined)";
     }
     out.push_back(std::move(s));
   }

@@ -62,8 +62,9 @@ struct MethodStatistics {
   std::optional<stats::SignedRankResult> wilcoxon;              ///< of the AUC differences; none when all are zero
   std::optional<stats::SignTestResult> sign;
   std::optional<stats::PairedEffectSize> effect;
-  /// "gain", "loss", or why neither is claimed: "no clear difference (the interval contains 0)", "too few sets";
-  /// of the per-set optima (`verdict`) and of the cross-validated scores (`cross_validated_verdict`).
+  /// "gain", "loss", or why neither is claimed: "no clear difference (the interval contains 0)", "too few sets",
+  /// "not computed (...)"; of the per-set optima (`verdict`) and of the cross-validated scores
+  /// (`cross_validated_verdict`).
   std::string verdict, cross_validated_verdict;
 };
 
