@@ -48,6 +48,9 @@ struct BothTruths {
 /// A JSON number, or NaN for null (how the step files store NaN).
 [[nodiscard]] inline double get(const nlohmann::json& j) { return j.is_number() ? j.get<double>() : NAN; }
 
+/// A finding's verdict in report.md.
+[[nodiscard]] inline const char* verdict(bool holds) { return holds ? "**holds**" : "**does not hold**"; }
+
 /// Arithmetic mean; NaN for none.
 [[nodiscard]] inline double mean(const std::vector<double>& v) {
   double s = 0;

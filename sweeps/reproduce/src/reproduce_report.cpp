@@ -11,10 +11,9 @@ using nlohmann::json;
 using reproduce::get;
 using reproduce::mean;
 using reproduce::num;
+using reproduce::verdict;
 
 namespace {
-
-const char* verdict(bool holds) { return holds ? "**holds**" : "**does not hold**"; }
 
 void fitsSection(std::ostringstream& o, const json& fits) {
   const double ks = fits.at("max_pairwise_ks").get<double>();

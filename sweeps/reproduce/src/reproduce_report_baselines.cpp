@@ -11,8 +11,6 @@ using nlohmann::json;
 
 namespace {
 
-const char* verdict(bool holds) { return holds ? "**holds**" : "**does not hold**"; }
-
 // One baseline under one truth over the rows: its best AUCs, k-NN's improvements over it, its own over OctoMap.
 struct BaselineSummary {
   std::vector<double> auc, knn_over, over_octomap;

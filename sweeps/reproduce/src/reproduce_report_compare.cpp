@@ -20,8 +20,6 @@ double pearson(const std::vector<double>& x, const std::vector<double>& y) {
   return sxx > 0 && syy > 0 ? sxy / std::sqrt(sxx * syy) : NAN;
 }
 
-const char* verdict(bool holds) { return holds ? "**holds**" : "**does not hold**"; }
-
 }  // namespace
 
 void comparisonSection(std::ostringstream& o, const json& comparison) {
