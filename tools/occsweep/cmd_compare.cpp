@@ -13,24 +13,11 @@
 namespace occsweep::cli {
 namespace {
 
-// The best map's parameters but the clamping thresholds (fixed in the paper's grids), in the method's order.
-std::string paramsText(const BestMap& b, const std::vector<ResultsFile>& in) {
-  const ParameterLayout& layout = in[b.file].header.parameters;
-  std::string text;
-  char buf[64];
-  for (std::size_t i = 0; i < layout.names.size(); ++i) {
-    if (layout.names[i] == "p_max" || layout.names[i] == "p_min") continue;
-    std::snprintf(buf, sizeof buf, "%s%s=%g", text.empty() ? "" : " ", layout.names[i].c_str(), toDouble(b.params.values[i]));
-    text += buf;
-  }
-  return text;
-}
-
 nlohmann::json bestJson(const std::optional<BestMap>& b, const std::vector<ResultsFile>& in,
                         const std::vector<std::string>& names) {
   if (!b) return nullptr;
   return {{"auc", b->auc}, {"auc_observed", b->observed}, {"map_index", b->map_index},
-          {"params", paramsText(*b, in)}, {"parameters", parameterFields(*b, in)}, {"file", names[b->file]}};
+          {"params", bestParametersText(*b, in)}, {"parameters", parameterFields(*b, in)}, {"file", names[b->file]}};
 }
 
 // A number occsweep prints is either right or not printed (docs/robustness.md): "-" where there is none.
@@ -66,13 +53,13 @@ void printRow(const ComparisonRow& r, const std::vector<ResultsFile>& in, const 
   auto file = [&](const std::optional<BestMap>& b) { return b ? files[b->file] : std::string("-"); };
   std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s", r.dataset.c_str(), r.point_cloud_set.c_str(),
               cell(auc(r.octomap), "%.4f").c_str(), cell(auc(r.knn), "%.4f").c_str(),
-              cell(r.improvementPercent(), "%.2f").c_str(), r.octomap ? paramsText(*r.octomap, in).c_str() : "-",
-              r.knn ? paramsText(*r.knn, in).c_str() : "-", file(r.octomap).c_str(), file(r.knn).c_str());
+              cell(r.improvementPercent(), "%.2f").c_str(), r.octomap ? bestParametersText(*r.octomap, in).c_str() : "-",
+              r.knn ? bestParametersText(*r.knn, in).c_str() : "-", file(r.octomap).c_str(), file(r.knn).c_str());
   for (const std::string& m : others) {
     const auto it = r.others.find(m);
     std::printf(" | %s %s %s", cell(it == r.others.end() ? std::nan("") : it->second.auc, "%.4f").c_str(),
                 cell(r.improvementPercent(m), "%+.2f").c_str(),
-                it == r.others.end() ? "-" : paramsText(it->second, in).c_str());
+                it == r.others.end() ? "-" : bestParametersText(it->second, in).c_str());
   }
   std::printf("\n");
 }
@@ -95,14 +82,13 @@ nlohmann::json rowNotes(const ComparisonRow& r, const std::vector<ResultsFile>& 
 
 nlohmann::json rowJson(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
                        nlohmann::json notes) {
-  const auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
   nlohmann::json j = {{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
                       {"octomap", bestJson(r.octomap, in, files)}, {"knn", bestJson(r.knn, in, files)},
-                      {"improvement_percent", number(r.improvementPercent())}, {"notes", std::move(notes)}};
+                      {"improvement_percent", finiteNumber(r.improvementPercent())}, {"notes", std::move(notes)}};
   // The other methods only when given: a comparison of the paper's two stays as it was.
   for (const auto& [name, best] : r.others) {
     j["others"][name] = bestJson(best, in, files);
-    j["others"][name]["improvement_percent"] = number(r.improvementPercent(name));
+    j["others"][name]["improvement_percent"] = finiteNumber(r.improvementPercent(name));
   }
   return j;
 }

@@ -22,11 +22,6 @@ std::string cell(double v, const char* format) {
 // Round-trip precision: a CSV number reads back as the JSON number it stands for.
 std::string exact(double v) { return cell(v, "%.17g"); }
 
-double improvementOver(const ComparisonRow& row, const std::string& method, const std::string& baseline) {
-  const auto m = row.best(method), b = row.best(baseline);
-  return m && b && b->auc > 0 ? (m->auc - b->auc) / b->auc * 100.0 : NAN;
-}
-
 std::string intervalText(const std::optional<stats::BootstrapInterval>& interval) {
   if (!interval) return "-";
   const auto& i = *interval;
@@ -75,7 +70,7 @@ Cells perSetCells(const ComparisonTables& t) {
     for (const std::string& m : t.methods) {
       const auto best = row.best(m);
       line.push_back(best ? cell(best->auc, "%.4f") : "-");
-      if (m != t.baseline) line.push_back(cell(improvementOver(row, m, t.baseline), "%+.2f"));
+      if (m != t.baseline) line.push_back(cell(row.improvementPercent(m, t.baseline), "%+.2f"));
     }
     c.push_back(std::move(line));
   }
@@ -153,6 +148,19 @@ std::string statisticsText(const ComparisonTables& t) {
   return o.str();
 }
 
+std::string bestParametersText(const BestMap& best, const std::vector<ResultsFile>& files) {
+  const ParameterLayout& layout = files[best.file].header.parameters;
+  std::string text;
+  char buf[64];
+  for (std::size_t i = 0; i < layout.names.size(); ++i) {
+    if (layout.names[i] == "p_max" || layout.names[i] == "p_min") continue;
+    std::snprintf(buf, sizeof buf, "%s%s=%g", text.empty() ? "" : " ", layout.names[i].c_str(),
+                  toDouble(best.params.values[i]));
+    text += buf;
+  }
+  return text;
+}
+
 nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFile>& files) {
   const ParameterLayout& layout = files[best.file].header.parameters;
   nlohmann::json out = nlohmann::json::object();
@@ -183,7 +191,7 @@ std::string csvTable(const ComparisonTables& t) {
     for (const auto& [m, params] : columns) {
       const auto best = row.best(m);
       const bool base = m == t.baseline;
-      o << ',' << (best ? exact(best->auc) : "") << ',' << (base ? "" : exact(improvementOver(row, m, t.baseline)))
+      o << ',' << (best ? exact(best->auc) : "") << ',' << (base ? "" : exact(row.improvementPercent(m, t.baseline)))
         << ',' << (best ? csvField(t.names[best->file]) : "");
       const nlohmann::json fields = best ? parameterFields(*best, t.files) : nlohmann::json::object();
       for (const auto& p : params) o << ',' << (fields.contains(p) ? exact(fields.at(p).get<double>()) : "");

@@ -27,6 +27,9 @@ struct ComparisonTables {
 
 /// The statistics block printed after the table.
 [[nodiscard]] std::string statisticsText(const ComparisonTables& t);
+/// A best map's parameters but the clamping thresholds (fixed in the paper's grids), in the method's order:
+/// "p_h=0.62 p_m=0.38".
+[[nodiscard]] std::string bestParametersText(const BestMap& best, const std::vector<ResultsFile>& files);
 /// A best map's parameters as fields: {"p_h": 0.62, "p_m": 0.38, ...}.
 [[nodiscard]] nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFile>& files);
 /// One line per set: data set, point cloud set, then per method its AUC, its improvement over the baseline in

@@ -5,6 +5,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "compare_tables.hpp"
 #include "occsweep/eval/curve.hpp"
 
 namespace occsweep::cli {
@@ -12,26 +13,11 @@ namespace {
 
 using nlohmann::json;
 
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
 // The best map's own results (its thresholds) in the file it came from.
 const MapResult& bestMapOf(const BestMap& best, const std::vector<ResultsFile>& files) {
   for (const MapResult& m : files[best.file].maps)
     if (m.map_index == best.map_index) return m;
   throw std::logic_error("plot: a best map is not in its file");
-}
-
-std::string parametersText(const BestMap& best, const std::vector<ResultsFile>& files) {
-  const ParameterLayout& layout = files[best.file].header.parameters;
-  std::string text;
-  for (std::size_t i = 0; i < layout.names.size(); ++i) {
-    if (layout.names[i] == "p_max" || layout.names[i] == "p_min") continue;
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%s%s=%g", text.empty() ? "" : " ", layout.names[i].c_str(),
-                  toDouble(best.params.values[i]));
-    text += buf;
-  }
-  return text;
 }
 
 }  // namespace
@@ -48,7 +34,7 @@ json curvesData(const PlotInputs& in) {
       for (const auto& t : bestMapOf(*best, in.files).thresholds) counts.push_back(t.counts);
       json points = json::array();
       for (const CurvePoint& p : curvePoints(counts)) points.push_back({p.fdr, p.tpr});
-      methods.push_back({{"method", m}, {"auc", number(best->auc)}, {"parameters", parametersText(*best, in.files)},
+      methods.push_back({{"method", m}, {"auc", finiteNumber(best->auc)}, {"parameters", bestParametersText(*best, in.files)},
                          {"points", points}});
     }
     sets.push_back({{"set", row.dataset}, {"methods", methods}});
@@ -66,7 +52,7 @@ json budgetData(const PlotInputs& in) {
     const std::vector<double> curve = meanBudgetCurve(in.rows, in.files, m);
     if (!curve.empty()) methods.push_back({{"method", m}, {"maps", curve.size()}, {"curve", curve}});
   }
-  return {{"kind", "budget"}, {"baseline", in.baseline}, {"baseline_best", number(n ? baseline_best / double(n) : NAN)},
+  return {{"kind", "budget"}, {"baseline", in.baseline}, {"baseline_best", finiteNumber(n ? baseline_best / double(n) : NAN)},
           {"sets", n}, {"methods", methods}};
 }
 
@@ -76,8 +62,8 @@ json improvementData(const PlotInputs& in) {
     if (s.is_baseline) continue;
     json points = json::array();
     for (const ComparisonRow& row : in.rows) {
-      const auto m = row.best(s.method), b = row.best(in.baseline);
-      if (m && b && b->auc > 0) points.push_back({b->auc, (m->auc - b->auc) / b->auc * 100.0, row.dataset});
+      const double improvement = row.improvementPercent(s.method, in.baseline);
+      if (std::isfinite(improvement)) points.push_back({row.best(in.baseline)->auc, improvement, row.dataset});
     }
     json interval = nullptr;
     if (const auto& i = s.improvement_percent) interval = {{"mean", i->estimate}, {"lower", i->lower}, {"upper", i->upper}};

@@ -7,7 +7,6 @@
 
 namespace occsweep {
 using nlohmann::json;
-using reproduce::number;
 
 namespace {
 
@@ -15,7 +14,7 @@ json bestJson(const std::optional<BestMap>& b, const ResultsFile& f) {
   if (!b) return nullptr;
   MapResult params_only;
   params_only.params = b->params;
-  return {{"auc", number(b->auc)}, {"auc_observed", number(b->observed)}, {"map_index", b->map_index},
+  return {{"auc", finiteNumber(b->auc)}, {"auc_observed", finiteNumber(b->observed)}, {"map_index", b->map_index},
           {"params", toJson(params_only, f.header.parameters).at("params")}};
 }
 
@@ -37,7 +36,7 @@ json truthJson(const ResultsFile& om, const ResultsFile& knn) {
   if (!om.maps.empty() && !om.maps.front().thresholds.empty())
     positives = om.maps.front().thresholds.front().counts.tp + om.maps.front().thresholds.front().counts.fn;
   return {{"octomap", bestJson(row.octomap, om)}, {"knn", bestJson(row.knn, knn)},
-          {"improvement_percent", number(row.improvementPercent())}, {"tpr_ceiling", number(tprCeiling(om, knn))},
+          {"improvement_percent", finiteNumber(row.improvementPercent())}, {"tpr_ceiling", finiteNumber(tprCeiling(om, knn))},
           {"true_voxels", positives}};
 }
 
@@ -48,12 +47,9 @@ constexpr const char* kBaselineGrids[] = {"sor-octomap-opt", "ror-octomap-opt", 
 // improvement over it (percent of the baseline's AUC).
 json baselineTruthJson(const ResultsFile& om, const ResultsFile& knn, const ResultsFile& baseline) {
   const ComparisonRow row = compareBest({om, knn, baseline}).at(0);
-  const auto it = row.others.find(baseline.header.method);
-  const std::optional<BestMap> best = it == row.others.end() ? std::nullopt : std::optional<BestMap>(it->second);
-  const double knn_over = best && row.knn && best->auc > 0 ? (row.knn->auc - best->auc) / best->auc * 100.0 : NAN;
-  return {{"best", bestJson(best, baseline)},
-          {"improvement_over_octomap_percent", number(row.improvementPercent(baseline.header.method))},
-          {"knn_improvement_percent", number(knn_over)}};
+  return {{"best", bestJson(row.best(baseline.header.method), baseline)},
+          {"improvement_over_octomap_percent", finiteNumber(row.improvementPercent(baseline.header.method))},
+          {"knn_improvement_percent", finiteNumber(row.improvementPercent("knn", baseline.header.method))}};
 }
 
 // Every results file of the comparison, per truth: what the statistics of "Is the gain real?" are computed from.

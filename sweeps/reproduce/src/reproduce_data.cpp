@@ -151,7 +151,5 @@ std::size_t paperIndex(const std::string& name, std::size_t fallback) {
   return fallback;
 }
 
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
 }  // namespace reproduce
 }  // namespace occsweep

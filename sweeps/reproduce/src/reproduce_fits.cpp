@@ -9,7 +9,6 @@
 
 namespace occsweep {
 using nlohmann::json;
-using reproduce::number;
 
 json runDistributionFits(const ReproduceConfig& c, const std::vector<RankedDataset>& all) {
   // Section 4.4: "the average distance derived by the 800th point cloud set of I layout Voronoi boxes in front
@@ -30,9 +29,9 @@ json runDistributionFits(const ReproduceConfig& c, const std::vector<RankedDatas
     json params = json::object();
     for (std::size_t p = 0; p < f.params.size(); ++p) params[f.param_names[p]] = f.params[p];
     json cdf = json::array();
-    for (double v : r.cdf[a]) cdf.push_back(number(v));
-    fits.push_back({{"name", distributionName(f.kind)}, {"params", params}, {"nll", number(f.nll)},
-                    {"aic", number(f.aic)}, {"nll_estimated", f.nll_estimated},
+    for (double v : r.cdf[a]) cdf.push_back(finiteNumber(v));
+    fits.push_back({{"name", distributionName(f.kind)}, {"params", params}, {"nll", finiteNumber(f.nll)},
+                    {"aic", finiteNumber(f.aic)}, {"nll_estimated", f.nll_estimated},
                     {"ks_to_empirical", r.ks_empirical[a]}, {"ks", r.ks[a]}, {"cdf", cdf}});
     for (double v : r.ks[a]) max_pairwise = std::max(max_pairwise, v);
     max_empirical = std::max(max_empirical, r.ks_empirical[a]);

@@ -34,8 +34,6 @@ struct BothTruths {
 /// Index of a data set in paperDatasetNames() (its Eq. 16 group); the list position for other names.
 [[nodiscard]] std::size_t paperIndex(const std::string& name, std::size_t fallback);
 
-/// Finite numbers as JSON numbers, NaN and infinities as null (JSON has no NaN).
-[[nodiscard]] nlohmann::json number(double v);
 
 /// A number for report.md: `format` applied, "n/a" for NaN and infinities.
 [[nodiscard]] inline std::string num(double v, const char* format = "%.4f") {

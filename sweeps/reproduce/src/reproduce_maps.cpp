@@ -17,7 +17,6 @@
 namespace occsweep {
 namespace fs = std::filesystem;
 using nlohmann::json;
-using reproduce::number;
 
 namespace {
 
@@ -82,7 +81,7 @@ ConfusionCounts writeClassifiedPly(const octomap::OcTree& map, const GroundTruth
 }
 
 json countsJson(const ConfusionCounts& c) {
-  return {{"tp", c.tp}, {"fp", c.fp}, {"fn", c.fn}, {"tn", c.tn}, {"tpr", number(c.tpr())}, {"fdr", number(c.fdr())}};
+  return {{"tp", c.tp}, {"fp", c.fp}, {"fn", c.fn}, {"tn", c.tn}, {"tpr", finiteNumber(c.tpr())}, {"fdr", finiteNumber(c.fdr())}};
 }
 
 json curveJson(const std::vector<Point>& curve) {

@@ -8,15 +8,12 @@
 
 namespace occsweep {
 
-double ComparisonRow::improvementPercent() const {
-  if (!octomap || !knn || !(octomap->auc > 0)) return std::numeric_limits<double>::quiet_NaN();
-  return (knn->auc - octomap->auc) / octomap->auc * 100.0;
-}
+double ComparisonRow::improvementPercent() const { return improvementPercent("knn"); }
 
-double ComparisonRow::improvementPercent(const std::string& method) const {
-  const auto it = others.find(method);
-  if (!octomap || it == others.end() || !(octomap->auc > 0)) return std::numeric_limits<double>::quiet_NaN();
-  return (it->second.auc - octomap->auc) / octomap->auc * 100.0;
+double ComparisonRow::improvementPercent(const std::string& method, const std::string& baseline) const {
+  const auto m = best(method), b = best(baseline);
+  if (!m || !b || !(b->auc > 0)) return std::numeric_limits<double>::quiet_NaN();
+  return (m->auc - b->auc) / b->auc * 100.0;
 }
 
 std::optional<BestMap> ComparisonRow::best(const std::string& method) const {

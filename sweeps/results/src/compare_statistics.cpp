@@ -15,8 +15,6 @@
 namespace occsweep {
 namespace {
 
-nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
 // Every map's anchored AUC of the file a row's best came from, by map index; none when a map's AUC is undefined.
 std::optional<std::vector<double>> mapAucs(const ResultsFile& f) {
   std::vector<double> out;
@@ -257,15 +255,15 @@ nlohmann::json toJson(const std::vector<MethodStatistics>& statistics, const Com
   nlohmann::json out = nlohmann::json::array();
   const auto cv = [](const CrossValidated& c) -> nlohmann::json {
     if (!c.groups) return nullptr;
-    return {{"groups", c.groups}, {"optimum", number(c.optimum)}, {"score", number(c.score)}, {"gap", number(c.gap)}};
+    return {{"groups", c.groups}, {"optimum", finiteNumber(c.optimum)}, {"score", finiteNumber(c.score)}, {"gap", finiteNumber(c.gap)}};
   };
   for (const MethodStatistics& s : statistics) {
     nlohmann::json j = {{"method", s.method}, {"baseline", s.is_baseline}, {"sets", s.sets},
-                        {"mean_best_auc", number(s.mean_best_auc)}, {"leave_one_set_out", cv(s.leave_one_set_out)},
+                        {"mean_best_auc", finiteNumber(s.mean_best_auc)}, {"leave_one_set_out", cv(s.leave_one_set_out)},
                         {"leave_one_dataset_out", cv(s.leave_one_dataset_out)}, {"verdict", s.verdict}};
     if (s.budget.maps)
       j["budget"] = {{"maps", s.budget.maps}, {"budget", s.budget.budget},
-                     {"expected_best_at_budget", number(s.budget.expected_best_at_budget)},
+                     {"expected_best_at_budget", finiteNumber(s.budget.expected_best_at_budget)},
                      {"first_above_baseline", s.budget.first_above_baseline ? nlohmann::json(*s.budget.first_above_baseline)
                                                                             : nlohmann::json(nullptr)}};
     if (!s.is_baseline) {
@@ -273,7 +271,7 @@ nlohmann::json toJson(const std::vector<MethodStatistics>& statistics, const Com
       j["cross_validated_verdict"] = s.cross_validated_verdict;
       const auto interval = [&](const std::optional<stats::BootstrapInterval>& i) -> nlohmann::json {
         if (!i) return nullptr;
-        return {{"mean", number(i->estimate)}, {"lower", number(i->lower)}, {"upper", number(i->upper)},
+        return {{"mean", finiteNumber(i->estimate)}, {"lower", finiteNumber(i->lower)}, {"upper", finiteNumber(i->upper)},
                 {"level", o.level}, {"resamples", o.resamples}, {"seed", o.seed}, {"method", "BCa bootstrap"}};
       };
       j["improvement_percent"] = interval(s.improvement_percent);

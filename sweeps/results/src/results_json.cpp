@@ -20,8 +20,6 @@ constexpr const char* kFormat = "occsweep-results";
 // only observable-truth files, which an older occsweep would misread as full truth, carry version 2.
 constexpr int kVersion = 1, kTruthVersion = 2;
 
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
 struct Reader {
   const std::string& file;
   [[noreturn]] void fail(const std::string& where, const std::string& rule) const {
@@ -86,6 +84,8 @@ ParameterLayout layoutFromMap(const json& map, const Reader& r) {
 
 }  // namespace
 
+json finiteNumber(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
 void setEngines(ResultsHeader& h, const std::set<std::string>& engines) {
   h.engines.assign(engines.begin(), engines.end());
   h.engine = engines.size() == 1 ? *engines.begin() : "mixed";
@@ -127,11 +127,11 @@ json toJson(const MapResult& m, const ParameterLayout& parameters) {
   for (const auto& t : m.thresholds) {
     const auto& c = t.counts;
     thresholds.push_back({{"id", t.id}, {"p_t", toDouble(t.p_t)}, {"tp", c.tp}, {"fp", c.fp}, {"fn", c.fn},
-                          {"tn", c.tn}, {"tpr", number(c.tpr())}, {"fdr", number(c.fdr())},
-                          {"precision", number(c.precision())}, {"fpr", number(c.fpr())}});
+                          {"tn", c.tn}, {"tpr", finiteNumber(c.tpr())}, {"fdr", finiteNumber(c.fdr())},
+                          {"precision", finiteNumber(c.precision())}, {"fpr", finiteNumber(c.fpr())}});
   }
   return {{"map_index", m.map_index}, {"params", params}, {"thresholds", thresholds},
-          {"auc", {{"anchored", number(m.area.anchored)}, {"observed", number(m.area.observed)},
+          {"auc", {{"anchored", finiteNumber(m.area.anchored)}, {"observed", finiteNumber(m.area.observed)},
                    {"points", m.area.points}}},
           {"seconds", m.seconds}};
 }

@@ -37,8 +37,9 @@ struct ComparisonRow {
   /// Every other method's best (the baselines of docs/methods.md), by method name.
   std::map<std::string, BestMap> others;
   [[nodiscard]] double improvementPercent() const;  ///< (knn - octomap) / octomap * 100; NaN if one is missing
-  /// (method - octomap) / octomap * 100 for a method of `others`; NaN if either is missing.
-  [[nodiscard]] double improvementPercent(const std::string& method) const;
+  /// (method - baseline) / baseline * 100 for any two methods of the row; NaN if either is missing or the
+  /// baseline's AUC is not above 0.
+  [[nodiscard]] double improvementPercent(const std::string& method, const std::string& baseline = "octomap") const;
   /// The best map of any method (octomap, knn or one of `others`); none when this row has none.
   [[nodiscard]] std::optional<BestMap> best(const std::string& method) const;
 };

@@ -71,6 +71,10 @@ struct ResultsFile {
 /// or "mixed" (docs/results-format.md, "Provenance of the engine").
 void setEngines(ResultsHeader& h, const std::set<std::string>& engines);
 
+/// A finite number as a JSON number, NaN and infinities as null (JSON has no NaN): how every occsweep JSON output
+/// writes a number that may be undefined.
+[[nodiscard]] nlohmann::json finiteNumber(double v);
+
 [[nodiscard]] nlohmann::json toJson(const ResultsHeader& h);
 [[nodiscard]] nlohmann::json toJson(const MapResult& m, const ParameterLayout& parameters);
 [[nodiscard]] nlohmann::json toJson(const ResultsFile& f);
