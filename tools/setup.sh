@@ -11,7 +11,7 @@ build=${BUILD_DIR:-$root/build}
 
 # opencv-doc: the Middlebury Aloe stereo pair of `occsweep dataset middlebury` and its test (docs/datasets.md)
 packages=(g++ cmake make git pkg-config liboctomap-dev libnanoflann-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
-          catch2 libcli11-dev libpng-dev python3-matplotlib python3-numpy python3-scipy
+          catch2 libcli11-dev libpng-dev libsqlite3-dev python3-matplotlib python3-numpy python3-scipy
           libopencv-calib3d-dev libopencv-imgproc-dev libjpeg-dev opencv-doc)
 # The test command only: PCL 1.13, the oracle that test_point_filters_pcl checks core/point_filters.hpp against
 # (docs/methods.md, outlier filters): about 280 packages, 140 MB to download, 870 MB installed, 30 s to install

@@ -140,7 +140,7 @@ void writeTables(const CompareTask& o, const ComparisonTables& t) {
 
 int runCompare(const CompareTask& o) {
   checkOutputs(o);
-  const std::vector<ResultsFile> in = readChecked(o.files);
+  const std::vector<ResultsFile> in = readChecked(o.files, MapDetail::Summary);
   if (const std::string why = mixedTruths(in, o.files); !why.empty()) throw std::runtime_error("cannot compare: " + why);
   const TruthMode truth = in.front().header.truth;
   const auto mixed = checkMixed(in, o);

@@ -16,9 +16,8 @@ const RegisterCommand kMerge{"merge", "Merge the shards of one sweep (refuses mi
   addLimitOptions(app, {Limit::Combinations});
   return [t] {
     checkOutputTarget(t->out, t->force, resultsOutput());
-    const ResultsFile merged = mergeResults({t->files.begin(), t->files.end()});
-    writeResults(merged, t->out);
-    std::cout << "wrote " << t->out << ": " << merged.maps.size() << " maps from " << t->files.size() << " files\n";
+    const std::uint64_t maps = mergeResultsInto({t->files.begin(), t->files.end()}, t->out);
+    std::cout << "wrote " << t->out << ": " << maps << " maps from " << t->files.size() << " files\n";
     return 0;
   };
 }};

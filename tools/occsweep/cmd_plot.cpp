@@ -48,7 +48,7 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("plot data", "occsweep-plot"));
   const std::string python = findPython(o.python, "plot");  // before any work: fail now if it cannot draw
   const std::string script = figureScript("plot_results.py").string();
-  const std::vector<ResultsFile> in = readChecked(o.files);
+  const std::vector<ResultsFile> in = readChecked(o.files, MapDetail::Full);
   const std::vector<ComparisonRow> rows = compareBest(in);
   const PlotInputs inputs{rows, in, o.baseline, kind == "params" ? paramsMethod(o, rows) : ""};
   nlohmann::json data = plotData(kind, inputs);

@@ -1,13 +1,16 @@
 // occsweep results check FILE: exit 0 only for a complete, consistent results file.
+// occsweep results export FILE --csv|--json|--store OUT: a results file or store converted, map by map.
 // occsweep results diff GOLDEN NEW: exit 0 only when NEW has GOLDEN's numbers (docs/results-format.md, "Regression
 // checks against a golden file").
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 
 #include "command_registry.hpp"
 #include "option_checks.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
+#include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
 namespace occsweep::cli {
@@ -45,6 +48,41 @@ int runDiff(const std::string& golden_file, const std::string& new_file, double 
   return 1;
 }
 
+struct ExportTarget {
+  std::string csv, json, store;
+  bool force = false;
+};
+
+// A CSV export of occsweep's: replaced with --force; anything else never.
+ReplaceableOutput csvExport() {
+  return {"CSV export", [](const std::filesystem::path& file) {
+            std::ifstream in(file);
+            std::string first;
+            return std::getline(in, first) && first.starts_with("id,map_index,");
+          }};
+}
+
+int runExport(const std::string& source, const ExportTarget& to) {
+  if (to.csv.empty() && to.json.empty() && to.store.empty())
+    throw std::invalid_argument("results export: give one of --csv, --json or --store");
+  if (!to.store.empty()) {
+    if (!isStorePath(to.store)) throw std::invalid_argument("--store " + to.store + ": a results store's name ends in .db or .sqlite");
+    checkOutputTarget(to.store, to.force, resultsOutput());
+    writeResultsStore(readResults(source), to.store);
+    std::cout << "wrote " << to.store << '\n';
+    return 0;
+  }
+  const std::string& target = to.csv.empty() ? to.json : to.csv;
+  checkOutputTarget(target, to.force, to.csv.empty() ? resultsOutput() : csvExport());
+  (void)readResultsHeader(source);  // an unreadable source fails before anything is written
+  OutputFile out(target);
+  if (to.csv.empty()) exportJson(source, out.stream());
+  else exportCsv(source, out.stream());
+  out.commit();
+  std::cout << "wrote " << target << '\n';
+  return 0;
+}
+
 const RegisterCommand kResults{"results", "Check results files, or compare one with a golden one", [](CLI::App& app) {
   auto file = std::make_shared<std::string>();
   CLI::App* check = app.add_subcommand("check", "Exit 0 when FILE is a complete, consistent results file (docs/results-format.md)");
@@ -64,16 +102,25 @@ const RegisterCommand kResults{"results", "Check results files, or compare one w
   auto auc_only = std::make_shared<bool>(false);
   diff->add_flag("--auc-only", *auc_only, "Compare the AUCs alone, not the confusion counts (a missing combination "
                                           "still differs)");
+  CLI::App* export_ = app.add_subcommand("export", "Convert a results file or store, map by map (docs/results-format.md, "
+                                                  "\"Export\"): --csv one row per combination, --json the JSON "
+                                                  "results file, --store a results store");
+  auto source = std::make_shared<std::string>();
+  auto to = std::make_shared<ExportTarget>();
+  export_->add_option("file", *source, "Results file or store")->required();
+  CLI::Option* csv = export_->add_option("--csv", to->csv, "Write CSV here");
+  CLI::Option* json = export_->add_option("--json", to->json, "Write JSON here");
+  CLI::Option* store = export_->add_option("--store", to->store, "Write a results store here (.db or .sqlite)");
+  csv->excludes(json)->excludes(store);
+  json->excludes(store);
+  export_->add_flag("--force", to->force, "Replace occsweep's own output of the same kind at the target");
   app.require_subcommand(1);
   return [=] {
     return runChosen({{check, [=] {
-                         const ResultsFile f = readResults(*file);
-                         if (!f.complete) throw std::runtime_error(*file + ": incomplete results");
-                         const bool grid_checked = checkAgainstGrid(f, *file);
-                         if (!dataset->empty()) verifyAgainstDataset(f, *file, *dataset);
+                         const ResultsCheck f = checkResultsFile(*file, *dataset);
                          // docs/results-format.md lists what each line vouches for.
-                         std::cout << *file << ": complete, " << f.maps.size() << " maps";
-                         if (grid_checked)
+                         std::cout << *file << ": complete, " << f.maps << " maps";
+                         if (f.grid_checked)
                            std::cout << ", every map and threshold of the selection once, parameters match grid ";
                          else if (f.header.selection.shard_count == 1)
                            std::cout << ", every id of the selection once; grid file not found, parameters not "
@@ -87,6 +134,7 @@ const RegisterCommand kResults{"results", "Check results files, or compare one w
                          std::cout << '\n';
                          return 0;
                        }},
+                      {export_, [=] { return runExport(*source, *to); }},
                       {diff, [=] {
                          return runDiff(*golden, *candidate, *auc_tolerance,
                                         *auc_only ? CountsCheck::Ignored : CountsCheck::Exact);

@@ -15,10 +15,8 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
   for (const char* needed : {"--dataset", "--grid", "--out"}) app.get_option(needed)->required();
   addLimitOptions(app, {Limit::WindowVoxels, Limit::Combinations, Limit::RegionVoxels, Limit::Points});
   return [o] {
-    const ResultsFile r = runSweep(sweepConfigOf(*o));
-    std::size_t combinations = 0;
-    for (const auto& m : r.maps) combinations += m.thresholds.size();
-    std::cout << "wrote " << o->out << ": " << r.maps.size() << " maps, " << combinations << " combinations of "
+    const SweepSummary r = sweepToFile(sweepConfigOf(*o));
+    std::cout << "wrote " << o->out << ": " << r.maps << " maps, " << r.combinations << " combinations of "
               << r.header.grid_name << " in " << r.seconds << " s\n";
     return 0;
   };

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "occsweep/sweeps/results_verify.hpp"
+
 namespace occsweep::cli {
 namespace {
 
@@ -122,12 +124,19 @@ std::string csvField(const std::string& s) {
 
 }  // namespace
 
-std::vector<ResultsFile> readChecked(const std::vector<std::string>& files) {
+std::vector<ResultsFile> readChecked(const std::vector<std::string>& files, MapDetail detail) {
   std::vector<ResultsFile> in;
   for (const auto& f : files) {
-    in.push_back(readResults(f));
+    const bool summary = detail == MapDetail::Summary && isResultsStore(f);
+    in.push_back(readResultsAt(f, summary ? MapDetail::Summary : MapDetail::Full));
     if (!in.back().complete) throw std::runtime_error(f + ": incomplete results (the sweep did not finish)");
-    (void)checkAgainstGrid(in.back(), f);
+    if (!summary) {
+      (void)checkAgainstGrid(in.back(), f);
+      continue;
+    }
+    // A store's summary: every map's parameters against the grid; its counts are `results check`'s to verify.
+    GridChecker grid(in.back().header, false, f);
+    for (const MapResult& m : in.back().maps) grid.add(m);
   }
   return in;
 }

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "occsweep/sweeps/compare_statistics.hpp"
+#include "occsweep/sweeps/results_store.hpp"
 
 namespace occsweep::cli {
 
@@ -22,8 +23,9 @@ struct ComparisonTables {
 };
 
 /// The results files compare and plot read: only complete files that pass every check of `results check`
-/// (docs/results-format.md); std::runtime_error naming the file otherwise.
-[[nodiscard]] std::vector<ResultsFile> readChecked(const std::vector<std::string>& files);
+/// (docs/results-format.md); std::runtime_error naming the file otherwise. A store read at MapDetail::Summary
+/// (compare: no thresholds held) is checked against its grid map by map; its counts are `results check`'s.
+[[nodiscard]] std::vector<ResultsFile> readChecked(const std::vector<std::string>& files, MapDetail detail);
 
 /// The statistics block printed after the table.
 [[nodiscard]] std::string statisticsText(const ComparisonTables& t);

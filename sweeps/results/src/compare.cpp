@@ -123,9 +123,8 @@ std::string missingReason(const ComparisonRow& row, bool knn, const std::vector<
     return method + ": no results file of this method given for data set " + row.dataset;
   }
   std::string why = method + ": no AUC in " + names[given.front()];
-  const auto& maps = files[given.front()].maps;
-  const bool no_truth = !maps.empty() && maps.front().thresholds.front().counts.tp == 0 &&
-                        maps.front().thresholds.front().counts.fn == 0;
+  const ResultsFile& file = files[given.front()];
+  const bool no_truth = !file.maps.empty() && file.truth_voxels == 0;
   return why + (no_truth ? ": data set " + row.dataset + " has no ground truth (TP+FN = 0), so TPR and AUC are "
                                                          "undefined (add it with occsweep import truth)"
                          : ": every map's AUC is undefined");

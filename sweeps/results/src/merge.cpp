@@ -1,10 +1,13 @@
 #include <set>
 #include <algorithm>
+#include <functional>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 #include "occsweep/core/limits.hpp"
 #include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 #include "occsweep/sweeps/selection.hpp"
 
@@ -18,90 +21,139 @@ std::vector<std::uint64_t> coveredIds(const ResultsFile& f) {
 }
 
 bool checkAgainstGrid(const ResultsFile& f, const std::string& file) {
-  GridSpec grid;
-  try {
-    grid = loadGrid(resolveGridPath(f.header.grid_name));
-  } catch (const std::exception&) {
-    return false;
-  }
-  if (grid.file_hash != f.header.grid_hash) return false;
-  const GridEnumeration e = enumerateGrid(grid);
-  if (e.combinations != f.header.grid_combinations)
-    throw std::runtime_error(file + ": grid.combinations does not match grid " + grid.name);
-  for (const auto& m : f.maps) {
-    const std::string where = file + ": map " + std::to_string(m.map_index);
-    if (m.map_index >= e.maps.size()) throw std::runtime_error(where + ": no such map in grid " + grid.name);
-    const MapParams& g = e.maps[m.map_index];
-    const MapParams& p = m.params;
-    if (g != p)
-      throw std::runtime_error(where + ": parameters differ from the grid's (edited by hand?)");
-    for (const auto& t : m.thresholds) {
-      const std::uint64_t first = e.first_id[m.map_index];
-      if (t.id < first || t.id - first >= e.thresholds[m.map_index].size() ||
-          e.thresholds[m.map_index][t.id - first] != t.p_t)
-        throw std::runtime_error(where + ": id " + std::to_string(t.id) + " is not this map's or has another p_t");
-    }
-  }
-  verifyCoverage(f, grid, e, file);
-  return true;
+  GridChecker check(f.header, f.complete, file);
+  for (const MapResult& m : f.maps) check.add(m);
+  check.finish();
+  return check.found();
 }
 
-ResultsFile mergeResults(const std::vector<std::filesystem::path>& files) {
+namespace {
+
+using MergedMapSink = std::function<void(MapResult&&)>;
+constexpr std::size_t kMergeBatch = 4096;  // maps per transaction of a merged store
+
+// The merged header of complete results of one work: the first file's, every shard's engines, the whole selection.
+ResultsFile mergedHeader(const std::vector<std::filesystem::path>& files) {
   if (files.empty()) throw std::runtime_error("merge: no input files");
-  std::vector<ResultsFile> in;
-  for (const auto& file : files) {
-    in.push_back(readResults(file));
-    if (!in.back().complete) throw std::runtime_error(file.string() + ": incomplete results (the sweep did not finish)");
-    std::string why;
-    if (!sameWork(in.front().header, in.back().header, false, &why))
-      throw std::runtime_error(file.string() + ": foreign results: " + why + " than " + files.front().string());
-    checkAgainstGrid(in.back(), file.string());
-  }
-  // Every id of the selection exactly once.
-  std::map<std::uint64_t, std::size_t> owner;
-  ResultsFile out;
-  out.header = in.front().header;
+  std::vector<ResultsFile> heads;
   std::set<std::string> engines;  // provenance: every engine of every shard
-  for (const auto& f : in) engines.insert(f.header.engines.begin(), f.header.engines.end());
+  ResultsFile out;
+  for (const auto& file : files) {
+    heads.push_back(readResultsHeader(file));
+    if (!heads.back().complete)
+      throw std::runtime_error(file.string() + ": incomplete results (the sweep did not finish)");
+    std::string why;
+    if (!sameWork(heads.front().header, heads.back().header, false, &why))
+      throw std::runtime_error(file.string() + ": foreign results: " + why + " than " + files.front().string());
+    engines.insert(heads.back().header.engines.begin(), heads.back().header.engines.end());
+    out.seconds += heads.back().seconds;
+  }
+  out.header = heads.front().header;
   setEngines(out.header, engines);
   out.header.selection.shard_index = 0;
   out.header.selection.shard_count = 1;
-  GridEnumeration shape;  // only the count is needed for the expected ids
-  shape.combinations = out.header.grid_combinations;
-  // Without the grid file the count is only what the file claims (issue 13: a 15 KB file claiming 3e8 took
-  // 2.4 GB): bounded like an enumeration before the expected ids are listed.
-  try {
-    checkLimit("grid.combinations", shape.combinations, limits().combinations, "--max-combinations");
-  } catch (const LimitError& e) {
-    throw std::runtime_error(files.front().string() + ": " + e.what());
-  }
-  const auto expected = expectedIds(shape, out.header.selection);
-  for (std::size_t i = 0; i < in.size(); ++i) {
-    for (std::uint64_t id : coveredIds(in[i])) {
-      if (!std::binary_search(expected.begin(), expected.end(), id))
-        throw std::runtime_error(files[i].string() + ": foreign combination id " + std::to_string(id) +
-                                 " (not in this grid's selection)");
-      auto [it, fresh] = owner.emplace(id, i);
-      if (!fresh)
-        throw std::runtime_error(files[i].string() + ": combination id " + std::to_string(id) + " duplicated (also in " +
-                                 files[it->second].string() + ")");
-    }
-    for (auto& m : in[i].maps) out.maps.push_back(std::move(m));
-    out.seconds += in[i].seconds;
-  }
-  if (owner.size() != expected.size()) {
-    std::string first;
-    for (std::uint64_t id : expected)
-      if (!owner.count(id)) {
-        first = std::to_string(id);
-        break;
-      }
-    throw std::runtime_error("merge: " + std::to_string(expected.size() - owner.size()) +
-                             " combinations missing (first id " + first + "): a shard is missing");
-  }
-  std::sort(out.maps.begin(), out.maps.end(), [](const auto& a, const auto& b) { return a.map_index < b.map_index; });
   out.complete = true;
   return out;
+}
+
+// Every id of the selection exactly once over the files: a bit per combination of the grid.
+class IdOwners {
+ public:
+  IdOwners(const ResultsHeader& merged, const std::filesystem::path& first_file) : n_(merged.grid_combinations) {
+    // Without the grid file the count is only what the file claims (issue 13: a 15 KB file claiming 3e8 took
+    // 2.4 GB): bounded like an enumeration before anything is allocated for it.
+    try {
+      checkLimit("grid.combinations", n_, limits().combinations, "--max-combinations");
+    } catch (const LimitError& e) {
+      throw std::runtime_error(first_file.string() + ": " + e.what());
+    }
+    GridEnumeration shape;  // only the count is needed for the expected ids
+    shape.combinations = n_;
+    if (merged.selection.group) group_ = expectedIds(shape, merged.selection);
+    owner_.assign(n_, 0);
+  }
+  void claim(std::uint64_t id, std::size_t file, const std::vector<std::filesystem::path>& files) {
+    if (id >= n_ || (!group_.empty() && !std::binary_search(group_.begin(), group_.end(), id)))
+      throw std::runtime_error(files[file].string() + ": foreign combination id " + std::to_string(id) +
+                               " (not in this grid's selection)");
+    if (owner_[id] != 0)
+      throw std::runtime_error(files[file].string() + ": combination id " + std::to_string(id) + " duplicated (also in " +
+                               files[owner_[id] - 1].string() + ")");
+    owner_[id] = std::uint32_t(file + 1);
+    ++claimed_;
+  }
+  void requireAll() const {
+    const std::uint64_t expected = group_.empty() ? n_ : group_.size();
+    if (claimed_ == expected) return;
+    std::uint64_t first = 0;
+    if (group_.empty()) {
+      while (owner_[first] != 0) ++first;
+    } else {
+      for (std::uint64_t id : group_)
+        if (owner_[id] == 0) {
+          first = id;
+          break;
+        }
+    }
+    throw std::runtime_error("merge: " + std::to_string(expected - claimed_) + " combinations missing (first id " +
+                             std::to_string(first) + "): a shard is missing");
+  }
+
+ private:
+  std::uint64_t n_ = 0, claimed_ = 0;
+  std::vector<std::uint64_t> group_;  // an Eq. 16 group's ids; empty: the whole grid
+  std::vector<std::uint32_t> owner_;  // 1 + the file holding each id; 0: none yet
+};
+
+// Streams every map of every file to `sink`, each file checked against its grid, each id owned once.
+void mergeMaps(const std::vector<std::filesystem::path>& files, const ResultsFile& merged, const MergedMapSink& sink) {
+  IdOwners owners(merged.header, files.front());
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const ResultsFile head = readResultsHeader(files[i]);
+    GridChecker grid(head.header, true, files[i].string());
+    forEachResultsMap(files[i], MapDetail::Full, [&](MapResult&& m) {
+      grid.add(m);
+      for (const ThresholdResult& t : m.thresholds) owners.claim(t.id, i, files);
+      sink(std::move(m));
+    });
+    grid.finish();
+  }
+  owners.requireAll();
+}
+
+}  // namespace
+
+ResultsFile mergeResults(const std::vector<std::filesystem::path>& files) {
+  std::vector<MapResult> maps;
+  ResultsFile out = mergedHeader(files);
+  mergeMaps(files, out, [&](MapResult&& m) { maps.push_back(std::move(m)); });
+  std::sort(maps.begin(), maps.end(), [](const auto& a, const auto& b) { return a.map_index < b.map_index; });
+  out.maps = std::move(maps);
+  return out;
+}
+
+std::uint64_t mergeResultsInto(const std::vector<std::filesystem::path>& files, const std::filesystem::path& out) {
+  if (!isStorePath(out)) {
+    const ResultsFile merged = mergeResults(files);
+    writeResults(merged, out);
+    return merged.maps.size();
+  }
+  const ResultsFile merged = mergedHeader(files);
+  OutputFile file(out);  // its empty temporary becomes the store: removed on an error or an interrupt
+  std::uint64_t maps = 0;
+  {
+    ResultsStore store = ResultsStore::create(file.temporary(), merged.header);
+    std::vector<MapResult> batch;
+    mergeMaps(files, merged, [&](MapResult&& m) {
+      batch.push_back(std::move(m));
+      if (batch.size() == kMergeBatch) store.append(batch, merged.header.engine), batch.clear();
+      ++maps;
+    });
+    if (!batch.empty()) store.append(batch, merged.header.engine);
+    store.finish(merged.header, merged.seconds);
+  }
+  file.commit();
+  return maps;
 }
 
 }  // namespace occsweep

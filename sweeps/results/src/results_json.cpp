@@ -9,6 +9,7 @@
 #include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/results.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
+#include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
 namespace occsweep {
@@ -277,10 +278,12 @@ ResultsFile parseResults(const json& j, const std::string& file) {
   for (std::size_t i = 0; i < maps.size(); ++i)
     f.maps.push_back(parseMapResult(maps[i], f.header.parameters, file, "maps[" + std::to_string(i) + "]"));
   verifyClaims(f, file);
+  if (!f.maps.empty()) f.truth_voxels = f.maps.front().thresholds.front().counts.tp + f.maps.front().thresholds.front().counts.fn;
   return f;
 }
 
 ResultsFile readResults(const std::filesystem::path& file) {
+  if (isResultsStore(file)) return readResultsAt(file, MapDetail::Full);
   return parseResults(readJsonFile(file), file.string());
 }
 
@@ -302,7 +305,18 @@ ReplaceableOutput jsonOutput(const std::string& name, const std::string& format)
           }};
 }
 
-ReplaceableOutput resultsOutput() { return jsonOutput("results file", kFormat); }
+ReplaceableOutput resultsOutput() {
+  const ReplaceableOutput json_results = jsonOutput("results file", kFormat);
+  return {json_results.name, [json_results](const std::filesystem::path& file) {
+            if (!isResultsStore(file)) return json_results.is_own(file);
+            try {
+              (void)ResultsStore::open(file);
+              return true;
+            } catch (const std::exception&) {
+              return false;  // another program's SQLite database: never replaced
+            }
+          }};
+}
 
 void writeResults(const ResultsFile& f, const std::filesystem::path& file) { writeJsonAtomically(toJson(f), file); }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -12,21 +13,43 @@
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/sweeps/sharding.hpp"
+#include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/selection.hpp"
 
 namespace occsweep {
 namespace {
 
+// The claims of one file, checked map by map (nothing but the Eq. 16 group's ids is held).
 struct Claims {
-  const ResultsFile& f;
+  const ResultsHeader& h;
+  bool complete;
   const std::string& file;
+  const MappingMethod* method = nullptr;      // registered: its bounds are checked
+  std::vector<MethodParameter> parameters;
+  std::vector<std::uint64_t> group_ids;       // a complete group's ids, when small enough to list
+  std::uint64_t total = 0, truth = 0, ids = 0;
+  std::optional<std::uint64_t> last_map, last_id;
+
+  Claims(const ResultsHeader& header, bool is_complete, const std::string& name)
+      : h(header), complete(is_complete), file(name) {
+    try {
+      method = &findMethod(h.method);
+      parameters = method->parameters();
+    } catch (const std::invalid_argument&) {
+      // another program's method: its bounds are not known here
+    }
+    if (complete && h.selection.shard_count == 1 && h.selection.group && h.grid_combinations <= kMaxCheckedPermutation) {
+      GridEnumeration shape;
+      shape.combinations = h.grid_combinations;
+      group_ids = expectedIds(shape, h.selection);
+    }
+  }
 
   [[noreturn]] void fail(const std::string& where, const std::string& rule) const {
     throw std::runtime_error(file + ": " + where + ": " + rule);
   }
 
   void settings() const {
-    const ResultsHeader& h = f.header;
     if (!std::isfinite(h.resolution) || !(h.resolution > 0))
       fail("map.resolution", "must be a finite number > 0 (metres)");
     if (!std::isfinite(h.s_c) || !(h.s_c > 0)) fail("map.s_c", "must be a finite number > 0 (metres)");
@@ -47,69 +70,62 @@ struct Claims {
 
   // Each value within its parameter's bounds, when this program has the method registered (docs/methods.md).
   void params(const MapResult& m, const std::string& where) const {
-    if (m.params.values.size() != f.header.parameters.names.size()) fail(where + ".params", "has other parameters");
-    const MappingMethod* method = nullptr;
-    try {
-      method = &findMethod(f.header.method);
-    } catch (const std::invalid_argument&) {
-      return;  // another program's method: its bounds are not known here
-    }
-    const std::vector<MethodParameter> parameters = method->parameters();
+    if (m.params.values.size() != h.parameters.names.size()) fail(where + ".params", "has other parameters");
     for (std::size_t i = 0; i < parameters.size() && i < m.params.values.size(); ++i) {
       const MethodParameter& p = parameters[i];
       const double v = toDouble(m.params.values[i]);
       if ((p.lowest_open ? !(v > p.lowest) : !(v >= p.lowest)) || (p.highest_open ? !(v < p.highest) : !(v <= p.highest)))
-        fail(where + ".params." + p.name, "is outside the bounds of " + f.header.method + "'s " + p.name);
+        fail(where + ".params." + p.name, "is outside the bounds of " + h.method + "'s " + p.name);
     }
   }
 
-  // Ids unique across the file, inside the grid; p_t increasing within a map; one region for every map.
-  std::uint64_t mapsAndCounts() const {
-    std::set<std::uint64_t> ids;
-    std::uint64_t total = 0, truth = 0;
-    bool first = true;
-    for (std::size_t i = 0; i < f.maps.size(); ++i) {
-      const MapResult& m = f.maps[i];
-      const std::string where = "maps[" + std::to_string(i) + "]";
-      if (i > 0 && m.map_index <= f.maps[i - 1].map_index)
-        fail(where + ".map_index", "map " + std::to_string(m.map_index) + " after map " +
-                                       std::to_string(f.maps[i - 1].map_index) +
-                                       ": every map at most once, in increasing order (duplicated map?)");
-      if (m.map_index >= f.header.grid_combinations) fail(where + ".map_index", "is beyond the grid's combinations");
-      params(m, where);
-      for (std::size_t t = 0; t < m.thresholds.size(); ++t) {
-        const ThresholdResult& r = m.thresholds[t];
-        const std::string tw = where + ".thresholds[" + std::to_string(t) + "]";
-        probability(r.p_t, tw + ".p_t");
-        if (t > 0 && !(r.p_t > m.thresholds[t - 1].p_t))
-          fail(tw + ".p_t", "thresholds must have increasing p_t, each at most once (duplicated threshold?)");
-        if (r.id >= f.header.grid_combinations) fail(tw + ".id", "is beyond the grid's combinations");
-        if (!ids.insert(r.id).second) fail(tw + ".id", "id " + std::to_string(r.id) + " appears twice in the file");
-        const auto& c = r.counts;
-        std::uint64_t sum = 0, positives = 0;
-        if (__builtin_add_overflow(c.tp, c.fn, &positives) || __builtin_add_overflow(positives, c.fp, &sum) ||
-            __builtin_add_overflow(sum, c.tn, &sum) || sum > kMaxRegionVoxels)
-          fail(tw, "TP+FP+FN+TN is more than the 2^48 voxels OctoMap's keys can address");
-        if (first) {
-          total = sum;
-          truth = positives;
-          first = false;
-        }
-        if (sum != total)
-          fail(tw, "TP+FP+FN+TN is " + std::to_string(sum) + ", another map of the file counts " +
-                       std::to_string(total) + ": every map classifies the same region");
-        if (positives != truth)
-          fail(tw, "TP+FN is " + std::to_string(positives) + ", another map of the file counts " +
-                       std::to_string(truth) + ": every map has the same true voxels");
-      }
+  // One region for every threshold of every map.
+  void counts(const ThresholdResult& r, const std::string& tw) {
+    const auto& c = r.counts;
+    std::uint64_t sum = 0, positives = 0;
+    if (__builtin_add_overflow(c.tp, c.fn, &positives) || __builtin_add_overflow(positives, c.fp, &sum) ||
+        __builtin_add_overflow(sum, c.tn, &sum) || sum > kMaxRegionVoxels)
+      fail(tw, "TP+FP+FN+TN is more than the 2^48 voxels OctoMap's keys can address");
+    if (ids == 1) total = sum, truth = positives;
+    if (sum != total)
+      fail(tw, "TP+FP+FN+TN is " + std::to_string(sum) + ", another map of the file counts " + std::to_string(total) +
+                   ": every map classifies the same region");
+    if (positives != truth)
+      fail(tw, "TP+FN is " + std::to_string(positives) + ", another map of the file counts " + std::to_string(truth) +
+                   ": every map has the same true voxels");
+  }
+
+  // Maps in increasing index, p_t increasing within a map, ids inside the grid and each at most once. Ids follow
+  // map order (a map's ids are contiguous, docs/definitions.md), so increasing ids are unique ids.
+  void add(const MapResult& m, std::size_t i) {
+    const std::string where = "maps[" + std::to_string(i) + "]";
+    if (last_map && m.map_index <= *last_map)
+      fail(where + ".map_index", "map " + std::to_string(m.map_index) + " after map " + std::to_string(*last_map) +
+                                     ": every map at most once, in increasing order (duplicated map?)");
+    last_map = m.map_index;
+    if (m.map_index >= h.grid_combinations) fail(where + ".map_index", "is beyond the grid's combinations");
+    params(m, where);
+    for (std::size_t t = 0; t < m.thresholds.size(); ++t) {
+      const ThresholdResult& r = m.thresholds[t];
+      const std::string tw = where + ".thresholds[" + std::to_string(t) + "]";
+      probability(r.p_t, tw + ".p_t");
+      if (t > 0 && !(r.p_t > m.thresholds[t - 1].p_t))
+        fail(tw + ".p_t", "thresholds must have increasing p_t, each at most once (duplicated threshold?)");
+      if (r.id >= h.grid_combinations) fail(tw + ".id", "is beyond the grid's combinations");
+      if (last_id && r.id <= *last_id)
+        fail(tw + ".id", "id " + std::to_string(r.id) + " after id " + std::to_string(*last_id) +
+                             ": ids increase with the map and p_t, each at most once (it appears twice in the file?)");
+      last_id = r.id;
+      ++ids;
+      counts(r, tw);
+      if (!group_ids.empty() && !std::binary_search(group_ids.begin(), group_ids.end(), r.id))
+        fail(where, "id " + std::to_string(r.id) + " is not in Eq. 16 group " + std::to_string(h.selection.group->index));
     }
-    return ids.size();
   }
 
   // A complete file of a whole grid or Eq. 16 group holds exactly the selection's ids.
-  void completeSelection(std::uint64_t id_count) const {
-    const ResultsHeader& h = f.header;
-    if (!f.complete || h.selection.shard_count != 1) return;  // a shard's maps need the grid: verifyCoverage
+  void finish() const {
+    if (!complete || h.selection.shard_count != 1) return;  // a shard's maps need the grid: verifyCoverage
     const std::uint64_t n = h.grid_combinations;
     std::uint64_t expected = n;
     if (h.selection.group) {
@@ -117,80 +133,170 @@ struct Claims {
       const Block b = contiguousBlock(n, g.count, g.index);
       expected = b.end - b.begin;
     }
-    if (id_count != expected)
-      fail("maps", "complete, but holds " + std::to_string(id_count) + " combinations of the " +
-                       std::to_string(expected) + " its selection claims (a missing map?)");
-    if (h.selection.group && n <= kMaxCheckedPermutation) {
-      GridEnumeration shape;
-      shape.combinations = n;
-      const auto group_ids = expectedIds(shape, h.selection);
-      for (std::size_t i = 0; i < f.maps.size(); ++i)
-        for (const auto& t : f.maps[i].thresholds)
-          if (!std::binary_search(group_ids.begin(), group_ids.end(), t.id))
-            fail("maps[" + std::to_string(i) + "]", "id " + std::to_string(t.id) + " is not in Eq. 16 group " +
-                                                        std::to_string(h.selection.group->index));
-    }
+    if (ids != expected)
+      fail("maps", "complete, but holds " + std::to_string(ids) + " combinations of the " + std::to_string(expected) +
+                       " its selection claims (a missing map?)");
   }
 };
 
 }  // namespace
 
+struct ClaimsChecker::State : Claims {
+  using Claims::Claims;
+  std::size_t maps = 0;
+};
+
+ClaimsChecker::ClaimsChecker(const ResultsHeader& header, bool complete, const std::string& file)
+    : state_(std::make_unique<State>(header, complete, file)) {
+  state_->settings();
+}
+ClaimsChecker::~ClaimsChecker() = default;
+void ClaimsChecker::add(const MapResult& m) { state_->add(m, state_->maps++); }
+void ClaimsChecker::finish() const { state_->finish(); }
+
 void verifyClaims(const ResultsFile& f, const std::string& file) {
-  const Claims c{f, file};
-  c.settings();
-  c.completeSelection(c.mapsAndCounts());
+  ClaimsChecker check(f.header, f.complete, file);
+  for (const MapResult& m : f.maps) check.add(m);
+  check.finish();
 }
 
-void verifyCoverage(const ResultsFile& f, const GridSpec& grid, const GridEnumeration& e, const std::string& file) {
-  if (!f.complete) return;
-  std::map<std::uint64_t, const MapResult*> maps;
-  for (const auto& m : f.maps) maps[m.map_index] = &m;
-  const auto items = selectWork(grid, e, f.header.selection);
-  for (const SweepItem& item : items) {
-    const std::string where = file + ": map " + std::to_string(item.map_index);
-    const auto it = maps.find(item.map_index);
-    if (it == maps.end()) throw std::runtime_error(where + ": missing, though the file says complete");
-    const MapResult& m = *it->second;
-    if (m.thresholds.size() != item.thresholds.size())
-      throw std::runtime_error(where + ": holds " + std::to_string(m.thresholds.size()) + " thresholds, its selection " +
-                               std::to_string(item.thresholds.size()));
-    for (std::size_t t = 0; t < item.thresholds.size(); ++t)
-      if (m.thresholds[t].id != e.first_id[item.map_index] + item.thresholds[t])
-        throw std::runtime_error(where + ": threshold " + std::to_string(t) + " has id " +
-                                 std::to_string(m.thresholds[t].id) + ", not the selection's");
-    maps.erase(it);
+struct GridChecker::State {
+  const ResultsHeader& h;
+  bool complete;
+  std::string file;
+  bool found = false;
+  GridSpec grid;
+  GridEnumeration e;
+  std::vector<SweepItem> items;  // the selection's maps, in map order
+  std::size_t seen = 0;
+};
+
+namespace {
+[[noreturn]] void missing(const GridChecker::State& s, std::uint64_t map_index) {
+  throw std::runtime_error(s.file + ": map " + std::to_string(map_index) + ": missing, though the file says complete");
+}
+}  // namespace
+
+// The grid of the file, when its file is found with the same hash: enumerated, the selection's maps listed.
+GridChecker::GridChecker(const ResultsHeader& header, bool complete, const std::string& file)
+    : state_(std::make_unique<State>(State{header, complete, file})) {
+  State& s = *state_;
+  try {
+    s.grid = loadGrid(resolveGridPath(header.grid_name));
+  } catch (const std::exception&) {
+    return;
   }
-  if (!maps.empty())
-    throw std::runtime_error(file + ": map " + std::to_string(maps.begin()->first) +
-                             ": not in this file's selection (shard " +
-                             std::to_string(f.header.selection.shard_index) + "/" +
-                             std::to_string(f.header.selection.shard_count) + ")");
+  if (s.grid.file_hash != header.grid_hash) return;
+  s.e = enumerateGrid(s.grid);
+  if (s.e.combinations != header.grid_combinations)
+    throw std::runtime_error(file + ": grid.combinations does not match grid " + s.grid.name);
+  s.items = selectWork(s.grid, s.e, header.selection);
+  s.found = true;
+}
+GridChecker::~GridChecker() = default;
+bool GridChecker::found() const { return state_->found; }
+
+// The map is one of the grid's with the grid's parameters, and (complete) one of the selection's with exactly its
+// thresholds. Maps come in increasing index (ClaimsChecker), so each selected map is met at most once.
+void GridChecker::add(const MapResult& m) {
+  State& s = *state_;
+  if (!s.found) return;
+  const std::string where = s.file + ": map " + std::to_string(m.map_index);
+  if (m.map_index >= s.e.maps.size()) throw std::runtime_error(where + ": no such map in grid " + s.grid.name);
+  if (s.e.maps[m.map_index] != m.params)
+    throw std::runtime_error(where + ": parameters differ from the grid's (edited by hand?)");
+  const std::uint64_t first = s.e.first_id[m.map_index];
+  const auto& p_t = s.e.thresholds[m.map_index];
+  for (const auto& t : m.thresholds)
+    if (t.id < first || t.id - first >= p_t.size() || p_t[t.id - first] != t.p_t)
+      throw std::runtime_error(where + ": id " + std::to_string(t.id) + " is not this map's or has another p_t");
+  if (!s.complete) return;
+  const auto item = std::lower_bound(s.items.begin(), s.items.end(), m.map_index,
+                                     [](const SweepItem& i, std::uint64_t index) { return i.map_index < index; });
+  if (item == s.items.end() || item->map_index != m.map_index)
+    throw std::runtime_error(s.file + ": map " + std::to_string(m.map_index) + ": not in this file's selection (shard " +
+                             std::to_string(s.h.selection.shard_index) + "/" + std::to_string(s.h.selection.shard_count) + ")");
+  if (std::size_t(item - s.items.begin()) != s.seen) missing(s, s.items[s.seen].map_index);
+  if (m.thresholds.size() != item->thresholds.size())
+    throw std::runtime_error(where + ": holds " + std::to_string(m.thresholds.size()) + " thresholds, its selection " +
+                             std::to_string(item->thresholds.size()));
+  for (std::size_t t = 0; t < item->thresholds.size(); ++t)
+    if (m.thresholds[t].id != first + item->thresholds[t])
+      throw std::runtime_error(where + ": threshold " + std::to_string(t) + " has id " +
+                               std::to_string(m.thresholds[t].id) + ", not the selection's");
+  ++s.seen;
+}
+
+void GridChecker::finish() const {
+  const State& s = *state_;
+  if (s.found && s.complete && s.seen < s.items.size()) missing(s, s.items[s.seen].map_index);
+}
+
+struct DatasetChecker::State {
+  std::string file, dir;
+  TruthMode truth;
+  double resolution = 0;
+  std::uint64_t region = 0, truth_voxels = 0;
+  std::size_t maps = 0;
+};
+
+DatasetChecker::DatasetChecker(const ResultsHeader& h, const std::string& file, const std::filesystem::path& dir)
+    : state_(std::make_unique<State>(State{file, dir.string(), h.truth, h.resolution})) {
+  const std::string hash = datasetContentHash(dir);
+  if (hash != h.dataset_hash)
+    throw std::runtime_error(file + ": dataset.content_hash: is " + h.dataset_hash + ", " + dir.string() + " has " +
+                             hash + ": results of another data set (or of an edited one)");
+  const Dataset d = readDataset(dir);
+  requireInKeyRange(d, dir, h.resolution);
+  // Observable truth leaves its unobservable voxels out of the region and of the truth alike.
+  const GroundTruth gt = evaluatedTruth(h.truth, makeGroundTruth(d.truth, d.region, h.resolution), d.scans, h.s_c);
+  state_->region = gt.evaluatedVoxelCount();
+  state_->truth_voxels = gt.evaluatedTrueVoxelCount();
+}
+DatasetChecker::~DatasetChecker() = default;
+
+void DatasetChecker::add(const MapResult& m) {
+  const State& s = *state_;
+  const std::size_t i = state_->maps++;
+  for (std::size_t t = 0; t < m.thresholds.size(); ++t) {
+    const auto& c = m.thresholds[t].counts;
+    const std::string where = s.file + ": maps[" + std::to_string(i) + "].thresholds[" + std::to_string(t) + "]: ";
+    if (c.tp + c.fp + c.fn + c.tn != s.region)
+      throw std::runtime_error(where + "TP+FP+FN+TN is " + std::to_string(c.tp + c.fp + c.fn + c.tn) + ", the region of " +
+                               s.dir + " holds " + std::to_string(s.region) + " voxels at resolution " +
+                               std::to_string(s.resolution) + " m");
+    if (c.tp + c.fn != s.truth_voxels)
+      throw std::runtime_error(where + "TP+FN is " + std::to_string(c.tp + c.fn) + ", the truth of " + s.dir +
+                               " fills " + std::to_string(s.truth_voxels) + " voxels of the region" +
+                               (s.truth == TruthMode::Observable ? " observable from its scans" : ""));
+  }
 }
 
 void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const std::filesystem::path& dir) {
-  const std::string hash = datasetContentHash(dir);
-  if (hash != f.header.dataset_hash)
-    throw std::runtime_error(file + ": dataset.content_hash: is " + f.header.dataset_hash + ", " + dir.string() +
-                             " has " + hash + ": results of another data set (or of an edited one)");
-  const Dataset d = readDataset(dir);
-  requireInKeyRange(d, dir, f.header.resolution);
-  // Observable truth leaves its unobservable voxels out of the region and of the truth alike.
-  const GroundTruth gt = evaluatedTruth(f.header.truth, makeGroundTruth(d.truth, d.region, f.header.resolution),
-                                        d.scans, f.header.s_c);
-  const std::uint64_t region = gt.evaluatedVoxelCount(), truth = gt.evaluatedTrueVoxelCount();
-  for (std::size_t i = 0; i < f.maps.size(); ++i)
-    for (std::size_t t = 0; t < f.maps[i].thresholds.size(); ++t) {
-      const auto& c = f.maps[i].thresholds[t].counts;
-      const std::string where = file + ": maps[" + std::to_string(i) + "].thresholds[" + std::to_string(t) + "]: ";
-      if (c.tp + c.fp + c.fn + c.tn != region)
-        throw std::runtime_error(where + "TP+FP+FN+TN is " + std::to_string(c.tp + c.fp + c.fn + c.tn) + ", the region of " +
-                                 dir.string() + " holds " + std::to_string(region) + " voxels at resolution " +
-                                 std::to_string(f.header.resolution) + " m");
-      if (c.tp + c.fn != truth)
-        throw std::runtime_error(where + "TP+FN is " + std::to_string(c.tp + c.fn) + ", the truth of " + dir.string() +
-                                 " fills " + std::to_string(truth) + " voxels of the region" +
-                                 (f.header.truth == TruthMode::Observable ? " observable from its scans" : ""));
-    }
+  DatasetChecker check(f.header, file, dir);
+  for (const MapResult& m : f.maps) check.add(m);
+}
+
+ResultsCheck checkResultsFile(const std::filesystem::path& file, const std::filesystem::path& dataset) {
+  const std::string name = file.string();
+  ResultsCheck out;
+  const ResultsFile head = readResultsHeader(file);
+  if (!head.complete) throw std::runtime_error(name + ": incomplete results");
+  out.header = head.header;
+  ClaimsChecker claims(head.header, true, name);
+  GridChecker grid(head.header, true, name);
+  std::optional<DatasetChecker> data;
+  if (!dataset.empty()) data.emplace(head.header, name, dataset);
+  forEachResultsMap(file, MapDetail::Full, [&](MapResult&& m) {
+    claims.add(m);
+    grid.add(m);
+    if (data) data->add(m);
+    ++out.maps;
+  });
+  claims.finish();
+  grid.finish();
+  out.grid_checked = grid.found();
+  return out;
 }
 
 }  // namespace occsweep

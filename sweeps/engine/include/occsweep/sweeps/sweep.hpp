@@ -15,7 +15,9 @@ struct SweepConfig {
   std::filesystem::path dataset;  ///< data-set folder
   std::string grid = "knn-opt";   ///< grid name (sweeps/grids/NAME.json) or path
   SweepSelection selection;
-  std::filesystem::path out;      ///< results file; OUT.partial.jsonl holds finished maps while it runs
+  /// Results file: a store for ".db"/".sqlite", else JSON. While it runs, OUT.partial (store) or OUT.partial.jsonl
+  /// (JSON) holds the finished maps.
+  std::filesystem::path out;
   double resolution = 0.1;        ///< map resolution, metres (paper Section 4.2)
   double s_c = 4.0;               ///< maximum range, metres
   UpdateVariant variant = UpdateVariant::Default;
@@ -32,8 +34,19 @@ struct SweepConfig {
   friend bool operator==(const SweepConfig&, const SweepConfig&) = default;
 };
 
-/// Runs (or resumes) a sweep and writes its results file atomically. A complete file of the same work is
-/// left as it is and returned.
+/// What a sweep wrote, without its maps.
+struct SweepSummary {
+  ResultsHeader header;
+  std::uint64_t maps = 0, combinations = 0;
+  double seconds = 0.0;
+};
+
+/// Runs (or resumes) a sweep and writes its results atomically, in the format `out`'s name asks for: a results
+/// store for ".db" or ".sqlite" (results_store.hpp: written batch by batch, memory independent of the grid's
+/// size), JSON otherwise. A complete file of the same work is left as it is.
+SweepSummary sweepToFile(const SweepConfig& config);
+
+/// The same, returning the results whole (read back from a store): for small sweeps.
 ResultsFile runSweep(const SweepConfig& config);
 
 }  // namespace occsweep

@@ -61,6 +61,9 @@ struct ResultsFile {
   std::vector<MapResult> maps;  ///< by map index
   bool complete = false;
   double seconds = 0.0;
+  /// TP+FN of its maps: the truth's voxels it counts, the same for every map (0 with no map). Every reader sets
+  /// it, also where maps are read without thresholds (results_store.hpp, MapDetail::Summary).
+  std::uint64_t truth_voxels = 0;
 };
 
 /// True when two headers describe the same work (grid, data set, selection, map settings): what resuming and
@@ -85,15 +88,16 @@ void setEngines(ResultsHeader& h, const std::set<std::string>& engines);
 [[nodiscard]] MapResult parseMapResult(const nlohmann::json& j, const ParameterLayout& parameters, const std::string& file,
                                        const std::string& where);
 [[nodiscard]] ResultsFile parseResults(const nlohmann::json& j, const std::string& file);
+/// A results file of either format (JSON, or a store: results_store.hpp) whole in memory: for small results.
 [[nodiscard]] ResultsFile readResults(const std::filesystem::path& file);
 
-/// Written to a temporary name beside `file` and renamed (writeFileAtomically).
+/// JSON, written to a temporary name beside `file` and renamed (writeFileAtomically).
 void writeResults(const ResultsFile& f, const std::filesystem::path& file);
 void writeJsonAtomically(const nlohmann::json& j, const std::filesystem::path& file);
 
 /// A JSON file whose "format" field is `format`: occsweep's own output of that kind, which --force may replace.
 [[nodiscard]] ReplaceableOutput jsonOutput(const std::string& name, const std::string& format);
-/// An occsweep results file (sweep, merge).
+/// An occsweep results file of either format (sweep, merge).
 [[nodiscard]] ReplaceableOutput resultsOutput();
 
 /// Differences that matter between two results of the same work: any TP/FP/FN/TN, or an AUC further apart than

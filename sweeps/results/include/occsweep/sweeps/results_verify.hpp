@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "occsweep/sweeps/results.hpp"
@@ -20,12 +21,61 @@ inline constexpr std::uint64_t kMaxCheckedPermutation = std::uint64_t(1) << 24;
 /// or Eq. 16 group exactly as many ids as the selection holds (and, for a group, its ids).
 void verifyClaims(const ResultsFile& f, const std::string& file);
 
-/// With the grid enumerated (its file found, same hash): every map of the selection, cut to the shard, exactly
-/// once with exactly its thresholds, and no other.
-void verifyCoverage(const ResultsFile& f, const GridSpec& grid, const GridEnumeration& e, const std::string& file);
+/// verifyClaims one map at a time, in the file's order: `results check` of a store of any size. Memory: the
+/// Eq. 16 group's ids when the file is a complete group (at most kMaxCheckedPermutation), nothing else per map.
+class ClaimsChecker {
+ public:
+  ClaimsChecker(const ResultsHeader& header, bool complete, const std::string& file);  ///< checks the settings
+  ~ClaimsChecker();
+  void add(const MapResult& m);
+  void finish() const;  ///< a complete whole grid or group: every id of the selection seen
 
-/// With the data set the file names (`results check --dataset DIR`): its content hash is the file's, and every
-/// threshold counts the region's voxels at the file's resolution (TP+FP+FN+TN) and the truth's voxels (TP+FN).
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// With the grid of the file (its file found, same hash), one map at a time in increasing index: each map is the
+/// grid's with its parameters and p_t, and in a complete file every map of the selection, cut to the shard, is
+/// there exactly once with exactly its thresholds, and no other. Memory: the grid's enumeration.
+class GridChecker {
+ public:
+  GridChecker(const ResultsHeader& header, bool complete, const std::string& file);
+  ~GridChecker();
+  [[nodiscard]] bool found() const;  ///< false: the grid file is not found or has another hash (nothing checked)
+  void add(const MapResult& m);
+  void finish() const;
+  struct State;
+
+ private:
+  std::unique_ptr<State> state_;
+};
+
+/// With the data set the file names (`results check --dataset DIR`), one map at a time: its content hash is the
+/// file's, and every threshold counts the region's voxels at the file's resolution (TP+FP+FN+TN) and the truth's
+/// voxels (TP+FN).
+class DatasetChecker {
+ public:
+  DatasetChecker(const ResultsHeader& header, const std::string& file, const std::filesystem::path& dataset);
+  ~DatasetChecker();
+  void add(const MapResult& m);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
 void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const std::filesystem::path& dataset);
+
+/// What `results check` found: a complete, consistent file of either format, read map by map.
+struct ResultsCheck {
+  ResultsHeader header;
+  std::uint64_t maps = 0;
+  bool grid_checked = false;  ///< the grid file was found with the same hash, and every map checked against it
+};
+/// Every claim of `file` (ClaimsChecker), against its grid when found (GridChecker) and against `dataset` when
+/// not empty (DatasetChecker). Throws std::runtime_error naming the file for the first failure, and for an
+/// incomplete file.
+[[nodiscard]] ResultsCheck checkResultsFile(const std::filesystem::path& file, const std::filesystem::path& dataset);
 
 }  // namespace occsweep

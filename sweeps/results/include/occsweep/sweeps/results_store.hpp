@@ -1,0 +1,88 @@
+// The results store (docs/results-format.md, "Results store"): a sweep's results in one SQLite file, written as
+// they are produced (one transaction per batch of maps) and read map by map, so that neither the sweep nor the
+// commands reading it hold the whole grid in memory. JSON stays the format of small results and of export.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "occsweep/sweeps/results.hpp"
+
+namespace occsweep {
+
+/// How much of each map a reader needs: everything, or its parameters, AUC and time without the thresholds'
+/// counts (compare and its statistics: a store's AUCs as stored, re-derived by `results check`).
+enum class MapDetail { Full, Summary };
+
+/// Receives one map at a time, in increasing map index.
+using MapVisitor = std::function<void(MapResult&&)>;
+
+/// True when `file`'s name asks for a store: it ends in ".db" or ".sqlite" (anything else is a JSON file).
+[[nodiscard]] bool isStorePath(const std::filesystem::path& file);
+/// True when `file` begins with SQLite's 16-byte header: a store, whatever its name.
+[[nodiscard]] bool isResultsStore(const std::filesystem::path& file);
+/// True when `file` is a SQLite database holding at least one table (false for one whose creation was cut short).
+[[nodiscard]] bool hasTables(const std::filesystem::path& file);
+
+/// One store, open. Errors are std::runtime_error naming the file (and the table and field where one is wrong).
+class ResultsStore {
+ public:
+  /// A new store at `file`, which must not exist, holding `header`; incomplete until finish().
+  [[nodiscard]] static ResultsStore create(const std::filesystem::path& file, const ResultsHeader& header);
+  /// An existing store, checked to be an occsweep results store of a version this program reads.
+  [[nodiscard]] static ResultsStore open(const std::filesystem::path& file, bool writable = false);
+
+  ResultsStore(ResultsStore&&) noexcept;
+  ResultsStore& operator=(ResultsStore&&) noexcept;
+  ~ResultsStore();
+
+  [[nodiscard]] const ResultsHeader& header() const;
+  [[nodiscard]] bool complete() const;
+  [[nodiscard]] double seconds() const;
+  [[nodiscard]] std::uint64_t mapCount() const;
+  /// TP+FN of every threshold of every map (the truth's voxels); 0 before the first map.
+  [[nodiscard]] std::uint64_t truthVoxels() const;
+
+  /// Appends finished maps in one transaction: a kill loses at most this batch. Each map must count the region
+  /// and truth of the first map stored (TP+FP+FN+TN and TP+FN), which the store keeps once; a map that does not
+  /// throws (a sweep's bug, never stored). `engine` is each map's provenance.
+  void append(const std::vector<MapResult>& maps, const std::string& engine);
+  /// The finished maps' indices, increasing, and every engine that made one (resuming a sweep).
+  [[nodiscard]] std::vector<std::uint64_t> mapIndices() const;
+  [[nodiscard]] std::vector<std::string> engineNames() const;
+  /// Marks the store complete, with the final header (its engines) and the run's seconds.
+  void finish(const ResultsHeader& header, double seconds);
+  /// Every map in increasing map index. Full: each map's AUC is derived from its counts again and must match the
+  /// stored one (a hand edit is caught, as in JSON); Summary: the stored AUC.
+  void forEachMap(MapDetail detail, const MapVisitor& visit) const;
+
+ private:
+  struct Connection;
+  explicit ResultsStore(std::unique_ptr<Connection> c);
+  std::unique_ptr<Connection> c_;
+};
+
+/// The header, completeness and seconds of a results file of either format, without its maps.
+[[nodiscard]] ResultsFile readResultsHeader(const std::filesystem::path& file);
+/// Every map of a results file of either format, one at a time (a JSON file is parsed whole first: small).
+void forEachResultsMap(const std::filesystem::path& file, MapDetail detail, const MapVisitor& visit);
+/// A results file of either format with its maps at `detail` (Summary: no thresholds; truth_voxels set).
+[[nodiscard]] ResultsFile readResultsAt(const std::filesystem::path& file, MapDetail detail);
+
+/// `f` as a new store at `file`, atomically (a temporary beside it, renamed when complete).
+void writeResultsStore(const ResultsFile& f, const std::filesystem::path& file);
+/// `f` in the format `file`'s name asks for (isStorePath): a store or JSON, atomically.
+void writeResultsAs(const ResultsFile& f, const std::filesystem::path& file);
+
+/// Writes a results file's JSON form to `out` map by map, byte for byte what writeResults writes for the same
+/// results (the export of a store, however large, in memory bounded by one map).
+void exportJson(const std::filesystem::path& file, std::ostream& out);
+/// One CSV row per combination: id, map_index, the method's parameters, p_t, TP, FP, FN, TN, TPR, FDR, and the
+/// map's anchored and observed AUC (docs/results-format.md, "Export").
+void exportCsv(const std::filesystem::path& file, std::ostream& out);
+
+}  // namespace occsweep

@@ -1,0 +1,470 @@
+// The results store on SQLite (docs/results-format.md, "Results store"). Schema, version 1:
+//   meta(key, value)        format, version, header (the JSON header of a results file), complete, seconds
+//   region(region, truth)   one row: TP+FP+FN+TN and TP+FN, the same for every combination of the file
+//   maps(map_index, first_id, last_id, <one column per parameter>, auc_anchored, auc_observed, auc_points,
+//        seconds, engine)
+//   thresholds(id, p_t_micro, tp, fp)   FN and TN follow from region (why: 100 MB for 3.2 M combinations)
+//   combinations            a view with every column of a JSON threshold, for queries
+#include "occsweep/sweeps/results_store.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <ostream>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+#include <sqlite3.h>
+
+#include "occsweep/core/method_registry.hpp"
+#include "occsweep/sweeps/results_verify.hpp"
+
+namespace occsweep {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kStoreFormat = "occsweep-results-store";
+constexpr int kStoreVersion = 1;
+constexpr std::size_t kMapColumns = 3;  // map_index, first_id, last_id: then the parameters
+
+[[noreturn]] void fail(const fs::path& file, const std::string& what) {
+  throw std::runtime_error(file.string() + ": " + what);
+}
+
+// One prepared statement; reset on every bind so it can be reused.
+class Statement {
+ public:
+  Statement(sqlite3* db, const std::string& sql, const fs::path& file) : db_(db), file_(file) {
+    if (sqlite3_prepare_v2(db, sql.c_str(), int(sql.size()), &s_, nullptr) != SQLITE_OK)
+      fail(file, std::string("results store: ") + sqlite3_errmsg(db) + " (not an occsweep results store?)");
+  }
+  ~Statement() { sqlite3_finalize(s_); }
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+
+  Statement& bind(int i, std::int64_t v) { return check(sqlite3_bind_int64(s_, i, v)); }
+  Statement& bind(int i, double v) {
+    return check(std::isfinite(v) ? sqlite3_bind_double(s_, i, v) : sqlite3_bind_null(s_, i));
+  }
+  Statement& bind(int i, const std::string& v) {
+    return check(sqlite3_bind_text(s_, i, v.data(), int(v.size()), SQLITE_TRANSIENT));
+  }
+  /// True while a row is ready.
+  bool step() {
+    const int rc = sqlite3_step(s_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc != SQLITE_DONE) fail(file_, std::string("results store: ") + sqlite3_errmsg(db_));
+    return false;
+  }
+  void run() {
+    step();
+    sqlite3_reset(s_);
+    sqlite3_clear_bindings(s_);
+  }
+  [[nodiscard]] bool isNull(int c) const { return sqlite3_column_type(s_, c) == SQLITE_NULL; }
+  [[nodiscard]] std::int64_t integer(int c) const { return sqlite3_column_int64(s_, c); }
+  [[nodiscard]] double real(int c) const {
+    return isNull(c) ? std::numeric_limits<double>::quiet_NaN() : sqlite3_column_double(s_, c);
+  }
+  [[nodiscard]] std::string text(int c) const {
+    const auto* t = sqlite3_column_text(s_, c);
+    return t ? reinterpret_cast<const char*>(t) : "";
+  }
+  [[nodiscard]] bool integral(int c) const { return sqlite3_column_type(s_, c) == SQLITE_INTEGER; }
+
+ private:
+  Statement& check(int rc) {
+    if (rc != SQLITE_OK) fail(file_, std::string("results store: ") + sqlite3_errmsg(db_));
+    return *this;
+  }
+  sqlite3* db_;
+  sqlite3_stmt* s_ = nullptr;
+  const fs::path& file_;
+};
+
+// A parameter's column name: its name quoted as an SQL identifier.
+std::string column(const std::string& name) {
+  std::string q = "\"";
+  for (char ch : name) q.append(ch == '"' ? "\"\"" : std::string(1, ch));
+  return q + "\"";
+}
+
+Fixed fixedOf(double v) { return std::llround(v * double(kFixedScale)); }
+
+}  // namespace
+
+struct ResultsStore::Connection {
+  fs::path file;
+  sqlite3* db = nullptr;
+  ResultsHeader header;
+  bool complete = false;
+  double seconds = 0.0;
+  std::uint64_t region = 0, truth = 0;
+  bool has_region = false;
+
+  explicit Connection(fs::path f) : file(std::move(f)) {}
+  ~Connection() { sqlite3_close(db); }
+
+  void exec(const std::string& sql) {
+    char* error = nullptr;
+    if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
+      const std::string why = error ? error : "unknown error";
+      sqlite3_free(error);
+      fail(file, "results store: " + why);
+    }
+  }
+  void setMeta(const std::string& key, const std::string& value) {
+    Statement(db, "INSERT OR REPLACE INTO meta(key, value) VALUES(?, ?)", file).bind(1, key).bind(2, value).run();
+  }
+  std::string meta(const std::string& key) {
+    Statement s(db, "SELECT value FROM meta WHERE key = ?", file);
+    s.bind(1, key);
+    if (!s.step()) fail(file, "meta." + key + ": is missing");
+    return s.text(0);
+  }
+  void readRegion() {
+    Statement s(db, "SELECT region, truth FROM region", file);
+    has_region = s.step();
+    if (has_region) region = std::uint64_t(s.integer(0)), truth = std::uint64_t(s.integer(1));
+  }
+};
+
+ResultsStore::ResultsStore(std::unique_ptr<Connection> c) : c_(std::move(c)) {}
+ResultsStore::ResultsStore(ResultsStore&&) noexcept = default;
+ResultsStore& ResultsStore::operator=(ResultsStore&&) noexcept = default;
+ResultsStore::~ResultsStore() = default;
+
+bool isStorePath(const fs::path& file) {
+  const std::string ext = file.extension().string();
+  return ext == ".db" || ext == ".sqlite";
+}
+
+bool isResultsStore(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return false;  // a FIFO is never opened here (it would block): the JSON reader refuses it by name
+  std::ifstream in(file, std::ios::binary);
+  char head[16] = {};
+  return in.read(head, sizeof head) && std::memcmp(head, "SQLite format 3", 16) == 0;
+}
+
+bool hasTables(const fs::path& file) {
+  if (!isResultsStore(file)) return false;
+  sqlite3* db = nullptr;
+  bool tables = true;  // unreadable: assume it holds something (never replaced)
+  if (sqlite3_open_v2(file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+    sqlite3_stmt* s = nullptr;
+    if (sqlite3_prepare_v2(db, "SELECT count(*) FROM sqlite_master", -1, &s, nullptr) == SQLITE_OK &&
+        sqlite3_step(s) == SQLITE_ROW)
+      tables = sqlite3_column_int64(s, 0) > 0;
+    sqlite3_finalize(s);
+  }
+  sqlite3_close(db);
+  return tables;
+}
+
+ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& header) {
+  auto c = std::make_unique<Connection>(file);
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(file)) && fs::file_size(file, ec) != 0) fail(file, "results store: already exists");
+  if (sqlite3_open_v2(file.c_str(), &c->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK)
+    fail(file, std::string("cannot create: ") + (c->db ? sqlite3_errmsg(c->db) : "out of memory"));
+  std::string params;
+  for (std::size_t i = 0; i < header.parameters.names.size(); ++i)
+    params += ", " + column(header.parameters.names[i]) + (header.parameters.integer[i] ? " INTEGER" : " REAL");
+  // Journal off would lose the crash safety of a batch; WAL needs a second file beside it. The default rollback
+  // journal is kept, with synchronous NORMAL: a kill loses at most the open transaction.
+  c->exec("PRAGMA synchronous = NORMAL; BEGIN;"
+          "CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL) WITHOUT ROWID;"
+          "CREATE TABLE region(region INTEGER NOT NULL, truth INTEGER NOT NULL);"
+          "CREATE TABLE maps(map_index INTEGER PRIMARY KEY, first_id INTEGER NOT NULL, last_id INTEGER NOT NULL" +
+          params +
+          ", auc_anchored REAL, auc_observed REAL, auc_points INTEGER NOT NULL, seconds REAL NOT NULL,"
+          " engine TEXT NOT NULL);"
+          "CREATE TABLE thresholds(id INTEGER PRIMARY KEY, p_t_micro INTEGER NOT NULL, tp INTEGER NOT NULL,"
+          " fp INTEGER NOT NULL);"
+          "CREATE VIEW combinations AS SELECT t.id AS id, m.map_index AS map_index, t.p_t_micro / 1e6 AS p_t,"
+          " t.tp AS tp, t.fp AS fp, r.truth - t.tp AS fn, r.region - r.truth - t.fp AS tn"
+          " FROM maps m JOIN thresholds t ON t.id BETWEEN m.first_id AND m.last_id, region r;");
+  c->header = header;
+  c->setMeta("format", kStoreFormat);
+  c->setMeta("version", std::to_string(kStoreVersion));
+  c->setMeta("header", toJson(header).dump());
+  c->setMeta("complete", "0");
+  c->setMeta("seconds", "0");
+  c->exec("COMMIT");  // the schema and header at once: a kill leaves a store, or a file without tables
+  return ResultsStore(std::move(c));
+}
+
+ResultsStore ResultsStore::open(const fs::path& file, bool writable) {
+  auto c = std::make_unique<Connection>(file);
+  if (!isResultsStore(file)) fail(file, "not a results store (no SQLite header)");
+  const int flags = writable ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
+  if (sqlite3_open_v2(file.c_str(), &c->db, flags, nullptr) != SQLITE_OK)
+    fail(file, std::string("cannot open: ") + (c->db ? sqlite3_errmsg(c->db) : "out of memory"));
+  if (c->meta("format") != kStoreFormat) fail(file, std::string("meta.format: must be \"") + kStoreFormat + "\"");
+  if (c->meta("version") != std::to_string(kStoreVersion)) fail(file, "meta.version: unsupported store version");
+  json header;
+  try {
+    header = json::parse(c->meta("header"));
+  } catch (const json::exception&) {
+    fail(file, "meta.header: is not JSON");
+  }
+  c->header = parseHeader(header, file.string() + ": meta.header");
+  c->complete = c->meta("complete") == "1";
+  try {
+    c->seconds = std::stod(c->meta("seconds"));
+  } catch (const std::exception&) {
+    fail(file, "meta.seconds: must be a number");
+  }
+  if (c->header.parameters.names.empty()) {
+    // A method this program has not registered: its parameters are the maps table's columns (in order).
+    Statement s(c->db, "SELECT name, type FROM pragma_table_info('maps') ORDER BY cid", file);
+    for (std::size_t i = 0; s.step(); ++i)
+      if (i >= kMapColumns && !s.text(0).starts_with("auc_") && s.text(0) != "seconds" && s.text(0) != "engine") {
+        c->header.parameters.names.push_back(s.text(0));
+        c->header.parameters.integer.push_back(s.text(1) == "INTEGER");
+      }
+  }
+  c->readRegion();
+  return ResultsStore(std::move(c));
+}
+
+const ResultsHeader& ResultsStore::header() const { return c_->header; }
+bool ResultsStore::complete() const { return c_->complete; }
+double ResultsStore::seconds() const { return c_->seconds; }
+std::uint64_t ResultsStore::truthVoxels() const { return c_->truth; }
+
+std::uint64_t ResultsStore::mapCount() const {
+  Statement s(c_->db, "SELECT count(*) FROM maps", c_->file);
+  s.step();
+  return std::uint64_t(s.integer(0));
+}
+
+void ResultsStore::append(const std::vector<MapResult>& maps, const std::string& engine) {
+  Connection& c = *c_;
+  const ParameterLayout& layout = c.header.parameters;
+  std::string map_sql = "INSERT INTO maps VALUES(?, ?, ?";
+  for (std::size_t i = 0; i < layout.names.size(); ++i) map_sql += ", ?";
+  map_sql += ", ?, ?, ?, ?, ?)";
+  Statement map_row(c.db, map_sql, c.file);
+  Statement threshold_row(c.db, "INSERT INTO thresholds VALUES(?, ?, ?, ?)", c.file);
+  c.exec("BEGIN");
+  try {
+    for (const MapResult& m : maps) {
+      if (m.thresholds.empty()) fail(c.file, "map " + std::to_string(m.map_index) + ": has no threshold");
+      for (const ThresholdResult& t : m.thresholds) {
+        const ConfusionCounts& n = t.counts;
+        const std::uint64_t region = n.tp + n.fp + n.fn + n.tn, truth = n.tp + n.fn;
+        if (!c.has_region) {
+          Statement(c.db, "INSERT INTO region VALUES(?, ?)", c.file).bind(1, std::int64_t(region)).bind(2, std::int64_t(truth)).run();
+          c.region = region, c.truth = truth, c.has_region = true;
+        }
+        if (region != c.region || truth != c.truth)
+          fail(c.file, "map " + std::to_string(m.map_index) + ": counts another region or truth than the maps "
+                       "stored before (every map of a results file classifies the same voxels)");
+        threshold_row.bind(1, std::int64_t(t.id)).bind(2, std::int64_t(t.p_t)).bind(3, std::int64_t(n.tp))
+            .bind(4, std::int64_t(n.fp)).run();
+      }
+      int col = 1;
+      map_row.bind(col++, std::int64_t(m.map_index)).bind(col++, std::int64_t(m.thresholds.front().id))
+          .bind(col++, std::int64_t(m.thresholds.back().id));
+      for (std::size_t i = 0; i < layout.names.size(); ++i) {
+        const Fixed v = m.params.values.at(i);
+        if (layout.integer[i]) map_row.bind(col++, std::int64_t(v / kFixedScale));
+        else map_row.bind(col++, toDouble(v));
+      }
+      map_row.bind(col++, m.area.anchored).bind(col++, m.area.observed).bind(col++, std::int64_t(m.area.points))
+          .bind(col++, m.seconds).bind(col++, engine).run();
+    }
+    c.exec("COMMIT");
+  } catch (...) {
+    sqlite3_exec(c.db, "ROLLBACK", nullptr, nullptr, nullptr);
+    if (c.has_region && mapCount() == 0) c.readRegion();
+    throw;
+  }
+}
+
+std::vector<std::uint64_t> ResultsStore::mapIndices() const {
+  std::vector<std::uint64_t> out;
+  Statement s(c_->db, "SELECT map_index FROM maps ORDER BY map_index", c_->file);
+  while (s.step()) out.push_back(std::uint64_t(s.integer(0)));
+  return out;
+}
+
+std::vector<std::string> ResultsStore::engineNames() const {
+  std::vector<std::string> out;
+  Statement s(c_->db, "SELECT DISTINCT engine FROM maps ORDER BY engine", c_->file);
+  while (s.step()) out.push_back(s.text(0));
+  return out;
+}
+
+void ResultsStore::finish(const ResultsHeader& header, double seconds) {
+  Connection& c = *c_;
+  c.exec("BEGIN");
+  c.setMeta("header", toJson(header).dump());
+  c.setMeta("seconds", json(seconds).dump());
+  c.setMeta("complete", "1");
+  c.exec("COMMIT");
+  c.header = header;
+  c.seconds = seconds;
+  c.complete = true;
+}
+
+void ResultsStore::forEachMap(MapDetail detail, const MapVisitor& visit) const {
+  const Connection& c = *c_;
+  const ParameterLayout& layout = c.header.parameters;
+  const int n_params = int(layout.names.size());
+  Statement maps(c.db, "SELECT * FROM maps ORDER BY map_index", c.file);
+  std::unique_ptr<Statement> thresholds;
+  if (detail == MapDetail::Full)
+    thresholds = std::make_unique<Statement>(c.db, "SELECT id, p_t_micro, tp, fp FROM thresholds ORDER BY id", c.file);
+  bool threshold_ready = thresholds && thresholds->step();
+  while (maps.step()) {
+    MapResult m;
+    m.map_index = std::uint64_t(maps.integer(0));
+    const std::string where = "maps row " + std::to_string(m.map_index);
+    const std::uint64_t first = std::uint64_t(maps.integer(1)), last = std::uint64_t(maps.integer(2));
+    for (int i = 0; i < n_params; ++i) {
+      const int col = int(kMapColumns) + i;
+      m.params.values.push_back(layout.integer[std::size_t(i)] ? Fixed(maps.integer(col)) * kFixedScale
+                                                               : fixedOf(maps.real(col)));
+    }
+    const int a = int(kMapColumns) + n_params;
+    m.area = {maps.real(a), maps.real(a + 1), int(maps.integer(a + 2))};
+    m.seconds = maps.real(a + 3);
+    if (thresholds) {
+      for (; threshold_ready && std::uint64_t(thresholds->integer(0)) <= last; threshold_ready = thresholds->step()) {
+        const std::uint64_t id = std::uint64_t(thresholds->integer(0));
+        if (id < first) fail(c.file, "thresholds row " + std::to_string(id) + ": belongs to no map");
+        const std::uint64_t tp = std::uint64_t(thresholds->integer(2)), fp = std::uint64_t(thresholds->integer(3));
+        if (tp > c.truth || fp > c.region - c.truth)
+          fail(c.file, "thresholds row " + std::to_string(id) + ": TP or FP larger than the region allows");
+        m.thresholds.push_back({id, Fixed(thresholds->integer(1)), {tp, fp, c.truth - tp, c.region - c.truth - fp}});
+      }
+      if (m.thresholds.empty()) fail(c.file, where + ": has no threshold");
+      const CurveArea derived = mapArea(m.thresholds);
+      const auto agrees = [](double stored, double d) {
+        return (std::isnan(stored) && std::isnan(d)) || std::abs(stored - d) <= 1e-12 * std::max(1.0, std::abs(d));
+      };
+      if (!agrees(m.area.anchored, derived.anchored) || !agrees(m.area.observed, derived.observed))
+        fail(c.file, where + ": auc does not match the counts it is derived from (edited by hand?)");
+      m.area = derived;
+    }
+    visit(std::move(m));
+  }
+  if (threshold_ready) fail(c.file, "thresholds row " + std::to_string(thresholds->integer(0)) + ": belongs to no map");
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Either format
+
+ResultsFile readResultsHeader(const fs::path& file) {
+  if (!isResultsStore(file)) {
+    ResultsFile f = readResults(file);
+    f.maps.clear();
+    return f;
+  }
+  const ResultsStore store = ResultsStore::open(file);
+  ResultsFile f;
+  f.header = store.header();
+  f.complete = store.complete();
+  f.seconds = store.seconds();
+  f.truth_voxels = store.truthVoxels();
+  return f;
+}
+
+void forEachResultsMap(const fs::path& file, MapDetail detail, const MapVisitor& visit) {
+  if (isResultsStore(file)) return ResultsStore::open(file).forEachMap(detail, visit);
+  ResultsFile f = readResults(file);
+  for (MapResult& m : f.maps) {
+    if (detail == MapDetail::Summary) m.thresholds.clear();
+    visit(std::move(m));
+  }
+}
+
+ResultsFile readResultsAt(const fs::path& file, MapDetail detail) {
+  if (!isResultsStore(file)) {
+    ResultsFile f = readResults(file);
+    if (detail == MapDetail::Summary)
+      for (MapResult& m : f.maps) m.thresholds = {};
+    return f;
+  }
+  ResultsFile f = readResultsHeader(file);
+  forEachResultsMap(file, detail, [&](MapResult&& m) { f.maps.push_back(std::move(m)); });
+  if (detail == MapDetail::Full) verifyClaims(f, file.string());
+  return f;
+}
+
+void writeResultsStore(const ResultsFile& f, const fs::path& file) {
+  OutputFile out(file);  // its empty temporary becomes the store: removed on an error or an interrupt
+  {
+    ResultsStore store = ResultsStore::create(out.temporary(), f.header);
+    constexpr std::size_t kBatch = 4096;
+    std::vector<MapResult> batch;
+    for (const MapResult& m : f.maps) {
+      batch.push_back(m);
+      if (batch.size() == kBatch) store.append(batch, f.header.engine), batch.clear();
+    }
+    if (!batch.empty()) store.append(batch, f.header.engine);
+    if (f.complete) store.finish(f.header, f.seconds);
+  }
+  out.commit();
+}
+
+void writeResultsAs(const ResultsFile& f, const fs::path& file) {
+  if (isStorePath(file)) writeResultsStore(f, file);
+  else writeResults(f, file);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Export
+
+void exportJson(const fs::path& file, std::ostream& out) {
+  ResultsFile head = readResultsHeader(file);
+  head.maps.clear();
+  json top = toJson(head);
+  const std::string placeholder = "occsweep-export-maps";  // where the maps go, streamed one by one
+  top["maps"] = placeholder;
+  const std::string text = top.dump(1);
+  const std::string marker = "\"maps\": \"" + placeholder + "\"";
+  const std::size_t at = text.find(marker);
+  out << text.substr(0, at) << "\"maps\": [";
+  bool first = true;
+  // nlohmann's dump(1) puts an element of the top object's array 2 spaces in: each line of the map's own dump(1)
+  // is indented by 2 more, so that the bytes equal writeResults' (a test compares them).
+  forEachResultsMap(file, MapDetail::Full, [&](MapResult&& m) {
+    std::string element = toJson(m, head.header.parameters).dump(1);
+    std::string indented = "  ";
+    for (char ch : element) indented.append(ch == '\n' ? "\n  " : std::string(1, ch));
+    out << (first ? "\n" : ",\n") << indented;
+    first = false;
+  });
+  out << (first ? "]" : "\n ]") << text.substr(at + marker.size()) << '\n';
+}
+
+void exportCsv(const fs::path& file, std::ostream& out) {
+  const ResultsFile head = readResultsHeader(file);
+  const ParameterLayout& layout = head.header.parameters;
+  const auto number = [](double v) { return std::isfinite(v) ? json(v).dump() : std::string(); };
+  out << "id,map_index";
+  for (const std::string& name : layout.names) out << ',' << name;
+  out << ",p_t,tp,fp,fn,tn,tpr,fdr,auc_anchored,auc_observed\n";
+  forEachResultsMap(file, MapDetail::Full, [&](MapResult&& m) {
+    std::string params;
+    for (std::size_t i = 0; i < layout.names.size(); ++i) {
+      const Fixed v = m.params.values[i];
+      params += ',' + (layout.integer[i] ? std::to_string(v / kFixedScale) : number(toDouble(v)));
+    }
+    const std::string auc = ',' + number(m.area.anchored) + ',' + number(m.area.observed) + '\n';
+    for (const ThresholdResult& t : m.thresholds) {
+      const ConfusionCounts& c = t.counts;
+      out << t.id << ',' << m.map_index << params << ',' << number(toDouble(t.p_t)) << ',' << c.tp << ',' << c.fp
+          << ',' << c.fn << ',' << c.tn << ',' << number(c.tpr()) << ',' << number(c.fdr()) << auc;
+    }
+  });
+}
+
+}  // namespace occsweep
