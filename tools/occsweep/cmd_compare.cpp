@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "limit_options.hpp"
 #include "task_options.hpp"
 #include "compare_tables.hpp"
 #include "occsweep/sweeps/merge.hpp"
@@ -174,6 +175,7 @@ const RegisterCommand kCompare{"compare", "Best AUC of every method per data set
                                [](CLI::App& app) {
   auto task = std::make_shared<CompareTask>();
   addCompareOptions(app, *task);  // task_options.cpp: also what `cluster plan` tasks are parsed with
+  addLimitOptions(app, {Limit::Combinations});  // each file's grid is enumerated to check its maps
   return [task] { return runCompare(*task); };
 }};
 

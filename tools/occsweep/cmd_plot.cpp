@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "command_registry.hpp"
+#include "limit_options.hpp"
 #include "compare_tables.hpp"
 #include "figure_script.hpp"
 #include "plot_data.hpp"
@@ -85,6 +86,7 @@ const RegisterCommand kPlot{"plot", "Figures of a comparison: best curves, budge
     if (k == "params") sub->add_option("--method", o->method, "Method whose grid is drawn (default: the first not the baseline)");
     sub->add_option("--python", o->python, "Python 3 with matplotlib (default $OCCSWEEP_PYTHON, /usr/bin/python3)");
     sub->add_flag("--force", o->force, "Replace occsweep's own previous figure or data (nothing else)");
+    addLimitOptions(*sub, {Limit::Combinations});
     subs->emplace_back(k, sub);
   }
   app.require_subcommand(1);

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "limit_options.hpp"
 #include "option_checks.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
@@ -90,6 +91,7 @@ const RegisterCommand kResults{"results", "Check results files, or compare one w
   check->add_option("file", *file, "Results file")->required();
   check->add_option("--dataset", *dataset, "Also check against this data set: its content hash, and every threshold "
                                            "counting its region's and its truth's voxels");
+  addLimitOptions(*check, {Limit::Combinations});  // the grid is enumerated to check every map
   CLI::App* diff = app.add_subcommand("diff", "Exit 0 when NEW has GOLDEN's confusion counts and AUCs, else 1 with a "
                                               "table of what changed (docs/results-format.md)");
   auto golden = std::make_shared<std::string>();
