@@ -178,12 +178,12 @@ ReplaySeconds timeReplay(const Dataset& data, const GroundTruth& truth, const ch
   SweepConfig config;
   config.resolution = kResolution, config.s_c = kSC;
   PointCloudSet scans = data.scans;  // the engine frees its copy
-  const SweepInputs inputs{config, findMethod(grid.method), grid.layout, scans, truth, truth, false};
+  const SweepInputs inputs{config, scans, truth, truth, false};
   const auto engine = makeSweepEngine("replay");
-  const double prepare = seconds([&] { engine->prepare(inputs, maps); });
-  const auto batches = engine->batches(inputs.method, grid.layout, maps);
+  const double prepare = seconds([&] { engine->prepare(inputs, {{&findMethod(grid.method), &grid.layout, &maps}}); });
+  const auto batches = engine->batches(0);
   const double replay = seconds([&] {
-    tbb::parallel_for(std::size_t(0), batches.size(), [&](std::size_t b) { (void)engine->count(maps, batches[b]); });
+    tbb::parallel_for(std::size_t(0), batches.size(), [&](std::size_t b) { (void)engine->count(0, batches[b]); });
   });
   return {name, grid.method, prepare, replay, combos};
 }

@@ -78,9 +78,17 @@ TEST_CASE("replay batches up to 8 maps that share their hit rule, direct one map
   for (int i = 0; i < 10; ++i) maps.push_back({&a, {0.5}});
   maps.push_back({&b, {0.5}});
   using Batches = std::vector<std::vector<std::size_t>>;
-  CHECK(makeSweepEngine("replay")->batches(findMethod("knn"), layout, maps) ==
-        Batches{{0, 1, 2, 3, 4, 5, 6, 7}, {8, 9}, {10}});
-  CHECK(makeSweepEngine("direct")->batches(findMethod("knn"), layout, maps) ==
-        Batches{{0}, {1}, {2}, {3}, {4}, {5}, {6}, {7}, {8}, {9}, {10}});
+  // Batches are planned by prepare (here on a data set without scans: nothing is recorded).
+  const SweepConfig config;
+  PointCloudSet no_scans;
+  const GroundTruth no_truth;
+  const SweepInputs inputs{config, no_scans, no_truth, no_truth, false};
+  const auto batchesOf = [&](const char* engine) {
+    const auto e = makeSweepEngine(engine);
+    e->prepare(inputs, {{&findMethod("knn"), &layout, &maps}});
+    return e->batches(0);
+  };
+  CHECK(batchesOf("replay") == Batches{{0, 1, 2, 3, 4, 5, 6, 7}, {8, 9}, {10}});
+  CHECK(batchesOf("direct") == Batches{{0}, {1}, {2}, {3}, {4}, {5}, {6}, {7}, {8}, {9}, {10}});
   static_assert(kReplayLanes == 8);
 }

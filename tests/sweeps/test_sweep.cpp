@@ -168,3 +168,33 @@ TEST_CASE("a results file edited by hand is refused with the field named") {
   CHECK_THAT(error(), Contains("not valid JSON"));
   CHECK(test::runCli("results check " + (dir / "e.json").string()).exit_code != 0);
 }
+
+TEST_CASE("several grids swept in one process give each grid's results as its own sweep does") {
+  const auto dir = test::scratch("sweep-grids");
+  const auto data = smallScene(dir);
+  const std::vector<std::string> grids = {"knn-opt", "octomap-opt", "sor-octomap-opt", "range-octomap-opt"};
+  std::vector<SweepConfig> together;
+  for (std::size_t i = 0; i < grids.size(); ++i) {
+    SweepConfig c;
+    c.dataset = data;
+    c.grid = grids[i];
+    c.out = dir / (grids[i] + (i % 2 ? ".db" : ".json"));  // each grid's output in its own format
+    c.quiet = true;
+    together.push_back(c);
+  }
+  const std::vector<SweepSummary> written = sweepGrids(together);
+  REQUIRE(written.size() == grids.size());
+  for (std::size_t i = 0; i < grids.size(); ++i) {
+    const ResultsFile alone = sweep(data, grids[i], dir / (grids[i] + ".alone.json"));
+    CHECK(written[i].header.grid_name == grids[i]);
+    CHECK(written[i].maps == alone.maps.size());
+    CHECK(resultDifferences(alone, readResults(together[i].out)).empty());
+  }
+  // Grids swept together share the data set and its settings, and each writes its own file.
+  std::vector<SweepConfig> other_resolution = together;
+  other_resolution[1].resolution = 0.2;
+  CHECK_THROWS_WITH(sweepGrids(other_resolution), Contains("share the data set and every map setting"));
+  std::vector<SweepConfig> one_out = together;
+  one_out[1].out = one_out[0].out;
+  CHECK_THROWS_WITH(sweepGrids(one_out), Contains("given for two grids"));
+}

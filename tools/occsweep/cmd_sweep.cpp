@@ -1,4 +1,5 @@
-// occsweep sweep: every combination of a grid on one data set, as a results file (docs/definitions.md, Results files).
+// occsweep sweep: every combination of a grid on one data set, as a results file (docs/definitions.md, Results files);
+// several grids at once share the data set's read and recording (sweepGrids).
 #include <iostream>
 
 #include "command_registry.hpp"
@@ -15,9 +16,11 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
   for (const char* needed : {"--dataset", "--grid", "--out"}) app.get_option(needed)->required();
   addLimitOptions(app, {Limit::WindowVoxels, Limit::Combinations, Limit::RegionVoxels, Limit::Points});
   return [o] {
-    const SweepSummary r = sweepToFile(sweepConfigOf(*o));
-    std::cout << "wrote " << o->out << ": " << r.maps << " maps, " << r.combinations << " combinations of "
-              << r.header.grid_name << " in " << r.seconds << " s\n";
+    const std::vector<SweepConfig> configs = sweepConfigsOf(*o);
+    const std::vector<SweepSummary> written = sweepGrids(configs);
+    for (std::size_t i = 0; i < written.size(); ++i)
+      std::cout << "wrote " << configs[i].out.string() << ": " << written[i].maps << " maps, " << written[i].combinations
+                << " combinations of " << written[i].header.grid_name << " in " << written[i].seconds << " s\n";
     return 0;
   };
 }};

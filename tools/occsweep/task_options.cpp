@@ -9,8 +9,12 @@ namespace occsweep::cli {
 
 void addSweepOptions(CLI::App& app, SweepOptions& o) {
   app.add_option("--dataset", o.dataset, "Data-set folder");
-  app.add_option("--grid", o.config.grid, "Grid name (sweeps/grids) or path");
-  app.add_option("--out", o.out, "Results file (JSON); the same sweep's own file or OUT.partial.jsonl resumes");
+  app.add_option("--grid", o.grids, "Grid name (sweeps/grids) or path; several (--grid A --grid B) share one read "
+                                    "and one recording of the data set, each with its --out in order")
+      ->allow_extra_args(false);
+  app.add_option("--out", o.outs, "Results file: a store for .db or .sqlite (written as it runs), else JSON; the same "
+                                  "sweep's own file, or OUT.partial (store) / OUT.partial.jsonl (JSON), resumes")
+      ->allow_extra_args(false);
   app.add_flag("--force", o.config.force, "Replace occsweep's own results of other work at --out (nothing else)");
   app.add_option("--shard", o.shard, "I/N: the I-th of N contiguous blocks of the grid's maps (I from 0)");
   app.add_option("--group", o.group, "G/N: only the G-th Eq. 16 group of the seeded permutation");
@@ -28,10 +32,27 @@ void addSweepOptions(CLI::App& app, SweepOptions& o) {
   app.add_flag("--quiet", o.config.quiet, "No progress on stderr");
 }
 
+std::vector<SweepConfig> sweepConfigsOf(const SweepOptions& o) {
+  if (o.grids.size() != o.outs.size())
+    throw std::invalid_argument("--out: give one per --grid, in the same order (" + std::to_string(o.grids.size()) +
+                                " --grid, " + std::to_string(o.outs.size()) + " --out)");
+  std::vector<SweepConfig> out;
+  for (std::size_t i = 0; i < o.grids.size(); ++i) {
+    SweepOptions one = o;
+    one.grids = {o.grids[i]};
+    one.outs = {o.outs[i]};
+    out.push_back(sweepConfigOf(one));
+  }
+  return out;
+}
+
 SweepConfig sweepConfigOf(const SweepOptions& o) {
+  if (o.grids.size() > 1 || o.outs.size() > 1)
+    throw std::invalid_argument("--grid, --out: one each here (several grids are swept by `occsweep sweep`)");
   SweepConfig c = o.config;
   c.dataset = o.dataset;
-  c.out = o.out;
+  if (!o.grids.empty()) c.grid = o.grids.front();
+  if (!o.outs.empty()) c.out = o.outs.front();
   if (!o.shard.empty()) std::tie(c.selection.shard_index, c.selection.shard_count) = parseFraction(o.shard, "--shard");
   if (!o.group.empty()) {
     const auto [g, n] = parseFraction(o.group, "--group");

@@ -16,7 +16,8 @@ namespace occsweep::cli {
 /// `sweep`'s options as parsed; sweepConfigOf turns them into the SweepConfig.
 struct SweepOptions {
   SweepConfig config;
-  std::string dataset, out, shard, group, variant = toText(UpdateVariant::Default), stats = toText(StatsMode::Batch),
+  std::vector<std::string> grids, outs;  ///< one --out per --grid, in order (several: sweepGrids)
+  std::string dataset, shard, group, variant = toText(UpdateVariant::Default), stats = toText(StatsMode::Batch),
                                            truth = truthModeName(TruthMode::Full);
   std::uint64_t seed = 0;
 };
@@ -24,8 +25,10 @@ struct SweepOptions {
 /// Every option of `sweep` that is part of SweepConfig (the limit flags are the command's own). None is required
 /// here: `sweep` requires --dataset, --grid and --out, `cluster plan --sweep-args` forbids them.
 void addSweepOptions(CLI::App& app, SweepOptions& o);
-/// The sweep the parsed options describe: the inverse of taskArgv(SweepConfig). std::invalid_argument for a bad
-/// --shard or --group.
+/// The sweeps the parsed options describe, one per --grid with its --out. std::invalid_argument for a bad --shard or
+/// --group, or unless there are as many --out as --grid.
+[[nodiscard]] std::vector<SweepConfig> sweepConfigsOf(const SweepOptions& o);
+/// The one sweep they describe: the inverse of taskArgv(SweepConfig) (at most one --grid and --out).
 [[nodiscard]] SweepConfig sweepConfigOf(const SweepOptions& o);
 /// `cluster plan --sweep-args`: the settings every sweep of a plan shares, parsed as `sweep` parses them. The
 /// options the plan sets itself (--dataset, --grid, --out, --shard, --group, --seed, --threads, --force) are refused.

@@ -45,17 +45,21 @@ class ReplayEngine final : public SweepEngine {
  public:
   std::string name() const override { return kEngineNames.text(EngineKind::Replay); }
 
-  void prepare(const SweepInputs& in, const std::vector<MapToCount>& maps) override {
+  void prepare(const SweepInputs& in, const std::vector<GridMaps>& grids) override {
     const SweepConfig& c = in.config;
-    method_ = &in.method;
+    grids_ = grids;
     context_ = {c.variant};
     observable_ = c.truth == TruthMode::Observable;
-    // What the maps need per point: one rule per lane group tells (the groups share their features).
+    // What the maps of every grid need per point: one rule per lane group tells (the groups share their features).
     std::set<FeatureRequest> hit_needs, gate_needs;
-    for (const auto& group : laneGroups(in.method, in.layout, maps)) {
-      const MapRule rule = ruleOf(maps[group.front()]);
-      if (rule.hit.kind != HitRule::Kind::Constant) hit_needs.insert(rule.hit.feature);
-      if (rule.gate) gate_needs.insert(rule.gate->feature);
+    lane_groups_.clear();
+    for (std::size_t g = 0; g < grids.size(); ++g) {
+      lane_groups_.push_back(laneGroups(*grids[g].method, *grids[g].layout, *grids[g].maps));
+      for (const auto& group : lane_groups_.back()) {
+        const MapRule rule = ruleOf(g, group.front());
+        if (rule.hit.kind != HitRule::Kind::Constant) hit_needs.insert(rule.hit.feature);
+        if (rule.gate) gate_needs.insert(rule.gate->feature);
+      }
     }
     recordWithGates(in, gate_needs);
     // Replay needs a hit feature only at the recorded hits: one feature at a time, freed at once (memory, issue 5).
@@ -64,19 +68,19 @@ class ReplayEngine final : public SweepEngine {
     PointCloudSet().swap(in.scans);
   }
 
-  std::vector<std::vector<std::size_t>> batches(const MappingMethod& method, const ParameterLayout& layout,
-                                                const std::vector<MapToCount>& maps) const override {
+  std::vector<std::vector<std::size_t>> batches(std::size_t grid) const override {
     std::vector<std::vector<std::size_t>> out;
-    for (const auto& members : laneGroups(method, layout, maps))
+    for (const auto& members : lane_groups_.at(grid))
       for (std::size_t b = 0; b < members.size(); b += kReplayLanes)
         out.emplace_back(members.begin() + long(b),
                          members.begin() + long(std::min(b + kReplayLanes, members.size())));
     return out;
   }
 
-  BatchCounts count(const std::vector<MapToCount>& maps, const std::vector<std::size_t>& batch) const override {
+  BatchCounts count(std::size_t grid, const std::vector<std::size_t>& batch) const override {
+    const std::vector<MapToCount>& maps = *grids_.at(grid).maps;
     std::vector<MapRule> rules;
-    for (std::size_t i : batch) rules.push_back(ruleOf(maps[i]));
+    for (std::size_t i : batch) rules.push_back(ruleOf(grid, i));
     const MapRule& first = rules.front();
     std::vector<float> event_hits;
     if (first.hit.kind != HitRule::Kind::Constant)
@@ -99,7 +103,9 @@ class ReplayEngine final : public SweepEngine {
   }
 
  private:
-  MapRule ruleOf(const MapToCount& m) const { return method_->rule(valuesOf(*m.params), context_); }
+  MapRule ruleOf(std::size_t grid, std::size_t map) const {
+    return grids_[grid].method->rule(valuesOf(*(*grids_[grid].maps)[map].params), context_);
+  }
 
   // The events, with the extremes of every gate feature's scores (filters: docs/methods.md, "Filters").
   void recordWithGates(const SweepInputs& in, const std::set<FeatureRequest>& gate_needs) {
@@ -126,7 +132,8 @@ class ReplayEngine final : public SweepEngine {
     return gates;
   }
 
-  const MappingMethod* method_ = nullptr;
+  std::vector<GridMaps> grids_;
+  std::vector<std::vector<std::vector<std::size_t>>> lane_groups_;  // per grid (computed once: 249,200 maps take 1 s)
   RuleContext context_;
   bool observable_ = false;
   RecordedSet recorded_;
@@ -141,9 +148,9 @@ class DirectEngine final : public SweepEngine {
  public:
   std::string name() const override { return kEngineNames.text(EngineKind::Direct); }
 
-  void prepare(const SweepInputs& in, const std::vector<MapToCount>&) override {
+  void prepare(const SweepInputs& in, const std::vector<GridMaps>& grids) override {
     const SweepConfig& c = in.config;
-    method_ = &in.method;
+    grids_ = grids;
     scans_ = &in.scans;
     truth_ = &in.truth;
     marked_ = in.twin ? &in.marked : nullptr;
@@ -158,17 +165,17 @@ class DirectEngine final : public SweepEngine {
     };
   }
 
-  std::vector<std::vector<std::size_t>> batches(const MappingMethod&, const ParameterLayout&,
-                                                const std::vector<MapToCount>& maps) const override {
+  std::vector<std::vector<std::size_t>> batches(std::size_t grid) const override {
     std::vector<std::vector<std::size_t>> out;
-    for (std::size_t i = 0; i < maps.size(); ++i) out.push_back({i});
+    for (std::size_t i = 0; i < grids_.at(grid).maps->size(); ++i) out.push_back({i});
     return out;
   }
 
-  BatchCounts count(const std::vector<MapToCount>& maps, const std::vector<std::size_t>& batch) const override {
+  BatchCounts count(std::size_t grid, const std::vector<std::size_t>& batch) const override {
+    const std::vector<MapToCount>& maps = *grids_.at(grid).maps;
     BatchCounts out;
     for (std::size_t i : batch) {
-      const auto tree = method_->buildMap(*scans_, valuesOf(*maps[i].params), context_);
+      const auto tree = grids_[grid].method->buildMap(*scans_, valuesOf(*maps[i].params), context_);
       out.counts.push_back(classify(sampleRegion(*tree, *truth_), maps[i].p_t));
       if (marked_) out.observable.push_back(classify(sampleRegion(*tree, *marked_), maps[i].p_t));
     }
@@ -176,7 +183,7 @@ class DirectEngine final : public SweepEngine {
   }
 
  private:
-  const MappingMethod* method_ = nullptr;
+  std::vector<GridMaps> grids_;
   const PointCloudSet* scans_ = nullptr;
   const GroundTruth* truth_ = nullptr;
   const GroundTruth* marked_ = nullptr;  // with a twin only

@@ -5,10 +5,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
+#include <optional>
+#include <vector>
 #include <mutex>
 #include <string>
 
 #include "occsweep/sweeps/results.hpp"
+#include "occsweep/sweeps/sweep.hpp"
 
 namespace occsweep::sweep_detail {
 
@@ -56,5 +60,30 @@ class PartialLog {
 /// True when `file` holds complete results of the same work as `header` (the twin of a finished sweep); false
 /// when it is missing or other work. Throws for a file that is not occsweep's results (never replaced).
 [[nodiscard]] bool completeResultsOf(const std::filesystem::path& file, const ResultsHeader& header);
+
+/// Where one grid's finished maps go (sweep_outputs.cpp): a JSON file written whole at the end (OUT.partial.jsonl
+/// while it runs), or a results store written batch by batch (OUT.partial, renamed to OUT when complete). Made
+/// after the output checks: the same work's complete output is returned as it is, other work refused unless
+/// --force, and only occsweep's own results replaced.
+class GridOutput {
+ public:
+  virtual ~GridOutput() = default;
+  /// The same work's complete results already at the output (JSON: whole; a store: its header): nothing to count.
+  [[nodiscard]] virtual const std::optional<ResultsFile>& complete() const = 0;
+  /// The maps a killed run finished, in increasing index.
+  [[nodiscard]] virtual std::vector<std::uint64_t> finished() const = 0;
+  [[nodiscard]] virtual std::filesystem::path partial() const = 0;
+  /// Opens the partial output for `todo` maps to count.
+  virtual void begin(std::size_t todo) = 0;
+  /// A counted batch: its maps (and twins), and their positions among the maps to count. From several threads.
+  virtual void add(std::vector<MapResult>&& maps, std::vector<MapResult>&& twin,
+                   const std::vector<std::size_t>& positions) = 0;
+  /// Writes the complete results atomically. Returns them (JSON: whole; a store: its header only).
+  [[nodiscard]] virtual ResultsFile finish(double seconds) = 0;
+};
+
+/// A store for ".db"/".sqlite" (isStorePath), JSON otherwise. `h` and `c` must outlive it.
+[[nodiscard]] std::unique_ptr<GridOutput> makeGridOutput(const SweepConfig& c, const ResultsHeader& h,
+                                                         const std::string& engine);
 
 }  // namespace occsweep::sweep_detail

@@ -1,15 +1,12 @@
-// A sweep: each selected map counted by the sweep's engine (sweep_engine.hpp: replayed from recorded events by
-// default, or built directly), thresholded at every p_t.
+// Sweeps: each selected map of each grid counted by the sweep's engine (sweep_engine.hpp: replayed from events
+// recorded once for every grid by default, or built directly), thresholded at every p_t, and written to the grid's
+// output (sweep_outputs.cpp) as it is counted.
 #include <algorithm>
 #include <chrono>
-#include <functional>
-#include <iterator>
-#include <mutex>
 #include <filesystem>
+#include <functional>
 #include <iostream>
-#include <map>
 #include <optional>
-#include <set>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -17,7 +14,6 @@
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
-#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/sweep.hpp"
@@ -27,28 +23,18 @@
 
 namespace occsweep {
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // The truths a sweep counts (docs/results-format.md, "Truth").
 struct SweepTruths {
   GroundTruth full;
   GroundTruth marked;  // unobservable voxels in `excluded` under observable truth or with a twin; else full
   [[nodiscard]] const GroundTruth& counted(TruthMode mode) const { return mode == TruthMode::Full ? full : marked; }
-};
-
-// Maps finished before, read from the partial log of an interrupted run.
-struct FinishedMaps {
-  std::map<std::uint64_t, MapResult> done, twin_done;
-  std::map<std::uint64_t, std::string> engine_of;  // provenance of every finished map
-};
-
-// Maps counted by this run, in the order of the work.
-struct CountedMaps {
-  std::vector<MapResult> maps, twin;
 };
 
 bool hasTwin(const SweepConfig& c) { return !c.observable_out.empty(); }
@@ -88,34 +74,6 @@ ResultsHeader sweepHeader(const SweepConfig& c, const GridSpec& grid, const Grid
   return h;
 }
 
-ResultsHeader twinHeader(ResultsHeader h) {
-  h.truth = TruthMode::Observable;
-  return h;
-}
-
-// The same sweep's own complete file (and twin) is returned as it is; anything else at `out` is refused unless
-// --force, and only occsweep's results are replaced even then (docs/robustness.md, "Outputs, temporaries and
-// --force"). The twin too replaces only occsweep's own results (a user's file there is refused before any work).
-std::optional<ResultsFile> checkOutputs(const SweepConfig& c, const ResultsHeader& h) {
-  std::error_code ec;
-  if (fs::exists(fs::symlink_status(c.out, ec))) {
-    checkOutputTarget(c.out, true, resultsOutput());
-    ResultsFile old = readResults(c.out);
-    std::string why;
-    if (!sameWork(old.header, h, true, &why) && !c.force)
-      throw std::runtime_error(c.out.string() + ": holds results of other work (" + why +
-                               "); --force replaces it, or choose another --out");
-    if (why.empty() && old.complete &&
-        (!hasTwin(c) || sweep_detail::completeResultsOf(c.observable_out, twinHeader(h)))) {
-      fs::remove(c.out.string() + ".partial.jsonl", ec);  // superseded: a kill came between the rename and this
-      return old;
-    }
-  }
-  if (hasTwin(c) && fs::exists(fs::symlink_status(c.observable_out, ec)))
-    checkOutputTarget(c.observable_out, true, resultsOutput());
-  return std::nullopt;
-}
-
 // The selected maps not finished before, with the p_t values of their selected thresholds.
 std::vector<MapToCount> mapsToCount(const std::vector<const SweepItem*>& todo, const GridEnumeration& e) {
   std::vector<MapToCount> maps;
@@ -146,311 +104,148 @@ MapResult withCounts(MapResult r, const std::vector<ConfusionCounts>& counts) {
   return r;
 }
 
-// Receives each counted batch's maps (and, with a twin, their observable-truth counts), from several threads.
-using BatchSink = std::function<void(std::vector<MapResult>&& maps, std::vector<MapResult>&& twin,
-                                     const std::vector<std::size_t>& batch)>;
+// One grid of a sweep: its selection, the header of its results, where they go, and the maps left to count.
+struct GridSweep {
+  const SweepConfig* config = nullptr;
+  GridSpec grid;
+  GridEnumeration e;
+  std::vector<SweepItem> items;
+  ResultsHeader header;
+  std::unique_ptr<sweep_detail::GridOutput> output;
+  std::vector<const SweepItem*> todo;
+  std::vector<MapToCount> maps;
+  double counting_seconds = 0.0;
+};
 
-// Counts every map of `todo` with the engine, its batches in parallel, each batch handed to `sink` as it finishes.
-void countMaps(const SweepEngine& engine, const std::vector<const SweepItem*>& todo,
-               const std::vector<MapToCount>& maps, const GridEnumeration& e, const ResultsHeader& h, bool twin,
-               bool quiet, const BatchSink& sink, tbb::task_arena& arena) {
-  const std::vector<std::vector<std::size_t>> batches = engine.batches(findMethod(h.method), h.parameters, maps);
-  Progress progress("sweep " + h.grid_name + " on " + h.dataset_name + " (" + engine.name() + ")", todo.size(),
-                    quiet);
+// Several sweeps share one read and one recording only when they count the same data set the same way.
+void requireOneDataSet(const std::vector<SweepConfig>& configs) {
+  if (configs.empty()) throw std::invalid_argument("sweep: no grid");
+  const SweepConfig& a = configs.front();
+  for (const SweepConfig& b : configs)
+    if (b.dataset != a.dataset || b.resolution != a.resolution || b.s_c != a.s_c || b.variant != a.variant ||
+        b.stats != a.stats || b.engine != a.engine || b.truth != a.truth || b.threads != a.threads ||
+        b.observable_out.empty() != a.observable_out.empty())
+      throw std::invalid_argument("sweep: grids swept together share the data set and every map setting");
+  for (std::size_t i = 0; i < configs.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (fs::absolute(configs[i].out) == fs::absolute(configs[j].out))
+        throw std::invalid_argument("sweep: --out " + configs[i].out.string() + " is given for two grids");
+}
+
+// The grid's selection and header, its output checked (and resumed), and the maps it has left.
+GridSweep openGrid(const SweepConfig& c, const Dataset& data, const SweepEngine& engine) {
+  GridSweep g;
+  g.config = &c;
+  g.grid = loadGrid(resolveGridPath(c.grid));
+  g.e = enumerateGrid(g.grid);
+  g.items = selectWork(g.grid, g.e, c.selection);
+  g.header = sweepHeader(c, g.grid, g.e, data, engine);
+  return g;
+}
+
+void openOutput(GridSweep& g, const std::string& engine) {
+  g.output = sweep_detail::makeGridOutput(*g.config, g.header, engine);
+  if (g.output->complete()) return;
+  const std::vector<std::uint64_t> done = g.output->finished();
+  if (!done.empty() && !g.config->quiet)
+    std::cerr << "resuming " << g.output->partial().string() << ": " << done.size() << " of " << g.items.size()
+              << " maps done before\n";
+  for (const auto& item : g.items)
+    if (!std::binary_search(done.begin(), done.end(), item.map_index)) g.todo.push_back(&item);
+  g.maps = mapsToCount(g.todo, g.e);
+  g.output->begin(g.todo.size());
+}
+
+// Records the events once for every grid with work (replay) or readies the direct builds.
+void prepareEngine(SweepEngine& engine, const SweepConfig& c, Dataset& data, const SweepTruths& truths,
+                   std::vector<GridSweep>& grids, std::vector<std::size_t>& slot, tbb::task_arena& arena) {
+  std::vector<GridMaps> work;
+  for (GridSweep& g : grids) {
+    slot.push_back(work.size());
+    if (!g.output->complete()) work.push_back({&findMethod(g.grid.method), &g.grid.layout, &g.maps});
+  }
+  if (work.empty()) return;
+  const SweepInputs inputs{c, data.scans, truths.counted(c.truth), truths.marked, hasTwin(c)};
+  arena.execute([&] { engine.prepare(inputs, work); });
+}
+
+// Counts every map of one grid, its batches in parallel, each batch handed to the grid's output as it finishes.
+void countGrid(const SweepEngine& engine, std::size_t slot, GridSweep& g, tbb::task_arena& arena) {
+  const auto start = Clock::now();
+  const std::vector<std::vector<std::size_t>> batches = engine.batches(slot);
+  const bool twin = hasTwin(*g.config);
+  Progress progress("sweep " + g.header.grid_name + " on " + g.header.dataset_name + " (" + engine.name() + ")",
+                    g.todo.size(), g.config->quiet);
   arena.execute([&] {
     tbb::parallel_for(std::size_t(0), batches.size(), [&](std::size_t b) {
       const auto t0 = Clock::now();
       const std::vector<std::size_t>& batch = batches[b];
-      const BatchCounts counts = engine.count(maps, batch);
-      // A batch's time shared by its maps.
-      const double seconds = std::chrono::duration<double>(Clock::now() - t0).count() / double(batch.size());
+      const BatchCounts counts = engine.count(slot, batch);
+      const double seconds = secondsSince(t0) / double(batch.size());  // a batch's time shared by its maps
       std::vector<MapResult> results, twins;
       for (std::size_t j = 0; j < batch.size(); ++j) {
-        results.push_back(mapResult(*todo[batch[j]], e, counts.counts[j], seconds));
+        results.push_back(mapResult(*g.todo[batch[j]], g.e, counts.counts[j], seconds));
         if (twin) twins.push_back(withCounts(results.back(), counts.observable[j]));
       }
-      sink(std::move(results), std::move(twins), batch);
+      g.output->add(std::move(results), std::move(twins), batch);
       for (std::size_t j = 0; j < batch.size(); ++j) progress.advance();
     });
   });
+  g.counting_seconds = secondsSince(start);
 }
 
-// The JSON path's sink: each finished map logged at once (with its engine, for provenance across resumes:
-// docs/results-format.md) and kept for the file written at the end.
-CountedMaps countIntoLog(const SweepEngine& engine, const std::vector<const SweepItem*>& todo,
-                         const std::vector<MapToCount>& maps, const GridEnumeration& e, const ResultsHeader& h,
-                         bool twin, bool quiet, sweep_detail::PartialLog& log, tbb::task_arena& arena) {
-  CountedMaps out;
-  out.maps.resize(todo.size());
-  out.twin.resize(twin ? todo.size() : 0);
-  countMaps(engine, todo, maps, e, h, twin, quiet,
-            [&](std::vector<MapResult>&& results, std::vector<MapResult>&& twins, const std::vector<std::size_t>& batch) {
-              for (std::size_t j = 0; j < batch.size(); ++j) {
-                json line = toJson(results[j], h.parameters);
-                line["engine"] = engine.name();
-                if (twin) {
-                  const json oj = toJson(twins[j], h.parameters);
-                  line[sweep_detail::kTwinField] = {{"thresholds", oj.at("thresholds")}, {"auc", oj.at("auc")}};
-                  out.twin[batch[j]] = std::move(twins[j]);
-                }
-                log.append(line);
-                out.maps[batch[j]] = std::move(results[j]);
-              }
-            },
-            arena);
+std::uint64_t combinationsOf(const GridSweep& g) {
+  std::uint64_t n = 0;
+  for (const SweepItem& item : g.items) n += item.thresholds.size();
+  return n;
+}
+
+// What one grid's sweep wrote: its results (JSON: whole; a store: its header) and the summary.
+struct GridOutcome {
+  ResultsFile file;
+  SweepSummary summary;
+};
+
+std::vector<GridOutcome> runGrids(const std::vector<SweepConfig>& configs) {
+  const auto start = Clock::now();
+  requireOneDataSet(configs);
+  const SweepConfig& c = configs.front();
+  const std::unique_ptr<SweepEngine> engine = makeSweepEngine(c.engine);
+  Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
+  requireInKeyRange(data, c.dataset, c.resolution);
+  const SweepTruths truths = sweepTruths(c, data);  // before anything is written: a refused region leaves nothing
+  std::vector<GridSweep> grids;
+  for (const SweepConfig& config : configs) grids.push_back(openGrid(config, data, *engine));
+  for (GridSweep& g : grids) openOutput(g, engine->name());
+
+  tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
+  std::vector<std::size_t> slot;
+  prepareEngine(*engine, c, data, truths, grids, slot, arena);
+  const double shared_seconds = secondsSince(start);  // reading, truth and recording: every grid's
+  std::vector<GridOutcome> out;
+  for (std::size_t i = 0; i < grids.size(); ++i) {
+    GridSweep& g = grids[i];
+    if (!g.output->complete()) countGrid(*engine, slot[i], g, arena);
+    ResultsFile f = g.output->complete() ? *g.output->complete() : g.output->finish(shared_seconds + g.counting_seconds);
+    const SweepSummary summary{f.header, g.items.size(), combinationsOf(g), f.seconds};
+    out.push_back({std::move(f), summary});
+  }
   return out;
 }
 
-// Every engine that made a map of the file.
-void recordEngines(ResultsHeader& h, const FinishedMaps& finished, const std::string& engine) {
-  std::set<std::string> engines;
-  for (const auto& [index, name] : finished.engine_of)
-    if (finished.done.count(index)) engines.insert(name);
-  if (engines.empty()) engines.insert(engine);
-  setEngines(h, engines);
-}
-
-// The results file (and twin), complete: the maps finished before and now.
-ResultsFile finishSweep(ResultsHeader h, FinishedMaps& finished, CountedMaps counted, const std::string& engine) {
-  for (auto& r : counted.maps) finished.engine_of[r.map_index] = engine, finished.done[r.map_index] = std::move(r);
-  for (auto& r : counted.twin) finished.twin_done[r.map_index] = std::move(r);
-  recordEngines(h, finished, engine);
-  ResultsFile f;
-  f.header = std::move(h);
-  for (auto& [_, r] : finished.done) f.maps.push_back(std::move(r));
-  f.complete = true;
-  return f;
-}
-
-// Writes the files atomically, the twin first: a complete main file promises a complete twin. A failed write
-// takes the partial log with it (a full disk).
-void writeSweepResults(const ResultsFile& f, FinishedMaps& finished, const SweepConfig& c,
-                       sweep_detail::PartialLog& log) {
-  try {
-    if (hasTwin(c)) {
-      ResultsFile o;
-      o.header = twinHeader(f.header);
-      for (auto& [_, r] : finished.twin_done) o.maps.push_back(std::move(r));
-      o.complete = true;
-      o.seconds = f.seconds;
-      writeResults(o, c.observable_out);
-    }
-    writeResults(f, c.out);
-  } catch (const OutputError&) {
-    log.dropOnError();
-    throw;
-  }
-  log.remove();
-}
-
 }  // namespace
 
-namespace {
-
-// What every sweep reads and derives before counting: the grid, its selection, the data set and its truths.
-struct SweepSetup {
-  GridSpec grid;
-  GridEnumeration e;
-  std::vector<SweepItem> items;
-  std::unique_ptr<SweepEngine> engine;
-  Dataset data;  // not const: replay frees the points once recorded
-  SweepTruths truths;
-  ResultsHeader header;
-};
-
-SweepSetup setUpSweep(const SweepConfig& c) {
-  SweepSetup s;
-  s.grid = loadGrid(resolveGridPath(c.grid));
-  s.e = enumerateGrid(s.grid);
-  s.items = selectWork(s.grid, s.e, c.selection);
-  s.engine = makeSweepEngine(c.engine);
-  s.data = readDataset(c.dataset);
-  requireInKeyRange(s.data, c.dataset, c.resolution);
-  s.truths = sweepTruths(c, s.data);
-  s.header = sweepHeader(c, s.grid, s.e, s.data, *s.engine);
-  return s;
+std::vector<SweepSummary> sweepGrids(const std::vector<SweepConfig>& configs) {
+  std::vector<SweepSummary> out;
+  for (GridOutcome& g : runGrids(configs)) out.push_back(std::move(g.summary));
+  return out;
 }
 
-// The selected maps not among `done`.
-std::vector<const SweepItem*> unfinished(const std::vector<SweepItem>& items, const std::vector<std::uint64_t>& done) {
-  std::vector<const SweepItem*> todo;
-  for (const auto& item : items)
-    if (!std::binary_search(done.begin(), done.end(), item.map_index)) todo.push_back(&item);
-  return todo;
-}
-
-// Records the events (replay) or readies the direct builds of the maps to count.
-SweepInputs prepareEngine(const SweepConfig& c, SweepSetup& s, const std::vector<MapToCount>& maps,
-                          tbb::task_arena& arena) {
-  const SweepInputs inputs{c, findMethod(s.grid.method), s.grid.layout, s.data.scans, s.truths.counted(c.truth),
-                           s.truths.marked, hasTwin(c)};
-  arena.execute([&] { s.engine->prepare(inputs, maps); });
-  return inputs;
-}
-
-void reportResume(const SweepConfig& c, const fs::path& partial, std::size_t done, std::size_t of) {
-  if (done > 0 && !c.quiet)
-    std::cerr << "resuming " << partial.string() << ": " << done << " of " << of << " maps done before\n";
-}
-
-SweepSummary summaryOf(const ResultsHeader& h, std::uint64_t maps, std::uint64_t combinations, double seconds) {
-  return {h, maps, combinations, seconds};
-}
-
-// ---------------------------------------------------------------------------------------------------------
-// Into a store (docs/results-format.md, "Results store"): every batch is one transaction of OUT.partial, which is
-// what a killed sweep resumes from, renamed to OUT once complete. Nothing of the results is held in memory.
-
-// The same sweep's complete store at `out` is left as it is (its header returned); anything else there is refused
-// unless --force, and only occsweep's results are replaced even then.
-std::optional<ResultsFile> completeStore(const SweepConfig& c, const ResultsHeader& h) {
-  std::error_code ec;
-  if (!fs::exists(fs::symlink_status(c.out, ec))) return std::nullopt;
-  checkOutputTarget(c.out, true, resultsOutput());
-  ResultsFile old = readResultsHeader(c.out);
-  std::string why;
-  if (!sameWork(old.header, h, true, &why) && !c.force)
-    throw std::runtime_error(c.out.string() + ": holds results of other work (" + why +
-                             "); --force replaces it, or choose another --out");
-  if (!why.empty() || !old.complete) return std::nullopt;
-  fs::remove(c.out.string() + ".partial", ec);  // superseded: a kill came between the rename and this
-  return old;
-}
-
-// OUT.partial of the same work, resumed; of other work, refused unless --force (then started anew). It is opened
-// for writing first: SQLite rolls back the batch a kill left open. A file there that is not an occsweep store is
-// never replaced, except an empty one or one without tables (a kill during create(), which is one transaction).
-ResultsStore partialStore(const fs::path& partial, const ResultsHeader& h, bool force) {
-  std::error_code ec;
-  if (!fs::exists(fs::symlink_status(partial, ec))) return ResultsStore::create(partial, h);
-  requireRegularFile(partial);
-  std::optional<ResultsStore> old;
-  try {
-    old.emplace(ResultsStore::open(partial, true));
-  } catch (const std::exception& e) {
-    if (fs::file_size(partial, ec) != 0 && hasTables(partial))
-      throw std::runtime_error(partial.string() + ": not an occsweep results store (" + e.what() +
-                               "); remove it, or choose another --out");
-  }
-  std::string why;
-  if (old && sameWork(old->header(), h, true, &why)) return std::move(*old);
-  if (old && !force)
-    throw std::runtime_error(partial.string() + ": an interrupted sweep of other work (" + why +
-                             "); --force replaces it, or choose another --out");
-  old.reset();
-  fs::remove(partial);
-  return ResultsStore::create(partial, h);
-}
-
-// Finished maps into the store from the counting threads: one transaction a second at most (or per 4,096 maps),
-// since each commit waits for the disk. A kill loses at most that second of work (docs/results-format.md).
-class StoreWriter {
- public:
-  StoreWriter(ResultsStore& store, std::string engine) : store_(store), engine_(std::move(engine)) {}
-  void add(std::vector<MapResult>&& maps) {
-    const std::lock_guard lock(mutex_);
-    std::move(maps.begin(), maps.end(), std::back_inserter(pending_));
-    if (pending_.size() >= kMaxPending || Clock::now() - last_commit_ >= std::chrono::seconds(1)) commit();
-  }
-  void flush() {
-    const std::lock_guard lock(mutex_);
-    commit();
-  }
-
- private:
-  static constexpr std::size_t kMaxPending = 4096;
-  void commit() {
-    if (!pending_.empty()) store_.append(pending_, engine_);
-    pending_.clear();
-    last_commit_ = Clock::now();
-  }
-  ResultsStore& store_;
-  std::string engine_;
-  std::mutex mutex_;
-  std::vector<MapResult> pending_;
-  Clock::time_point last_commit_ = Clock::now();
-};
-
-SweepSummary sweepIntoStore(const SweepConfig& c) {
-  const auto start = Clock::now();
-  if (hasTwin(c)) throw std::invalid_argument("sweep: observable_out is written as JSON only (a results store has no twin)");
-  SweepSetup s = setUpSweep(c);
-  std::uint64_t combinations = 0;
-  for (const SweepItem& item : s.items) combinations += item.thresholds.size();
-  if (std::optional<ResultsFile> complete = completeStore(c, s.header))
-    return summaryOf(complete->header, s.items.size(), combinations, complete->seconds);
-  if (c.out.has_parent_path()) fs::create_directories(c.out.parent_path());
-  const fs::path partial = c.out.string() + ".partial";
-  ResultsStore store = partialStore(partial, s.header, c.force);
-  const std::vector<std::uint64_t> done = store.mapIndices();
-  reportResume(c, partial, done.size(), s.items.size());
-  const std::vector<const SweepItem*> todo = unfinished(s.items, done);
-
-  tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
-  const std::vector<MapToCount> maps = mapsToCount(todo, s.e);
-  prepareEngine(c, s, maps, arena);
-  StoreWriter writer(store, s.engine->name());
-  countMaps(*s.engine, todo, maps, s.e, s.header, false, c.quiet,
-            [&](std::vector<MapResult>&& results, std::vector<MapResult>&&, const std::vector<std::size_t>&) {
-              writer.add(std::move(results));
-            },
-            arena);
-  writer.flush();
-
-  const std::vector<std::string> engines = store.engineNames();
-  setEngines(s.header, {engines.begin(), engines.end()});
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  store.finish(s.header, seconds);
-  { ResultsStore closed = std::move(store); }
-  fs::rename(partial, c.out);
-  return summaryOf(s.header, s.items.size(), combinations, seconds);
-}
-
-// ---------------------------------------------------------------------------------------------------------
-// Into JSON: finished maps logged to OUT.partial.jsonl, the file written whole at the end (small results).
-
-ResultsFile sweepIntoJson(const SweepConfig& c) {
-  const auto start = Clock::now();
-  SweepSetup s = setUpSweep(c);
-  const ResultsHeader& h = s.header;
-  if (std::optional<ResultsFile> complete = checkOutputs(c, h)) return std::move(*complete);
-
-  const fs::path partial = c.out.string() + ".partial.jsonl";
-  FinishedMaps finished;
-  finished.done = sweep_detail::loadPartial(partial, h, c.force, finished.engine_of,
-                                            hasTwin(c) ? &finished.twin_done : nullptr);
-  std::vector<std::uint64_t> done;
-  for (const auto& [index, _] : finished.done) done.push_back(index);
-  reportResume(c, partial, done.size(), s.items.size());
-  const std::vector<const SweepItem*> todo = unfinished(s.items, done);
-  if (c.out.has_parent_path()) fs::create_directories(c.out.parent_path());
-  sweep_detail::PartialLog log(partial, h, finished.done.size());
-
-  tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
-  const std::vector<MapToCount> maps = mapsToCount(todo, s.e);
-  prepareEngine(c, s, maps, arena);
-  CountedMaps counted = countIntoLog(*s.engine, todo, maps, s.e, h, hasTwin(c), c.quiet, log, arena);
-
-  ResultsFile f = finishSweep(h, finished, std::move(counted), s.engine->name());
-  f.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  writeSweepResults(f, finished, c, log);
-  return f;
-}
-
-}  // namespace
+SweepSummary sweepToFile(const SweepConfig& c) { return sweepGrids({c}).front(); }
 
 ResultsFile runSweep(const SweepConfig& c) {
-  if (!isStorePath(c.out)) return sweepIntoJson(c);
-  (void)sweepIntoStore(c);
-  return readResults(c.out);
-}
-
-SweepSummary sweepToFile(const SweepConfig& c) {
-  if (isStorePath(c.out)) return sweepIntoStore(c);
-  const ResultsFile f = sweepIntoJson(c);
-  std::uint64_t combinations = 0;
-  for (const MapResult& m : f.maps) combinations += m.thresholds.size();
-  return summaryOf(f.header, f.maps.size(), combinations, f.seconds);
+  ResultsFile f = std::move(runGrids({c}).front().file);
+  return isStorePath(c.out) ? readResults(c.out) : f;
 }
 
 }  // namespace occsweep

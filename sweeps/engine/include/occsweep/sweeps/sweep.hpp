@@ -46,6 +46,12 @@ struct SweepSummary {
 /// size), JSON otherwise. A complete file of the same work is left as it is.
 SweepSummary sweepToFile(const SweepConfig& config);
 
+/// Several grids over one data set in one process (`occsweep sweep --grid A --grid B ...`): the data set is read,
+/// its truth made and its events recorded once for all of them (docs/performance.md), then each grid is counted
+/// into its own `out`. The configs differ only in grid, selection, out, observable_out, force and quiet; anything
+/// else throws std::invalid_argument.
+std::vector<SweepSummary> sweepGrids(const std::vector<SweepConfig>& configs);
+
 /// The same, returning the results whole (read back from a store): for small sweeps.
 ResultsFile runSweep(const SweepConfig& config);
 

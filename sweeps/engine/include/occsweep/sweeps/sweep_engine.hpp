@@ -23,11 +23,16 @@ struct MapToCount {
   std::vector<double> p_t;
 };
 
+/// One grid's maps: a sweep counts one grid, or several over one data set with one recording (sweepGrids).
+struct GridMaps {
+  const MappingMethod* method = nullptr;      ///< the grid's method (docs/methods.md)
+  const ParameterLayout* layout = nullptr;    ///< its parameters, the order of MapParams::values
+  const std::vector<MapToCount>* maps = nullptr;
+};
+
 /// What every map of a sweep shares.
 struct SweepInputs {
   const SweepConfig& config;
-  const MappingMethod& method;     ///< the grid's method (docs/methods.md)
-  const ParameterLayout& layout;   ///< its parameters, the order of MapParams::values
   PointCloudSet& scans;       ///< the data set's points; an engine frees them once it no longer needs them
   const GroundTruth& truth;   ///< the truth the results count (SweepConfig::truth)
   /// The truth with its unobservable voxels in `excluded` when the sweep counts observable truth or has a twin
@@ -49,19 +54,20 @@ class SweepEngine {
   /// the partial log: docs/results-format.md).
   [[nodiscard]] virtual std::string name() const = 0;
 
-  /// Computes what the maps share (replay: the recorded events, with the gate extremes of filters, and each hit
-  /// feature at the recorded hits; direct: the k-NN distances of each k, on first use). Runs TBB loops in the caller's arena; keeps references to `inputs`' truths and points.
-  virtual void prepare(const SweepInputs& inputs, const std::vector<MapToCount>& maps) = 0;
+  /// Computes what the maps of every grid share (replay: the recorded events, once for all grids, with the gate
+  /// extremes of every filter, and each hit feature at the recorded hits; direct: the k-NN distances of each k, on
+  /// first use). Runs TBB loops in the caller's arena; keeps references to `inputs`' truths and points and to
+  /// `grids` (which must outlive the counting).
+  virtual void prepare(const SweepInputs& inputs, const std::vector<GridMaps>& grids) = 0;
 
-  /// The maps counted together, as indices into `maps`, each map once: replay, up to kReplayLanes maps that share
-  /// their hit rule and gate feature (the method's sharedByLanes: k-NN's k, p_u, p_l); direct, one map each.
-  [[nodiscard]] virtual std::vector<std::vector<std::size_t>> batches(const MappingMethod& method,
-                                                                      const ParameterLayout& layout,
-                                                                      const std::vector<MapToCount>& maps) const = 0;
+  /// The maps of grid `grid` counted together, as indices into its maps, each map once: replay, up to
+  /// kReplayLanes maps that share their hit rule and gate feature (the method's sharedByLanes: k-NN's k, p_u,
+  /// p_l); direct, one map each.
+  [[nodiscard]] virtual std::vector<std::vector<std::size_t>> batches(std::size_t grid) const = 0;
 
-  /// The counts of one batch, in the batch's order. Safe to call from several threads at once after prepare.
-  [[nodiscard]] virtual BatchCounts count(const std::vector<MapToCount>& maps,
-                                          const std::vector<std::size_t>& batch) const = 0;
+  /// The counts of one batch of grid `grid`, in the batch's order. Safe to call from several threads at once
+  /// after prepare.
+  [[nodiscard]] virtual BatchCounts count(std::size_t grid, const std::vector<std::size_t>& batch) const = 0;
 };
 
 /// The names makeSweepEngine accepts, in the order CLI11's IsMember lists them: replay (the default), direct.

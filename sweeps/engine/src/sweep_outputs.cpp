@@ -1,0 +1,281 @@
+// Where a grid's finished maps go (sweep_internal.hpp, GridOutput): a JSON file written whole at the end, with
+// OUT.partial.jsonl while the sweep runs, or a results store written batch by batch into OUT.partial and renamed to
+// OUT when complete (docs/results-format.md, "Results store"). Both resume what a killed run finished.
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <iterator>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
+
+#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/sweeps/results_store.hpp"
+#include "sweep_internal.hpp"
+
+namespace occsweep::sweep_detail {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+bool hasTwin(const SweepConfig& c) { return !c.observable_out.empty(); }
+
+// Maps finished before, read from the partial log of an interrupted run.
+struct FinishedMaps {
+  std::map<std::uint64_t, MapResult> done, twin_done;
+  std::map<std::uint64_t, std::string> engine_of;  // provenance of every finished map
+};
+
+// Maps counted by this run, in the order of the work.
+struct CountedMaps {
+  std::vector<MapResult> maps, twin;
+};
+
+ResultsHeader twinHeader(ResultsHeader h) {
+  h.truth = TruthMode::Observable;
+  return h;
+}
+
+// The same sweep's own complete file (and twin) is returned as it is; anything else at `out` is refused unless
+// --force, and only occsweep's results are replaced even then (docs/robustness.md, "Outputs, temporaries and
+// --force"). The twin too replaces only occsweep's own results (a user's file there is refused before any work).
+std::optional<ResultsFile> checkOutputs(const SweepConfig& c, const ResultsHeader& h) {
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(c.out, ec))) {
+    checkOutputTarget(c.out, true, resultsOutput());
+    ResultsFile old = readResults(c.out);
+    std::string why;
+    if (!sameWork(old.header, h, true, &why) && !c.force)
+      throw std::runtime_error(c.out.string() + ": holds results of other work (" + why +
+                               "); --force replaces it, or choose another --out");
+    if (why.empty() && old.complete &&
+        (!hasTwin(c) || completeResultsOf(c.observable_out, twinHeader(h)))) {
+      fs::remove(c.out.string() + ".partial.jsonl", ec);  // superseded: a kill came between the rename and this
+      return old;
+    }
+  }
+  if (hasTwin(c) && fs::exists(fs::symlink_status(c.observable_out, ec)))
+    checkOutputTarget(c.observable_out, true, resultsOutput());
+  return std::nullopt;
+}
+
+// Every engine that made a map of the file.
+void recordEngines(ResultsHeader& h, const FinishedMaps& finished, const std::string& engine) {
+  std::set<std::string> engines;
+  for (const auto& [index, name] : finished.engine_of)
+    if (finished.done.count(index)) engines.insert(name);
+  if (engines.empty()) engines.insert(engine);
+  setEngines(h, engines);
+}
+
+// The results file (and twin), complete: the maps finished before and now.
+ResultsFile finishSweep(ResultsHeader h, FinishedMaps& finished, CountedMaps counted, const std::string& engine) {
+  for (auto& r : counted.maps) finished.engine_of[r.map_index] = engine, finished.done[r.map_index] = std::move(r);
+  for (auto& r : counted.twin) finished.twin_done[r.map_index] = std::move(r);
+  recordEngines(h, finished, engine);
+  ResultsFile f;
+  f.header = std::move(h);
+  for (auto& [_, r] : finished.done) f.maps.push_back(std::move(r));
+  f.complete = true;
+  return f;
+}
+
+// Writes the files atomically, the twin first: a complete main file promises a complete twin. A failed write
+// takes the partial log with it (a full disk).
+void writeSweepResults(const ResultsFile& f, FinishedMaps& finished, const SweepConfig& c,
+                       PartialLog& log) {
+  try {
+    if (hasTwin(c)) {
+      ResultsFile o;
+      o.header = twinHeader(f.header);
+      for (auto& [_, r] : finished.twin_done) o.maps.push_back(std::move(r));
+      o.complete = true;
+      o.seconds = f.seconds;
+      writeResults(o, c.observable_out);
+    }
+    writeResults(f, c.out);
+  } catch (const OutputError&) {
+    log.dropOnError();
+    throw;
+  }
+  log.remove();
+}
+
+// JSON: finished maps logged to OUT.partial.jsonl as they come, the file (and twin) written whole at the end.
+class JsonOutput final : public GridOutput {
+ public:
+  JsonOutput(const SweepConfig& c, const ResultsHeader& h, std::string engine)
+      : c_(c), h_(h), engine_(std::move(engine)), partial_(c.out.string() + ".partial.jsonl") {
+    existing_ = checkOutputs(c, h);
+    if (existing_) return;
+    finished_.done = loadPartial(partial_, h, c.force, finished_.engine_of, hasTwin(c) ? &finished_.twin_done : nullptr);
+  }
+  const std::optional<ResultsFile>& complete() const override { return existing_; }
+  std::vector<std::uint64_t> finished() const override {
+    std::vector<std::uint64_t> done;
+    for (const auto& [index, _] : finished_.done) done.push_back(index);
+    return done;
+  }
+  fs::path partial() const override { return partial_; }
+  void begin(std::size_t todo) override {
+    if (c_.out.has_parent_path()) fs::create_directories(c_.out.parent_path());
+    log_.emplace(partial_, h_, finished_.done.size());
+    counted_.maps.resize(todo);
+    counted_.twin.resize(hasTwin(c_) ? todo : 0);
+  }
+  // Each finished map logged at once (with its engine, for provenance across resumes: docs/results-format.md).
+  void add(std::vector<MapResult>&& maps, std::vector<MapResult>&& twin, const std::vector<std::size_t>& positions) override {
+    for (std::size_t j = 0; j < positions.size(); ++j) {
+      json line = toJson(maps[j], h_.parameters);
+      line["engine"] = engine_;
+      if (hasTwin(c_)) {
+        const json oj = toJson(twin[j], h_.parameters);
+        line[kTwinField] = {{"thresholds", oj.at("thresholds")}, {"auc", oj.at("auc")}};
+        counted_.twin[positions[j]] = std::move(twin[j]);
+      }
+      log_->append(line);
+      counted_.maps[positions[j]] = std::move(maps[j]);
+    }
+  }
+  ResultsFile finish(double seconds) override {
+    ResultsFile f = finishSweep(h_, finished_, std::move(counted_), engine_);
+    f.seconds = seconds;
+    writeSweepResults(f, finished_, c_, *log_);
+    return f;
+  }
+
+ private:
+  const SweepConfig& c_;
+  const ResultsHeader& h_;
+  std::string engine_;
+  fs::path partial_;
+  std::optional<ResultsFile> existing_;
+  FinishedMaps finished_;
+  CountedMaps counted_;
+  std::optional<PartialLog> log_;
+};
+
+// The same sweep's complete store at `out` is left as it is (its header returned); anything else there is refused
+// unless --force, and only occsweep's results are replaced even then.
+std::optional<ResultsFile> completeStore(const SweepConfig& c, const ResultsHeader& h) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(c.out, ec))) return std::nullopt;
+  checkOutputTarget(c.out, true, resultsOutput());
+  ResultsFile old = readResultsHeader(c.out);
+  std::string why;
+  if (!sameWork(old.header, h, true, &why) && !c.force)
+    throw std::runtime_error(c.out.string() + ": holds results of other work (" + why +
+                             "); --force replaces it, or choose another --out");
+  if (!why.empty() || !old.complete) return std::nullopt;
+  fs::remove(c.out.string() + ".partial", ec);  // superseded: a kill came between the rename and this
+  return old;
+}
+
+// OUT.partial of the same work, resumed; of other work, refused unless --force (then started anew). It is opened
+// for writing first: SQLite rolls back the batch a kill left open. A file there that is not an occsweep store is
+// never replaced, except an empty one or one without tables (a kill during create(), which is one transaction).
+ResultsStore partialStore(const fs::path& partial, const ResultsHeader& h, bool force) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(partial, ec))) return ResultsStore::create(partial, h);
+  requireRegularFile(partial);
+  std::optional<ResultsStore> old;
+  try {
+    old.emplace(ResultsStore::open(partial, true));
+  } catch (const std::exception& e) {
+    if (fs::file_size(partial, ec) != 0 && hasTables(partial))
+      throw std::runtime_error(partial.string() + ": not an occsweep results store (" + e.what() +
+                               "); remove it, or choose another --out");
+  }
+  std::string why;
+  if (old && sameWork(old->header(), h, true, &why)) return std::move(*old);
+  if (old && !force)
+    throw std::runtime_error(partial.string() + ": an interrupted sweep of other work (" + why +
+                             "); --force replaces it, or choose another --out");
+  old.reset();
+  fs::remove(partial);
+  return ResultsStore::create(partial, h);
+}
+
+// Finished maps into the store from the counting threads: one transaction a second at most (or per 4,096 maps),
+// since each commit waits for the disk. A kill loses at most that second of work (docs/results-format.md).
+class StoreWriter {
+ public:
+  StoreWriter(ResultsStore& store, std::string engine) : store_(store), engine_(std::move(engine)) {}
+  void add(std::vector<MapResult>&& maps) {
+    const std::lock_guard lock(mutex_);
+    std::move(maps.begin(), maps.end(), std::back_inserter(pending_));
+    if (pending_.size() >= kMaxPending || Clock::now() - last_commit_ >= std::chrono::seconds(1)) commit();
+  }
+  void flush() {
+    const std::lock_guard lock(mutex_);
+    commit();
+  }
+
+ private:
+  static constexpr std::size_t kMaxPending = 4096;
+  void commit() {
+    if (!pending_.empty()) store_.append(pending_, engine_);
+    pending_.clear();
+    last_commit_ = Clock::now();
+  }
+  ResultsStore& store_;
+  std::string engine_;
+  std::mutex mutex_;
+  std::vector<MapResult> pending_;
+  Clock::time_point last_commit_ = Clock::now();
+};
+
+// A store: OUT.partial resumed or created at once (its maps are what is done), renamed to OUT when complete.
+class StoreOutput final : public GridOutput {
+ public:
+  StoreOutput(const SweepConfig& c, const ResultsHeader& h, std::string engine)
+      : c_(c), h_(h), engine_(std::move(engine)), partial_(c.out.string() + ".partial") {
+    if (hasTwin(c)) throw std::invalid_argument("sweep: observable_out is written as JSON only (a results store has no twin)");
+    existing_ = completeStore(c, h);
+    if (existing_) return;
+    if (c.out.has_parent_path()) fs::create_directories(c.out.parent_path());
+    store_.emplace(partialStore(partial_, h, c.force));
+  }
+  const std::optional<ResultsFile>& complete() const override { return existing_; }
+  std::vector<std::uint64_t> finished() const override { return store_->mapIndices(); }
+  fs::path partial() const override { return partial_; }
+  void begin(std::size_t) override { writer_.emplace(*store_, engine_); }
+  void add(std::vector<MapResult>&& maps, std::vector<MapResult>&&, const std::vector<std::size_t>&) override {
+    writer_->add(std::move(maps));
+  }
+  ResultsFile finish(double seconds) override {
+    writer_->flush();
+    ResultsFile f;
+    f.header = h_;
+    const std::vector<std::string> engines = store_->engineNames();
+    setEngines(f.header, {engines.begin(), engines.end()});
+    store_->finish(f.header, seconds);
+    store_.reset();  // closed before the rename
+    fs::rename(partial_, c_.out);
+    f.complete = true;
+    f.seconds = seconds;
+    return f;
+  }
+
+ private:
+  const SweepConfig& c_;
+  const ResultsHeader& h_;
+  std::string engine_;
+  fs::path partial_;
+  std::optional<ResultsFile> existing_;
+  std::optional<ResultsStore> store_;
+  std::optional<StoreWriter> writer_;
+};
+
+}  // namespace
+
+std::unique_ptr<GridOutput> makeGridOutput(const SweepConfig& c, const ResultsHeader& h, const std::string& engine) {
+  if (isStorePath(c.out)) return std::make_unique<StoreOutput>(c, h, engine);
+  return std::make_unique<JsonOutput>(c, h, engine);
+}
+
+}  // namespace occsweep::sweep_detail
