@@ -175,12 +175,13 @@ std::optional<ResultsFile> completeStore(const SweepConfig& c, const ResultsHead
   return old;
 }
 
-// OUT.partial of the same work, resumed; of other work, refused unless --force (then started anew). It is opened
-// for writing first: SQLite rolls back the batch a kill left open. A file there that is not an occsweep store is
-// never replaced, except an empty one or one without tables (a kill during create(), which is one transaction).
-ResultsStore partialStore(const fs::path& partial, const ResultsHeader& h, bool force) {
+// OUT.partial of the same work, resumed; of other work, refused unless --force (then removed, to be started anew).
+// It is opened for writing first: SQLite rolls back the batch a kill left open. A file there that is not an
+// occsweep store is never replaced, except an empty one or one without tables (a kill during create(), which is one
+// transaction).
+std::optional<ResultsStore> resumableStore(const fs::path& partial, const ResultsHeader& h, bool force) {
   std::error_code ec;
-  if (!fs::exists(fs::symlink_status(partial, ec))) return ResultsStore::create(partial, h);
+  if (!fs::exists(fs::symlink_status(partial, ec))) return std::nullopt;
   requireRegularFile(partial);
   std::optional<ResultsStore> old;
   try {
@@ -191,13 +192,13 @@ ResultsStore partialStore(const fs::path& partial, const ResultsHeader& h, bool 
                                "); remove it, or choose another --out");
   }
   std::string why;
-  if (old && sameWork(old->header(), h, true, &why)) return std::move(*old);
+  if (old && sameWork(old->header(), h, true, &why)) return old;
   if (old && !force)
     throw std::runtime_error(partial.string() + ": an interrupted sweep of other work (" + why +
                              "); --force replaces it, or choose another --out");
   old.reset();
   fs::remove(partial);
-  return ResultsStore::create(partial, h);
+  return std::nullopt;
 }
 
 // Finished maps into the store from the counting threads: one transaction a second at most (or per 4,096 maps),
@@ -229,7 +230,8 @@ class StoreWriter {
   Clock::time_point last_commit_ = Clock::now();
 };
 
-// A store: OUT.partial resumed or created at once (its maps are what is done), renamed to OUT when complete.
+// A store: OUT.partial resumed when there is one of the same work, else created when the counting begins; renamed to
+// OUT when complete. Destroyed by an error before any map was stored, it removes the partial store it created.
 class StoreOutput final : public GridOutput {
  public:
   StoreOutput(const SweepConfig& c, const ResultsHeader& h, std::string engine)
@@ -237,13 +239,29 @@ class StoreOutput final : public GridOutput {
     if (hasTwin(c)) throw std::invalid_argument("sweep: observable_out is written as JSON only (a results store has no twin)");
     existing_ = completeStore(c, h);
     if (existing_) return;
-    if (c.out.has_parent_path()) fs::create_directories(c.out.parent_path());
-    store_.emplace(partialStore(partial_, h, c.force));
+    store_ = resumableStore(partial_, h, c.force);
   }
+  ~StoreOutput() override {
+    if (!store_ || renamed_) return;
+    try {
+      if (store_->mapCount() != 0) return;  // what the next run resumes from
+    } catch (const std::exception&) {
+    }
+    store_.reset();
+    std::error_code ec;
+    fs::remove(partial_, ec);
+  }
+  StoreOutput(const StoreOutput&) = delete;
+  StoreOutput& operator=(const StoreOutput&) = delete;
+
   const std::optional<ResultsFile>& complete() const override { return existing_; }
-  std::vector<std::uint64_t> finished() const override { return store_->mapIndices(); }
+  std::vector<std::uint64_t> finished() const override { return store_ ? store_->mapIndices() : std::vector<std::uint64_t>{}; }
   fs::path partial() const override { return partial_; }
-  void begin(std::size_t) override { writer_.emplace(*store_, engine_); }
+  void begin(std::size_t) override {
+    if (c_.out.has_parent_path()) fs::create_directories(c_.out.parent_path());
+    if (!store_) store_.emplace(ResultsStore::create(partial_, h_));
+    writer_.emplace(*store_, engine_);
+  }
   void add(std::vector<MapResult>&& maps, std::vector<MapResult>&&, const std::vector<std::size_t>&) override {
     writer_->add(std::move(maps));
   }
@@ -256,6 +274,7 @@ class StoreOutput final : public GridOutput {
     store_->finish(f.header, seconds);
     store_.reset();  // closed before the rename
     fs::rename(partial_, c_.out);
+    renamed_ = true;
     f.complete = true;
     f.seconds = seconds;
     return f;
@@ -269,6 +288,7 @@ class StoreOutput final : public GridOutput {
   std::optional<ResultsFile> existing_;
   std::optional<ResultsStore> store_;
   std::optional<StoreWriter> writer_;
+  bool renamed_ = false;
 };
 
 }  // namespace

@@ -143,8 +143,25 @@ GridSweep openGrid(const SweepConfig& c, const Dataset& data, const SweepEngine&
   return g;
 }
 
+// A JSON file is built whole in memory (about 1.6 KB a combination): past this many, a store is the better output.
+constexpr std::uint64_t kLargeForJson = 1'000'000;
+
+std::uint64_t combinationsOf(const GridSweep& g) {
+  std::uint64_t n = 0;
+  for (const SweepItem& item : g.items) n += item.thresholds.size();
+  return n;
+}
+
 void openOutput(GridSweep& g, const std::string& engine) {
+  if (!isStorePath(g.config->out) && !g.config->quiet && combinationsOf(g) > kLargeForJson)
+    std::cerr << "note: " << g.config->out.string() << ": " << combinationsOf(g) << " combinations into JSON, which is "
+              << "built whole in memory; --out NAME.db writes a results store as the sweep runs "
+                 "(docs/results-format.md, \"Results store\")\n";
   g.output = sweep_detail::makeGridOutput(*g.config, g.header, engine);
+}
+
+// The maps a grid has left; its partial output opened for them.
+void beginCounting(GridSweep& g) {
   if (g.output->complete()) return;
   const std::vector<std::uint64_t> done = g.output->finished();
   if (!done.empty() && !g.config->quiet)
@@ -194,12 +211,6 @@ void countGrid(const SweepEngine& engine, std::size_t slot, GridSweep& g, tbb::t
   g.counting_seconds = secondsSince(start);
 }
 
-std::uint64_t combinationsOf(const GridSweep& g) {
-  std::uint64_t n = 0;
-  for (const SweepItem& item : g.items) n += item.thresholds.size();
-  return n;
-}
-
 // What one grid's sweep wrote: its results (JSON: whole; a store: its header) and the summary.
 struct GridOutcome {
   ResultsFile file;
@@ -216,7 +227,8 @@ std::vector<GridOutcome> runGrids(const std::vector<SweepConfig>& configs) {
   const SweepTruths truths = sweepTruths(c, data);  // before anything is written: a refused region leaves nothing
   std::vector<GridSweep> grids;
   for (const SweepConfig& config : configs) grids.push_back(openGrid(config, data, *engine));
-  for (GridSweep& g : grids) openOutput(g, engine->name());
+  for (GridSweep& g : grids) openOutput(g, engine->name());  // every output checked before any is written
+  for (GridSweep& g : grids) beginCounting(g);
 
   tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
   std::vector<std::size_t> slot;

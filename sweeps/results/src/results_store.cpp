@@ -73,7 +73,7 @@ class Statement {
     const auto* t = sqlite3_column_text(s_, c);
     return t ? reinterpret_cast<const char*>(t) : "";
   }
-  [[nodiscard]] bool integral(int c) const { return sqlite3_column_type(s_, c) == SQLITE_INTEGER; }
+  [[nodiscard]] int columns() const { return sqlite3_column_count(s_); }
 
  private:
   Statement& check(int rc) {
@@ -268,21 +268,21 @@ void ResultsStore::append(const std::vector<MapResult>& maps, const std::string&
         threshold_row.bind(1, std::int64_t(t.id)).bind(2, std::int64_t(t.p_t)).bind(3, std::int64_t(n.tp))
             .bind(4, std::int64_t(n.fp)).run();
       }
-      int col = 1;
-      map_row.bind(col++, std::int64_t(m.map_index)).bind(col++, std::int64_t(m.thresholds.front().id))
-          .bind(col++, std::int64_t(m.thresholds.back().id));
-      for (std::size_t i = 0; i < layout.names.size(); ++i) {
-        const Fixed v = m.params.values.at(i);
-        if (layout.integer[i]) map_row.bind(col++, std::int64_t(v / kFixedScale));
-        else map_row.bind(col++, toDouble(v));
+      map_row.bind(1, std::int64_t(m.map_index)).bind(2, std::int64_t(m.thresholds.front().id))
+          .bind(3, std::int64_t(m.thresholds.back().id));
+      const int n = int(layout.names.size());
+      for (int i = 0; i < n; ++i) {
+        const Fixed v = m.params.values.at(std::size_t(i));
+        if (layout.integer[std::size_t(i)]) map_row.bind(4 + i, std::int64_t(v / kFixedScale));
+        else map_row.bind(4 + i, toDouble(v));
       }
-      map_row.bind(col++, m.area.anchored).bind(col++, m.area.observed).bind(col++, std::int64_t(m.area.points))
-          .bind(col++, m.seconds).bind(col++, engine).run();
+      map_row.bind(4 + n, m.area.anchored).bind(5 + n, m.area.observed).bind(6 + n, std::int64_t(m.area.points))
+          .bind(7 + n, m.seconds).bind(8 + n, engine).run();
     }
     c.exec("COMMIT");
   } catch (...) {
     sqlite3_exec(c.db, "ROLLBACK", nullptr, nullptr, nullptr);
-    if (c.has_region && mapCount() == 0) c.readRegion();
+    if (c.has_region && mapCount() == 0) c.readRegion();  // the region row of a rolled-back first batch is gone
     throw;
   }
 }
@@ -318,6 +318,9 @@ void ResultsStore::forEachMap(MapDetail detail, const MapVisitor& visit) const {
   const ParameterLayout& layout = c.header.parameters;
   const int n_params = int(layout.names.size());
   Statement maps(c.db, "SELECT * FROM maps ORDER BY map_index", c.file);
+  if (maps.columns() != int(kMapColumns) + n_params + 5)
+    fail(c.file, "maps: has " + std::to_string(maps.columns()) + " columns, the header's method " + c.header.method +
+                     " needs " + std::to_string(int(kMapColumns) + n_params + 5));
   std::unique_ptr<Statement> thresholds;
   if (detail == MapDetail::Full)
     thresholds = std::make_unique<Statement>(c.db, "SELECT id, p_t_micro, tp, fp FROM thresholds ORDER BY id", c.file);
