@@ -161,6 +161,8 @@ void verifyClaims(const ResultsFile& f, const std::string& file) {
 }
 
 struct GridChecker::State {
+  State(const ResultsHeader& header, bool is_complete, std::string name)
+      : h(header), complete(is_complete), file(std::move(name)) {}
   const ResultsHeader& h;
   bool complete;
   std::string file;
@@ -179,7 +181,7 @@ namespace {
 
 // The grid of the file, when its file is found with the same hash: enumerated, the selection's maps listed.
 GridChecker::GridChecker(const ResultsHeader& header, bool complete, const std::string& file)
-    : state_(std::make_unique<State>(State{header, complete, file})) {
+    : state_(std::make_unique<State>(header, complete, file)) {
   State& s = *state_;
   try {
     s.grid = loadGrid(resolveGridPath(header.grid_name));
@@ -190,7 +192,7 @@ GridChecker::GridChecker(const ResultsHeader& header, bool complete, const std::
   s.e = enumerateGrid(s.grid);
   if (s.e.combinations != header.grid_combinations)
     throw std::runtime_error(file + ": grid.combinations does not match grid " + s.grid.name);
-  s.items = selectWork(s.grid, s.e, header.selection);
+  if (complete) s.items = selectWork(s.grid, s.e, header.selection);  // only coverage needs the selection's maps
   s.found = true;
 }
 GridChecker::~GridChecker() = default;
@@ -233,6 +235,8 @@ void GridChecker::finish() const {
 }
 
 struct DatasetChecker::State {
+  State(std::string name, std::string folder, TruthMode mode, double res)
+      : file(std::move(name)), dir(std::move(folder)), truth(mode), resolution(res) {}
   std::string file, dir;
   TruthMode truth;
   double resolution = 0;
@@ -241,7 +245,7 @@ struct DatasetChecker::State {
 };
 
 DatasetChecker::DatasetChecker(const ResultsHeader& h, const std::string& file, const std::filesystem::path& dir)
-    : state_(std::make_unique<State>(State{file, dir.string(), h.truth, h.resolution})) {
+    : state_(std::make_unique<State>(file, dir.string(), h.truth, h.resolution)) {
   const std::string hash = datasetContentHash(dir);
   if (hash != h.dataset_hash)
     throw std::runtime_error(file + ": dataset.content_hash: is " + h.dataset_hash + ", " + dir.string() + " has " +
