@@ -3,7 +3,7 @@
 # UBSan; the same build folder as tools/ci/sanitize.sh by default, so CI compiles once for both), each run for a
 # fixed time from its seed corpus (tests/fuzz/corpus/NAME, copied: the committed seeds stay as they
 # are) plus the inputs of past findings (tests/fuzz/regressions/NAME). Exit 0 only when no target found anything. Usage:
-#   tools/ci/fuzz.sh [BUILD_DIR] [SECONDS_PER_TARGET]      defaults: /tmp/occsweep-sanitize, 6 (10 targets, ~60 s)
+#   tools/ci/fuzz.sh [BUILD_DIR] [SECONDS_PER_TARGET]      defaults: /tmp/occsweep-sanitize, 6 (12 targets, ~75 s)
 # By hand, longer: tools/ci/fuzz.sh /tmp/occsweep-sanitize 600; the executions of each run are printed at the end.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
