@@ -7,6 +7,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "occsweep/stereo/cloud.hpp"
 #include "occsweep/stereo/generate.hpp"
 #include "occsweep/sweeps/grid.hpp"
 #include "test_helpers.hpp"
@@ -128,4 +129,55 @@ TEST_CASE("All 1,600 point cloud sets: sharing the matcher writes the bytes each
   for (const auto& set : after.sets)
     if (matcherParams(set.params) == matcherParams(grid.at(0))) point_counts.insert(set.points);
   CHECK(point_counts.size() > 1);
+}
+
+TEST_CASE("Without the voxel filter, sharing the matcher writes the bytes each set computed alone writes",
+          "[stereo][sgbm][generate]") {
+  const PointCloudGrid grid = loadPointCloudGrid(resolveGridPath("pointcloud"));
+  GenerateConfig config = fewKeyframesOfCi(2);
+  config.voxel_filter = false;
+  config.preview = true;  // the previews too: keyframe 0's disparity of every set
+  for (std::uint64_t id = 0; id < 64; ++id) config.pcs_ids.push_back(id);  // blockSize 3, uniquenessRatio 5: 4 groups
+  const fs::path alone = test::processScratch("sgbm-share-raw-alone"),
+                 shared = test::processScratch("sgbm-share-raw-shared");
+  const DatasetName name = parseDatasetName("parking-plain-T");
+  config.share_matcher = false;
+  (void)generateDataset(name, config, grid, alone);
+  config.share_matcher = true;
+  (void)generateDataset(name, config, grid, shared);
+  const auto files = test::filesUnder(alone);
+  REQUIRE(files == test::filesUnder(shared));
+  CHECK(files.size() >= 64 * (2 + 1) + 64);  // scans, manifests, previews
+  for (const auto& f : files) {
+    INFO(f);
+    REQUIRE(test::bytesOf(alone / f) == test::bytesOf(shared / f));
+  }
+}
+
+TEST_CASE("The shared voxel filter gives voxelFilter's floats for any pixels invalidated, at any voxel span",
+          "[stereo][sgbm][cloud]") {
+  const StereoCamera cam = zedLikeCamera(160, 90);
+  const StereoFrame frame = renderedFrame(cam, "building-voronoi-S", 2, 11);
+  const auto matcher = computeMatcherDisparity(frame, SgbmParams{}, 32);
+  OrbitConfig orbit;
+  orbit.keyframes = 8;
+  const CameraPose pose = orbitPoses(orbit, Eigen::Vector3d(1, 2, 0))[5];
+  // 0.1 m: a span that packs into a radix key; 1e-7 m: one too wide, sorted by comparison
+  for (const double leaf : {0.1, 1e-7}) {
+    const SharedVoxelFilter shared(matcher, cam, pose, 20.0, leaf);
+    for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+      std::mt19937_64 rng(seed);
+      const double drop = 0.2 * double(seed - 1);  // 0 to all but none
+      auto variant = matcher;
+      for (auto& d : variant)
+        if (std::bernoulli_distribution(drop)(rng)) d = -16;
+      const auto expected = voxelFilter(reprojectDisparity(variant, cam, pose, 20.0), leaf);
+      const auto got = shared.filtered(variant);
+      INFO("leaf " << leaf << ", seed " << seed);
+      REQUIRE(got.size() == expected.size());
+      CHECK(std::equal(got.begin(), got.end(), expected.begin(), [](const auto& a, const auto& b) {
+        return a.x() == b.x() && a.y() == b.y() && a.z() == b.z();
+      }));
+    }
+  }
 }

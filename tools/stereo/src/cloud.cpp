@@ -23,6 +23,41 @@ void forEachPoint(const std::vector<std::int16_t>& disparity, const StereoCamera
     }
 }
 
+// Indices of `keys` ordered by key, then by index. A frame's voxels span a few hundred per axis, so the key
+// relative to the smallest one packs into far fewer than 64 bits and a stable radix sort on it, a byte per pass
+// over the bytes it needs, gives that order in linear time; a span too wide to pack takes a comparison sort.
+std::vector<std::uint32_t> voxelOrder(const std::vector<std::array<std::int64_t, 3>>& keys) {
+  std::vector<std::uint32_t> order(keys.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = std::uint32_t(i);
+  if (keys.empty()) return order;
+  std::array<std::int64_t, 3> low = keys[0], high = keys[0];
+  for (const auto& k : keys)
+    for (int a = 0; a < 3; ++a) low[a] = std::min(low[a], k[a]), high[a] = std::max(high[a], k[a]);
+  std::array<std::uint64_t, 3> span{};
+  for (int a = 0; a < 3; ++a) span[a] = std::uint64_t(high[a] - low[a]) + 1;
+  constexpr std::uint64_t kLimit = std::uint64_t(1) << 21;  // per axis, so that the packed key fits in 63 bits
+  if (span[0] > kLimit || span[1] > kLimit || span[2] > kLimit) {
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
+    });
+    return order;
+  }
+  std::vector<std::uint64_t> packed(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    packed[i] = (std::uint64_t(keys[i][0] - low[0]) * span[1] + std::uint64_t(keys[i][1] - low[1])) * span[2] +
+                std::uint64_t(keys[i][2] - low[2]);
+  const std::uint64_t largest = span[0] * span[1] * span[2] - 1;
+  std::vector<std::uint32_t> next(order.size());
+  for (int shift = 0; shift < 64 && (largest >> shift) != 0; shift += 8) {
+    std::array<std::size_t, 257> start{};
+    for (const std::uint32_t i : order) start[((packed[i] >> shift) & 0xFF) + 1] += 1;
+    for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+    for (const std::uint32_t i : order) next[start[(packed[i] >> shift) & 0xFF]++] = i;
+    order.swap(next);
+  }
+  return order;
+}
+
 }  // namespace
 
 std::vector<Eigen::Vector3d> reprojectDisparity(const std::vector<std::int16_t>& disparity, const StereoCamera& cam,
@@ -67,36 +102,21 @@ SharedVoxelFilter::SharedVoxelFilter(const std::vector<std::int16_t>& matcher_di
     points.push_back(p);
     pixels.push_back(std::uint32_t(pixel));
   });
-  // voxelFilter's order, once: by voxel (z, y, x), then by index. Voxel indices within +-2^20 (+-100 km at
-  // 0.1 m) pack into one 63-bit key in the same order; farther points (none in a scene) take the long way.
+  // voxelFilter's order, once: by voxel (z, y, x), then by index.
   using Key = std::array<std::int64_t, 3>;
-  constexpr std::int64_t kOffset = std::int64_t(1) << 20;
   std::vector<Key> keys(points.size());
-  bool packable = true;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const auto& p = points[i];
     keys[i] = {std::int64_t(std::floor(p.z() / leaf)), std::int64_t(std::floor(p.y() / leaf)),
                std::int64_t(std::floor(p.x() / leaf))};
-    for (const std::int64_t k : keys[i]) packable = packable && k >= -kOffset && k < kOffset;
   }
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());  // (packed key, index)
-  for (std::size_t i = 0; i < points.size(); ++i)
-    keyed[i] = {packable ? std::uint64_t(keys[i][0] + kOffset) << 42 | std::uint64_t(keys[i][1] + kOffset) << 21 |
-                               std::uint64_t(keys[i][2] + kOffset)
-                         : 0,
-                std::uint32_t(i)};
-  if (packable) std::sort(keyed.begin(), keyed.end());
-  else
-    std::sort(keyed.begin(), keyed.end(), [&](const auto& a, const auto& b) {
-      return keys[a.second] != keys[b.second] ? keys[a.second] < keys[b.second] : a.second < b.second;
-    });
+  const std::vector<std::uint32_t> order = voxelOrder(keys);
   points_.reserve(points.size());
   pixel_.reserve(points.size());
-  for (std::size_t i = 0; i < keyed.size(); ++i) {
-    points_.push_back(points[keyed[i].second]);
-    pixel_.push_back(pixels[keyed[i].second]);
-    if (i + 1 == keyed.size() || keys[keyed[i + 1].second] != keys[keyed[i].second])
-      voxel_end_.push_back(std::uint32_t(i + 1));
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    points_.push_back(points[order[i]]);
+    pixel_.push_back(pixels[order[i]]);
+    if (i + 1 == order.size() || keys[order[i + 1]] != keys[order[i]]) voxel_end_.push_back(std::uint32_t(i + 1));
   }
 }
 

@@ -126,11 +126,17 @@ std::vector<StereoScans> variantScansSharingVoxels(const DatasetContext& x, cons
   tbb::parallel_for(std::size_t(0), x.key.frames.size(), [&](std::size_t i) {
     const auto matcher = computeMatcherDisparity(x.key.frames[i], variants.front(), x.c.scale.num_disparities);
     const SharedVoxelFilter voxels(matcher, x.cam, x.key.mapping[i], x.c.max_depth, x.c.leaf);
+    std::vector<std::vector<std::int16_t>> disparities;  // this keyframe's, by variant
     for (std::size_t v = 0; v < variants.size(); ++v) {
-      std::vector<std::int16_t> disparity = matcher;
-      filterSpecklesAsCompute(disparity, x.cam.width, x.cam.height, variants[v]);
-      recordDisparity(x, i, disparity, out[v]);
-      out[v].scans[i].points = voxels.filtered(disparity);
+      disparities.push_back(matcher);
+      filterSpecklesAsCompute(disparities[v], x.cam.width, x.cam.height, variants[v]);
+      recordDisparity(x, i, disparities[v], out[v]);
+      // The same disparity gives the same points: speckleWindowSize 0 at every speckleRange, or a filter that
+      // removed the same pixels.
+      const auto same = std::find(disparities.begin(), disparities.begin() + long(v), disparities[v]);
+      out[v].scans[i].points = same != disparities.begin() + long(v)
+                                   ? out[std::size_t(same - disparities.begin())].scans[i].points
+                                   : voxels.filtered(disparities[v]);
     }
   });
   return out;

@@ -93,9 +93,10 @@ void filterSpecklesAsCompute(std::vector<std::int16_t>& disparity, int width, in
   if (disparity.size() != std::size_t(width) * height)
     throw std::invalid_argument("filterSpecklesAsCompute: the disparity is not width x height");
   cv::Mat disp(height, width, CV_16SC1, disparity.data());
-  // compute passes its own buffer, which also keeps OpenCV off its IPP branch (taken only without one); the
-  // buffer's contents are never read before written, so a fresh one gives the same result.
-  cv::Mat buffer;
+  // compute passes its own buffer (the matcher's, reused), which also keeps OpenCV off its IPP branch (taken only
+  // without one); filterSpeckles clears its labels and writes the rest before reading, so any buffer gives the
+  // same result. One per thread, kept: no allocation per call.
+  thread_local cv::Mat buffer;
   constexpr int kMinDisparity = 0;  // computeDisparity's
   cv::filterSpeckles(disp, (kMinDisparity - 1) * cv::StereoMatcher::DISP_SCALE, params.speckle_window_size,
                      cv::StereoMatcher::DISP_SCALE * params.speckle_range, buffer);
