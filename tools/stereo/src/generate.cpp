@@ -142,23 +142,6 @@ std::vector<StereoScans> variantScansSharingVoxels(const DatasetContext& x, cons
   return out;
 }
 
-// Without the voxel filter a set's clouds are as large as its images, so the variants are made one at a time,
-// sharing only the matcher's disparities (one per keyframe, held for the group).
-std::vector<StereoScans> variantScansSharingMatcher(const DatasetContext& x, const std::vector<SgbmParams>& variants) {
-  std::vector<std::vector<std::int16_t>> matcher(x.key.frames.size());
-  tbb::parallel_for(std::size_t(0), x.key.frames.size(), [&](std::size_t i) {
-    matcher[i] = computeMatcherDisparity(x.key.frames[i], variants.front(), x.c.scale.num_disparities);
-  });
-  std::vector<StereoScans> out;
-  for (const SgbmParams& params : variants)
-    out.push_back(stereoScans(x, [&](std::size_t i) {
-      std::vector<std::int16_t> disparity = matcher[i];
-      filterSpecklesAsCompute(disparity, x.cam.width, x.cam.height, params);
-      return disparity;
-    }));
-  return out;
-}
-
 // Of the points within kNearRange of their camera, those more than kOffSurface from the scene's surfaces.
 double offSurfaceFraction(const std::vector<Scan>& scans, const Scene& scene) {
   std::uint64_t off = 0, near = 0;
@@ -251,28 +234,62 @@ void generateEachAlone(const DatasetContext& x, const std::vector<ChosenSet>& se
   }
 }
 
-// Per matcher combination, its speckle variants' scans together (docs/datasets.md, "How generation shares
-// work"), then each set's quality and files, the group's sets in parallel (each writes only its own folder). The
-// group's scan time is charged to its sets in equal shares.
+// A matcher combination's speckle variants with the voxel filter (the paper's setting): their scans together
+// (variantScansSharingVoxels), then each set's quality and files, the sets in parallel (each writes only its own
+// folder). The group's scan time is charged to its sets in equal shares.
+void generateVariantsSharingVoxels(const DatasetContext& x, const std::vector<ChosenSet>& sets,
+                                   const std::vector<std::size_t>& group, std::vector<PointCloudSetSummary>& out,
+                                   const std::function<void(std::size_t)>& report) {
+  std::vector<SgbmParams> variants;
+  for (const std::size_t s : group) variants.push_back(sets[s].second);
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<StereoScans> scans = variantScansSharingVoxels(x, variants);
+  const double scan_share = secondsSince(start) / double(group.size());
+  tbb::parallel_for(std::size_t(0), group.size(), [&](std::size_t v) {
+    const std::size_t s = group[v];
+    out[s] = generateSet(x, sets[s].first, sets[s].second, std::move(scans[v]), scan_share);
+    scans[v] = StereoScans(0);  // written: its memory goes now, not with the group
+    report(s);
+  });
+}
+
+// Without the voxel filter a set's clouds are as large as its images, so the variants are made and written one
+// at a time, sharing only the matcher's disparities (one per keyframe, held for the group).
+void generateVariantsSharingMatcher(const DatasetContext& x, const std::vector<ChosenSet>& sets,
+                                    const std::vector<std::size_t>& group, std::vector<PointCloudSetSummary>& out,
+                                    const std::function<void(std::size_t)>& report) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<std::vector<std::int16_t>> matcher(x.key.frames.size());
+  tbb::parallel_for(std::size_t(0), x.key.frames.size(), [&](std::size_t i) {
+    matcher[i] = computeMatcherDisparity(x.key.frames[i], sets[group.front()].second, x.c.scale.num_disparities);
+  });
+  const double matcher_share = secondsSince(start) / double(group.size());
+  for (const std::size_t s : group) {
+    const auto set_start = std::chrono::steady_clock::now();
+    StereoScans scans = stereoScans(x, [&](std::size_t i) {
+      std::vector<std::int16_t> disparity = matcher[i];
+      filterSpecklesAsCompute(disparity, x.cam.width, x.cam.height, sets[s].second);
+      return disparity;
+    });
+    out[s] = generateSet(x, sets[s].first, sets[s].second, std::move(scans), matcher_share + secondsSince(set_start));
+    report(s);
+  }
+}
+
+// Per matcher combination, its speckle variants from one matcher computation per keyframe (docs/datasets.md,
+// "How generation shares work").
 void generateSharingMatcher(const DatasetContext& x, const std::vector<ChosenSet>& sets,
                             std::vector<PointCloudSetSummary>& out) {
   std::size_t done = 0;
   std::mutex print;
+  const auto report = [&](std::size_t s) {
+    const std::lock_guard lock(print);
+    if (x.c.progress) printSet(x.name.str(), out[s], done, sets.size());
+    done += 1;
+  };
   for (const std::vector<std::size_t>& group : matcherGroups(sets)) {
-    std::vector<SgbmParams> variants;
-    for (const std::size_t s : group) variants.push_back(sets[s].second);
-    const auto start = std::chrono::steady_clock::now();
-    std::vector<StereoScans> scans =
-        x.c.voxel_filter ? variantScansSharingVoxels(x, variants) : variantScansSharingMatcher(x, variants);
-    const double scan_share = secondsSince(start) / double(group.size());
-    tbb::parallel_for(std::size_t(0), group.size(), [&](std::size_t v) {
-      const std::size_t s = group[v];
-      out[s] = generateSet(x, sets[s].first, sets[s].second, std::move(scans[v]), scan_share);
-      scans[v] = StereoScans(0);  // written: its memory goes now, not with the group
-      const std::lock_guard lock(print);
-      if (x.c.progress) printSet(x.name.str(), out[s], done, sets.size());
-      done += 1;
-    });
+    if (x.c.voxel_filter) generateVariantsSharingVoxels(x, sets, group, out, report);
+    else generateVariantsSharingMatcher(x, sets, group, out, report);
   }
 }
 
