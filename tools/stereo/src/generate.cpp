@@ -1,8 +1,10 @@
 #include "occsweep/stereo/generate.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <exception>
+#include <functional>
 #include <cstdio>
 #include <iostream>
 #include <mutex>
@@ -85,24 +87,57 @@ struct StereoScans {
   std::vector<Scan> scans;
   std::vector<std::uint64_t> target_pixels, target_valid;
   std::vector<std::int16_t> preview_disparity;  ///< keyframe 0's, with previews
+
+  explicit StereoScans(std::size_t keyframes) : scans(keyframes), target_pixels(keyframes), target_valid(keyframes) {}
 };
 
-StereoScans stereoScans(const DatasetContext& x, const SgbmParams& params) {
+// What keyframe i's disparity gives its set besides the points: the target pixel counts, the scan's origin and
+// (keyframe 0) the preview.
+void recordDisparity(const DatasetContext& x, std::size_t i, const std::vector<std::int16_t>& disparity,
+                     StereoScans& out) {
   const Keyframes& key = x.key;
-  const GenerateConfig& c = x.c;
-  StereoScans out;
-  out.scans.resize(key.frames.size());
-  out.target_pixels.resize(key.frames.size());
-  out.target_valid.resize(key.frames.size());
-  tbb::parallel_for(std::size_t(0), key.frames.size(), [&](std::size_t i) {
-    const auto disparity = computeDisparity(key.frames[i], params, c.scale.num_disparities);
-    for (std::size_t p = 0; p < disparity.size(); ++p)
-      if (key.frames[i].target_mask[p]) out.target_pixels[i] += 1, out.target_valid[i] += disparity[p] > 0;
-    out.scans[i].origin = octomap::point3d(float(key.mapping[i].position.x()), float(key.mapping[i].position.y()),
-                                           float(key.mapping[i].position.z()));
-    const auto points = reprojectDisparity(disparity, x.cam, key.mapping[i], c.max_depth);
-    out.scans[i].points = c.voxel_filter ? voxelFilter(points, c.leaf) : toPoint3d(points);
-    if (i == 0 && c.preview) out.preview_disparity = disparity;
+  for (std::size_t p = 0; p < disparity.size(); ++p)
+    if (key.frames[i].target_mask[p]) out.target_pixels[i] += 1, out.target_valid[i] += disparity[p] > 0;
+  out.scans[i].origin = octomap::point3d(float(key.mapping[i].position.x()), float(key.mapping[i].position.y()),
+                                         float(key.mapping[i].position.z()));
+  if (i == 0 && x.c.preview) out.preview_disparity = disparity;
+}
+
+// A keyframe's disparity for one point cloud set, by keyframe index.
+using DisparityOf = std::function<std::vector<std::int16_t>(std::size_t keyframe)>;
+
+// One set's scans from its disparities: reprojection and voxel filter per keyframe.
+StereoScans stereoScans(const DatasetContext& x, const DisparityOf& disparity_of) {
+  StereoScans out(x.key.frames.size());
+  tbb::parallel_for(std::size_t(0), x.key.frames.size(), [&](std::size_t i) {
+    const auto disparity = disparity_of(i);
+    recordDisparity(x, i, disparity, out);
+    const auto points = reprojectDisparity(disparity, x.cam, x.key.mapping[i], x.c.max_depth);
+    out.scans[i].points = x.c.voxel_filter ? voxelFilter(points, x.c.leaf) : toPoint3d(points);
+  });
+  return out;
+}
+
+// The scans of every speckle variant of one matcher combination, keyframe by keyframe: the matcher once, its
+// reprojection and voxel sort once (SharedVoxelFilter), then per variant compute's speckle filter on a copy and
+// the kept points' centroids. Holds the variants' voxel-filtered scans (the paper's setting), not raw clouds.
+std::vector<StereoScans> variantScansSharingVoxels(const DatasetContext& x, const std::vector<SgbmParams>& variants) {
+  std::vector<StereoScans> out(variants.size(), StereoScans(x.key.frames.size()));
+  tbb::parallel_for(std::size_t(0), x.key.frames.size(), [&](std::size_t i) {
+    const auto matcher = computeMatcherDisparity(x.key.frames[i], variants.front(), x.c.scale.num_disparities);
+    const SharedVoxelFilter voxels(matcher, x.cam, x.key.mapping[i], x.c.max_depth, x.c.leaf);
+    std::vector<std::vector<std::int16_t>> disparities;  // this keyframe's, by variant
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+      disparities.push_back(matcher);
+      filterSpecklesAsCompute(disparities[v], x.cam.width, x.cam.height, variants[v]);
+      recordDisparity(x, i, disparities[v], out[v]);
+      // The same disparity gives the same points: speckleWindowSize 0 at every speckleRange, or a filter that
+      // removed the same pixels.
+      const auto same = std::find(disparities.begin(), disparities.begin() + long(v), disparities[v]);
+      out[v].scans[i].points = same != disparities.begin() + long(v)
+                                   ? out[std::size_t(same - disparities.begin())].scans[i].points
+                                   : voxels.filtered(disparities[v]);
+    }
   });
   return out;
 }
@@ -133,10 +168,11 @@ std::vector<int> keepNonEmpty(StereoScans& s, Dataset& d, PointCloudSetSummary& 
   return dropped;
 }
 
-// SGBM on every keyframe, the clouds and their quality, written to DIR/pcs-NNNN.
-PointCloudSetSummary generateSet(const DatasetContext& x, std::int64_t id, const SgbmParams& params) {
+// One set from its scans: the clouds' quality, written to DIR/pcs-NNNN. `scan_seconds`: the time its scans took
+// (with sharing, its equal share of its group's).
+PointCloudSetSummary generateSet(const DatasetContext& x, std::int64_t id, const SgbmParams& params, StereoScans s,
+                                 double scan_seconds) {
   const auto start = std::chrono::steady_clock::now();
-  StereoScans s = stereoScans(x, params);
   if (x.c.preview)
     writeDisparityPng(s.preview_disparity, x.cam.width, x.cam.height, x.c.scale.num_disparities,
                       x.dir / "preview" / ("disparity-" + folderName(id) + ".png"));
@@ -158,7 +194,7 @@ PointCloudSetSummary generateSet(const DatasetContext& x, std::int64_t id, const
   if (d.scans.empty()) throw std::runtime_error(x.name.str() + " " + pcs.folder + ": no keyframe produced a point");
   checkOutputTarget(x.dir / pcs.folder, true, datasetOutput());  // a regenerated set replaces only its own folder
   writeDataset(d, x.dir / pcs.folder);
-  pcs.seconds = secondsSince(start);
+  pcs.seconds = scan_seconds + secondsSince(start);
   return pcs;
 }
 
@@ -166,6 +202,95 @@ void printSet(const std::string& name, const PointCloudSetSummary& pcs, std::siz
   std::cerr << "  " << name << " " << pcs.folder << " (" << s + 1 << "/" << sets << "): " << pcs.points
             << " points, valid on targets " << pcs.target_valid_fraction << ", off-surface " << pcs.off_surface_fraction << ", naive TPR " << pcs.naive.tpr()
             << " FDR " << pcs.naive.fdr() << ", " << pcs.seconds << " s\n";
+}
+
+using ChosenSet = std::pair<std::int64_t, SgbmParams>;
+
+// The chosen sets' positions grouped by their matcher combination (matcherParams), groups in order of first
+// appearance, positions ascending in each.
+std::vector<std::vector<std::size_t>> matcherGroups(const std::vector<ChosenSet>& sets) {
+  std::vector<std::vector<std::size_t>> groups;
+  std::vector<SgbmParams> keys;
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    const SgbmParams key = matcherParams(sets[s].second);
+    const auto found = std::find(keys.begin(), keys.end(), key);
+    if (found == keys.end()) keys.push_back(key), groups.push_back({s});
+    else groups[std::size_t(found - keys.begin())].push_back(s);
+  }
+  return groups;
+}
+
+// Each set alone: StereoSGBM::compute with its full parameters on every keyframe (the path before sharing).
+void generateEachAlone(const DatasetContext& x, const std::vector<ChosenSet>& sets,
+                       std::vector<PointCloudSetSummary>& out) {
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    const SgbmParams& params = sets[s].second;
+    const auto start = std::chrono::steady_clock::now();
+    StereoScans scans = stereoScans(x, [&](std::size_t i) {
+      return computeDisparity(x.key.frames[i], params, x.c.scale.num_disparities);
+    });
+    out[s] = generateSet(x, sets[s].first, params, std::move(scans), secondsSince(start));
+    if (x.c.progress) printSet(x.name.str(), out[s], s, sets.size());
+  }
+}
+
+// A matcher combination's speckle variants with the voxel filter (the paper's setting): their scans together
+// (variantScansSharingVoxels), then each set's quality and files, the sets in parallel (each writes only its own
+// folder). The group's scan time is charged to its sets in equal shares.
+void generateVariantsSharingVoxels(const DatasetContext& x, const std::vector<ChosenSet>& sets,
+                                   const std::vector<std::size_t>& group, std::vector<PointCloudSetSummary>& out,
+                                   const std::function<void(std::size_t)>& report) {
+  std::vector<SgbmParams> variants;
+  for (const std::size_t s : group) variants.push_back(sets[s].second);
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<StereoScans> scans = variantScansSharingVoxels(x, variants);
+  const double scan_share = secondsSince(start) / double(group.size());
+  tbb::parallel_for(std::size_t(0), group.size(), [&](std::size_t v) {
+    const std::size_t s = group[v];
+    out[s] = generateSet(x, sets[s].first, sets[s].second, std::move(scans[v]), scan_share);
+    scans[v] = StereoScans(0);  // written: its memory goes now, not with the group
+    report(s);
+  });
+}
+
+// Without the voxel filter a set's clouds are as large as its images, so the variants are made and written one
+// at a time, sharing only the matcher's disparities (one per keyframe, held for the group).
+void generateVariantsSharingMatcher(const DatasetContext& x, const std::vector<ChosenSet>& sets,
+                                    const std::vector<std::size_t>& group, std::vector<PointCloudSetSummary>& out,
+                                    const std::function<void(std::size_t)>& report) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<std::vector<std::int16_t>> matcher(x.key.frames.size());
+  tbb::parallel_for(std::size_t(0), x.key.frames.size(), [&](std::size_t i) {
+    matcher[i] = computeMatcherDisparity(x.key.frames[i], sets[group.front()].second, x.c.scale.num_disparities);
+  });
+  const double matcher_share = secondsSince(start) / double(group.size());
+  for (const std::size_t s : group) {
+    const auto set_start = std::chrono::steady_clock::now();
+    StereoScans scans = stereoScans(x, [&](std::size_t i) {
+      std::vector<std::int16_t> disparity = matcher[i];
+      filterSpecklesAsCompute(disparity, x.cam.width, x.cam.height, sets[s].second);
+      return disparity;
+    });
+    out[s] = generateSet(x, sets[s].first, sets[s].second, std::move(scans), matcher_share + secondsSince(set_start));
+    report(s);
+  }
+}
+
+// Per matcher combination, its speckle variants from one matcher computation per keyframe (docs/datasets.md,
+// "How generation shares work").
+void generateSharingMatcher(const DatasetContext& x, const std::vector<ChosenSet>& sets,
+                            std::vector<PointCloudSetSummary>& out) {
+  std::size_t done = 0;
+  std::mutex print;
+  const auto report = [&](std::size_t s) {
+    const std::lock_guard lock(print);
+    if (x.c.progress) printSet(x.name.str(), out[s], done, sets.size());
+    done += 1;
+  };
+  for (const std::vector<std::size_t>& group : matcherGroups(sets)) {
+    if (x.c.voxel_filter) generateVariantsSharingVoxels(x, sets, group, out, report);
+    else generateVariantsSharingMatcher(x, sets, group, out, report);
+  }
 }
 
 }  // namespace
@@ -214,10 +339,9 @@ DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c,
   }
 
   const DatasetContext context{name, c, grid, scene, truth, cam, key, dir};
-  for (std::size_t s = 0; s < sets.size(); ++s) {
-    summary.sets.push_back(generateSet(context, sets[s].first, sets[s].second));
-    if (c.progress) printSet(name.str(), summary.sets.back(), s, sets.size());
-  }
+  summary.sets.resize(sets.size());  // in the order of `sets` whichever path runs, then ranked
+  if (c.share_matcher) generateSharingMatcher(context, sets, summary.sets);
+  else generateEachAlone(context, sets, summary.sets);
   rankSets(summary.sets);
   writeRanking(summary, c, grid, dir);
   return summary;

@@ -60,6 +60,13 @@ SgbmParams parseSgbmParams(const std::string& text) {
   return p;
 }
 
+SgbmParams matcherParams(const SgbmParams& params) {
+  SgbmParams matcher = params;
+  matcher.speckle_window_size = 0;
+  matcher.speckle_range = 0;
+  return matcher;
+}
+
 std::vector<std::int16_t> computeDisparity(const StereoFrame& frame, const SgbmParams& p, int num_disparities) {
   if (num_disparities <= 0 || num_disparities % 16 != 0)
     throw std::invalid_argument("numDisparities must be a positive multiple of 16");
@@ -75,5 +82,26 @@ std::vector<std::int16_t> computeDisparity(const StereoFrame& frame, const SgbmP
   const auto* d = disparity.ptr<std::int16_t>();
   return std::vector<std::int16_t>(d, d + std::size_t(w) * h);
 }
+
+std::vector<std::int16_t> computeMatcherDisparity(const StereoFrame& frame, const SgbmParams& params,
+                                                  int num_disparities) {
+  return computeDisparity(frame, matcherParams(params), num_disparities);
+}
+
+void filterSpecklesAsCompute(std::vector<std::int16_t>& disparity, int width, int height, const SgbmParams& params) {
+  if (params.speckle_window_size <= 0) return;
+  if (disparity.size() != std::size_t(width) * height)
+    throw std::invalid_argument("filterSpecklesAsCompute: the disparity is not width x height");
+  cv::Mat disp(height, width, CV_16SC1, disparity.data());
+  // compute passes its own buffer (the matcher's, reused), which also keeps OpenCV off its IPP branch (taken only
+  // without one); filterSpeckles clears its labels and writes the rest before reading, so any buffer gives the
+  // same result. One per thread, kept: no allocation per call.
+  thread_local cv::Mat buffer;
+  constexpr int kMinDisparity = 0;  // computeDisparity's
+  cv::filterSpeckles(disp, (kMinDisparity - 1) * cv::StereoMatcher::DISP_SCALE, params.speckle_window_size,
+                     cv::StereoMatcher::DISP_SCALE * params.speckle_range, buffer);
+}
+
+std::string openCvVersion() { return CV_VERSION; }
 
 }  // namespace occsweep::stereo

@@ -52,6 +52,10 @@ struct GenerateConfig {
   double max_depth = 20.0;             ///< a ZED reports no depth beyond 20 m
   bool preview = true;                 ///< write preview/ PNGs of keyframe 0 (left image, disparities)
   bool progress = true;                ///< progress lines on stderr (`reproduce --quiet` turns them off)
+  /// SGBM's matcher once per keyframe and matcher combination, each speckle variant derived from it (the same
+  /// bytes, docs/datasets.md "How generation shares work"); false: every set runs StereoSGBM::compute with its
+  /// full parameters, the path before sharing (the oracle of the tests and the benchmark's baseline).
+  bool share_matcher = true;
 };
 
 /// A filtered point further than this from every true surface is a phantom: a voxel centroid of points on a
@@ -70,7 +74,8 @@ struct PointCloudSetSummary {
                                      ///< kOffSurface from every true surface (phantoms)
   ConfusionCounts naive;
   int rank = 0;                    ///< by naive FDR, 1st is best (ties: higher TPR, then lower id)
-  double seconds = 0;              ///< SGBM, reprojection, filter and writing (not deterministic: timing.json)
+  double seconds = 0;              ///< SGBM, reprojection, filter and writing (not deterministic: timing.json);
+                                   ///< with share_matcher, the matcher's time in equal shares of its group
 };
 
 struct DatasetSummary {

@@ -39,4 +39,26 @@ void validate(const SgbmParams& params);
 [[nodiscard]] std::vector<std::int16_t> computeDisparity(const StereoFrame& frame, const SgbmParams& params,
                                                          int num_disparities);
 
+/// StereoSGBM::compute runs the matcher (where blockSize, uniquenessRatio, disp12MaxDiff, P1 and P2 act, the
+/// left-right check included), a 3x3 median, and only then, when speckleWindowSize > 0,
+/// filterSpeckles(disp, (minDisparity - 1) * 16, speckleWindowSize, 16 * speckleRange, buffer). So every speckle
+/// variant of one matcher combination shares the first two steps (docs/datasets.md, "How generation shares work"):
+///   computeDisparity(frame, p, n) == filterSpecklesAsCompute(computeMatcherDisparity(frame, p, n), w, h, p).
+
+/// `params` with speckleWindowSize = speckleRange = 0: what the matcher and the median see (the key that groups
+/// speckle variants).
+[[nodiscard]] SgbmParams matcherParams(const SgbmParams& params);
+
+/// computeDisparity with speckleWindowSize 0: the matcher and the median, no speckle filter.
+[[nodiscard]] std::vector<std::int16_t> computeMatcherDisparity(const StereoFrame& frame, const SgbmParams& params,
+                                                                int num_disparities);
+
+/// compute's last step on a matcher disparity, in place: nothing when speckleWindowSize is 0, else OpenCV's
+/// filterSpeckles with compute's arguments (new value -16, i.e. (minDisparity - 1) * 16; maxDiff 16 speckleRange).
+/// Only ever sets pixels to -16; every other pixel keeps its value.
+void filterSpecklesAsCompute(std::vector<std::int16_t>& disparity, int width, int height, const SgbmParams& params);
+
+/// The OpenCV version this library was built with (CV_VERSION), for benchmarks' records.
+[[nodiscard]] std::string openCvVersion();
+
 }  // namespace occsweep::stereo
