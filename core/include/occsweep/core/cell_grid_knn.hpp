@@ -167,10 +167,11 @@ inline void CellGridKnn::chooseCellSize(int k) {
     for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p(a))), hi[a] = std::max(hi[a], double(p(a)));
   span_ = 0.0;
   for (int a = 0; a < 3; ++a) origin_[a] = lo[a], span_ = std::max(span_, hi[a] - lo[a]);
-  // Cells five k-th neighbour distances wide (the fastest of 2 to 8 on the dense built-in scene,
-  // docs/performance.md): a query reads its own cell, and of the 26 around it only those nearer than its
-  // k-th nearest so far; sparse points need few rings of cells.
-  double cell = 5.0 * sampledKthNeighbourDistance(k);
+  // Cells 5 / sqrt(k) (at least 2) k-th neighbour distances wide, about 8 + k points a cell on a surface (the
+  // fastest of 1.5 to 8 on the dense built-in scene for k = 1, 5, 10; docs/performance.md): a query reads its
+  // own cell, and of the 26 around it only those nearer than its k-th nearest so far; sparse points need few
+  // rings of cells.
+  double cell = std::max(2.0, 5.0 / std::sqrt(double(k))) * sampledKthNeighbourDistance(k);
   if (!(cell > 0.0)) cell = span_ / std::cbrt(double(points_.size()));  // the samples sat on duplicates
   cell = std::max(cell, span_ / double(kMaxCellsPerAxis - 2));         // the keys' 21 bits per axis
   if (!(cell > 0.0)) cell = 1.0;                                        // every point the same: one cell
