@@ -1,5 +1,5 @@
 // An exact k-nearest-neighbour search over a uniform grid of cubic cells, for the dense clouds of a range
-// scan (docs/performance.md, "The k-NN search"): cells a few k-th neighbour distances wide in a hash table;
+// scan (docs/performance.md, "The k-NN search over a grid of cells"): cells a few k-th neighbour distances wide in a hash table;
 // a query reads its own cell, then the cells around it nearer than its k-th nearest so far, ring by ring,
 // and stops as soon as no unread cell can hold a nearer point.
 #pragma once
