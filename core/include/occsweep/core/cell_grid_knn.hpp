@@ -101,7 +101,7 @@ class CellGridKnn {
 // ---------------------------------------------------------------------------------------------------------
 namespace detail {
 
-/// The k smallest (squared distance, point) pairs seen so far, ascending; a new pair goes after equal ones.
+/// The k smallest squared distances offered so far, ascending (a new one after those equal to it).
 class NearestSoFar {
  public:
   NearestSoFar(std::vector<double>& d2, std::size_t capacity) : d2_(d2), capacity_(capacity) { d2_.clear(); }
