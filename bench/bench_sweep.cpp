@@ -1,6 +1,7 @@
 // Issue 5's benchmark: on a paper-scale point cloud set, side by side in one run, one liboctomap build, the k-NN
 // mapper's direct build, the event recording, the replay of knn-opt and octomap-opt, their ratios, the run-time
-// models (Eq. 17, 18) and the sweep's peak memory. Build in Release (the default).
+// models (Eq. 17, 18) and the sweep's peak memory; and (issue 18) the k-NN search before and after, the
+// nanoflann k-d tree against the grid of cells, on the same clouds. Build in Release (the default).
 //   build/bench/bench_sweep                  the paper-scale set: building-voronoi-I's median point cloud set at
 //                                            paper scale (144 keyframes, 2.9 M points), generated once by
 //                                            `occsweep dataset generate` (about 5 min) into build/bench/paper-set
@@ -25,6 +26,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/version.h>
 
+#include "occsweep/core/knn_average_distance.hpp"
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/eval/dataset.hpp"
@@ -206,6 +208,38 @@ PartSeconds timeParts(const Dataset& data, const GroundTruth& truth) {
   return s;
 }
 
+// The k-NN search alone, 1 thread, on every scan's z_in: the former k-d tree and the grid of cells on the same
+// clouds, and how many s_i differ in any bit (docs/performance.md: only float-ranking ties can make them).
+struct SearchSeconds {
+  int k;
+  double kd_tree, grid;
+  std::size_t points, differing;
+};
+
+SearchSeconds timeSearches(const PointCloudSet& scans, int k) {
+  SearchSeconds s{k, 0, 0, 0, 0};
+  for (const Scan& scan : scans) {
+    std::vector<octomap::point3d> inner;
+    for (std::uint32_t i : innerPoints(scan, kSC)) inner.push_back(scan.points[i]);
+    std::vector<double> tree, grid;
+    s.kd_tree += seconds([&] { tree = averageKnnDistancesKdTree(inner, k); });
+    s.grid += seconds([&] { grid = averageKnnDistances(inner, k); });
+    s.points += inner.size();
+    for (std::size_t i = 0; i < tree.size(); ++i) s.differing += std::memcmp(&tree[i], &grid[i], sizeof(double)) != 0;
+  }
+  return s;
+}
+
+void printSearches(const PointCloudSet& scans) {
+  std::printf("\n%-44s %10s %10s %10s %16s\n", "k-NN search, every scan's z_in, 1 thread", "k-d tree s", "grid s",
+              "grid / kd", "s_i differing");
+  for (int k : {1, 5, 10}) {
+    const SearchSeconds s = timeSearches(scans, k);
+    std::printf("%-44s %10.3f %10.3f %10.3f %9zu of %zu\n", ("k = " + std::to_string(k)).c_str(), s.kd_tree, s.grid,
+                s.grid / s.kd_tree, s.differing, s.points);
+  }
+}
+
 // Per method: its replay throughput and its ratio to k-NN's (docs/methods.md: a method swept within 2x of k-NN).
 void printReplayThroughput(const std::vector<ReplaySeconds>& replays) {
   std::printf("\n%-20s %-14s %12s %12s %12s %16s %10s\n", "grid", "method", "combinations", "prepare s", "replay s",
@@ -218,10 +252,24 @@ void printReplayThroughput(const std::vector<ReplaySeconds>& replays) {
   }
 }
 
-void printSteps(double t_octomap, double t_knn, const SweepSeconds& sweep, const PartSeconds& parts) {
+// The direct build on 1 thread and with the k-NN distances of the scans computed in parallel (the same map).
+struct DirectSeconds {
+  double one_thread, all_cores;
+};
+
+DirectSeconds timeDirectBuilds(const PointCloudSet& scans, const KnnParams& knn) {
+  const KnnInverseSensorModel model(knn);
+  DirectSeconds d{};
+  d.one_thread = seconds([&] { (void)model.buildMap(scans); });
+  d.all_cores = seconds([&] { (void)model.buildMap(scans, parallelKnnDistances(scans, knn.k, knn.s_c)); });
+  return d;
+}
+
+void printSteps(double t_octomap, const DirectSeconds& t_knn, const SweepSeconds& sweep, const PartSeconds& parts) {
   std::printf("\n%-52s %10s\n", "step", "seconds");
   std::printf("%-52s %10.3f\n", "liboctomap build (insertPointCloud per scan, 1 thread)", t_octomap);
-  std::printf("%-52s %10.3f\n", "k-NN mapper direct build (k = 1, incl. k-NN, 1 thread)", t_knn);
+  std::printf("%-52s %10.3f / %.3f\n", "k-NN mapper direct build (k = 1, incl. k-NN; 1 thread / all cores)",
+              t_knn.one_thread, t_knn.all_cores);
   std::printf("%-52s %10.3f / %.3f\n", "occsweep sweep knn-opt (1 thread / all cores)", sweep.knn_1, sweep.knn_all);
   std::printf("%-52s %10.3f / %.3f\n", "occsweep sweep octomap-opt (1 thread / all cores)", sweep.om_1, sweep.om_all);
   std::printf("  parts, all cores: recording %.3f s (%llu region voxel updates), k-NN distances %.3f s\n",
@@ -230,7 +278,8 @@ void printSteps(double t_octomap, double t_knn, const SweepSeconds& sweep, const
   std::printf("\n(a) knn-opt + octomap-opt sweeps (recording included) / one liboctomap build: %.3f on 1 thread, "
               "%.3f on all cores   (goal <= 1.0)\n",
               (sweep.knn_1 + sweep.om_1) / t_octomap, (sweep.knn_all + sweep.om_all) / t_octomap);
-  std::printf("(b) k-NN direct build / one liboctomap build:                 %.3f   (goal <= 0.7)\n", t_knn / t_octomap);
+  std::printf("(b) k-NN direct build / one liboctomap build:                 %.3f on 1 thread, %.3f on all cores   "
+              "(goal <= 0.7)\n", t_knn.one_thread / t_octomap, t_knn.all_cores / t_octomap);
   const ReplaySeconds& knn = parts.replays[0];
   const ReplaySeconds& om = parts.replays[1];
   std::printf("(c) replay throughput: %.0f combinations/s (all cores, knn-opt and octomap-opt)\n",
@@ -275,14 +324,24 @@ void printPeakMemory(const std::filesystem::path& dir, std::size_t points) {
               "%.2f\n", binary / 1e6, (peak_knn - binary) / points_bytes, (peak_om - binary) / points_bytes);
 }
 
+// The machine: /proc/cpuinfo's model name.
+std::string cpuModel() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   BenchOptions options = parseArguments(argc, argv);
   occsweep::addGridFolder(OCCSWEEP_BENCH_GRIDS);  // the build tree's copy of the grids (docs/install.md)
-  std::printf("occsweep bench_sweep: build type %s, g++ %d.%d, liboctomap %s, oneTBB %d.%d, %u hardware threads\n",
+  std::printf("occsweep bench_sweep: build type %s, g++ %d.%d, liboctomap %s, oneTBB %d.%d, nanoflann %x.%x.%x, "
+              "%u hardware threads, %s\n",
               OCCSWEEP_BUILD_TYPE, __GNUC__, __GNUC_MINOR__, OCCSWEEP_OCTOMAP_VERSION, TBB_VERSION_MAJOR, TBB_VERSION_MINOR,
-              std::thread::hardware_concurrency());
+              NANOFLANN_VERSION >> 8, (NANOFLANN_VERSION >> 4) & 0xf, NANOFLANN_VERSION & 0xf,
+              std::thread::hardware_concurrency(), cpuModel().c_str());
   const Dataset data = loadSet(options);
   const auto dir = std::filesystem::temp_directory_path() / ("occsweep-bench-" + std::to_string(::getpid()));
   writeDataset(data, dir / "set");
@@ -291,10 +350,11 @@ int main(int argc, char** argv) {
   KnnParams knn;
   knn.k = 1;  // knn-opt's k
   const double t_octomap = seconds([&] { (void)buildOctoMap(data.scans, om); });
-  const double t_knn = seconds([&] { (void)KnnInverseSensorModel(knn).buildMap(data.scans); });
+  const DirectSeconds t_knn = timeDirectBuilds(data.scans, knn);
   const SweepSeconds sweep = timeSweeps(dir);
   const GroundTruth truth = makeGroundTruth(data.truth, data.region, kResolution);
   printSteps(t_octomap, t_knn, sweep, timeParts(data, truth));
+  printSearches(data.scans);
   printGrowthFits(data, truth, om, knn);
   printPeakMemory(dir, pointCount(data.scans));
   std::filesystem::remove_all(dir);

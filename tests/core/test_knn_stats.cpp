@@ -11,7 +11,7 @@
 
 using namespace occsweep;
 
-TEST_CASE("nanoflann average k-NN distances equal brute force on random clouds") {
+TEST_CASE("the nanoflann k-d tree's average k-NN distances equal brute force on random clouds") {
   for (std::uint64_t seed = 1; seed <= 40; ++seed) {
     SplitMix64 rng(seed);
     const std::size_t n = 1 + rng.below(300);
@@ -19,7 +19,7 @@ TEST_CASE("nanoflann average k-NN distances equal brute force on random clouds")
     // Duplicates: a point at distance 0 is still another point.
     for (std::size_t d = 0; d < n / 10; ++d) pts.push_back(pts[rng.below(pts.size())]);
     const int k = 1 + int(rng.below(9));
-    const auto fast = averageKnnDistances(pts, k);
+    const auto fast = averageKnnDistancesKdTree(pts, k);
     const auto slow = averageKnnDistancesBruteForce(pts, k);
     REQUIRE(fast.size() == slow.size());
     for (std::size_t i = 0; i < fast.size(); ++i) {

@@ -5,22 +5,38 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <nanoflann.hpp>
 #include <octomap/octomap_types.h>
 
+#include "cell_grid_knn.hpp"
+
 namespace occsweep {
 
 /// Average distance from every point of `points` to its k nearest *other* points (itself excluded by index,
 /// so a duplicate at distance 0 still counts as a neighbour). Fewer than k others: the mean over those there
-/// are; none: +inf (docs/definitions.md, k-NN inverse sensor model). Distances are recomputed in double from
-/// the float coordinates so the result does not depend on nanoflann's float accumulation or on how it breaks ties.
+/// are; none: +inf (docs/definitions.md, k-NN inverse sensor model). Distances are computed in double from the
+/// float coordinates and summed in ascending order, so s_i is one number whichever of several equally distant
+/// points is taken: tied points have equal distances, and any order of equal values sums to the same double.
+/// Searched over a grid of cells (cell_grid_knn.hpp, docs/performance.md).
 [[nodiscard]] std::vector<double> averageKnnDistances(const std::vector<octomap::point3d>& points, int k);
 
-/// The same by brute force, O(n^2): the oracle the tests compare the k-d tree against.
+/// The same for several k from one search with the largest: each k's s_i sums the first k of the same
+/// ascending distances, so it equals averageKnnDistances(points, k) bit for bit. One vector per entry of ks.
+[[nodiscard]] std::vector<std::vector<double>> averageKnnDistancesForEachK(const std::vector<octomap::point3d>& points,
+                                                                          const std::vector<int>& ks);
+
+/// The same by brute force, O(n^2): the oracle the tests compare the searches against.
 [[nodiscard]] std::vector<double> averageKnnDistancesBruteForce(const std::vector<octomap::point3d>& points,
                                                                 int k);
+
+/// The same over a nanoflann k-d tree, which ranks by float squared distances and sums in its order: the
+/// search before the grid of cells, kept for bench_sweep's comparison of the two on the same clouds. Equal to
+/// averageKnnDistances except where two float squared distances round to one order and the doubles to the
+/// other (a last-bit difference in s_i).
+[[nodiscard]] std::vector<double> averageKnnDistancesKdTree(const std::vector<octomap::point3d>& points, int k);
 
 // ---------------------------------------------------------------------------------------------------------
 namespace detail {
@@ -40,15 +56,38 @@ using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<
                                                    PointVectorAdaptor, 3, std::uint32_t>;
 
 inline double euclidean(const octomap::point3d& a, const octomap::point3d& b) {
-  const double dx = double(a.x()) - double(b.x());
-  const double dy = double(a.y()) - double(b.y());
-  const double dz = double(a.z()) - double(b.z());
-  return std::sqrt(dx * dx + dy * dy + dz * dz);
+  return std::sqrt(squaredDistance(a, b));
+}
+
+/// The mean of the square roots of ascending squared distances, summed in that order; +inf for none.
+inline double meanOfRoots(const std::vector<double>& ascending_d2, std::size_t count) {
+  if (count == 0) return std::numeric_limits<double>::infinity();
+  double sum = 0.0;
+  for (std::size_t j = 0; j < count; ++j) sum += std::sqrt(ascending_d2[j]);
+  return sum / double(count);
 }
 
 }  // namespace detail
 
 inline std::vector<double> averageKnnDistances(const std::vector<octomap::point3d>& points, int k) {
+  return std::move(averageKnnDistancesForEachK(points, {k}).front());
+}
+
+inline std::vector<std::vector<double>> averageKnnDistancesForEachK(const std::vector<octomap::point3d>& points,
+                                                                   const std::vector<int>& ks) {
+  const std::size_t n = points.size();
+  const int k_max = ks.empty() ? 0 : *std::max_element(ks.begin(), ks.end());
+  std::vector<std::vector<double>> s(ks.size(), std::vector<double>(n, std::numeric_limits<double>::infinity()));
+  if (n < 2 || k_max < 1) return s;
+  const CellGridKnn grid(points, k_max);
+  grid.forEachPointNearestOthers(k_max, [&](std::size_t i, const std::vector<double>& ascending_d2) {
+    for (std::size_t m = 0; m < ks.size(); ++m)
+      s[m][i] = detail::meanOfRoots(ascending_d2, std::min<std::size_t>(std::size_t(std::max(ks[m], 0)), ascending_d2.size()));
+  });
+  return s;
+}
+
+inline std::vector<double> averageKnnDistancesKdTree(const std::vector<octomap::point3d>& points, int k) {
   const std::size_t n = points.size();
   std::vector<double> s(n, std::numeric_limits<double>::infinity());
   if (n < 2 || k < 1) return s;

@@ -1,0 +1,380 @@
+// An exact k-nearest-neighbour search over a uniform grid of cubic cells, for the dense clouds of a range
+// scan (docs/performance.md, "The k-NN search over a grid of cells"): cells a few k-th neighbour distances wide in a hash table;
+// a query reads its own cell, then the cells around it nearer than its k-th nearest so far, ring by ring,
+// and stops as soon as no unread cell can hold a nearer point.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <octomap/octomap_types.h>
+
+namespace occsweep {
+
+/// Squared Euclidean distance in double from float coordinates; (dx^2 + dy^2) + dz^2, in this order, is the
+/// one formula every k-NN search here ranks and sums by (so their results can be equal bit for bit).
+[[nodiscard]] double squaredDistance(const octomap::point3d& a, const octomap::point3d& b);
+
+/// Exact k-NN over one cloud: the points sorted into a hash table of cells. The points are kept by
+/// reference and must outlive the search.
+class CellGridKnn {
+ public:
+  /// Indexes `points` with cells sized for about k neighbours (any k >= 1 can be asked later; only speed
+  /// depends on this one).
+  CellGridKnn(const std::vector<octomap::point3d>& points, int k);
+
+  /// The squared distances from point i to its min(k, n - 1) nearest *other* points (itself excluded by
+  /// index, so a duplicate counts at 0), ascending, into `out` (resized; reused across calls, no allocation).
+  /// Exact: which of several equally distant points is taken is unspecified, but the distances are equal,
+  /// so `out` is the same sequence of values as sorting all n - 1 squared distances and keeping the first k.
+  void nearestOtherSquaredDistances(std::size_t i, int k, std::vector<double>& out) const;
+
+  /// The same for every point, cell by cell: visit(i, ascending squared distances) once per point i. The
+  /// points of one cell share one read of the 27 cells around it, which holds most of their neighbours.
+  template <class Visit>
+  void forEachPointNearestOthers(int k, Visit&& visit) const;
+
+  [[nodiscard]] double cellSize() const { return cell_; }
+
+ private:
+  struct Cell {
+    std::uint32_t start = 0;  ///< first point of the cell in sorted_
+    std::uint32_t count = 0;
+  };
+  struct SortedPoint {
+    float x, y, z;
+    std::uint32_t index;  ///< into points_
+  };
+  struct BlockCell {
+    double low[3];  ///< the cell's lowest corner
+    std::uint32_t start, count;
+  };
+  struct CellCoords {
+    std::int64_t c[3];
+  };
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
+  static constexpr int kAxisBits = 21;  ///< cells per axis at most 2^21: three fit in one 64-bit key
+  static constexpr std::int64_t kMaxCellsPerAxis = std::int64_t(1) << kAxisBits;
+
+  [[nodiscard]] double sampledKthNeighbourDistance(int k) const;
+  void chooseCellSize(int k);
+  [[nodiscard]] CellCoords cellOf(float x, float y, float z) const;
+  [[nodiscard]] static std::uint64_t keyOf(const CellCoords& c);
+  [[nodiscard]] std::size_t slotOf(std::uint64_t key) const;  ///< the key's slot, or the free slot it would take
+  void sortIntoCells();
+  /// The distance from q to the nearest face of the block of cells within `ring` of its cell, made smaller by
+  /// a margin far above the rounding of cellOf and of the squared distances: no unread point is nearer.
+  [[nodiscard]] double unreadLowerBound(const SortedPoint& q, const CellCoords& c, std::int64_t ring) const;
+  [[nodiscard]] bool blockCoversGrid(const CellCoords& c, std::int64_t ring) const;
+  [[nodiscard]] const Cell* find(const CellCoords& c) const;  ///< nullptr: an empty cell
+  [[nodiscard]] BlockCell blockCell(const CellCoords& c, const Cell& cell) const;
+  /// A lower bound on the squared distance from q to any point of the cell b (its box, less the margin).
+  [[nodiscard]] double boxGap(const SortedPoint& q, const BlockCell& b, double margin) const;
+  /// Whether `nearest` (for q, from every cell within `ring` of c) already holds q's nearest points.
+  template <class Nearest>
+  [[nodiscard]] bool certain(const SortedPoint& q, const CellCoords& c, std::int64_t ring, const Nearest& nearest) const;
+  /// Reads the cells at Chebyshev distance first_ring, first_ring + 1, ... from q's cell c until certain.
+  template <class Nearest>
+  void searchRings(const SortedPoint& q, const CellCoords& c, std::int64_t first_ring, Nearest& nearest) const;
+  template <class Nearest>
+  static void offerCell(const SortedPoint& q, const SortedPoint* begin, const SortedPoint* end, Nearest& nearest);
+  [[nodiscard]] std::size_t nearestCount(int k) const {
+    return std::min<std::size_t>(std::size_t(std::max(k, 0)), points_.empty() ? 0 : points_.size() - 1);
+  }
+
+  const std::vector<octomap::point3d>& points_;
+  double origin_[3] = {0, 0, 0};
+  std::int64_t last_cell_[3] = {0, 0, 0};  ///< the largest cell coordinate per axis
+  double cell_ = 1.0, inverse_cell_ = 1.0, span_ = 0.0;
+  // A hash table, open addressing with linear probing, power-of-two size: the keys apart from the cells, so
+  // that probing (mostly for empty cells) reads 8 bytes a slot.
+  std::vector<std::uint64_t> keys_;  ///< kEmpty for a free slot
+  std::vector<Cell> cells_;          ///< same slots
+  std::uint64_t mask_ = 0;
+  int shift_ = 64;  ///< 64 - log2(table size)
+  std::vector<SortedPoint> sorted_;  ///< the points cell by cell
+};
+
+// ---------------------------------------------------------------------------------------------------------
+namespace detail {
+
+/// The k smallest squared distances offered so far, ascending (a new one after those equal to it).
+class NearestSoFar {
+ public:
+  NearestSoFar(std::vector<double>& d2, std::size_t capacity) : d2_(d2), capacity_(capacity) { d2_.clear(); }
+  [[nodiscard]] bool full() const { return d2_.size() == capacity_; }
+  [[nodiscard]] double worst() const { return full() ? d2_.back() : std::numeric_limits<double>::infinity(); }
+  void clear() { d2_.clear(); }
+  void offer(double d2) {
+    if (full()) {
+      if (!(d2 < d2_.back())) return;
+    } else {
+      d2_.push_back(d2);  // room for one more; capacity_ is reached once and kept
+    }
+    std::size_t at = d2_.size() - 1;  // the last place is free (new) or the worst (dropped)
+    for (; at > 0 && d2_[at - 1] > d2; --at) d2_[at] = d2_[at - 1];
+    d2_[at] = d2;
+  }
+
+ private:
+  std::vector<double>& d2_;
+  std::size_t capacity_;
+};
+
+}  // namespace detail
+
+inline double squaredDistance(const octomap::point3d& a, const octomap::point3d& b) {
+  const double dx = double(a.x()) - double(b.x());
+  const double dy = double(a.y()) - double(b.y());
+  const double dz = double(a.z()) - double(b.z());
+  return dx * dx + dy * dy + dz * dz;
+}
+
+inline CellGridKnn::CellGridKnn(const std::vector<octomap::point3d>& points, int k) : points_(points) {
+  if (points_.empty()) return;
+  chooseCellSize(std::max(k, 1));
+  sortIntoCells();
+}
+
+// About the k-th neighbour distance at the median of 8 points spread over the cloud (brute force, 8 n
+// distances): the cells then hold a few points each and the 27 around a query usually hold its k neighbours.
+inline double CellGridKnn::sampledKthNeighbourDistance(int k) const {
+  const std::size_t n = points_.size();
+  const std::size_t samples = std::min<std::size_t>(n, 8);
+  const std::size_t kk = std::min<std::size_t>(std::size_t(k), n - 1);
+  if (kk == 0) return 0.0;
+  std::vector<double> kth, d2;
+  d2.reserve(n);
+  for (std::size_t s = 0; s < samples; ++s) {
+    const std::size_t i = (2 * s + 1) * n / (2 * samples);
+    d2.clear();
+    for (std::size_t j = 0; j < n; ++j)
+      if (j != i) d2.push_back(squaredDistance(points_[i], points_[j]));
+    std::nth_element(d2.begin(), d2.begin() + long(kk - 1), d2.end());
+    kth.push_back(d2[kk - 1]);
+  }
+  std::nth_element(kth.begin(), kth.begin() + long(kth.size() / 2), kth.end());
+  return std::sqrt(kth[kth.size() / 2]);
+}
+
+inline void CellGridKnn::chooseCellSize(int k) {
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = hi[a] = double(points_[0](a));
+  for (const auto& p : points_)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p(a))), hi[a] = std::max(hi[a], double(p(a)));
+  span_ = 0.0;
+  for (int a = 0; a < 3; ++a) origin_[a] = lo[a], span_ = std::max(span_, hi[a] - lo[a]);
+  // Cells 5 / sqrt(k) (at least 2) k-th neighbour distances wide, about 8 + k points a cell on a surface (the
+  // fastest of 1.5 to 8 on the dense built-in scene for k = 1, 5, 10; docs/performance.md): a query reads its
+  // own cell, and of the 26 around it only those nearer than its k-th nearest so far; sparse points need few
+  // rings of cells.
+  double cell = std::max(2.0, 5.0 / std::sqrt(double(k))) * sampledKthNeighbourDistance(k);
+  if (!(cell > 0.0)) cell = span_ / std::cbrt(double(points_.size()));  // the samples sat on duplicates
+  cell = std::max(cell, span_ / double(kMaxCellsPerAxis - 2));         // the keys' 21 bits per axis
+  if (!(cell > 0.0)) cell = 1.0;                                        // every point the same: one cell
+  cell_ = cell;
+  inverse_cell_ = 1.0 / cell;
+  for (int a = 0; a < 3; ++a) last_cell_[a] = std::int64_t(std::floor((hi[a] - lo[a]) * inverse_cell_));
+}
+
+inline CellGridKnn::CellCoords CellGridKnn::cellOf(float x, float y, float z) const {
+  const double p[3] = {x, y, z};
+  CellCoords c{};
+  for (int a = 0; a < 3; ++a)
+    c.c[a] = std::clamp(std::int64_t(std::floor((p[a] - origin_[a]) * inverse_cell_)), std::int64_t(0),
+                        last_cell_[a]);
+  return c;
+}
+
+inline std::uint64_t CellGridKnn::keyOf(const CellCoords& c) {
+  return std::uint64_t(c.c[0]) | (std::uint64_t(c.c[1]) << kAxisBits) | (std::uint64_t(c.c[2]) << (2 * kAxisBits));
+}
+
+inline std::size_t CellGridKnn::slotOf(std::uint64_t key) const {
+  // Fibonacci hashing: the product's top bits depend on every bit of the key (x, y and z alike)
+  std::size_t s = std::size_t((key * 0x9E3779B97F4A7C15ull) >> shift_);
+  while (keys_[s] != key && keys_[s] != kEmpty) s = (s + 1) & mask_;
+  return s;
+}
+
+inline const CellGridKnn::Cell* CellGridKnn::find(const CellCoords& c) const {
+  const std::size_t s = slotOf(keyOf(c));
+  return keys_[s] == kEmpty ? nullptr : &cells_[s];
+}
+
+// A counting sort by cell: count per cell, each cell's end, then place every point by counting down.
+inline void CellGridKnn::sortIntoCells() {
+  const std::size_t n = points_.size();
+  std::size_t size = 16;
+  shift_ = 64 - 4;
+  while (size < 2 * n) size *= 2, --shift_;
+  keys_.assign(size, kEmpty);
+  cells_.assign(size, Cell{});
+  mask_ = size - 1;
+  std::vector<std::uint32_t> slot(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = points_[i];
+    const std::uint64_t key = keyOf(cellOf(p.x(), p.y(), p.z()));
+    const std::size_t s = slotOf(key);
+    keys_[s] = key;
+    ++cells_[s].count;
+    slot[i] = std::uint32_t(s);
+  }
+  std::uint32_t end = 0;
+  for (Cell& cell : cells_) end += cell.count, cell.start = end;
+  sorted_.resize(n);
+  for (std::size_t i = n; i-- > 0;) {
+    const auto& p = points_[i];
+    sorted_[--cells_[slot[i]].start] = {p.x(), p.y(), p.z(), std::uint32_t(i)};
+  }
+}
+
+inline double CellGridKnn::unreadLowerBound(const SortedPoint& q, const CellCoords& c, std::int64_t ring) const {
+  const double p[3] = {q.x, q.y, q.z};
+  double bound = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    // a side at the grid's edge has no unread cells beyond it
+    if (c.c[a] - ring > 0) bound = std::min(bound, p[a] - (origin_[a] + double(c.c[a] - ring) * cell_));
+    if (c.c[a] + ring < last_cell_[a]) bound = std::min(bound, origin_[a] + double(c.c[a] + ring + 1) * cell_ - p[a]);
+  }
+  return bound - 1e-9 * (span_ + cell_ * double(ring + 1));
+}
+
+inline bool CellGridKnn::blockCoversGrid(const CellCoords& c, std::int64_t ring) const {
+  for (int a = 0; a < 3; ++a)
+    if (c.c[a] - ring > 0 || c.c[a] + ring < last_cell_[a]) return false;
+  return true;
+}
+
+template <class Nearest>
+bool CellGridKnn::certain(const SortedPoint& q, const CellCoords& c, std::int64_t ring, const Nearest& nearest) const {
+  if (blockCoversGrid(c, ring)) return true;  // every point read
+  if (!nearest.full()) return false;
+  const double bound = unreadLowerBound(q, c, ring);
+  // An unread point at exactly the bound would tie with the worst: the same distances either way.
+  return bound > 0 && nearest.worst() <= bound * bound;
+}
+
+// In chunks: the squared distances first (a loop the compiler vectorises), then the few that beat the k-th.
+template <class Nearest>
+void CellGridKnn::offerCell(const SortedPoint& q, const SortedPoint* begin, const SortedPoint* end, Nearest& nearest) {
+  constexpr std::ptrdiff_t kChunk = 32;
+  const double qx = q.x, qy = q.y, qz = q.z;
+  double d2[kChunk];
+  for (const SortedPoint* chunk = begin; chunk < end; chunk += kChunk) {
+    const std::ptrdiff_t m = std::min(kChunk, end - chunk);
+    for (std::ptrdiff_t j = 0; j < m; ++j) {
+      const double dx = qx - double(chunk[j].x), dy = qy - double(chunk[j].y), dz = qz - double(chunk[j].z);
+      d2[j] = dx * dx + dy * dy + dz * dz;  // squaredDistance(q, p), the same operations in the same order
+    }
+    for (std::ptrdiff_t j = 0; j < m; ++j)
+      if (d2[j] < nearest.worst() && chunk[j].index != q.index) nearest.offer(d2[j]);
+  }
+}
+
+template <class Nearest>
+void CellGridKnn::searchRings(const SortedPoint& q, const CellCoords& c, std::int64_t first_ring,
+                              Nearest& nearest) const {
+  std::size_t cells_read = 0;
+  const double margin = 1e-9 * (span_ + cell_);
+  const auto read = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+    const CellCoords near{{x, y, z}};
+    // not even looked up if its box is farther than the k-th nearest so far (boxGap: a tie at most)
+    if (nearest.full() && !(boxGap(q, blockCell(near, Cell{}), margin) < nearest.worst())) return;
+    ++cells_read;
+    if (const Cell* cell = find(near)) offerCell(q, &sorted_[cell->start], &sorted_[cell->start] + cell->count, nearest);
+  };
+  for (std::int64_t ring = first_ring;; ++ring) {
+    if (cells_read > points_.size()) {
+      // Far from every other point (an outlier beside dense cells): reading all n points is cheaper than
+      // the empty cells around it. Points read twice offer the same distance twice: start again.
+      nearest.clear();
+      offerCell(q, sorted_.data(), sorted_.data() + sorted_.size(), nearest);
+      return;
+    }
+    // the shell of cells at Chebyshev distance `ring`, clipped to the grid
+    const std::int64_t z0 = std::max(c.c[2] - ring, std::int64_t(0)), z1 = std::min(c.c[2] + ring, last_cell_[2]);
+    const std::int64_t y0 = std::max(c.c[1] - ring, std::int64_t(0)), y1 = std::min(c.c[1] + ring, last_cell_[1]);
+    const std::int64_t x0 = std::max(c.c[0] - ring, std::int64_t(0)), x1 = std::min(c.c[0] + ring, last_cell_[0]);
+    for (std::int64_t z = z0; z <= z1; ++z)
+      for (std::int64_t y = y0; y <= y1; ++y) {
+        if (std::abs(z - c.c[2]) == ring || std::abs(y - c.c[1]) == ring) {
+          for (std::int64_t x = x0; x <= x1; ++x) read(x, y, z);
+        } else {
+          if (c.c[0] - ring >= 0) read(c.c[0] - ring, y, z);
+          if (ring > 0 && c.c[0] + ring <= last_cell_[0]) read(c.c[0] + ring, y, z);
+        }
+      }
+    if (certain(q, c, ring, nearest)) return;
+  }
+}
+
+inline void CellGridKnn::nearestOtherSquaredDistances(std::size_t i, int k, std::vector<double>& out) const {
+  detail::NearestSoFar nearest(out, nearestCount(k));
+  if (nearest.full()) return;  // nothing to find
+  const auto& p = points_[i];
+  const SortedPoint q{p.x(), p.y(), p.z(), std::uint32_t(i)};
+  searchRings(q, cellOf(q.x, q.y, q.z), 0, nearest);
+}
+
+// Cells in the order of their first point: for a range scan's points (in image order) the next cell is a
+// neighbour of the last, and the slots its 27 cells probe are mostly in cache already.
+template <class Visit>
+void CellGridKnn::forEachPointNearestOthers(int k, Visit&& visit) const {
+  std::vector<double> d2;
+  std::vector<BlockCell> block;  // the non-empty cells among the 27 around one cell, that cell first
+  std::vector<bool> done(cells_.size(), false);
+  const std::size_t count = nearestCount(k);
+  const double margin = 1e-9 * (span_ + cell_);
+  for (const auto& p : points_) {
+    const CellCoords c = cellOf(p.x(), p.y(), p.z());
+    const std::size_t slot = slotOf(keyOf(c));
+    if (done[slot]) continue;
+    done[slot] = true;
+    block.assign(1, blockCell(c, cells_[slot]));
+    for (std::int64_t z = std::max(c.c[2] - 1, std::int64_t(0)); z <= std::min(c.c[2] + 1, last_cell_[2]); ++z)
+      for (std::int64_t y = std::max(c.c[1] - 1, std::int64_t(0)); y <= std::min(c.c[1] + 1, last_cell_[1]); ++y)
+        for (std::int64_t x = std::max(c.c[0] - 1, std::int64_t(0)); x <= std::min(c.c[0] + 1, last_cell_[0]); ++x) {
+          const CellCoords near{{x, y, z}};
+          if (keyOf(near) == keyOf(c)) continue;
+          if (const Cell* cell = find(near)) block.push_back(blockCell(near, *cell));
+        }
+    const Cell& cell = cells_[slot];
+    for (std::uint32_t j = cell.start; j < cell.start + cell.count; ++j) {
+      const SortedPoint& q = sorted_[j];
+      detail::NearestSoFar nearest(d2, count);
+      if (!nearest.full()) {
+        // its own cell first; then a cell whose box is farther than the k-th nearest so far holds no nearer
+        // point (a point there at exactly that distance would tie: the same distances either way)
+        for (const BlockCell& b : block)
+          if (!nearest.full() || boxGap(q, b, margin) < nearest.worst())
+            offerCell(q, &sorted_[b.start], &sorted_[b.start] + b.count, nearest);
+        if (!certain(q, c, 1, nearest)) searchRings(q, c, 2, nearest);
+      }
+      visit(std::size_t(q.index), static_cast<const std::vector<double>&>(d2));
+    }
+  }
+}
+
+inline CellGridKnn::BlockCell CellGridKnn::blockCell(const CellCoords& c, const Cell& cell) const {
+  BlockCell b{};
+  for (int a = 0; a < 3; ++a) b.low[a] = origin_[a] + double(c.c[a]) * cell_;
+  b.start = cell.start;
+  b.count = cell.count;
+  return b;
+}
+
+inline double CellGridKnn::boxGap(const SortedPoint& q, const BlockCell& b, double margin) const {
+  const double p[3] = {q.x, q.y, q.z};
+  double gap2 = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double gap = std::max({b.low[a] - p[a], p[a] - (b.low[a] + cell_), 0.0}) - margin;
+    if (gap > 0) gap2 += gap * gap;
+  }
+  return gap2;
+}
+
+}  // namespace occsweep
