@@ -13,11 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <fcntl.h>
-#include <spawn.h>
 #include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <thread>
 #include <vector>
@@ -26,6 +22,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/version.h>
 
+#include "bench_process.hpp"
 #include "occsweep/core/knn_average_distance.hpp"
 #include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
@@ -41,39 +38,10 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-template <class Fn>
-double seconds(Fn&& fn) {
-  const auto t0 = Clock::now();
-  fn();
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using bench::seconds;
 
-// Peak resident memory of one occsweep process (as a user runs it), in bytes: its VmHWM, polled until it exits.
-// posix_spawn, not fork: a forked child's VmHWM counts this large process's pages until it execs, and polling
-// could read that; posix_spawn returns only once the child runs the new program.
-double peakBytes(const std::vector<std::string>& args) {
-  std::vector<char*> argv{const_cast<char*>(OCCSWEEP_CLI)};
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t quiet;  // the child's stdout to /dev/null: this program's output is the table
-  posix_spawn_file_actions_init(&quiet);
-  posix_spawn_file_actions_addopen(&quiet, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  pid_t child = 0;
-  const int failed = ::posix_spawn(&child, OCCSWEEP_CLI, &quiet, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&quiet);
-  if (failed) throw std::runtime_error("cannot start occsweep");
-  double peak = 0;
-  const std::string status_file = "/proc/" + std::to_string(child) + "/status";
-  int status = 0;
-  while (::waitpid(child, &status, WNOHANG) == 0) {
-    std::ifstream in(status_file);
-    for (std::string line; std::getline(in, line);)
-      if (line.rfind("VmHWM:", 0) == 0) peak = std::max(peak, std::stod(line.substr(6)) * 1024.0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error("occsweep " + args[0] + " failed");
-  return peak;
-}
+// Peak resident memory of one occsweep process as a user runs it, in bytes (bench_process.hpp).
+double peakBytes(const std::vector<std::string>& args) { return bench::runOccsweep(args).peak_bytes; }
 
 double sweepPeakBytes(const std::string& dataset, const std::string& grid, const std::string& out) {
   std::filesystem::remove(out);

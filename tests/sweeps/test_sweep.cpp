@@ -6,9 +6,9 @@
 #include <fstream>
 #include <thread>
 
-#include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "occsweep/sweeps/sweep.hpp"
+#include "small_scene.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;
@@ -17,10 +17,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path smallScene(const fs::path& dir, std::uint64_t seed = 3) {
-  writeDataset(makeBuiltinScene({.seed = seed, .scans = 6, .width = 32, .height = 24}), dir / ("scene" + std::to_string(seed)));
-  return dir / ("scene" + std::to_string(seed));
-}
+using test::smallScene;
 
 ResultsFile sweep(const fs::path& data, const std::string& grid, const fs::path& out, std::uint64_t shard = 0,
                   std::uint64_t shards = 1) {

@@ -105,22 +105,36 @@ void writeSweepResults(const ResultsFile& f, FinishedMaps& finished, const Sweep
   log.remove();
 }
 
+// What both outputs keep: the sweep, its header, its engine, the partial file and the complete results found.
+class OutputBase : public GridOutput {
+ public:
+  OutputBase(const SweepConfig& c, const ResultsHeader& h, std::string engine, const std::string& partial_suffix)
+      : c_(c), h_(h), engine_(std::move(engine)), partial_(c.out.string() + partial_suffix) {}
+  const std::optional<ResultsFile>& complete() const override { return existing_; }
+  fs::path partial() const override { return partial_; }
+
+ protected:
+  const SweepConfig& c_;
+  const ResultsHeader& h_;
+  std::string engine_;
+  fs::path partial_;
+  std::optional<ResultsFile> existing_;
+};
+
 // JSON: finished maps logged to OUT.partial.jsonl as they come, the file (and twin) written whole at the end.
-class JsonOutput final : public GridOutput {
+class JsonOutput final : public OutputBase {
  public:
   JsonOutput(const SweepConfig& c, const ResultsHeader& h, std::string engine)
-      : c_(c), h_(h), engine_(std::move(engine)), partial_(c.out.string() + ".partial.jsonl") {
+      : OutputBase(c, h, std::move(engine), ".partial.jsonl") {
     existing_ = checkOutputs(c, h);
     if (existing_) return;
     finished_.done = loadPartial(partial_, h, c.force, finished_.engine_of, hasTwin(c) ? &finished_.twin_done : nullptr);
   }
-  const std::optional<ResultsFile>& complete() const override { return existing_; }
   std::vector<std::uint64_t> finished() const override {
     std::vector<std::uint64_t> done;
     for (const auto& [index, _] : finished_.done) done.push_back(index);
     return done;
   }
-  fs::path partial() const override { return partial_; }
   void begin(std::size_t todo) override {
     if (c_.out.has_parent_path()) fs::create_directories(c_.out.parent_path());
     log_.emplace(partial_, h_, finished_.done.size());
@@ -149,11 +163,6 @@ class JsonOutput final : public GridOutput {
   }
 
  private:
-  const SweepConfig& c_;
-  const ResultsHeader& h_;
-  std::string engine_;
-  fs::path partial_;
-  std::optional<ResultsFile> existing_;
   FinishedMaps finished_;
   CountedMaps counted_;
   std::optional<PartialLog> log_;
@@ -232,10 +241,10 @@ class StoreWriter {
 
 // A store: OUT.partial resumed when there is one of the same work, else created when the counting begins; renamed to
 // OUT when complete. Destroyed by an error before any map was stored, it removes the partial store it created.
-class StoreOutput final : public GridOutput {
+class StoreOutput final : public OutputBase {
  public:
   StoreOutput(const SweepConfig& c, const ResultsHeader& h, std::string engine)
-      : c_(c), h_(h), engine_(std::move(engine)), partial_(c.out.string() + ".partial") {
+      : OutputBase(c, h, std::move(engine), ".partial") {
     if (hasTwin(c)) throw std::invalid_argument("sweep: observable_out is written as JSON only (a results store has no twin)");
     existing_ = completeStore(c, h);
     if (existing_) return;
@@ -254,9 +263,7 @@ class StoreOutput final : public GridOutput {
   StoreOutput(const StoreOutput&) = delete;
   StoreOutput& operator=(const StoreOutput&) = delete;
 
-  const std::optional<ResultsFile>& complete() const override { return existing_; }
   std::vector<std::uint64_t> finished() const override { return store_ ? store_->mapIndices() : std::vector<std::uint64_t>{}; }
-  fs::path partial() const override { return partial_; }
   void begin(std::size_t) override {
     if (c_.out.has_parent_path()) fs::create_directories(c_.out.parent_path());
     if (!store_) store_.emplace(ResultsStore::create(partial_, h_));
@@ -281,11 +288,6 @@ class StoreOutput final : public GridOutput {
   }
 
  private:
-  const SweepConfig& c_;
-  const ResultsHeader& h_;
-  std::string engine_;
-  fs::path partial_;
-  std::optional<ResultsFile> existing_;
   std::optional<ResultsStore> store_;
   std::optional<StoreWriter> writer_;
   bool renamed_ = false;
