@@ -78,10 +78,10 @@ TEST_CASE("replay batches up to 8 maps that share their hit rule, direct one map
   for (int i = 0; i < 10; ++i) maps.push_back({&a, {0.5}});
   maps.push_back({&b, {0.5}});
   using Batches = std::vector<std::vector<std::size_t>>;
-  // Batches are planned by prepare (here on a data set without scans: nothing is recorded).
+  // Batches are planned by prepare (here on a data set without scans, over a 2 x 2 x 2 region: nothing recorded).
   const SweepConfig config;
   PointCloudSet no_scans;
-  const GroundTruth no_truth;
+  const GroundTruth no_truth = makeGroundTruth({}, AxisBox{{0, 0, 0}, {0.2, 0.2, 0.2}}, 0.1);
   const SweepInputs inputs{config, no_scans, no_truth, no_truth, false};
   const auto batchesOf = [&](const char* engine) {
     const auto e = makeSweepEngine(engine);
