@@ -132,7 +132,7 @@ void requireOneDataSet(const std::vector<SweepConfig>& configs) {
         throw std::invalid_argument("sweep: --out " + configs[i].out.string() + " is given for two grids");
 }
 
-// The grid's selection and header, its output checked (and resumed), and the maps it has left.
+// The grid, its selection and the header of its results.
 GridSweep openGrid(const SweepConfig& c, const Dataset& data, const SweepEngine& engine) {
   GridSweep g;
   g.config = &c;
@@ -152,6 +152,7 @@ std::uint64_t combinationsOf(const GridSweep& g) {
   return n;
 }
 
+// The grid's output, checked (the same work's complete results, other work, a user's file) and resumable.
 void openOutput(GridSweep& g, const std::string& engine) {
   if (!isStorePath(g.config->out) && !g.config->quiet && combinationsOf(g) > kLargeForJson)
     std::cerr << "note: " << g.config->out.string() << ": " << combinationsOf(g) << " combinations into JSON, which is "
@@ -225,7 +226,8 @@ std::vector<GridOutcome> runGrids(const std::vector<SweepConfig>& configs) {
   Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
   requireInKeyRange(data, c.dataset, c.resolution);
   const SweepTruths truths = sweepTruths(c, data);  // before anything is written: a refused region leaves nothing
-  std::vector<GridSweep> grids;
+  std::vector<GridSweep> grids;  // never grown after this loop: outputs and the engine keep pointers into it
+  grids.reserve(configs.size());
   for (const SweepConfig& config : configs) grids.push_back(openGrid(config, data, *engine));
   for (GridSweep& g : grids) openOutput(g, engine->name());  // every output checked before any is written
   for (GridSweep& g : grids) beginCounting(g);
