@@ -1,6 +1,6 @@
 // libFuzzer: results files as `results check` reads them: sweeps' parseResults after JSON parsing (every claim
 // checked without the grid file, verifyClaims), then checkAgainstGrid (the grid's parameters and the selection's
-// coverage, verifyCoverage) when the named grid is one of sweeps/grids. The designed refusal is
+// coverage, GridChecker) when the named grid is one of sweeps/grids. The designed refusal is
 // std::runtime_error naming the file and field.
 #include "fuzz_common.hpp"
 #include "occsweep/sweeps/merge.hpp"

@@ -28,18 +28,7 @@ namespace {
 const fs::path kGolden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin";
 
 using test::smallScene;
-
-SweepConfig sweepConfig(const fs::path& data, const std::string& grid, const fs::path& out, std::uint64_t shard = 0,
-                        std::uint64_t shards = 1) {
-  SweepConfig c;
-  c.dataset = data;
-  c.grid = grid;
-  c.out = out;
-  c.selection.shard_index = shard;
-  c.selection.shard_count = shards;
-  c.quiet = true;
-  return c;
-}
+using test::quietSweep;
 
 std::string exportedJson(const fs::path& file) {
   std::ostringstream out;
@@ -82,8 +71,8 @@ TEST_CASE("a sweep into a store has the JSON sweep's numbers, and its export is 
   const auto dir = test::scratch("store-sweep");
   const auto data = smallScene(dir);
   for (const std::string grid : {"knn-opt", "octomap-opt", "sor-octomap-opt"}) {
-    const ResultsFile json = runSweep(sweepConfig(data, grid, dir / (grid + ".json")));
-    const SweepSummary summary = sweepToFile(sweepConfig(data, grid, dir / (grid + ".db")));
+    const ResultsFile json = runSweep(quietSweep(data, grid, dir / (grid + ".json")));
+    const SweepSummary summary = sweepToFile(quietSweep(data, grid, dir / (grid + ".db")));
     CHECK(isResultsStore(dir / (grid + ".db")));
     CHECK(summary.maps == json.maps.size());
     const ResultsFile stored = readResults(dir / (grid + ".db"));
@@ -135,7 +124,7 @@ TEST_CASE("a sweep into a store killed part-way resumes from its partial store t
   const auto data = smallScene(dir);
   // The reduction grid: 18,000 maps, several transactions of 4,096 (one map each a sweep of a few hundred is done
   // before its first commit).
-  (void)sweepToFile(sweepConfig(data, "reduction", dir / "reference.db"));
+  (void)sweepToFile(quietSweep(data, "reduction", dir / "reference.db"));
   const fs::path out = dir / "killed.db", partial = dir / "killed.db.partial";
   const pid_t child = ::fork();
   if (child == 0) {
@@ -164,7 +153,7 @@ TEST_CASE("a sweep into a store killed part-way resumes from its partial store t
 TEST_CASE("a store edited by hand fails results check with the row named") {
   const auto dir = test::scratch("store-edited");
   const auto data = smallScene(dir);
-  (void)sweepToFile(sweepConfig(data, "octomap-opt", dir / "r.db"));
+  (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "r.db"));
   REQUIRE(checkError(dir / "r.db") == "passed");
   SECTION("a count") {
     editStore(dir / "r.db", "UPDATE thresholds SET tp = tp + 1 WHERE id = 7");
@@ -192,12 +181,12 @@ TEST_CASE("a store edited by hand fails results check with the row named") {
 TEST_CASE("store shards merge map by map to the whole sweep and merge refuses a duplicated shard") {
   const auto dir = test::scratch("store-merge");
   const auto data = smallScene(dir);
-  const ResultsFile whole = runSweep(sweepConfig(data, "knn-opt", dir / "whole.json"));
+  const ResultsFile whole = runSweep(quietSweep(data, "knn-opt", dir / "whole.json"));
   std::vector<fs::path> parts;
   for (std::uint64_t i = 0; i < 3; ++i) {
     // Store and JSON shards mix: merge reads either.
     parts.push_back(dir / ("part" + std::to_string(i) + (i == 1 ? ".json" : ".db")));
-    (void)sweepToFile(sweepConfig(data, "knn-opt", parts.back(), i, 3));
+    (void)sweepToFile(quietSweep(data, "knn-opt", parts.back(), i, 3));
   }
   CHECK(mergeResultsInto(parts, dir / "merged.db") == 450);
   CHECK(resultDifferences(whole, readResults(dir / "merged.db")).empty());
@@ -221,7 +210,7 @@ TEST_CASE("another program's SQLite database at --out is never replaced, even wi
     CHECK(test::bytesOf(dir / "mine.db") == before);
   }
   // occsweep's own store of other work is replaced with --force only.
-  (void)sweepToFile(sweepConfig(data, "knn-opt", dir / "own.db"));
+  (void)sweepToFile(quietSweep(data, "knn-opt", dir / "own.db"));
   const auto refused = test::runCli("sweep --dataset " + data.string() + " --grid octomap-opt --quiet --out " +
                                     (dir / "own.db").string());
   CHECK(refused.exit_code == 2);

@@ -21,14 +21,7 @@ using test::smallScene;
 
 ResultsFile sweep(const fs::path& data, const std::string& grid, const fs::path& out, std::uint64_t shard = 0,
                   std::uint64_t shards = 1) {
-  SweepConfig c;
-  c.dataset = data;
-  c.grid = grid;
-  c.out = out;
-  c.selection.shard_index = shard;
-  c.selection.shard_count = shards;
-  c.quiet = true;
-  return runSweep(c);
+  return runSweep(test::quietSweep(data, grid, out, shard, shards));
 }
 
 std::string mergeError(const std::vector<fs::path>& files) {

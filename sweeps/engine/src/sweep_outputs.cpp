@@ -40,23 +40,31 @@ ResultsHeader twinHeader(ResultsHeader h) {
   return h;
 }
 
-// The same sweep's own complete file (and twin) is returned as it is; anything else at `out` is refused unless
-// --force, and only occsweep's results are replaced even then (docs/robustness.md, "Outputs, temporaries and
-// --force"). The twin too replaces only occsweep's own results (a user's file there is refused before any work).
+// What is at `out` already, read by `read` (JSON whole, a store's header): nothing, or occsweep's complete results of
+// the same work. Anything else is refused unless --force (then replaced), and only occsweep's results are replaced
+// even then (docs/robustness.md, "Outputs, temporaries and --force").
+std::optional<ResultsFile> completeSameWork(const SweepConfig& c, const ResultsHeader& h,
+                                            ResultsFile (*read)(const fs::path&)) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(c.out, ec))) return std::nullopt;
+  checkOutputTarget(c.out, true, resultsOutput());
+  ResultsFile old = read(c.out);
+  std::string why;
+  if (!sameWork(old.header, h, true, &why) && !c.force)
+    throw std::runtime_error(c.out.string() + ": holds results of other work (" + why +
+                             "); --force replaces it, or choose another --out");
+  if (!why.empty() || !old.complete) return std::nullopt;
+  return old;
+}
+
+// The same sweep's own complete JSON file (and twin) is returned as it is. The twin too replaces only occsweep's own
+// results (a user's file there is refused before any work).
 std::optional<ResultsFile> checkOutputs(const SweepConfig& c, const ResultsHeader& h) {
   std::error_code ec;
-  if (fs::exists(fs::symlink_status(c.out, ec))) {
-    checkOutputTarget(c.out, true, resultsOutput());
-    ResultsFile old = readResults(c.out);
-    std::string why;
-    if (!sameWork(old.header, h, true, &why) && !c.force)
-      throw std::runtime_error(c.out.string() + ": holds results of other work (" + why +
-                               "); --force replaces it, or choose another --out");
-    if (why.empty() && old.complete &&
-        (!hasTwin(c) || completeResultsOf(c.observable_out, twinHeader(h)))) {
-      fs::remove(c.out.string() + ".partial.jsonl", ec);  // superseded: a kill came between the rename and this
-      return old;
-    }
+  std::optional<ResultsFile> old = completeSameWork(c, h, &readResults);
+  if (old && (!hasTwin(c) || completeResultsOf(c.observable_out, twinHeader(h)))) {
+    fs::remove(c.out.string() + ".partial.jsonl", ec);  // superseded: a kill came between the rename and this
+    return old;
   }
   if (hasTwin(c) && fs::exists(fs::symlink_status(c.observable_out, ec)))
     checkOutputTarget(c.observable_out, true, resultsOutput());
@@ -168,19 +176,11 @@ class JsonOutput final : public OutputBase {
   std::optional<PartialLog> log_;
 };
 
-// The same sweep's complete store at `out` is left as it is (its header returned); anything else there is refused
-// unless --force, and only occsweep's results are replaced even then.
+// The same sweep's complete store at `out` is left as it is (its header returned).
 std::optional<ResultsFile> completeStore(const SweepConfig& c, const ResultsHeader& h) {
+  std::optional<ResultsFile> old = completeSameWork(c, h, &readResultsHeader);
   std::error_code ec;
-  if (!fs::exists(fs::symlink_status(c.out, ec))) return std::nullopt;
-  checkOutputTarget(c.out, true, resultsOutput());
-  ResultsFile old = readResultsHeader(c.out);
-  std::string why;
-  if (!sameWork(old.header, h, true, &why) && !c.force)
-    throw std::runtime_error(c.out.string() + ": holds results of other work (" + why +
-                             "); --force replaces it, or choose another --out");
-  if (!why.empty() || !old.complete) return std::nullopt;
-  fs::remove(c.out.string() + ".partial", ec);  // superseded: a kill came between the rename and this
+  if (old) fs::remove(c.out.string() + ".partial", ec);  // superseded: a kill came between the rename and this
   return old;
 }
 

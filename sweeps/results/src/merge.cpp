@@ -32,8 +32,14 @@ namespace {
 using MergedMapSink = std::function<void(MapResult&&)>;
 constexpr std::size_t kMergeBatch = 4096;  // maps per transaction of a merged store
 
-// The merged header of complete results of one work: the first file's, every shard's engines, the whole selection.
-ResultsFile mergedHeader(const std::vector<std::filesystem::path>& files) {
+// Each input's header (read once), and the merged header of complete results of one work: the first file's, every
+// shard's engines, the whole selection.
+struct MergeHeaders {
+  std::vector<ResultsFile> inputs;
+  ResultsFile merged;
+};
+
+MergeHeaders mergeHeaders(const std::vector<std::filesystem::path>& files) {
   if (files.empty()) throw std::runtime_error("merge: no input files");
   std::vector<ResultsFile> heads;
   std::set<std::string> engines;  // provenance: every engine of every shard
@@ -53,7 +59,7 @@ ResultsFile mergedHeader(const std::vector<std::filesystem::path>& files) {
   out.header.selection.shard_index = 0;
   out.header.selection.shard_count = 1;
   out.complete = true;
-  return out;
+  return {std::move(heads), std::move(out)};
 }
 
 // Every id of the selection exactly once over the files: a bit per combination of the grid.
@@ -106,11 +112,10 @@ class IdOwners {
 };
 
 // Streams every map of every file to `sink`, each file checked against its grid, each id owned once.
-void mergeMaps(const std::vector<std::filesystem::path>& files, const ResultsFile& merged, const MergedMapSink& sink) {
-  IdOwners owners(merged.header, files.front());
+void mergeMaps(const std::vector<std::filesystem::path>& files, const MergeHeaders& heads, const MergedMapSink& sink) {
+  IdOwners owners(heads.merged.header, files.front());
   for (std::size_t i = 0; i < files.size(); ++i) {
-    const ResultsFile head = readResultsHeader(files[i]);
-    GridChecker grid(head.header, true, files[i].string());
+    GridChecker grid(heads.inputs[i].header, true, files[i].string());
     forEachResultsMap(files[i], MapDetail::Full, [&](MapResult&& m) {
       grid.add(m);
       for (const ThresholdResult& t : m.thresholds) owners.claim(t.id, i, files);
@@ -125,8 +130,9 @@ void mergeMaps(const std::vector<std::filesystem::path>& files, const ResultsFil
 
 ResultsFile mergeResults(const std::vector<std::filesystem::path>& files) {
   std::vector<MapResult> maps;
-  ResultsFile out = mergedHeader(files);
-  mergeMaps(files, out, [&](MapResult&& m) { maps.push_back(std::move(m)); });
+  const MergeHeaders heads = mergeHeaders(files);
+  mergeMaps(files, heads, [&](MapResult&& m) { maps.push_back(std::move(m)); });
+  ResultsFile out = heads.merged;
   std::sort(maps.begin(), maps.end(), [](const auto& a, const auto& b) { return a.map_index < b.map_index; });
   out.maps = std::move(maps);
   return out;
@@ -138,13 +144,14 @@ std::uint64_t mergeResultsInto(const std::vector<std::filesystem::path>& files, 
     writeResults(merged, out);
     return merged.maps.size();
   }
-  const ResultsFile merged = mergedHeader(files);
+  const MergeHeaders heads = mergeHeaders(files);
+  const ResultsFile& merged = heads.merged;
   OutputFile file(out);  // its empty temporary becomes the store: removed on an error or an interrupt
   std::uint64_t maps = 0;
   {
     ResultsStore store = ResultsStore::create(file.temporary(), merged.header);
     std::vector<MapResult> batch;
-    mergeMaps(files, merged, [&](MapResult&& m) {
+    mergeMaps(files, heads, [&](MapResult&& m) {
       batch.push_back(std::move(m));
       if (batch.size() == kMergeBatch) store.append(batch, merged.header.engine), batch.clear();
       ++maps;

@@ -417,11 +417,6 @@ void writeResultsStore(const ResultsFile& f, const fs::path& file) {
   out.commit();
 }
 
-void writeResultsAs(const ResultsFile& f, const fs::path& file) {
-  if (isStorePath(file)) writeResultsStore(f, file);
-  else writeResults(f, file);
-}
-
 // ---------------------------------------------------------------------------------------------------------
 // Export
 

@@ -125,7 +125,7 @@ struct Claims {
 
   // A complete file of a whole grid or Eq. 16 group holds exactly the selection's ids.
   void finish() const {
-    if (!complete || h.selection.shard_count != 1) return;  // a shard's maps need the grid: verifyCoverage
+    if (!complete || h.selection.shard_count != 1) return;  // a shard's maps need the grid: GridChecker
     const std::uint64_t n = h.grid_combinations;
     std::uint64_t expected = n;
     if (h.selection.group) {

@@ -75,8 +75,6 @@ void forEachResultsMap(const std::filesystem::path& file, MapDetail detail, cons
 
 /// `f` as a new store at `file`, atomically (a temporary beside it, renamed when complete).
 void writeResultsStore(const ResultsFile& f, const std::filesystem::path& file);
-/// `f` in the format `file`'s name asks for (isStorePath): a store or JSON, atomically.
-void writeResultsAs(const ResultsFile& f, const std::filesystem::path& file);
 
 /// Writes a results file's JSON form to `out` map by map, byte for byte what writeResults writes for the same
 /// results (the export of a store, however large, in memory bounded by one map).
