@@ -65,6 +65,21 @@ std::uint64_t storedMaps(const fs::path& partial) {
   }
 }
 
+// `occsweep sweep --grid reduction --threads 1` into `out`, in a child process: 18,000 maps, several commits.
+pid_t startReductionSweep(const fs::path& data, const fs::path& out) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::execl(OCCSWEEP_CLI, OCCSWEEP_CLI, "sweep", "--dataset", data.c_str(), "--grid", "reduction", "--out", out.c_str(),
+            "--threads", "1", "--quiet", static_cast<char*>(nullptr));
+    std::_Exit(127);
+  }
+  return child;
+}
+
+void waitForFirstCommit(const fs::path& partial) {
+  for (int i = 0; i < 6000 && storedMaps(partial) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+}
+
 }  // namespace
 
 TEST_CASE("a sweep into a store has the JSON sweep's numbers, and its export is the JSON file byte for byte") {
@@ -126,14 +141,9 @@ TEST_CASE("a sweep into a store killed part-way resumes from its partial store t
   // before its first commit).
   (void)sweepToFile(quietSweep(data, "reduction", dir / "reference.db"));
   const fs::path out = dir / "killed.db", partial = dir / "killed.db.partial";
-  const pid_t child = ::fork();
-  if (child == 0) {
-    ::execl(OCCSWEEP_CLI, OCCSWEEP_CLI, "sweep", "--dataset", data.c_str(), "--grid", "reduction", "--out", out.c_str(),
-            "--threads", "1", "--quiet", static_cast<char*>(nullptr));
-    std::_Exit(127);
-  }
+  const pid_t child = startReductionSweep(data, out);
   // Wait until a transaction of maps is committed, then kill it hard (mid-transaction, most likely).
-  for (int i = 0; i < 6000 && storedMaps(partial) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  waitForFirstCommit(partial);
   ::kill(child, SIGKILL);
   int status = 0;
   ::waitpid(child, &status, 0);
@@ -148,6 +158,31 @@ TEST_CASE("a sweep into a store killed part-way resumes from its partial store t
   CHECK_FALSE(fs::exists(partial));
   CHECK(resultDifferences(readResults(dir / "reference.db"), readResults(out)).empty());
   CHECK(checkResultsFile(out, "").maps == 18000);
+}
+
+TEST_CASE("a sweep into a store waits for a program reading it, and its numbers do not change") {
+  // A user looks at a running sweep's partial store with Python's sqlite3; a read transaction holds a shared lock
+  // that blocks the sweep's next commit. The sweep waits for it (it used to stop with "database is locked").
+  const auto dir = test::scratch("store-read-while-written");
+  const auto data = smallScene(dir);
+  (void)sweepToFile(quietSweep(data, "reduction", dir / "reference.db"));
+  const fs::path out = dir / "read.db", partial = dir / "read.db.partial";
+  const pid_t child = startReductionSweep(data, out);
+  waitForFirstCommit(partial);
+  sqlite3* reader = nullptr;
+  REQUIRE(sqlite3_open_v2(partial.c_str(), &reader, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK);
+  // The shared lock is held from the first step of a read transaction until it ends.
+  REQUIRE(sqlite3_exec(reader, "BEGIN; SELECT count(*) FROM maps;", nullptr, nullptr, nullptr) == SQLITE_OK);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));  // past the sweep's next commit (one a second)
+  int status = 0;
+  const pid_t ended = ::waitpid(child, &status, WNOHANG);
+  CHECK(ended == 0);  // still running: waiting for the lock, or mapping
+  REQUIRE(sqlite3_exec(reader, "COMMIT", nullptr, nullptr, nullptr) == SQLITE_OK);
+  sqlite3_close(reader);
+  if (ended == 0) ::waitpid(child, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  REQUIRE(WEXITSTATUS(status) == 0);
+  CHECK(resultDifferences(readResults(dir / "reference.db"), readResults(out)).empty());
 }
 
 TEST_CASE("a store edited by hand fails results check with the row named") {

@@ -30,8 +30,28 @@ constexpr const char* kStoreFormat = "occsweep-results-store";
 constexpr int kStoreVersion = 1;
 constexpr std::size_t kMapColumns = 3;  // map_index, first_id, last_id: then the parameters
 
+// How long a statement waits for another connection's lock before it fails (docs/results-format.md, "Reading a
+// store while a sweep writes it"): a reader's transaction blocks the sweep's commit, and a commit blocks readers,
+// each for milliseconds in normal use.
+constexpr int kBusyTimeoutMs = 60'000;
+
 [[noreturn]] void fail(const fs::path& file, const std::string& what) {
   throw std::runtime_error(file.string() + ": " + what);
+}
+
+// SQLite's message for the last error, with what a lock held too long means for the user.
+std::string errorText(sqlite3* db) {
+  std::string why = sqlite3_errmsg(db);
+  if (sqlite3_errcode(db) == SQLITE_BUSY)
+    why += " (another program held a lock on it for more than " + std::to_string(kBusyTimeoutMs / 1000) + " s)";
+  return why;
+}
+
+// sqlite3_open_v2 with the busy timeout set; the handle, even on failure, is the caller's to close.
+int openDatabase(const fs::path& file, int flags, sqlite3** db) {
+  const int rc = sqlite3_open_v2(file.c_str(), db, flags, nullptr);
+  if (rc == SQLITE_OK) sqlite3_busy_timeout(*db, kBusyTimeoutMs);
+  return rc;
 }
 
 // One prepared statement; reset on every bind so it can be reused.
@@ -39,7 +59,7 @@ class Statement {
  public:
   Statement(sqlite3* db, const std::string& sql, const fs::path& file) : db_(db), file_(file) {
     if (sqlite3_prepare_v2(db, sql.c_str(), int(sql.size()), &s_, nullptr) != SQLITE_OK)
-      fail(file, std::string("results store: ") + sqlite3_errmsg(db) + " (not an occsweep results store?)");
+      fail(file, "results store: " + errorText(db) + " (not an occsweep results store?)");
   }
   ~Statement() { sqlite3_finalize(s_); }
   Statement(const Statement&) = delete;
@@ -56,7 +76,7 @@ class Statement {
   bool step() {
     const int rc = sqlite3_step(s_);
     if (rc == SQLITE_ROW) return true;
-    if (rc != SQLITE_DONE) fail(file_, std::string("results store: ") + sqlite3_errmsg(db_));
+    if (rc != SQLITE_DONE) fail(file_, "results store: " + errorText(db_));
     return false;
   }
   void run() {
@@ -77,7 +97,7 @@ class Statement {
 
  private:
   Statement& check(int rc) {
-    if (rc != SQLITE_OK) fail(file_, std::string("results store: ") + sqlite3_errmsg(db_));
+    if (rc != SQLITE_OK) fail(file_, "results store: " + errorText(db_));
     return *this;
   }
   sqlite3* db_;
@@ -111,7 +131,7 @@ struct ResultsStore::Connection {
   void exec(const std::string& sql) {
     char* error = nullptr;
     if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
-      const std::string why = error ? error : "unknown error";
+      const std::string why = error ? errorText(db) : "unknown error";
       sqlite3_free(error);
       fail(file, "results store: " + why);
     }
@@ -154,7 +174,7 @@ bool hasTables(const fs::path& file) {
   if (!isResultsStore(file)) return false;
   sqlite3* db = nullptr;
   bool tables = true;  // unreadable: assume it holds something (never replaced)
-  if (sqlite3_open_v2(file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+  if (openDatabase(file, SQLITE_OPEN_READONLY, &db) == SQLITE_OK) {
     sqlite3_stmt* s = nullptr;
     if (sqlite3_prepare_v2(db, "SELECT count(*) FROM sqlite_master", -1, &s, nullptr) == SQLITE_OK &&
         sqlite3_step(s) == SQLITE_ROW)
@@ -169,7 +189,7 @@ ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& hea
   auto c = std::make_unique<Connection>(file);
   std::error_code ec;
   if (fs::exists(fs::symlink_status(file)) && fs::file_size(file, ec) != 0) fail(file, "results store: already exists");
-  if (sqlite3_open_v2(file.c_str(), &c->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK)
+  if (openDatabase(file, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, &c->db) != SQLITE_OK)
     fail(file, std::string("cannot create: ") + (c->db ? sqlite3_errmsg(c->db) : "out of memory"));
   std::string params;
   for (std::size_t i = 0; i < header.parameters.names.size(); ++i)
@@ -202,7 +222,7 @@ ResultsStore ResultsStore::open(const fs::path& file, bool writable) {
   auto c = std::make_unique<Connection>(file);
   if (!isResultsStore(file)) fail(file, "not a results store (no SQLite header)");
   const int flags = writable ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
-  if (sqlite3_open_v2(file.c_str(), &c->db, flags, nullptr) != SQLITE_OK)
+  if (openDatabase(file, flags, &c->db) != SQLITE_OK)
     fail(file, std::string("cannot open: ") + (c->db ? sqlite3_errmsg(c->db) : "out of memory"));
   if (c->meta("format") != kStoreFormat) fail(file, std::string("meta.format: must be \"") + kStoreFormat + "\"");
   if (c->meta("version") != std::to_string(kStoreVersion)) fail(file, "meta.version: unsupported store version");
