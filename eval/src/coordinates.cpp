@@ -94,7 +94,10 @@ std::string KeyRange::text() const {
 KeyRange keyRange(double resolution) { return {resolution, -kKeyHalf * resolution, kKeyHalf * resolution}; }
 
 std::array<double, 3> centringShift(const PointCloudSet& scans, const KeyRange& range) {
-  const AxisBox b = boundingBox(scans);
+  return centringShift(boundingBox(scans), range);
+}
+
+std::array<double, 3> centringShift(const AxisBox& b, const KeyRange& range) {
   std::array<double, 3> s{0, 0, 0};
   for (std::size_t a = 0; a < 3; ++a)
     if (!range.holds(b.min[a]) || !range.holds(b.max[a])) s[a] = 0.0 - std::round((b.min[a] + b.max[a]) / 2);
@@ -105,19 +108,25 @@ void requireInKeyRange(const Dataset& d, const fs::path& dir, double resolution)
   const KeyRange range = keyRange(resolution);
   const fs::path manifest = dir / "manifest.json";
   const AxisBox b = boundingBox(d.scans);
-  std::string scan_remedy = ": nothing outside it can be mapped (liboctomap drops it)";
-  bool fits = true;
-  for (std::size_t a = 0; a < 3; ++a) fits &= b.max[a] - b.min[a] < range.highest - range.lowest - 2 * resolution;
-  if (fits)
-    scan_remedy += "; re-import with --shift " + shiftText(centringShift(d.scans, range)) +
-                   " (moves the scans' centre to 0, docs/import.md) or map at a coarser --resolution";
-  else
-    scan_remedy += "; the scans span more than the range: map at a coarser --resolution";
-  const RangeCheck scans{manifest, range, scan_remedy};
-  for (std::size_t i = 0; i < d.scans.size(); ++i) {
-    const std::string where = "scans[" + std::to_string(i) + "]";
-    scans.points({d.scans[i].origin}, where + ".origin");
-    scans.points(d.scans[i].points, where + " (" + std::to_string(d.scans[i].points.size()) + " points)");
+  // holds() is monotone (floor of a product with a positive factor): when the box's corners are in range, so is
+  // every point and origin; only otherwise are they checked one by one, to name the first outside.
+  bool corners_hold = true;
+  for (std::size_t a = 0; a < 3; ++a) corners_hold = corners_hold && range.holds(b.min[a]) && range.holds(b.max[a]);
+  if (!corners_hold) {
+    std::string scan_remedy = ": nothing outside it can be mapped (liboctomap drops it)";
+    bool fits = true;
+    for (std::size_t a = 0; a < 3; ++a) fits &= b.max[a] - b.min[a] < range.highest - range.lowest - 2 * resolution;
+    if (fits)
+      scan_remedy += "; re-import with --shift " + shiftText(centringShift(b, range)) +
+                     " (moves the scans' centre to 0, docs/import.md) or map at a coarser --resolution";
+    else
+      scan_remedy += "; the scans span more than the range: map at a coarser --resolution";
+    const RangeCheck scans{manifest, range, scan_remedy};
+    for (std::size_t i = 0; i < d.scans.size(); ++i) {
+      const std::string where = "scans[" + std::to_string(i) + "]";
+      scans.points({d.scans[i].origin}, where + ".origin");
+      scans.points(d.scans[i].points, where + " (" + std::to_string(d.scans[i].points.size()) + " points)");
+    }
   }
   const RangeCheck truth{manifest, range, ": its voxels cannot be counted"};
   for (std::size_t i = 0; i < d.truth.boxes.size(); ++i)

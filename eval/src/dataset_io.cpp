@@ -18,18 +18,19 @@
 namespace occsweep {
 
 AxisBox boundingBox(const PointCloudSet& scans) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  AxisBox box{{inf, inf, inf}, {-inf, -inf, -inf}};
-  auto grow = [&box](const octomap::point3d& p) {
-    for (int a = 0; a < 3; ++a) {
-      box.min[std::size_t(a)] = std::min(box.min[std::size_t(a)], double(p(a)));
-      box.max[std::size_t(a)] = std::max(box.max[std::size_t(a)], double(p(a)));
-    }
+  // In float, converted once at the end: the same box (float to double is exact and keeps the order), without
+  // a conversion per coordinate.
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  std::array<float, 3> lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  auto grow = [&lo, &hi](const octomap::point3d& p) {
+    for (std::size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p(unsigned(a))), hi[a] = std::max(hi[a], p(unsigned(a)));
   };
   for (const auto& s : scans) {
     grow(s.origin);
     for (const auto& p : s.points) grow(p);
   }
+  AxisBox box;
+  for (std::size_t a = 0; a < 3; ++a) box.min[a] = lo[a], box.max[a] = hi[a];
   return box;
 }
 

@@ -42,22 +42,6 @@ enum GateExtreme : std::uint8_t { kHitExtreme = 0, kCrossedInExtreme = 1, kCross
 /// Per gate column, the score of every point of the scan (point order); empty without a gate.
 using GateScores = std::vector<const std::vector<float>*>;
 
-/// An inclusive box of keys: the voxels whose events are kept.
-struct KeyWindow {
-  std::array<int, 3> lo{}, hi{};
-  [[nodiscard]] bool contains(const octomap::OcTreeKey& k) const {
-    return k[0] >= lo[0] && k[0] <= hi[0] && k[1] >= lo[1] && k[1] <= hi[1] && k[2] >= lo[2] && k[2] <= hi[2];
-  }
-  /// In 64 bits: a window of 65536^3 keys does not fit 32 (issue 13: a wrapped volume crashed k-NN maps).
-  [[nodiscard]] std::uint64_t volume() const {
-    return std::uint64_t(hi[0] - lo[0] + 1) * std::uint64_t(hi[1] - lo[1] + 1) * std::uint64_t(hi[2] - lo[2] + 1);
-  }
-  [[nodiscard]] std::uint64_t index(const octomap::OcTreeKey& k) const {
-    return (std::uint64_t(k[0] - lo[0]) * std::uint64_t(hi[1] - lo[1] + 1) + std::uint64_t(k[1] - lo[1])) *
-               std::uint64_t(hi[2] - lo[2] + 1) + std::uint64_t(k[2] - lo[2]);
-  }
-};
-
 /// Computes a scan's events with OctoMap's semantics: in-range test (p - origin).norm() <= s_c as computeUpdate,
 /// liboctomap's ray keys (traverseRay: origin voxel included, end voxel excluded), rays beyond s_c cut at
 /// origin + direction * (float) s_c. `inner` are the z_in indices. Only voxels inside the window are kept; a
@@ -77,7 +61,12 @@ class ScanEventRecorder {
   [[nodiscard]] KeyWindow windowOf(const Scan& scan, double s_c) const;
 
  private:
-  [[nodiscard]] bool mayReach(const octomap::point3d& a, const octomap::point3d& b, const KeyWindow& w) const;
+  // The window in metres grown by 1.5 voxels, once per scan; mayReach tests a segment against it.
+  struct ReachBox {
+    std::array<double, 3> lo{}, hi{};
+  };
+  [[nodiscard]] ReachBox reachBox(const KeyWindow& w) const;
+  [[nodiscard]] static bool mayReach(const ReachBox& box, const octomap::point3d& a, const octomap::point3d& b);
   // The steps of record(), in order.
   [[nodiscard]] std::uint16_t startScan(const KeyWindow& window);
   template <bool kGated>
@@ -107,20 +96,28 @@ class ScanEventRecorder {
 
 // ---------------------------------------------------------------------------------------------------------
 
-// Conservative segment-box test in metres with a margin of one voxel: a ray that may touch the window is never
-// skipped (the traversal's keys lie within float rounding of the segment).
-inline bool ScanEventRecorder::mayReach(const octomap::point3d& a, const octomap::point3d& b, const KeyWindow& w) const {
+inline ScanEventRecorder::ReachBox ScanEventRecorder::reachBox(const KeyWindow& w) const {
   const double res = grid_.getResolution();
+  ReachBox box;
+  for (unsigned i = 0; i < 3; ++i) {
+    box.lo[i] = grid_.keyToCoord(octomap::key_type(w.lo[i])) - 1.5 * res;
+    box.hi[i] = grid_.keyToCoord(octomap::key_type(w.hi[i])) + 1.5 * res;
+  }
+  return box;
+}
+
+// Conservative segment-box test: a ray that may touch the window is never skipped. The traversal's keys lie within
+// float rounding of the segment, far inside the margin of 1.5 voxels, which also covers the rounding of the
+// slab test's products with 1 / d. The segment's own box first: no division for rays beside the window.
+inline bool ScanEventRecorder::mayReach(const ReachBox& box, const octomap::point3d& a, const octomap::point3d& b) {
+  for (unsigned i = 0; i < 3; ++i)
+    if (double(std::max(a(i), b(i))) < box.lo[i] || double(std::min(a(i), b(i))) > box.hi[i]) return false;
   double t0 = 0.0, t1 = 1.0;
-  for (int i = 0; i < 3; ++i) {
-    const double lo = grid_.keyToCoord(octomap::key_type(w.lo[i])) - 1.5 * res;
-    const double hi = grid_.keyToCoord(octomap::key_type(w.hi[i])) + 1.5 * res;
+  for (unsigned i = 0; i < 3; ++i) {
     const double p = a(i), d = double(b(i)) - double(a(i));
-    if (d == 0.0) {
-      if (p < lo || p > hi) return false;
-      continue;
-    }
-    double ta = (lo - p) / d, tb = (hi - p) / d;
+    if (d == 0.0) continue;  // inside the slab: the box test above
+    const double inverse = 1.0 / d;
+    double ta = (box.lo[i] - p) * inverse, tb = (box.hi[i] - p) * inverse;
     if (ta > tb) std::swap(ta, tb);
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
@@ -228,21 +225,19 @@ inline void ScanEventRecorder::markHits(const Scan& scan, const std::vector<std:
 // kGated: also raise the cells' gate extremes (a separate instantiation keeps the plain loop as it was).
 template <bool kGated>
 [[gnu::noinline]] inline void ScanEventRecorder::markRays(const Scan& scan, double s_c, const KeyWindow& window, std::uint16_t stamp) {
+  const ReachBox reach = reachBox(window);
   for (std::size_t i = 0; i < scan.points.size(); ++i) {
     const auto& p = scan.points[i];
+    // A cut ray lies on the ray to its point (within float rounding): when that one misses, no cut is computed.
+    if (!mayReach(reach, scan.origin, p)) continue;
     const std::uint8_t flag = is_inner_[i] ? kCrossedIn : kCrossedOut;
     const octomap::point3d end =
         is_inner_[i] ? p : scan.origin + (p - scan.origin).normalized() * float(s_c);  // cut as computeUpdate
-    if (!mayReach(scan.origin, end, window)) continue;
-    // Keys move monotonically along each axis, so once a ray has left the (convex) window it never returns.
-    bool entered = false;
-    traverseRay(grid_, scan.origin, end, [&](const octomap::OcTreeKey& key) {
-      if (!window.contains(key)) return !entered;
-      entered = true;
-      const auto cell = std::uint32_t(window.index(key));
+    if (!is_inner_[i] && !mayReach(reach, scan.origin, end)) continue;
+    traverseRayInWindow(grid_, scan.origin, end, window, [&](const octomap::OcTreeKey&, std::uint64_t index) {
+      const auto cell = std::uint32_t(index);
       mark<kGated>(cell, flag, stamp);
       if constexpr (kGated) raiseExtremes(cell, i, flag == kCrossedIn ? kCrossedInExtreme : kCrossedOutExtreme);
-      return true;
     });
   }
 }

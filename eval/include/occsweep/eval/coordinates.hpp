@@ -37,6 +37,8 @@ void requireInKeyRange(const Dataset& dataset, const std::filesystem::path& dir,
 /// The shift that moves the centre of the scans' bounding box to the origin, in whole metres, on each axis where
 /// the scans leave `range` (0 on the others).
 [[nodiscard]] std::array<double, 3> centringShift(const PointCloudSet& scans, const KeyRange& range);
+/// The same from the scans' bounding box (boundingBox).
+[[nodiscard]] std::array<double, 3> centringShift(const AxisBox& box, const KeyRange& range);
 
 /// Adds `shift` to every point, origin, truth source and the region, and records it as source.shift (added to
 /// an earlier shift). Throws std::invalid_argument naming --shift when a shifted coordinate overflows float32.
