@@ -19,7 +19,7 @@ TEST_CASE("import commands write data sets equal to the library readers, truth i
   const fs::path dir = test::scratch("import_cli");
   const fs::path join = kReal / "slambook_joinMap";
   std::string images;
-  for (int i = 1; i <= 5; ++i) images += " " + (join / "depth" / (std::to_string(i) + ".pgm")).string();
+  for (int i = 1; i <= 5; ++i) images.append(" ").append((join / "depth" / (std::to_string(i) + ".pgm")).string());
   auto r = test::runCli("import depth" + images + " --poses " + (join / "pose.txt").string() +
                         " --fx 518 --fy 519 --cx 325.5 --cy 253.5 --max-depth 7 --stride 8 --out " + (dir / "join").string());
   REQUIRE(r.exit_code == 0);

@@ -223,7 +223,9 @@ ClusterTask compareTask(const PlanConfig& c, const std::vector<std::string>& opt
   t.output = "report/comparison.json";
   t.inputs = optimisation.empty() ? all_merged : optimisation;
   // --force: a re-run replaces its own earlier comparison (never another file).
-  t.argv = withProgram(c.occsweep, taskArgv(CompareTask{t.inputs, t.output, true, false}));
+  CompareTask compare;
+  compare.files = t.inputs, compare.json = t.output, compare.force = true;
+  t.argv = withProgram(c.occsweep, taskArgv(compare));
   t.kind = OutputKind::Comparison;
   return t;
 }

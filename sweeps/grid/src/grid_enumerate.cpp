@@ -11,7 +11,9 @@ namespace {
 
 // p_t from p_min to p_max by its step (docs/definitions.md, Parameter grids).
 std::vector<Fixed> thresholdValues(Fixed p_min, Fixed p_max, Fixed step) {
-  return ParamRange{p_min, p_max, step}.values();
+  ParamRange range;
+  range.min = p_min, range.max = p_max, range.step = step;
+  return range.values();
 }
 
 // h(T, T', n) of Eq. 14 as "how many values of T' are <= t", floor instead of the paper's ceiling so it is
