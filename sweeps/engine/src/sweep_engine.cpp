@@ -68,12 +68,16 @@ class ReplayEngine final : public SweepEngine {
     PointCloudSet().swap(in.scans);
   }
 
+  // A batch's maps share one computation of the event hits (a log per recorded hit) and are replayed in passes of
+  // kReplayPassLanes: batches of several passes compute the hits less often, and stay small enough to spread a
+  // grid over the threads and to report progress (docs/performance.md, "Replay counting").
+  static constexpr std::size_t kBatchMaps = 4 * kReplayPassLanes;
+
   std::vector<std::vector<std::size_t>> batches(std::size_t grid) const override {
     std::vector<std::vector<std::size_t>> out;
     for (const auto& members : lane_groups_.at(grid))
-      for (std::size_t b = 0; b < members.size(); b += kReplayLanes)
-        out.emplace_back(members.begin() + long(b),
-                         members.begin() + long(std::min(b + kReplayLanes, members.size())));
+      for (std::size_t b = 0; b < members.size(); b += kBatchMaps)
+        out.emplace_back(members.begin() + long(b), members.begin() + long(std::min(b + kBatchMaps, members.size())));
     return out;
   }
 
