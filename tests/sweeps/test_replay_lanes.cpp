@@ -129,8 +129,8 @@ RecordedSet gatedView(const RecordedSet& r, const std::vector<double>& gate) {
   return g;
 }
 
-void requireLaneEqual(const std::vector<ConfusionCounts>& fast, const RegionSample& plain, const std::vector<double>& p_t,
-                      const char* truth) {
+void requireLaneEqual(const std::vector<ConfusionCounts>& fast, const RegionSample& plain,
+                      const std::vector<double>& p_t, const char* truth) {
   INFO(truth);
   const std::vector<ConfusionCounts> expected = classify(plain, p_t);
   REQUIRE(fast.size() == expected.size());

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <optional>
 #include <span>
 #include <stdexcept>
 
@@ -132,48 +133,61 @@ inline Lanes<Q> hitDelta(const LaneRules<Q>& lanes, std::uint32_t e) {
   }
 }
 
-// The Default variant's one update per event (VoxelUpdateRule: hit, else in, else out), chosen by table lookup
-// instead of branches, which the mixed flags of a voxel's events mispredict: per flags value, the delta of the
-// update, and whether it is the event's hit delta read from the points. Flags 0 (no update) has no entry: a pass
-// takes this path only when every event has a flag (byFlagsApplies).
+// The Default variant's one update per event (VoxelUpdateRule: the hit, else l_in, else l_out), without the rule's
+// branches, which the mixed events of a voxel mispredict: the delta by the event's flags from a table of 8
+// (docs/performance.md, "Replay counting"). A hit read from the points keeps its branch: hits are a few percent of
+// the events, and choosing their delta without a branch cost every event more (measured). Flags 0 (no update) has
+// no entry: a pass takes this path only when every event's flags are 1 to 7 (byFlagsApplies).
 template <std::size_t Q>
-struct FlagDeltas {
-  std::array<Lanes<Q>, 8> delta{};
-  std::array<QuadMask, 8> reads_hit{};
-};
+using FlagDeltas = std::array<Lanes<Q>, 8>;
 
 template <std::size_t Q>
 FlagDeltas<Q> flagDeltas(const LaneRules<Q>& lanes) {
-  FlagDeltas<Q> by_flags;
-  for (std::uint8_t f = 1; f < 8; ++f) {
-    const bool hit = f & kHit;
-    by_flags.delta[f] = hit ? lanes.hit : (f & kCrossedIn ? lanes.rule.l_in : lanes.rule.l_out);
-    by_flags.reads_hit[f] = QuadMask{} - QuadMask{hit, hit, hit, hit};  // all ones where true
-  }
+  FlagDeltas<Q> by_flags{};
+  for (std::uint8_t f = 1; f < 8; ++f)
+    by_flags[f] = f & kHit ? lanes.hit : (f & kCrossedIn ? lanes.rule.l_in : lanes.rule.l_out);
   return by_flags;
 }
 
 bool byFlagsApplies(const RecordedSet& r, UpdateVariant variant) {
-  if (variant != UpdateVariant::Default) return false;
-  bool outside = false;  // flags 0, or beyond the three kinds: one branch-free pass, which the compiler vectorises
-  for (const std::uint8_t f : r.flags) outside |= std::uint8_t(f - 1) >= 7;
-  return !outside;
+  std::uint8_t lowest = 0xFF, highest = 0;  // branch-free, so that the compiler vectorises it
+  for (const std::uint8_t f : r.flags) lowest = f < lowest ? f : lowest, highest = f > highest ? f : highest;
+  return variant == UpdateVariant::Default && (r.flags.empty() || (lowest >= 1 && highest <= 7));
 }
 
 template <HitSource kSource, std::size_t Q>
-inline Lanes<Q> byFlagsValue(const RecordedSet& r, std::uint32_t begin, std::uint32_t end, const LaneRules<Q>& lanes,
+inline void byFlagsStep(const RecordedSet& r, std::uint32_t e, const LaneRules<Q>& lanes, const FlagDeltas<Q>& by_flags,
+                        Lanes<Q>& value) {
+  const std::uint8_t f = r.flags[e];
+  if constexpr (kSource != HitSource::Constant)
+    if (f & kHit) return update(value, hitDelta<kSource>(lanes, e), lanes.lo, lanes.hi);
+  update(value, by_flags[f], lanes.lo, lanes.hi);
+}
+
+template <HitSource kSource, std::size_t Q>
+inline Lanes<Q> byFlagsValue(const RecordedSet& r, std::uint32_t v, const LaneRules<Q>& lanes,
                              const FlagDeltas<Q>& by_flags) {
   Lanes<Q> value{};
-  for (std::uint32_t e = begin; e < end; ++e) {
-    const std::uint8_t f = r.flags[e];
-    Lanes<Q> d = by_flags.delta[f];
-    if constexpr (kSource != HitSource::Constant) {
-      const Lanes<Q> hit = hitDelta<kSource>(lanes, e);
-      for (std::size_t i = 0; i < Q; ++i) d[i] = by_flags.reads_hit[f] ? hit[i] : d[i];
-    }
-    update(value, d, lanes.lo, lanes.hi);
-  }
+  for (std::uint32_t e = r.voxel_first[v]; e < r.voxel_first[v + 1]; ++e)
+    byFlagsStep<kSource>(r, e, lanes, by_flags, value);
   return value;
+}
+
+// Two voxels at once, event by event in turn: a voxel's updates are a serial chain (add, then clamp) whose latency
+// bounds its time, and two independent chains take about the time of one (three or four at once: no faster).
+template <HitSource kSource, std::size_t Q>
+inline void byFlagsValues(const RecordedSet& r, std::uint32_t va, std::uint32_t vb, const LaneRules<Q>& lanes,
+                          const FlagDeltas<Q>& by_flags, Lanes<Q>& a, Lanes<Q>& b) {
+  const std::uint32_t a_begin = r.voxel_first[va], a_end = r.voxel_first[va + 1];
+  const std::uint32_t b_begin = r.voxel_first[vb], b_end = r.voxel_first[vb + 1];
+  a = Lanes<Q>{}, b = Lanes<Q>{};
+  const std::uint32_t both = std::min(a_end - a_begin, b_end - b_begin);
+  for (std::uint32_t k = 0; k < both; ++k) {
+    byFlagsStep<kSource>(r, a_begin + k, lanes, by_flags, a);
+    byFlagsStep<kSource>(r, b_begin + k, lanes, by_flags, b);
+  }
+  for (std::uint32_t e = a_begin + both; e < a_end; ++e) byFlagsStep<kSource>(r, e, lanes, by_flags, a);
+  for (std::uint32_t e = b_begin + both; e < b_end; ++e) byFlagsStep<kSource>(r, e, lanes, by_flags, b);
 }
 
 // Any variant: event by event through the one update rule.
@@ -202,14 +216,24 @@ Pass<Q> makePass(const RecordedSet& r, std::span<const ReplayRule> rules) {
   return pass;
 }
 
+// Whether a known voxel's value comes from the tables: all its events are alike, and their delta is a lane's own.
+template <HitSource kSource>
+inline bool fromTables(const RecordedSet& r, std::uint32_t v) {
+  const std::uint8_t u = r.uniform[v];
+  return u == kCrossedIn || u == kCrossedOut || (u == kHit && kSource == HitSource::Constant);
+}
+
+// The table (StepTables) of a voxel whose events are all alike: in, out, or OctoMap's hit.
+inline std::size_t tableOf(std::uint8_t uniform) {
+  return uniform == kCrossedIn ? 0 : (uniform == kCrossedOut ? 1 : 2);
+}
+
 // One known voxel's value on every lane: from the tables when all its events are alike, else event by event.
 template <HitSource kSource, bool kByFlags, std::size_t Q>
 inline Lanes<Q> voxelValue(const RecordedSet& r, std::uint32_t v, const Pass<Q>& pass) {
   const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
-  const std::uint8_t u = r.uniform[v];
-  if (u == kCrossedIn || u == kCrossedOut) return pass.table[u == kCrossedIn ? 0 : 1][end - begin];
-  if (u == kHit && kSource == HitSource::Constant) return pass.table[2][end - begin];
-  if constexpr (kByFlags) return byFlagsValue<kSource>(r, begin, end, pass.lanes, pass.by_flags);
+  if (fromTables<kSource>(r, v)) return pass.table[tableOf(r.uniform[v])][end - begin];
+  if constexpr (kByFlags) return byFlagsValue<kSource>(r, v, pass.lanes, pass.by_flags);
   return ruleValue<kSource>(r, begin, end, pass.lanes);
 }
 
@@ -296,6 +320,30 @@ void countReach(const RecordedSet& r, const Pass<Q>& pass, std::span<LaneThresho
   }
 }
 
+// countReach in the Default variant: the voxels that need their events replayed, two at a time (byFlagsValues).
+// The counts are sums, so the order in which voxels are counted does not change them.
+template <HitSource kSource, std::size_t Q>
+void countReachInPairs(const RecordedSet& r, const Pass<Q>& pass, std::span<LaneThresholds> thresholds) {
+  const std::uint32_t voxels = std::uint32_t(r.truth.size());
+  const std::size_t counted = pass.lanes.counted;
+  std::optional<std::uint32_t> waiting;
+  for (std::uint32_t v = 0; v < voxels; ++v) {
+    if (r.voxel_first[v] == r.voxel_first[v + 1]) continue;  // unknown: counted as FN or TN below
+    if (fromTables<kSource>(r, v)) {
+      countLanes(r, v, voxelValue<kSource, true>(r, v, pass), counted, thresholds);
+    } else if (!waiting) {
+      waiting = v;
+    } else {
+      Lanes<Q> a, b;
+      byFlagsValues<kSource>(r, *waiting, v, pass.lanes, pass.by_flags, a, b);
+      countLanes(r, *waiting, a, counted, thresholds);
+      countLanes(r, v, b, counted, thresholds);
+      waiting.reset();
+    }
+  }
+  if (waiting) countLanes(r, *waiting, voxelValue<kSource, true>(r, *waiting, pass), counted, thresholds);
+}
+
 // Counts at every threshold, in p_t's order, from the voxels reaching each: full truth, and observable truth.
 void countsFromReach(const RecordedSet& r, const LaneThresholds& t, std::vector<ConfusionCounts>& counts,
                      std::vector<ConfusionCounts>* observable) {
@@ -319,7 +367,8 @@ std::vector<std::vector<ConfusionCounts>> countsOfLanes(const RecordedSet& r,
   const std::size_t n = thresholds.size();
   std::vector<std::vector<ConfusionCounts>> counts(n);
   if (observable) observable->assign(n, {});
-  for (std::size_t l = 0; l < n; ++l) countsFromReach(r, thresholds[l], counts[l], observable ? &(*observable)[l] : nullptr);
+  for (std::size_t l = 0; l < n; ++l)
+    countsFromReach(r, thresholds[l], counts[l], observable ? &(*observable)[l] : nullptr);
   return counts;
 }
 
@@ -416,7 +465,8 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
     const Pass<Q> pass = makePass<Q>(r, std::span(rules).subspan(first, count));
     const std::span<LaneThresholds> lanes_thresholds = std::span(thresholds).subspan(first, count);
     withKernel(pass.lanes, by_flags, [&]<HitSource kSource, bool kByFlags>() {
-      countReach<kSource, kByFlags>(r, pass, lanes_thresholds);
+      if constexpr (kByFlags) countReachInPairs<kSource>(r, pass, lanes_thresholds);
+      else countReach<kSource, false>(r, pass, lanes_thresholds);
     });
   });
   return countsOfLanes(r, thresholds, observable);
