@@ -24,6 +24,7 @@ struct RecordedSet {
   std::vector<std::uint32_t> voxel_first;    ///< events of voxel v: [voxel_first[v], voxel_first[v + 1])
   std::vector<std::uint8_t> flags;           ///< per event: VoxelEventFlags
   std::vector<std::uint32_t> hit_first;      ///< hits of event e: [hit_first[e], hit_first[e + 1])
+  std::vector<std::uint32_t> hit_events;     ///< the events with hits, ascending (what eventHits visits)
   std::vector<std::uint32_t> hit_scan;       ///< per hit: its scan
   std::vector<std::uint32_t> hit_inner;      ///< per hit: its index j in the scan's z_in (point order kept)
   std::vector<std::uint8_t> uniform;         ///< per voxel: its events' flags when all are equal, else 0
