@@ -44,11 +44,20 @@ inline Quad splat(float x) { return Quad{x, x, x, x}; }
 
 // OctoMap's clamped update on every lane, clampedUpdate's comparisons in its order (OccupancyOcTreeBase::
 // updateNodeLogOdds): value += delta; below l_min gives l_min, else above l_max gives l_max.
-template <std::size_t Q>
+//
+// kOrderedBounds, where no lane has l_min > l_max (orderedBounds): the last step compares l_min with the value
+// below l_max instead of with the sum, which is the same value: the two differ only when sum > l_max, and there
+// both are false (l_min <= l_max < sum). It is one instruction each (the vector min and max) instead of a compare
+// and a select, and halves the instructions of an update (docs/performance.md, "Replay counting").
+template <bool kOrderedBounds = false, std::size_t Q>
 inline void update(Lanes<Q>& v, const Lanes<Q>& d, const Lanes<Q>& lo, const Lanes<Q>& hi) {
   for (std::size_t i = 0; i < Q; ++i) {
     const Quad sum = v[i] + d[i];
-    v[i] = sum < lo[i] ? lo[i] : (sum > hi[i] ? hi[i] : sum);
+    const Quad below_hi = sum > hi[i] ? hi[i] : sum;
+    if constexpr (kOrderedBounds)
+      v[i] = lo[i] > below_hi ? lo[i] : below_hi;
+    else
+      v[i] = sum < lo[i] ? lo[i] : below_hi;
   }
 }
 
@@ -155,27 +164,35 @@ bool byFlagsApplies(const RecordedSet& r, UpdateVariant variant) {
   return variant == UpdateVariant::Default && (r.flags.empty() || (lowest >= 1 && highest <= 7));
 }
 
-template <HitSource kSource, std::size_t Q>
+// Where every lane has l_min <= l_max (or a NaN bound), so that update may take its shorter form.
+template <std::size_t Q>
+bool orderedBounds(const LaneRules<Q>& lanes) {
+  for (std::size_t l = 0; l < Q * kQuadLanes; ++l)
+    if (lane(lanes.lo, l) > lane(lanes.hi, l)) return false;
+  return true;
+}
+
+template <HitSource kSource, bool kOrderedBounds, std::size_t Q>
 inline void byFlagsStep(const RecordedSet& r, std::uint32_t e, const LaneRules<Q>& lanes, const FlagDeltas<Q>& by_flags,
                         Lanes<Q>& value) {
   const std::uint8_t f = r.flags[e];
   if constexpr (kSource != HitSource::Constant)
-    if (f & kHit) return update(value, hitDelta<kSource>(lanes, e), lanes.lo, lanes.hi);
-  update(value, by_flags[f], lanes.lo, lanes.hi);
+    if (f & kHit) return update<kOrderedBounds>(value, hitDelta<kSource>(lanes, e), lanes.lo, lanes.hi);
+  update<kOrderedBounds>(value, by_flags[f], lanes.lo, lanes.hi);
 }
 
-template <HitSource kSource, std::size_t Q>
+template <HitSource kSource, bool kOrderedBounds, std::size_t Q>
 inline Lanes<Q> byFlagsValue(const RecordedSet& r, std::uint32_t v, const LaneRules<Q>& lanes,
                              const FlagDeltas<Q>& by_flags) {
   Lanes<Q> value{};
   for (std::uint32_t e = r.voxel_first[v]; e < r.voxel_first[v + 1]; ++e)
-    byFlagsStep<kSource>(r, e, lanes, by_flags, value);
+    byFlagsStep<kSource, kOrderedBounds>(r, e, lanes, by_flags, value);
   return value;
 }
 
 // Two voxels at once, event by event in turn: a voxel's updates are a serial chain (add, then clamp) whose latency
 // bounds its time, and two independent chains take about the time of one (three or four at once: no faster).
-template <HitSource kSource, std::size_t Q>
+template <HitSource kSource, bool kOrderedBounds, std::size_t Q>
 inline void byFlagsValues(const RecordedSet& r, std::uint32_t va, std::uint32_t vb, const LaneRules<Q>& lanes,
                           const FlagDeltas<Q>& by_flags, Lanes<Q>& a, Lanes<Q>& b) {
   const std::uint32_t a_begin = r.voxel_first[va], a_end = r.voxel_first[va + 1];
@@ -183,11 +200,11 @@ inline void byFlagsValues(const RecordedSet& r, std::uint32_t va, std::uint32_t 
   a = Lanes<Q>{}, b = Lanes<Q>{};
   const std::uint32_t both = std::min(a_end - a_begin, b_end - b_begin);
   for (std::uint32_t k = 0; k < both; ++k) {
-    byFlagsStep<kSource>(r, a_begin + k, lanes, by_flags, a);
-    byFlagsStep<kSource>(r, b_begin + k, lanes, by_flags, b);
+    byFlagsStep<kSource, kOrderedBounds>(r, a_begin + k, lanes, by_flags, a);
+    byFlagsStep<kSource, kOrderedBounds>(r, b_begin + k, lanes, by_flags, b);
   }
-  for (std::uint32_t e = a_begin + both; e < a_end; ++e) byFlagsStep<kSource>(r, e, lanes, by_flags, a);
-  for (std::uint32_t e = b_begin + both; e < b_end; ++e) byFlagsStep<kSource>(r, e, lanes, by_flags, b);
+  for (std::uint32_t e = a_begin + both; e < a_end; ++e) byFlagsStep<kSource, kOrderedBounds>(r, e, lanes, by_flags, a);
+  for (std::uint32_t e = b_begin + both; e < b_end; ++e) byFlagsStep<kSource, kOrderedBounds>(r, e, lanes, by_flags, b);
 }
 
 // Any variant: event by event through the one update rule.
@@ -228,28 +245,44 @@ inline std::size_t tableOf(std::uint8_t uniform) {
   return uniform == kCrossedIn ? 0 : (uniform == kCrossedOut ? 1 : 2);
 }
 
+// How a pass replays the events of a voxel: through the update rule (any variant), or by the table of deltas by
+// flags (the Default variant, every event flagged: byFlagsApplies), with update's shorter form where the lanes'
+// bounds allow it (orderedBounds).
+enum class Kernel { Rule, ByFlags, ByFlagsOrderedBounds };
+
+template <std::size_t Q>
+Kernel kernelOf(const LaneRules<Q>& lanes, bool by_flags) {
+  if (!by_flags) return Kernel::Rule;
+  return orderedBounds(lanes) ? Kernel::ByFlagsOrderedBounds : Kernel::ByFlags;
+}
+
 // One known voxel's value on every lane: from the tables when all its events are alike, else event by event.
-template <HitSource kSource, bool kByFlags, std::size_t Q>
+template <HitSource kSource, Kernel kKernel, std::size_t Q>
 inline Lanes<Q> voxelValue(const RecordedSet& r, std::uint32_t v, const Pass<Q>& pass) {
   const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
   if (fromTables<kSource>(r, v)) return pass.table[tableOf(r.uniform[v])][end - begin];
-  if constexpr (kByFlags) return byFlagsValue<kSource>(r, v, pass.lanes, pass.by_flags);
-  return ruleValue<kSource>(r, begin, end, pass.lanes);
+  if constexpr (kKernel == Kernel::Rule)
+    return ruleValue<kSource>(r, begin, end, pass.lanes);
+  else
+    return byFlagsValue<kSource, kKernel == Kernel::ByFlagsOrderedBounds>(r, v, pass.lanes, pass.by_flags);
 }
 
-// Calls body.template operator()<kSource, kByFlags>() with the pass's hit source and kernel as constants, so that
+// Calls body.template operator()<kSource, kKernel>() with the pass's hit source and kernel as constants, so that
 // the voxel loop tests neither.
 template <std::size_t Q, class Body>
-void withKernel(const LaneRules<Q>& lanes, bool by_flags, Body&& body) {
-  const auto bySource = [&]<bool kByFlags>() {
+void withKernel(const LaneRules<Q>& lanes, Kernel kernel, Body&& body) {
+  const auto bySource = [&]<Kernel kKernel>() {
     switch (hitSourceOf(lanes)) {
-      case HitSource::Constant: return body.template operator()<HitSource::Constant, kByFlags>();
-      case HitSource::ClampedSum: return body.template operator()<HitSource::ClampedSum, kByFlags>();
-      case HitSource::Max: return body.template operator()<HitSource::Max, kByFlags>();
+      case HitSource::Constant: return body.template operator()<HitSource::Constant, kKernel>();
+      case HitSource::ClampedSum: return body.template operator()<HitSource::ClampedSum, kKernel>();
+      case HitSource::Max: return body.template operator()<HitSource::Max, kKernel>();
     }
   };
-  if (by_flags) return bySource.template operator()<true>();
-  return bySource.template operator()<false>();
+  switch (kernel) {
+    case Kernel::Rule: return bySource.template operator()<Kernel::Rule>();
+    case Kernel::ByFlags: return bySource.template operator()<Kernel::ByFlags>();
+    case Kernel::ByFlagsOrderedBounds: return bySource.template operator()<Kernel::ByFlagsOrderedBounds>();
+  }
 }
 
 // The passes over `n` lanes: as few as kReplayPassLanes allows, of equal width (20 maps: 2 x 10, not 16 + 4), each
@@ -311,18 +344,18 @@ inline void countLanes(const RecordedSet& r, std::uint32_t v, const Lanes<Q>& va
   for (std::size_t l = 0; l < counted; ++l) countValue(r, v, lane(value, l), thresholds[l]);
 }
 
-template <HitSource kSource, bool kByFlags, std::size_t Q>
+template <HitSource kSource, Kernel kKernel, std::size_t Q>
 void countReach(const RecordedSet& r, const Pass<Q>& pass, std::span<LaneThresholds> thresholds) {
   const std::uint32_t voxels = std::uint32_t(r.truth.size());
   for (std::uint32_t v = 0; v < voxels; ++v) {
     if (r.voxel_first[v] == r.voxel_first[v + 1]) continue;  // unknown: counted as FN or TN below
-    countLanes(r, v, voxelValue<kSource, kByFlags>(r, v, pass), pass.lanes.counted, thresholds);
+    countLanes(r, v, voxelValue<kSource, kKernel>(r, v, pass), pass.lanes.counted, thresholds);
   }
 }
 
 // countReach in the Default variant: the voxels that need their events replayed, two at a time (byFlagsValues).
 // The counts are sums, so the order in which voxels are counted does not change them.
-template <HitSource kSource, std::size_t Q>
+template <HitSource kSource, Kernel kKernel, std::size_t Q>
 void countReachInPairs(const RecordedSet& r, const Pass<Q>& pass, std::span<LaneThresholds> thresholds) {
   const std::uint32_t voxels = std::uint32_t(r.truth.size());
   const std::size_t counted = pass.lanes.counted;
@@ -330,18 +363,18 @@ void countReachInPairs(const RecordedSet& r, const Pass<Q>& pass, std::span<Lane
   for (std::uint32_t v = 0; v < voxels; ++v) {
     if (r.voxel_first[v] == r.voxel_first[v + 1]) continue;  // unknown: counted as FN or TN below
     if (fromTables<kSource>(r, v)) {
-      countLanes(r, v, voxelValue<kSource, true>(r, v, pass), counted, thresholds);
+      countLanes(r, v, voxelValue<kSource, kKernel>(r, v, pass), counted, thresholds);
     } else if (!waiting) {
       waiting = v;
     } else {
       Lanes<Q> a, b;
-      byFlagsValues<kSource>(r, *waiting, v, pass.lanes, pass.by_flags, a, b);
+      byFlagsValues<kSource, kKernel == Kernel::ByFlagsOrderedBounds>(r, *waiting, v, pass.lanes, pass.by_flags, a, b);
       countLanes(r, *waiting, a, counted, thresholds);
       countLanes(r, v, b, counted, thresholds);
       waiting.reset();
     }
   }
-  if (waiting) countLanes(r, *waiting, voxelValue<kSource, true>(r, *waiting, pass), counted, thresholds);
+  if (waiting) countLanes(r, *waiting, voxelValue<kSource, kKernel>(r, *waiting, pass), counted, thresholds);
 }
 
 // Counts at every threshold, in p_t's order, from the voxels reaching each: full truth, and observable truth.
@@ -433,7 +466,7 @@ bool gatedLaneValue(const RecordedSet& r, std::uint32_t v, const LaneRules<Q>& l
   return known;
 }
 
-template <HitSource kSource, bool kByFlags, std::size_t Q>
+template <HitSource kSource, Kernel kKernel, std::size_t Q>
 void countGatedReach(const RecordedSet& r, const Pass<Q>& pass, const GateLanes& g,
                      std::span<LaneThresholds> thresholds) {
   const std::uint32_t voxels = std::uint32_t(r.truth.size());
@@ -442,7 +475,7 @@ void countGatedReach(const RecordedSet& r, const Pass<Q>& pass, const GateLanes&
     const GateOutcome outcome = gateOutcome(r, v, g);
     if (outcome == GateOutcome::NoneKeep) continue;
     if (outcome == GateOutcome::AllKeep) {
-      countLanes(r, v, voxelValue<kSource, kByFlags>(r, v, pass), pass.lanes.counted, thresholds);
+      countLanes(r, v, voxelValue<kSource, kKernel>(r, v, pass), pass.lanes.counted, thresholds);
       continue;
     }
     for (std::size_t l = 0; l < pass.lanes.counted; ++l) {
@@ -464,9 +497,9 @@ std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, con
   forEachPass(rules.size(), [&]<std::size_t Q>(std::size_t first, std::size_t count) {
     const Pass<Q> pass = makePass<Q>(r, std::span(rules).subspan(first, count));
     const std::span<LaneThresholds> lanes_thresholds = std::span(thresholds).subspan(first, count);
-    withKernel(pass.lanes, by_flags, [&]<HitSource kSource, bool kByFlags>() {
-      if constexpr (kByFlags) countReachInPairs<kSource>(r, pass, lanes_thresholds);
-      else countReach<kSource, false>(r, pass, lanes_thresholds);
+    withKernel(pass.lanes, kernelOf(pass.lanes, by_flags), [&]<HitSource kSource, Kernel kKernel>() {
+      if constexpr (kKernel == Kernel::Rule) countReach<kSource, kKernel>(r, pass, lanes_thresholds);
+      else countReachInPairs<kSource, kKernel>(r, pass, lanes_thresholds);
     });
   });
   return countsOfLanes(r, thresholds, observable);
@@ -487,10 +520,9 @@ std::vector<std::vector<ConfusionCounts>> replayGatedCounts(const RecordedSet& r
     const Pass<Q> pass = makePass<Q>(r, std::span(rules).subspan(first, count));
     const GateLanes g = gateLanes(column, std::span(gates).subspan(first, count));
     const std::span<LaneThresholds> lanes_thresholds = std::span(thresholds).subspan(first, count);
-    const auto count_pass = [&]<bool kByFlags>() {
-      countGatedReach<HitSource::Constant, kByFlags>(r, pass, g, lanes_thresholds);
-    };
-    by_flags ? count_pass.template operator()<true>() : count_pass.template operator()<false>();
+    withKernel(pass.lanes, kernelOf(pass.lanes, by_flags), [&]<HitSource kSource, Kernel kKernel>() {
+      if constexpr (kSource == HitSource::Constant) countGatedReach<kSource, kKernel>(r, pass, g, lanes_thresholds);
+    });
   });
   return countsOfLanes(r, thresholds, observable);
 }
