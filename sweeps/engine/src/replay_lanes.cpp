@@ -2,9 +2,10 @@
 // filters, whose events happen per lane when their gate extremes reach the lane's threshold.
 //
 // A pass holds up to kReplayPassLanes maps in vectors of four floats. A voxel's events are a serial chain of
-// updates, add then clamp, so one voxel's time is that chain's latency: the more lanes share it, the cheaper each
-// lane (docs/performance.md, "Replay counting"). The float operations of every lane and their order are
-// exactly OctoMap's: value = clamp(value + delta) (clampedUpdate, log_odds.hpp), starting from 0.
+// updates, add then clamp, so one voxel's time is that chain's latency: the more lanes share it, and the more
+// voxels are replayed side by side, the cheaper each lane (docs/performance.md, "Replay counting"). The float
+// operations of every lane and their order are exactly OctoMap's: value = clamp(value + delta) (clampedUpdate,
+// log_odds.hpp), starting from 0.
 #include <algorithm>
 #include <array>
 #include <limits>
@@ -23,7 +24,6 @@ namespace {
 // Four lanes in one vector register (GCC's vector extension, lowered for any target). Its operators mean, lane by
 // lane, what the scalar ones mean (IEEE float, the same comparisons and selections), whatever the instructions.
 using Quad = float __attribute__((vector_size(16)));
-using QuadMask = std::int32_t __attribute__((vector_size(16)));
 constexpr std::size_t kQuadLanes = 4;
 static_assert(kReplayPassLanes % kQuadLanes == 0);
 
@@ -45,10 +45,10 @@ inline Quad splat(float x) { return Quad{x, x, x, x}; }
 // OctoMap's clamped update on every lane, clampedUpdate's comparisons in its order (OccupancyOcTreeBase::
 // updateNodeLogOdds): value += delta; below l_min gives l_min, else above l_max gives l_max.
 //
-// kOrderedBounds, where no lane has l_min > l_max (orderedBounds): the last step compares l_min with the value
-// below l_max instead of with the sum, which is the same value: the two differ only when sum > l_max, and there
-// both are false (l_min <= l_max < sum). It is one instruction each (the vector min and max) instead of a compare
-// and a select, and halves the instructions of an update (docs/performance.md, "Replay counting").
+// kOrderedBounds, where no lane has l_min > l_max (orderedBounds): the last step tests l_min > below_hi instead of
+// sum < l_min, which gives the same value: the tests can differ only where sum > l_max (below_hi = l_max), and there
+// both are false (sum < l_min would need l_min > l_max; so would l_min > l_max). Each step is then one instruction,
+// the vector min and max, instead of a compare and a select (docs/performance.md, "Replay counting").
 template <bool kOrderedBounds = false, std::size_t Q>
 inline void update(Lanes<Q>& v, const Lanes<Q>& d, const Lanes<Q>& lo, const Lanes<Q>& hi) {
   for (std::size_t i = 0; i < Q; ++i) {
@@ -203,8 +203,10 @@ inline void byFlagsValues(const RecordedSet& r, std::uint32_t va, std::uint32_t 
     byFlagsStep<kSource, kOrderedBounds>(r, a_begin + k, lanes, by_flags, a);
     byFlagsStep<kSource, kOrderedBounds>(r, b_begin + k, lanes, by_flags, b);
   }
-  for (std::uint32_t e = a_begin + both; e < a_end; ++e) byFlagsStep<kSource, kOrderedBounds>(r, e, lanes, by_flags, a);
-  for (std::uint32_t e = b_begin + both; e < b_end; ++e) byFlagsStep<kSource, kOrderedBounds>(r, e, lanes, by_flags, b);
+  for (std::uint32_t e = a_begin + both; e < a_end; ++e)
+    byFlagsStep<kSource, kOrderedBounds>(r, e, lanes, by_flags, a);
+  for (std::uint32_t e = b_begin + both; e < b_end; ++e)
+    byFlagsStep<kSource, kOrderedBounds>(r, e, lanes, by_flags, b);
 }
 
 // Any variant: event by event through the one update rule.
