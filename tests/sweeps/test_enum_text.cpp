@@ -70,12 +70,12 @@ TEST_CASE("the engine factory makes replay and direct, and refuses any other nam
   CHECK(refusal([] { return makeSweepEngine("Replay"); }) == "engine 'Replay': must be replay or direct");
 }
 
-TEST_CASE("replay batches up to 8 maps that share their hit rule, direct one map each") {
+TEST_CASE("replay batches maps that share their hit rule, up to 64 when it reads the points, else 16, and direct one map each") {
   const ParameterLayout layout = layoutOf("knn");  // k, p_u, p_l, p_max, p_min, p_m, p_m_out
   MapParams a{{3 * kFixedScale, 860000, 260000, 980000, 20000, 400000, 450000}}, b = a;
   b.values[layout.index("p_u")] = 900000;  // another p_u: another hit rule
   std::vector<MapToCount> maps;
-  for (int i = 0; i < 10; ++i) maps.push_back({&a, {0.5}});
+  for (int i = 0; i < 70; ++i) maps.push_back({&a, {0.5}});
   maps.push_back({&b, {0.5}});
   using Batches = std::vector<std::vector<std::size_t>>;
   // Batches are planned by prepare (here on a data set without scans, over a 2 x 2 x 2 region: nothing recorded).
@@ -88,7 +88,25 @@ TEST_CASE("replay batches up to 8 maps that share their hit rule, direct one map
     e->prepare(inputs, {{&findMethod("knn"), &layout, &maps}});
     return e->batches(0);
   };
-  CHECK(batchesOf("replay") == Batches{{0, 1, 2, 3, 4, 5, 6, 7}, {8, 9}, {10}});
-  CHECK(batchesOf("direct") == Batches{{0}, {1}, {2}, {3}, {4}, {5}, {6}, {7}, {8}, {9}, {10}});
-  static_assert(kReplayLanes == 8);
+  const auto range = [](std::size_t from, std::size_t to) {
+    std::vector<std::size_t> out;
+    for (std::size_t i = from; i < to; ++i) out.push_back(i);
+    return out;
+  };
+  // 70 maps of one hit rule that reads the points: 2 batches of equal size, each at most 4 passes of 16 lanes.
+  CHECK(batchesOf("replay") == Batches{range(0, 35), range(35, 70), {70}});
+  Batches one_each;
+  for (std::size_t i = 0; i <= 70; ++i) one_each.push_back({i});
+  CHECK(batchesOf("direct") == one_each);
+  static_assert(kReplayPassLanes == 16);
+
+  // OctoMap's constant hit: nothing computed per batch, so one pass of at most 16 lanes each (20 maps: 2 x 10).
+  const ParameterLayout octomap = layoutOf("octomap");
+  MapParams o{std::vector<Fixed>(octomap.names.size(), 0)};
+  for (const auto& [name, value] : {std::pair{"p_max", 980000}, {"p_min", 20000}, {"p_h", 700000}, {"p_m", 400000}})
+    o.values[octomap.index(name)] = value;
+  const std::vector<MapToCount> octomap_maps(20, {&o, {0.5}});
+  const auto replay = makeSweepEngine("replay");
+  replay->prepare(inputs, {{&findMethod("octomap"), &octomap, &octomap_maps}});
+  CHECK(replay->batches(0) == Batches{range(0, 10), range(10, 20)});
 }

@@ -1,8 +1,16 @@
-// The replay engine's fast path: several maps per pass, closed-form voxels, counts without sorting; and the same
-// for filters, whose events happen per lane when their gate extremes reach the lane's threshold.
+// The replay engine's fast path: many maps per pass, closed-form voxels, counts without sorting; and the same for
+// filters, whose events happen per lane when their gate extremes reach the lane's threshold.
+//
+// A pass holds up to kReplayPassLanes maps in vectors of four floats. A voxel's events are a serial chain of
+// updates, add then clamp, so one voxel's time is that chain's latency: the more lanes share it, and the more
+// voxels are replayed side by side, the cheaper each lane (docs/performance.md, "Replay counting"). The float
+// operations of every lane and their order are exactly OctoMap's: value = clamp(value + delta) (clampedUpdate,
+// log_odds.hpp), starting from 0.
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <optional>
+#include <span>
 #include <stdexcept>
 
 #include "occsweep/core/log_odds.hpp"
@@ -13,56 +21,288 @@
 namespace occsweep {
 namespace {
 
-using Lanes = std::array<float, kReplayLanes>;
+// Four lanes in one vector register (GCC's vector extension, lowered for any target). Its operators mean, lane by
+// lane, what the scalar ones mean (IEEE float, the same comparisons and selections), whatever the instructions.
+using Quad = float __attribute__((vector_size(16)));
+constexpr std::size_t kQuadLanes = 4;
+static_assert(kReplayPassLanes % kQuadLanes == 0);
 
-// OctoMap's clamped update on every lane: value += delta, then clamp (OccupancyOcTreeBase::updateNodeLogOdds).
-inline void update(Lanes& v, const Lanes& d, const Lanes& lo, const Lanes& hi) {
-  for (std::size_t l = 0; l < kReplayLanes; ++l) {
-    const float sum = v[l] + d[l];
-    v[l] = sum < lo[l] ? lo[l] : (sum > hi[l] ? hi[l] : sum);
+// The lanes of one pass: Q vectors of four.
+template <std::size_t Q>
+using Lanes = std::array<Quad, Q>;
+
+template <std::size_t Q>
+inline float lane(const Lanes<Q>& v, std::size_t l) {
+  return v[l / kQuadLanes][l % kQuadLanes];
+}
+template <std::size_t Q>
+inline void setLane(Lanes<Q>& v, std::size_t l, float x) {
+  v[l / kQuadLanes][l % kQuadLanes] = x;
+}
+
+inline Quad splat(float x) { return Quad{x, x, x, x}; }
+
+// OctoMap's clamped update on every lane, clampedUpdate's comparisons in its order (OccupancyOcTreeBase::
+// updateNodeLogOdds): value += delta; below l_min gives l_min, else above l_max gives l_max.
+//
+// kOrderedBounds, where no lane has l_min > l_max (orderedBounds): the last step tests l_min > below_hi instead of
+// sum < l_min, which gives the same value: the tests can differ only where sum > l_max (below_hi = l_max), and there
+// both are false (sum < l_min would need l_min > l_max; so would l_min > l_max). Each step is then one instruction,
+// the vector min and max, instead of a compare and a select (docs/performance.md, "Replay counting").
+template <bool kOrderedBounds = false, std::size_t Q>
+inline void update(Lanes<Q>& v, const Lanes<Q>& d, const Lanes<Q>& lo, const Lanes<Q>& hi) {
+  for (std::size_t i = 0; i < Q; ++i) {
+    const Quad sum = v[i] + d[i];
+    const Quad below_hi = sum > hi[i] ? hi[i] : sum;
+    if constexpr (kOrderedBounds)
+      v[i] = lo[i] > below_hi ? lo[i] : below_hi;
+    else
+      v[i] = sum < lo[i] ? lo[i] : below_hi;
   }
 }
 
 // What every lane of one pass shares (the hit rule, the variant) and what each has of its own (clamp bounds, l_in,
-// l_out, OctoMap's l_hit); spare lanes repeat the last map and are never counted.
+// l_out, OctoMap's l_hit); spare lanes repeat the pass's last map and are never counted.
+template <std::size_t Q>
 struct LaneRules {
-  Lanes lo{}, hi{}, hit{};
-  VoxelUpdateRule<Lanes> rule;
+  std::size_t counted = 0;                   ///< lanes that are maps
+  Lanes<Q> lo{}, hi{}, hit{};
+  VoxelUpdateRule<Lanes<Q>> rule;
   const std::vector<float>* hits = nullptr;  ///< per-event hit deltas (PointSum, PointMax); Constant: nullptr
   bool clamp_hits = false;                   ///< PointSum: each lane clamps the event's sum once
 };
 
-LaneRules laneRules(const std::vector<ReplayRule>& rules) {
-  const std::size_t n = rules.size();
-  LaneRules lanes;
+template <std::size_t Q>
+LaneRules<Q> laneRules(std::span<const ReplayRule> rules) {
+  LaneRules<Q> lanes;
+  lanes.counted = rules.size();
   lanes.hits = rules[0].event_hits;
   lanes.clamp_hits = rules[0].clamp_event_hits;
   lanes.rule.variant = rules[0].update.variant;
-  for (std::size_t l = 0; l < kReplayLanes; ++l) {
-    const ReplayRule& rule = rules[std::min(l, n - 1)];
-    if (rule.event_hits != lanes.hits || rule.clamp_event_hits != lanes.clamp_hits ||
-        rule.update.variant != lanes.rule.variant)
-      throw std::invalid_argument("replayCounts: lanes must share their hit rule");
-    lanes.lo[l] = rule.l_min, lanes.hi[l] = rule.l_max, lanes.hit[l] = rule.constant_hit;
-    lanes.rule.l_in[l] = rule.update.l_in, lanes.rule.l_out[l] = rule.update.l_out;
+  for (std::size_t l = 0; l < Q * kQuadLanes; ++l) {
+    const ReplayRule& rule = rules[std::min(l, rules.size() - 1)];
+    setLane(lanes.lo, l, rule.l_min), setLane(lanes.hi, l, rule.l_max), setLane(lanes.hit, l, rule.constant_hit);
+    setLane(lanes.rule.l_in, l, rule.update.l_in), setLane(lanes.rule.l_out, l, rule.update.l_out);
   }
   return lanes;
 }
 
-// table[c][m]: the value after m equal updates of kind c from 0 (c: in, out, OctoMap hit), step by step.
-using StepTables = std::array<std::vector<Lanes>, 3>;
+void requireSharedHitRule(const std::vector<ReplayRule>& rules, const char* who) {
+  for (const ReplayRule& rule : rules)
+    if (rule.event_hits != rules[0].event_hits || rule.clamp_event_hits != rules[0].clamp_event_hits ||
+        rule.update.variant != rules[0].update.variant)
+      throw std::invalid_argument(std::string(who) + ": lanes must share their hit rule");
+}
 
-StepTables stepTables(const LaneRules& lanes, std::uint32_t longest) {
-  StepTables table;
-  const Lanes* deltas[3] = {&lanes.rule.l_in, &lanes.rule.l_out, &lanes.hit};
+// table[c][m]: the value after m equal updates of kind c from 0 (c: in, out, OctoMap hit), step by step.
+template <std::size_t Q>
+using StepTables = std::array<std::vector<Lanes<Q>>, 3>;
+
+template <std::size_t Q>
+StepTables<Q> stepTables(const LaneRules<Q>& lanes, std::uint32_t longest) {
+  StepTables<Q> table;
+  const Lanes<Q>* deltas[3] = {&lanes.rule.l_in, &lanes.rule.l_out, &lanes.hit};
   for (int c = 0; c < 3; ++c) {
-    table[c].assign(longest + 1, Lanes{});
+    table[c].assign(longest + 1, Lanes<Q>{});
     for (std::uint32_t m = 1; m <= longest; ++m) {
       table[c][m] = table[c][m - 1];
       update(table[c][m], *deltas[c], lanes.lo, lanes.hi);
     }
   }
   return table;
+}
+
+// Where a pass's hit deltas come from: OctoMap's constant l_hit per lane, or each event's from the points
+// (eventHits), clamped once per lane (PointSum, Algorithm 1 lines 6-10) or not (PointMax).
+enum class HitSource { Constant, ClampedSum, Max };
+
+template <std::size_t Q>
+HitSource hitSourceOf(const LaneRules<Q>& lanes) {
+  if (!lanes.hits) return HitSource::Constant;
+  return lanes.clamp_hits ? HitSource::ClampedSum : HitSource::Max;
+}
+
+// The hit delta of event e on every lane; a clamped sum is std::min(std::max(sum, l_min), l_max) lane by lane.
+template <HitSource kSource, std::size_t Q>
+inline Lanes<Q> hitDelta(const LaneRules<Q>& lanes, std::uint32_t e) {
+  if constexpr (kSource == HitSource::Constant) {
+    return lanes.hit;
+  } else {
+    const Quad s = splat((*lanes.hits)[e]);
+    Lanes<Q> d;
+    for (std::size_t i = 0; i < Q; ++i) {
+      if constexpr (kSource == HitSource::ClampedSum) {
+        const Quad raised = s < lanes.lo[i] ? lanes.lo[i] : s;
+        d[i] = lanes.hi[i] < raised ? lanes.hi[i] : raised;
+      } else {
+        d[i] = s;
+      }
+    }
+    return d;
+  }
+}
+
+// The Default variant's one update per event (VoxelUpdateRule: the hit, else l_in, else l_out), without the rule's
+// branches, which the mixed events of a voxel mispredict: the delta by the event's flags from a table of 8
+// (docs/performance.md, "Replay counting"). A hit read from the points keeps its branch: hits are a few percent of
+// the events, and choosing their delta without a branch cost every event more (measured). Flags 0 (no update) has
+// no entry: a pass takes this path only when every event's flags are 1 to 7 (byFlagsApplies).
+template <std::size_t Q>
+using FlagDeltas = std::array<Lanes<Q>, 8>;
+
+template <std::size_t Q>
+FlagDeltas<Q> flagDeltas(const LaneRules<Q>& lanes) {
+  FlagDeltas<Q> by_flags{};
+  for (std::uint8_t f = 1; f < 8; ++f)
+    by_flags[f] = f & kHit ? lanes.hit : (f & kCrossedIn ? lanes.rule.l_in : lanes.rule.l_out);
+  return by_flags;
+}
+
+bool byFlagsApplies(const RecordedSet& r, UpdateVariant variant) {
+  std::uint8_t lowest = 0xFF, highest = 0;  // branch-free, so that the compiler vectorises it
+  for (const std::uint8_t f : r.flags) lowest = f < lowest ? f : lowest, highest = f > highest ? f : highest;
+  return variant == UpdateVariant::Default && (r.flags.empty() || (lowest >= 1 && highest <= 7));
+}
+
+// Where every lane has l_min <= l_max (or a NaN bound), so that update may take its shorter form.
+template <std::size_t Q>
+bool orderedBounds(const LaneRules<Q>& lanes) {
+  for (std::size_t l = 0; l < Q * kQuadLanes; ++l)
+    if (lane(lanes.lo, l) > lane(lanes.hi, l)) return false;
+  return true;
+}
+
+template <HitSource kSource, bool kOrderedBounds, std::size_t Q>
+inline void byFlagsStep(const RecordedSet& r, std::uint32_t e, const LaneRules<Q>& lanes, const FlagDeltas<Q>& by_flags,
+                        Lanes<Q>& value) {
+  const std::uint8_t f = r.flags[e];
+  if constexpr (kSource != HitSource::Constant)
+    if (f & kHit) return update<kOrderedBounds>(value, hitDelta<kSource>(lanes, e), lanes.lo, lanes.hi);
+  update<kOrderedBounds>(value, by_flags[f], lanes.lo, lanes.hi);
+}
+
+template <HitSource kSource, bool kOrderedBounds, std::size_t Q>
+inline Lanes<Q> byFlagsValue(const RecordedSet& r, std::uint32_t v, const LaneRules<Q>& lanes,
+                             const FlagDeltas<Q>& by_flags) {
+  Lanes<Q> value{};
+  for (std::uint32_t e = r.voxel_first[v]; e < r.voxel_first[v + 1]; ++e)
+    byFlagsStep<kSource, kOrderedBounds>(r, e, lanes, by_flags, value);
+  return value;
+}
+
+// Two voxels at once, event by event in turn: a voxel's updates are a serial chain (add, then clamp) whose latency
+// bounds its time, and two independent chains take about the time of one (three or four at once: no faster).
+template <HitSource kSource, bool kOrderedBounds, std::size_t Q>
+inline void byFlagsValues(const RecordedSet& r, std::uint32_t va, std::uint32_t vb, const LaneRules<Q>& lanes,
+                          const FlagDeltas<Q>& by_flags, Lanes<Q>& a, Lanes<Q>& b) {
+  const std::uint32_t a_begin = r.voxel_first[va], a_end = r.voxel_first[va + 1];
+  const std::uint32_t b_begin = r.voxel_first[vb], b_end = r.voxel_first[vb + 1];
+  a = Lanes<Q>{}, b = Lanes<Q>{};
+  const std::uint32_t both = std::min(a_end - a_begin, b_end - b_begin);
+  for (std::uint32_t k = 0; k < both; ++k) {
+    byFlagsStep<kSource, kOrderedBounds>(r, a_begin + k, lanes, by_flags, a);
+    byFlagsStep<kSource, kOrderedBounds>(r, b_begin + k, lanes, by_flags, b);
+  }
+  for (std::uint32_t e = a_begin + both; e < a_end; ++e)
+    byFlagsStep<kSource, kOrderedBounds>(r, e, lanes, by_flags, a);
+  for (std::uint32_t e = b_begin + both; e < b_end; ++e)
+    byFlagsStep<kSource, kOrderedBounds>(r, e, lanes, by_flags, b);
+}
+
+// Any variant: event by event through the one update rule.
+template <HitSource kSource, std::size_t Q>
+inline Lanes<Q> ruleValue(const RecordedSet& r, std::uint32_t begin, std::uint32_t end, const LaneRules<Q>& lanes) {
+  Lanes<Q> value{};
+  for (std::uint32_t e = begin; e < end; ++e)
+    lanes.rule.apply(r.flags[e], [&] { return hitDelta<kSource>(lanes, e); },
+                     [&](const Lanes<Q>& d) { update(value, d, lanes.lo, lanes.hi); });
+  return value;
+}
+
+// What one pass replays with: its lanes, their tables of equal updates, and the Default variant's deltas by flags.
+template <std::size_t Q>
+struct Pass {
+  LaneRules<Q> lanes;
+  StepTables<Q> table;
+  FlagDeltas<Q> by_flags;
+};
+
+template <std::size_t Q>
+Pass<Q> makePass(const RecordedSet& r, std::span<const ReplayRule> rules) {
+  Pass<Q> pass{laneRules<Q>(rules), {}, {}};
+  pass.table = stepTables(pass.lanes, r.longest);
+  pass.by_flags = flagDeltas(pass.lanes);
+  return pass;
+}
+
+// Whether a known voxel's value comes from the tables: all its events are alike, and their delta is a lane's own.
+template <HitSource kSource>
+inline bool fromTables(const RecordedSet& r, std::uint32_t v) {
+  const std::uint8_t u = r.uniform[v];
+  return u == kCrossedIn || u == kCrossedOut || (u == kHit && kSource == HitSource::Constant);
+}
+
+// The table (StepTables) of a voxel whose events are all alike: in, out, or OctoMap's hit.
+inline std::size_t tableOf(std::uint8_t uniform) {
+  return uniform == kCrossedIn ? 0 : (uniform == kCrossedOut ? 1 : 2);
+}
+
+// How a pass replays the events of a voxel: through the update rule (any variant), or by the table of deltas by
+// flags (the Default variant, every event flagged: byFlagsApplies), with update's shorter form where the lanes'
+// bounds allow it (orderedBounds).
+enum class Kernel { Rule, ByFlags, ByFlagsOrderedBounds };
+
+template <std::size_t Q>
+Kernel kernelOf(const LaneRules<Q>& lanes, bool by_flags) {
+  if (!by_flags) return Kernel::Rule;
+  return orderedBounds(lanes) ? Kernel::ByFlagsOrderedBounds : Kernel::ByFlags;
+}
+
+// One known voxel's value on every lane: from the tables when all its events are alike, else event by event.
+template <HitSource kSource, Kernel kKernel, std::size_t Q>
+inline Lanes<Q> voxelValue(const RecordedSet& r, std::uint32_t v, const Pass<Q>& pass) {
+  const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
+  if (fromTables<kSource>(r, v)) return pass.table[tableOf(r.uniform[v])][end - begin];
+  if constexpr (kKernel == Kernel::Rule)
+    return ruleValue<kSource>(r, begin, end, pass.lanes);
+  else
+    return byFlagsValue<kSource, kKernel == Kernel::ByFlagsOrderedBounds>(r, v, pass.lanes, pass.by_flags);
+}
+
+// Calls body.template operator()<kSource, kKernel>() with the pass's hit source and kernel as constants, so that
+// the voxel loop tests neither.
+template <std::size_t Q, class Body>
+void withKernel(const LaneRules<Q>& lanes, Kernel kernel, Body&& body) {
+  const auto bySource = [&]<Kernel kKernel>() {
+    switch (hitSourceOf(lanes)) {
+      case HitSource::Constant: return body.template operator()<HitSource::Constant, kKernel>();
+      case HitSource::ClampedSum: return body.template operator()<HitSource::ClampedSum, kKernel>();
+      case HitSource::Max: return body.template operator()<HitSource::Max, kKernel>();
+    }
+  };
+  switch (kernel) {
+    case Kernel::Rule: return bySource.template operator()<Kernel::Rule>();
+    case Kernel::ByFlags: return bySource.template operator()<Kernel::ByFlags>();
+    case Kernel::ByFlagsOrderedBounds: return bySource.template operator()<Kernel::ByFlagsOrderedBounds>();
+  }
+}
+
+// The passes over `n` lanes: as few as kReplayPassLanes allows, of equal width (20 maps: 2 x 10, not 16 + 4), each
+// called as body.template operator()<Q>(first, count) with Q vectors of four lanes.
+template <class Body>
+void forEachPass(std::size_t n, Body&& body) {
+  static_assert(kReplayPassLanes == 4 * kQuadLanes, "one case below per width");
+  const std::size_t passes = (n + kReplayPassLanes - 1) / kReplayPassLanes;
+  const std::size_t width = (n + passes - 1) / passes;
+  for (std::size_t first = 0; first < n; first += width) {
+    const std::size_t count = std::min(width, n - first);
+    switch ((count + kQuadLanes - 1) / kQuadLanes) {
+      case 1: body.template operator()<1>(first, count); break;
+      case 2: body.template operator()<2>(first, count); break;
+      case 3: body.template operator()<3>(first, count); break;
+      default: body.template operator()<4>(first, count); break;
+    }
+  }
 }
 
 // Counting without a compare-and-increment per voxel, lane and threshold: each lane's thresholds are sorted
@@ -93,27 +333,6 @@ std::vector<LaneThresholds> laneThresholds(const std::vector<std::vector<double>
   return lanes;
 }
 
-// One known voxel's value on every lane: from the tables when all its events are alike, else event by event
-// through the one update rule.
-inline Lanes voxelValue(const RecordedSet& r, std::uint32_t v, const LaneRules& lanes, const StepTables& table) {
-  const std::uint32_t begin = r.voxel_first[v], end = r.voxel_first[v + 1];
-  const std::uint8_t u = r.uniform[v];
-  if (u == kCrossedIn || u == kCrossedOut) return table[u == kCrossedIn ? 0 : 1][end - begin];
-  if (u == kHit && !lanes.hits) return table[2][end - begin];
-  const auto hitDelta = [&](std::uint32_t e) {
-    if (!lanes.hits) return lanes.hit;
-    Lanes d;
-    const float s = (*lanes.hits)[e];
-    if (!lanes.clamp_hits) return d.fill(s), d;
-    for (std::size_t l = 0; l < kReplayLanes; ++l) d[l] = std::min(std::max(s, lanes.lo[l]), lanes.hi[l]);  // Algorithm 1 lines 6-10
-    return d;
-  };
-  Lanes value{};
-  for (std::uint32_t e = begin; e < end; ++e)
-    lanes.rule.apply(r.flags[e], [&] { return hitDelta(e); }, [&](const Lanes& d) { update(value, d, lanes.lo, lanes.hi); });
-  return value;
-}
-
 // One voxel's value on one lane counted at that lane's thresholds (see LaneThresholds).
 inline void countValue(const RecordedSet& r, std::uint32_t v, float value, LaneThresholds& t) {
   std::size_t j = 0;
@@ -121,14 +340,43 @@ inline void countValue(const RecordedSet& r, std::uint32_t v, float value, LaneT
   ++(r.truth[v] == 0 ? t.reach_fp : (r.truth[v] == 1 ? t.reach_tp : t.reach_excluded))[j];
 }
 
-void countReach(const RecordedSet& r, const LaneRules& lanes, const StepTables& table,
-                std::vector<LaneThresholds>& thresholds) {
+template <std::size_t Q>
+inline void countLanes(const RecordedSet& r, std::uint32_t v, const Lanes<Q>& value, std::size_t counted,
+                       std::span<LaneThresholds> thresholds) {
+  for (std::size_t l = 0; l < counted; ++l) countValue(r, v, lane(value, l), thresholds[l]);
+}
+
+template <HitSource kSource, Kernel kKernel, std::size_t Q>
+void countReach(const RecordedSet& r, const Pass<Q>& pass, std::span<LaneThresholds> thresholds) {
   const std::uint32_t voxels = std::uint32_t(r.truth.size());
   for (std::uint32_t v = 0; v < voxels; ++v) {
     if (r.voxel_first[v] == r.voxel_first[v + 1]) continue;  // unknown: counted as FN or TN below
-    const Lanes value = voxelValue(r, v, lanes, table);
-    for (std::size_t l = 0; l < thresholds.size(); ++l) countValue(r, v, value[l], thresholds[l]);
+    countLanes(r, v, voxelValue<kSource, kKernel>(r, v, pass), pass.lanes.counted, thresholds);
   }
+}
+
+// countReach in the Default variant: the voxels that need their events replayed, two at a time (byFlagsValues).
+// The counts are sums, so the order in which voxels are counted does not change them.
+template <HitSource kSource, Kernel kKernel, std::size_t Q>
+void countReachInPairs(const RecordedSet& r, const Pass<Q>& pass, std::span<LaneThresholds> thresholds) {
+  const std::uint32_t voxels = std::uint32_t(r.truth.size());
+  const std::size_t counted = pass.lanes.counted;
+  std::optional<std::uint32_t> waiting;
+  for (std::uint32_t v = 0; v < voxels; ++v) {
+    if (r.voxel_first[v] == r.voxel_first[v + 1]) continue;  // unknown: counted as FN or TN below
+    if (fromTables<kSource>(r, v)) {
+      countLanes(r, v, voxelValue<kSource, kKernel>(r, v, pass), counted, thresholds);
+    } else if (!waiting) {
+      waiting = v;
+    } else {
+      Lanes<Q> a, b;
+      byFlagsValues<kSource, kKernel == Kernel::ByFlagsOrderedBounds>(r, *waiting, v, pass.lanes, pass.by_flags, a, b);
+      countLanes(r, *waiting, a, counted, thresholds);
+      countLanes(r, v, b, counted, thresholds);
+      waiting.reset();
+    }
+  }
+  if (waiting) countLanes(r, *waiting, voxelValue<kSource, kKernel>(r, *waiting, pass), counted, thresholds);
 }
 
 // Counts at every threshold, in p_t's order, from the voxels reaching each: full truth, and observable truth.
@@ -148,17 +396,27 @@ void countsFromReach(const RecordedSet& r, const LaneThresholds& t, std::vector<
   }
 }
 
+std::vector<std::vector<ConfusionCounts>> countsOfLanes(const RecordedSet& r,
+                                                        const std::vector<LaneThresholds>& thresholds,
+                                                        std::vector<std::vector<ConfusionCounts>>* observable) {
+  const std::size_t n = thresholds.size();
+  std::vector<std::vector<ConfusionCounts>> counts(n);
+  if (observable) observable->assign(n, {});
+  for (std::size_t l = 0; l < n; ++l)
+    countsFromReach(r, thresholds[l], counts[l], observable ? &(*observable)[l] : nullptr);
+  return counts;
+}
+
 // A filter's gates on the lanes of one pass: per lane and scan the threshold, and per scan the lowest and highest
 // over the lanes, so that a voxel whose events every lane keeps (or none does) is settled without a lane loop.
 struct GateLanes {
-  const LaneGates* gates = nullptr;
+  std::span<const std::vector<double>> gates;
   std::size_t column = 0;
   std::vector<double> lowest, highest;  ///< per scan
 };
 
-GateLanes gateLanes(const RecordedSet& r, std::size_t column, const LaneGates& gates) {
-  if (column >= r.gate_columns) throw std::invalid_argument("replayGatedCounts: no such gate column recorded");
-  GateLanes g{&gates, column, {}, {}};
+GateLanes gateLanes(std::size_t column, std::span<const std::vector<double>> gates) {
+  GateLanes g{gates, column, {}, {}};
   const std::size_t scans = gates.front().size();
   g.lowest.assign(scans, std::numeric_limits<double>::infinity());
   g.highest.assign(scans, -std::numeric_limits<double>::infinity());
@@ -193,37 +451,38 @@ GateOutcome gateOutcome(const RecordedSet& r, std::uint32_t v, const GateLanes& 
 }
 
 // One lane of a mixed voxel, event by event through the one update rule; false when no event happens (unknown).
-bool gatedLaneValue(const RecordedSet& r, std::uint32_t v, const LaneRules& lanes, const GateLanes& g, std::size_t l,
-                    float& value) {
-  const VoxelUpdateRule<float> rule{lanes.rule.l_in[l], lanes.rule.l_out[l], lanes.rule.variant};
-  const std::vector<double>& gate = (*g.gates)[l];
+template <std::size_t Q>
+bool gatedLaneValue(const RecordedSet& r, std::uint32_t v, const LaneRules<Q>& lanes, const GateLanes& g,
+                    std::size_t l, float& value) {
+  const VoxelUpdateRule<float> rule{lane(lanes.rule.l_in, l), lane(lanes.rule.l_out, l), lanes.rule.variant};
+  const float lo = lane(lanes.lo, l), hi = lane(lanes.hi, l), hit = lane(lanes.hit, l);
+  const std::vector<double>& gate = g.gates[l];
   bool known = false;
   value = 0.0f;
   for (std::uint32_t e = r.voxel_first[v]; e < r.voxel_first[v + 1]; ++e) {
     const std::uint8_t flags = keptFlags(r, e, g.column, gate[r.event_scan[e]]);
     if (!flags) continue;
     known = true;
-    rule.apply(flags, [&] { return lanes.hit[l]; },
-               [&](float d) { value = clampedUpdate(value, d, lanes.lo[l], lanes.hi[l]); });
+    rule.apply(flags, [&] { return hit; }, [&](float d) { value = clampedUpdate(value, d, lo, hi); });
   }
   return known;
 }
 
-void countGatedReach(const RecordedSet& r, const LaneRules& lanes, const StepTables& table, const GateLanes& g,
-                     std::vector<LaneThresholds>& thresholds) {
+template <HitSource kSource, Kernel kKernel, std::size_t Q>
+void countGatedReach(const RecordedSet& r, const Pass<Q>& pass, const GateLanes& g,
+                     std::span<LaneThresholds> thresholds) {
   const std::uint32_t voxels = std::uint32_t(r.truth.size());
   for (std::uint32_t v = 0; v < voxels; ++v) {
     if (r.voxel_first[v] == r.voxel_first[v + 1]) continue;  // unknown on every lane
     const GateOutcome outcome = gateOutcome(r, v, g);
     if (outcome == GateOutcome::NoneKeep) continue;
     if (outcome == GateOutcome::AllKeep) {
-      const Lanes value = voxelValue(r, v, lanes, table);
-      for (std::size_t l = 0; l < thresholds.size(); ++l) countValue(r, v, value[l], thresholds[l]);
+      countLanes(r, v, voxelValue<kSource, kKernel>(r, v, pass), pass.lanes.counted, thresholds);
       continue;
     }
-    for (std::size_t l = 0; l < thresholds.size(); ++l) {
+    for (std::size_t l = 0; l < pass.lanes.counted; ++l) {
       float value = 0.0f;
-      if (gatedLaneValue(r, v, lanes, g, l, value)) countValue(r, v, value, thresholds[l]);
+      if (gatedLaneValue(r, v, pass.lanes, g, l, value)) countValue(r, v, value, thresholds[l]);
     }
   }
 }
@@ -233,35 +492,41 @@ void countGatedReach(const RecordedSet& r, const LaneRules& lanes, const StepTab
 std::vector<std::vector<ConfusionCounts>> replayCounts(const RecordedSet& r, const std::vector<ReplayRule>& rules,
                                                        const std::vector<std::vector<double>>& p_t,
                                                        std::vector<std::vector<ConfusionCounts>>* observable) {
-  const std::size_t n = rules.size();
-  if (n == 0 || n > kReplayLanes || p_t.size() != n) throw std::invalid_argument("replayCounts: 1 to 8 lanes");
-  const LaneRules lanes = laneRules(rules);
-  const StepTables table = stepTables(lanes, r.longest);
+  if (rules.empty() || p_t.size() != rules.size()) throw std::invalid_argument("replayCounts: one p_t list per lane");
+  requireSharedHitRule(rules, "replayCounts");
   std::vector<LaneThresholds> thresholds = laneThresholds(p_t);
-  countReach(r, lanes, table, thresholds);
-  std::vector<std::vector<ConfusionCounts>> counts(n);
-  if (observable) observable->assign(n, {});
-  for (std::size_t l = 0; l < n; ++l) countsFromReach(r, thresholds[l], counts[l], observable ? &(*observable)[l] : nullptr);
-  return counts;
+  const bool by_flags = byFlagsApplies(r, rules[0].update.variant);
+  forEachPass(rules.size(), [&]<std::size_t Q>(std::size_t first, std::size_t count) {
+    const Pass<Q> pass = makePass<Q>(r, std::span(rules).subspan(first, count));
+    const std::span<LaneThresholds> lanes_thresholds = std::span(thresholds).subspan(first, count);
+    withKernel(pass.lanes, kernelOf(pass.lanes, by_flags), [&]<HitSource kSource, Kernel kKernel>() {
+      if constexpr (kKernel == Kernel::Rule) countReach<kSource, kKernel>(r, pass, lanes_thresholds);
+      else countReachInPairs<kSource, kKernel>(r, pass, lanes_thresholds);
+    });
+  });
+  return countsOfLanes(r, thresholds, observable);
 }
 
 std::vector<std::vector<ConfusionCounts>> replayGatedCounts(const RecordedSet& r, const std::vector<ReplayRule>& rules,
                                                             std::size_t column, const LaneGates& gates,
                                                             const std::vector<std::vector<double>>& p_t,
                                                             std::vector<std::vector<ConfusionCounts>>* observable) {
-  const std::size_t n = rules.size();
-  if (n == 0 || n > kReplayLanes || p_t.size() != n || gates.size() != n)
-    throw std::invalid_argument("replayGatedCounts: 1 to 8 lanes, each with its thresholds and gates");
+  if (rules.empty() || p_t.size() != rules.size() || gates.size() != rules.size())
+    throw std::invalid_argument("replayGatedCounts: each lane with its thresholds and gates");
   if (rules[0].event_hits) throw std::invalid_argument("replayGatedCounts: a filter's hit rule must be constant");
-  const LaneRules lanes = laneRules(rules);
-  const StepTables table = stepTables(lanes, r.longest);
-  const GateLanes g = gateLanes(r, column, gates);
+  if (column >= r.gate_columns) throw std::invalid_argument("replayGatedCounts: no such gate column recorded");
+  requireSharedHitRule(rules, "replayGatedCounts");
   std::vector<LaneThresholds> thresholds = laneThresholds(p_t);
-  countGatedReach(r, lanes, table, g, thresholds);
-  std::vector<std::vector<ConfusionCounts>> counts(n);
-  if (observable) observable->assign(n, {});
-  for (std::size_t l = 0; l < n; ++l) countsFromReach(r, thresholds[l], counts[l], observable ? &(*observable)[l] : nullptr);
-  return counts;
+  const bool by_flags = byFlagsApplies(r, rules[0].update.variant);
+  forEachPass(rules.size(), [&]<std::size_t Q>(std::size_t first, std::size_t count) {
+    const Pass<Q> pass = makePass<Q>(r, std::span(rules).subspan(first, count));
+    const GateLanes g = gateLanes(column, std::span(gates).subspan(first, count));
+    const std::span<LaneThresholds> lanes_thresholds = std::span(thresholds).subspan(first, count);
+    withKernel(pass.lanes, kernelOf(pass.lanes, by_flags), [&]<HitSource kSource, Kernel kKernel>() {
+      if constexpr (kSource == HitSource::Constant) countGatedReach<kSource, kKernel>(r, pass, g, lanes_thresholds);
+    });
+  });
+  return countsOfLanes(r, thresholds, observable);
 }
 
 }  // namespace occsweep

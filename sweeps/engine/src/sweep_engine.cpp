@@ -54,11 +54,12 @@ class ReplayEngine final : public SweepEngine {
     std::set<FeatureRequest> hit_needs, gate_needs;
     lane_groups_.clear();
     for (std::size_t g = 0; g < grids.size(); ++g) {
-      lane_groups_.push_back(laneGroups(*grids[g].method, *grids[g].layout, *grids[g].maps));
-      for (const auto& group : lane_groups_.back()) {
-        const MapRule rule = ruleOf(g, group.front());
+      auto& groups = lane_groups_.emplace_back();
+      for (auto& maps : laneGroups(*grids[g].method, *grids[g].layout, *grids[g].maps)) {
+        const MapRule rule = ruleOf(g, maps.front());
         if (rule.hit.kind != HitRule::Kind::Constant) hit_needs.insert(rule.hit.feature);
         if (rule.gate) gate_needs.insert(rule.gate->feature);
+        groups.push_back({std::move(maps), rule.hit.kind != HitRule::Kind::Constant});
       }
     }
     recordWithGates(in, gate_needs);
@@ -68,12 +69,20 @@ class ReplayEngine final : public SweepEngine {
     PointCloudSet().swap(in.scans);
   }
 
+  // Batches of one lane group, of equal size, replayed in passes of kReplayPassLanes: up to kPassesPerBatch passes
+  // where the hit rule reads the points (a batch computes its events' hits, a log per recorded hit, once for all its
+  // passes), one pass otherwise (nothing to share: smaller batches spread a grid over more threads).
+  // docs/performance.md, "Replay counting".
+  static constexpr std::size_t kPassesPerBatch = 4;
+
   std::vector<std::vector<std::size_t>> batches(std::size_t grid) const override {
     std::vector<std::vector<std::size_t>> out;
-    for (const auto& members : lane_groups_.at(grid))
-      for (std::size_t b = 0; b < members.size(); b += kReplayLanes)
-        out.emplace_back(members.begin() + long(b),
-                         members.begin() + long(std::min(b + kReplayLanes, members.size())));
+    for (const LaneGroup& group : lane_groups_.at(grid)) {
+      const std::size_t n = group.maps.size(), most = (group.reads_points ? kPassesPerBatch : 1) * kReplayPassLanes;
+      const std::size_t count = (n + most - 1) / most, size = (n + count - 1) / count;
+      for (std::size_t b = 0; b < n; b += size)
+        out.emplace_back(group.maps.begin() + long(b), group.maps.begin() + long(std::min(b + size, n)));
+    }
     return out;
   }
 
@@ -133,7 +142,12 @@ class ReplayEngine final : public SweepEngine {
   }
 
   std::vector<GridMaps> grids_;
-  std::vector<std::vector<std::vector<std::size_t>>> lane_groups_;  // per grid (computed once: 249,200 maps take 1 s)
+  // One lane group's maps, and whether its hit rule reads the points (eventHits).
+  struct LaneGroup {
+    std::vector<std::size_t> maps;
+    bool reads_points = false;
+  };
+  std::vector<std::vector<LaneGroup>> lane_groups_;  // per grid (computed once: 249,200 maps take 1 s)
   RuleContext context_;
   bool observable_ = false;
   RecordedSet recorded_;

@@ -24,6 +24,7 @@ struct RecordedSet {
   std::vector<std::uint32_t> voxel_first;    ///< events of voxel v: [voxel_first[v], voxel_first[v + 1])
   std::vector<std::uint8_t> flags;           ///< per event: VoxelEventFlags
   std::vector<std::uint32_t> hit_first;      ///< hits of event e: [hit_first[e], hit_first[e + 1])
+  std::vector<std::uint32_t> hit_events;     ///< the events with hits, ascending (what eventHits visits)
   std::vector<std::uint32_t> hit_scan;       ///< per hit: its scan
   std::vector<std::uint32_t> hit_inner;      ///< per hit: its index j in the scan's z_in (point order kept)
   std::vector<std::uint8_t> uniform;         ///< per voxel: its events' flags when all are equal, else 0
@@ -78,14 +79,16 @@ struct ReplayRule {
 /// sampleRegion gives for the directly built map (excluded voxels left out, as there).
 [[nodiscard]] RegionSample replay(const RecordedSet& r, const ReplayRule& rule);
 
-/// Maps replayed together: they must share the hit rule (OctoMap, or k-NN maps of one k, p_u, p_l).
-inline constexpr std::size_t kReplayLanes = 8;
+/// The most maps replayed in one pass over the events, each a lane: they must share the hit rule (OctoMap, or k-NN
+/// maps of one k, p_u, p_l).
+inline constexpr std::size_t kReplayPassLanes = 16;
 
-/// The fast path of replay(): up to kReplayLanes maps in one pass over the events (the lanes vectorise), voxels
-/// whose events are all alike settled from tables of repeated clamped updates (the same float steps), and
-/// TP/FP counted directly at each lane's thresholds (p_t values). Returns per lane the counts per threshold under
-/// full truth (excluded voxels count as positives); `observable`, when given, receives the same from the same
-/// pass with the excluded voxels left out (observable truth: docs/results-format.md, "Truth").
+/// The fast path of replay(): maps that share the hit rule replayed together, up to kReplayPassLanes in one pass
+/// over the events (the lanes vectorise), voxels whose events are all alike settled from tables of repeated clamped
+/// updates (the same float steps), and TP/FP counted directly at each lane's thresholds (p_t values). More maps
+/// take more passes over the same event hits. Returns per lane the counts per threshold under full truth (excluded
+/// voxels count as positives); `observable`, when given, receives the same from the same pass with the excluded
+/// voxels left out (observable truth: docs/results-format.md, "Truth").
 [[nodiscard]] std::vector<std::vector<ConfusionCounts>> replayCounts(
     const RecordedSet& r, const std::vector<ReplayRule>& lanes, const std::vector<std::vector<double>>& p_t,
     std::vector<std::vector<ConfusionCounts>>* observable = nullptr);

@@ -61,8 +61,8 @@ class SweepEngine {
   virtual void prepare(const SweepInputs& inputs, const std::vector<GridMaps>& grids) = 0;
 
   /// The maps of grid `grid` counted together, as indices into its maps, each map once: replay, up to
-  /// kReplayLanes maps that share their hit rule and gate feature (the method's sharedByLanes: k-NN's k, p_u,
-  /// p_l); direct, one map each.
+  /// 4 x kReplayPassLanes maps that share their hit rule and gate feature (the method's sharedByLanes: k-NN's k,
+  /// p_u, p_l); direct, one map each.
   [[nodiscard]] virtual std::vector<std::vector<std::size_t>> batches(std::size_t grid) const = 0;
 
   /// The counts of one batch of grid `grid`, in the batch's order. Safe to call from several threads at once
