@@ -39,9 +39,9 @@ struct KeyWindow {
 };
 
 /// Visits, in order, exactly the keys of traverseRay(grid, origin, end) that lie in `window`, as visit(key,
-/// window.index(key)); returns what traverseRay returns. A ray's keys move monotonically along each axis, so those in a box are one run: the keys
-/// before it are skipped without stepping through them (docs/performance.md, "Skipping to the window"), and the ray
-/// stops after it.
+/// window.index(key)); returns what traverseRay returns. A ray's keys move monotonically along each axis, so those
+/// in a box are one run: the keys before it are skipped without stepping through them (docs/performance.md,
+/// "Skipping to the window"), and the ray stops after it.
 template <class Visit>
 bool traverseRayInWindow(const octomap::OcTree& grid, const octomap::point3d& origin, const octomap::point3d& end,
                          const KeyWindow& window, Visit&& visit);
@@ -94,6 +94,8 @@ inline RayStart startRay(const octomap::OcTree& grid, const octomap::point3d& or
 // liboctomap picks
 //   if (t0 < t1) dim = t0 < t2 ? 0 : 2; else dim = t1 < t2 ? 1 : 2;
 // the selects below give the same dim for every input (ties included), then only t_max[dim] grows.
+// continueRayInWindow repeats these selects: the same lines moved into a function returning the three picks made
+// both loops 10 % slower (g++ 12, octomap-opt's recording), so each loop keeps them inline.
 template <class KeepGoing>
 void continueRay(const RayState& s, KeepGoing&& keepGoing) {
   double t0 = s.t_max[0], t1 = s.t_max[1], t2 = s.t_max[2];
@@ -129,15 +131,17 @@ inline bool takenBy(double t, int axis, double t_last, int axis_last) {
   return t < t_last || (t == t_last && axis >= axis_last);
 }
 
-enum class Skip { Never, InBox, Stepwise };
+enum class Skip { Never, AtOrigin, Skipped, Stepwise };
 
-// Moves s to the state after the step into `box` (or leaves it at the origin's key when that is in the box):
+// Moves s to the state after the step into `box` (Skipped), or leaves it at the origin's key when that is in the
+// box (AtOrigin):
 //  - per axis, the numbers of its steps that keep its key in [lo, hi]: [first, last];
 //  - the step into the box takes the latest of the axes' borders number `first`; every axis then has taken its
 //    borders up to that one (takenBy), counted by additions;
 //  - none of the skipped keys is in the box, and none was a stop of the loop: a border past the length comes at
 //    or after the first border beyond it (checked by the caller at the new state, as the loop would), and the
-//    end key, when every axis's count reaches it, may lie on the way: then the caller steps (Stepwise).
+//    end key, when every axis's count reaches it, may lie on the way (or be the key skipped to): then the caller
+//    steps (Stepwise).
 // Never: the ray's keys never enter the box.
 inline Skip skipToWindow(RayState& s, const KeyWindow& box, std::array<int, 3>& steps_left) {
   constexpr int kFar = std::numeric_limits<int>::max();
@@ -157,7 +161,7 @@ inline Skip skipToWindow(RayState& s, const KeyWindow& box, std::array<int, 3>& 
   }
   if (at_origin) {
     steps_left = last;
-    return Skip::InBox;
+    return Skip::AtOrigin;
   }
   // The border whose step brings the last axis into range.
   std::array<int, 3> taken{};
@@ -185,12 +189,13 @@ inline Skip skipToWindow(RayState& s, const KeyWindow& box, std::array<int, 3>& 
     s.key[i] += s.step[i] * taken[i], s.t_max[i] = t[i];
     steps_left[i] = s.step[i] == 0 ? kFar : last[i] - taken[i];
   }
-  return Skip::InBox;
+  return Skip::Skipped;
 }
 
 // continueRay inside a window, from a key in it: an axis's step leaves the window when that axis has no step left
 // in range (steps_left), so no key is compared with the window; the key's window index (KeyWindow::index) moves by
-// the axis's stride. Stops, as continueRay, at the end key and past the length; visit(key, index).
+// the axis's stride. Stops, as continueRay, at the end key and past the length; visit(key, index). Its picks are
+// continueRay's (see there why they are written twice).
 template <class Visit>
 void continueRayInWindow(const RayState& s, const std::array<int, 3>& steps_left, const KeyWindow& w, Visit&& visit) {
   double t0 = s.t_max[0], t1 = s.t_max[1], t2 = s.t_max[2];
@@ -247,23 +252,18 @@ bool traverseRay(const octomap::OcTree& grid, const octomap::point3d& origin, co
 template <class Visit>
 bool traverseRayInWindow(const octomap::OcTree& grid, const octomap::point3d& origin, const octomap::point3d& end,
                          const KeyWindow& box, Visit&& visit) {
-  const int lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], hi0 = box.hi[0], hi1 = box.hi[1], hi2 = box.hi[2];
-  auto inBox = [=](const octomap::OcTreeKey& k) {
-    return k[0] >= lo0 && k[0] <= hi0 && k[1] >= lo1 && k[1] <= hi1 && k[2] >= lo2 && k[2] <= hi2;
-  };
   detail::RayState s;
   const detail::RayStart start = detail::startRay(grid, origin, end, s);
   if (start != detail::RayStart::Started) return start == detail::RayStart::OneVoxel;
-  const bool at_origin = inBox(octomap::OcTreeKey(octomap::key_type(s.key[0]), octomap::key_type(s.key[1]),
-                                                  octomap::key_type(s.key[2])));
   std::array<int, 3> steps_left{};
-  switch (detail::skipToWindow(s, box, steps_left)) {
+  const detail::Skip skip = detail::skipToWindow(s, box, steps_left);
+  switch (skip) {
     case detail::Skip::Never:
       return true;
     case detail::Skip::Stepwise: {  // the plain walk, its keys filtered
       bool entered = false;
       auto filtered = [&](const octomap::OcTreeKey& k) {
-        if (!inBox(k)) return !entered;
+        if (!box.contains(k)) return !entered;
         entered = true;
         visit(k, box.index(k));
         return true;
@@ -273,11 +273,13 @@ bool traverseRayInWindow(const octomap::OcTree& grid, const octomap::point3d& or
         detail::continueRay(s, filtered);
       return true;
     }
-    case detail::Skip::InBox:
+    case detail::Skip::AtOrigin:
+    case detail::Skip::Skipped:
       break;
   }
-  // The stops the loop checks after the step into the box (the origin's key has none: it is always visited).
-  if (!at_origin && (s.key == s.end || std::min({s.t_max[0], s.t_max[1], s.t_max[2]}) > s.length)) return true;
+  // The loop's length stop after the step into the box (the origin's key has none: it is always visited). Its end
+  // key stop cannot come here: a skip to the end key is Stepwise.
+  if (skip == detail::Skip::Skipped && std::min({s.t_max[0], s.t_max[1], s.t_max[2]}) > s.length) return true;
   const octomap::OcTreeKey first(octomap::key_type(s.key[0]), octomap::key_type(s.key[1]), octomap::key_type(s.key[2]));
   visit(first, box.index(first));
   detail::continueRayInWindow(s, steps_left, box, visit);
