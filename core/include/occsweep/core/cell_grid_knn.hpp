@@ -139,22 +139,32 @@ inline CellGridKnn::CellGridKnn(const std::vector<octomap::point3d>& points, int
   sortIntoCells();
 }
 
-// About the k-th neighbour distance at the median of 8 points spread over the cloud (brute force, 8 n
-// distances): the cells then hold a few points each and the 27 around a query usually hold its k neighbours.
+// About the k-th neighbour distance at the median of 8 points spread over the cloud, by brute force in float
+// (8 n distances in a loop the compiler vectorises; only the cells' size depends on it, so its rounding cannot
+// change a result): the cells then hold a few points each and the 27 around a query usually hold its k neighbours.
 inline double CellGridKnn::sampledKthNeighbourDistance(int k) const {
   const std::size_t n = points_.size();
   const std::size_t samples = std::min<std::size_t>(n, 8);
   const std::size_t kk = std::min<std::size_t>(std::size_t(k), n - 1);
   if (kk == 0) return 0.0;
-  std::vector<double> kth, d2;
-  d2.reserve(n);
+  constexpr std::size_t kChunk = 64;
+  std::vector<double> kth, nearest_d2;
+  float d2[kChunk];
   for (std::size_t s = 0; s < samples; ++s) {
     const std::size_t i = (2 * s + 1) * n / (2 * samples);
-    d2.clear();
-    for (std::size_t j = 0; j < n; ++j)
-      if (j != i) d2.push_back(squaredDistance(points_[i], points_[j]));
-    std::nth_element(d2.begin(), d2.begin() + long(kk - 1), d2.end());
-    kth.push_back(d2[kk - 1]);
+    const float qx = points_[i].x(), qy = points_[i].y(), qz = points_[i].z();
+    detail::NearestSoFar nearest(nearest_d2, kk);
+    for (std::size_t chunk = 0; chunk < n; chunk += kChunk) {
+      const std::size_t m = std::min(kChunk, n - chunk);
+      for (std::size_t j = 0; j < m; ++j) {
+        const auto& p = points_[chunk + j];
+        const float dx = qx - p.x(), dy = qy - p.y(), dz = qz - p.z();
+        d2[j] = dx * dx + dy * dy + dz * dz;
+      }
+      for (std::size_t j = 0; j < m; ++j)
+        if (d2[j] < nearest.worst() && chunk + j != i) nearest.offer(d2[j]);
+    }
+    kth.push_back(nearest.worst());
   }
   std::nth_element(kth.begin(), kth.begin() + long(kth.size() / 2), kth.end());
   return std::sqrt(kth[kth.size() / 2]);
