@@ -1,10 +1,11 @@
 // The k-NN mapper against a second implementation written from the paper's Algorithm 1 alone
 // (tests/reference/knn_algorithm1.hpp), beyond the degenerate case that equals liboctomap: k > 1, p_u != p_l,
 // p'_m != p_m, several points per voxel, points beyond s_c, clamping at both bounds, both update variants and
-// both statistics modes. Three library paths are checked on each random scene: the direct build that
-// `occsweep map --method knn` runs (KnnInverseSensorModel::buildMap), the library's own plain path
-// (buildMapReference), voxel for voxel with float equality; and the replay engine of `sweep`, whose confusion
-// counts per threshold must equal those counted on the reference map against the same ground truth.
+// both statistics modes. Four library paths are checked on each random scene: the direct build on one thread
+// (KnnInverseSensorModel::buildMap) and with scans recorded in parallel as `occsweep map --method knn` runs it
+// (parallelBuildMap), the library's own plain path (buildMapReference), voxel for voxel with float equality; and
+// the replay engine of `sweep`, whose confusion counts per threshold must equal those counted on the reference
+// map against the same ground truth.
 #include <catch2/catch.hpp>
 
 #include <cstdio>
@@ -254,13 +255,21 @@ std::size_t clampedHitSums(const Scene& scene, const KnnParams& p, const referen
   return n;
 }
 
-/// The direct build that `occsweep map --method knn` runs, and the library's plain path, voxel for voxel.
+/// The direct build, on one thread and as `occsweep map --method knn` runs it, and the library's plain path,
+/// voxel for voxel.
 void requireLibraryMapsEqual(const LogOddsMap& ref, const KnnParams& p, const Scene& scene,
                              const KnnSetDistances& distances) {
   const KnnInverseSensorModel model(p);
-  for (const std::string path : {"buildMap", "buildMapReference"}) {
+  const auto build = [&](const std::string& path) {
+    if (path == "buildMap") return model.buildMap(scene.set);
+    if (path == "buildMapReference") return model.buildMapReference(scene.set, distances);
+    // `occsweep map`'s path: scans recorded in parallel, batches of 1, 2, 3 scans (batch ends inside the set)
+    return parallelBuildMap(model, scene.set, parallelKnnDistances(scene.set, p.k, p.s_c), std::size_t(path.back() - '0'));
+  };
+  for (const std::string path : {"buildMap", "buildMapReference", "parallelBuildMap batch 1", "parallelBuildMap batch 2",
+                                 "parallelBuildMap batch 3"}) {
     INFO("library path " << path);
-    const auto tree = path == "buildMap" ? model.buildMap(scene.set) : model.buildMapReference(scene.set, distances);
+    const auto tree = build(path);
     const auto diffs = mapDifferences(ref, voxelLogOdds(*tree));
     for (std::size_t i = 0; i < std::min<std::size_t>(diffs.size(), 5); ++i) UNSCOPED_INFO(diffs[i]);
     REQUIRE(diffs.empty());

@@ -8,6 +8,8 @@
 #include <limits>
 #include <unistd.h>
 
+#include <tbb/global_control.h>
+
 #include "command_registry.hpp"
 #include "option_checks.hpp"
 #include "limit_options.hpp"
@@ -16,6 +18,7 @@
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/eval/confusion.hpp"
+#include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/results.hpp"
 
 namespace occsweep::cli {
@@ -25,9 +28,18 @@ struct MapOptions {
   std::string dataset, out, method = "knn", variant = toText(UpdateVariant::Default), stats = toText(StatsMode::Batch),
               truth = truthModeName(TruthMode::Full);
   bool force = false;
+  int threads = 0;
   KnnParams knn;
   double p_h = OctoMapParams{}.p_h;
 };
+
+// The k-NN direct build with the scans' searches and rays on `threads` workers (0: all): the same map as one
+// thread's KnnInverseSensorModel::buildMap (parallelBuildMap). liboctomap's build stays on one thread.
+std::unique_ptr<octomap::OcTree> buildKnnMap(const PointCloudSet& scans, const KnnParams& k, int threads) {
+  std::unique_ptr<tbb::global_control> limit;
+  if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+  return parallelBuildMap(KnnInverseSensorModel(k), scans, parallelKnnDistances(scans, k.k, k.s_c));
+}
 
 constexpr const char* kSettingsFormat = "occsweep-map-settings";
 
@@ -93,6 +105,8 @@ void addMapOptions(CLI::App& app, MapOptions& o) {
   app.add_option("--truth", o.truth, "Truth of the TP/FP/FN/TN summary: full, or observable (only truth voxels a ray "
                                      "from a scan origin reaches within s_c first; docs/results-format.md)")
       ->check(CLI::IsMember(kTruthModeNames.list()))->capture_default_str();
+  app.add_option("--threads", o.threads, "Worker threads of the k-NN build (0: all cores; the map is the same)")
+      ->capture_default_str()->check(integerAtLeast<int>(0));
   addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points});
 }
 
@@ -160,7 +174,7 @@ int runMap(const MapOptions& o) {
   const TruthMode truth = parseTruthMode(o.truth);
   if (has_truth) gt = evaluatedTruth(truth, groundTruthOf(d, o.dataset, k.resolution), d.scans, k.s_c);
   const auto start = std::chrono::steady_clock::now();
-  auto tree = o.method == "octomap" ? buildOctoMap(d.scans, om) : KnnInverseSensorModel(k).buildMap(d.scans);
+  auto tree = o.method == "octomap" ? buildOctoMap(d.scans, om) : buildKnnMap(d.scans, k, o.threads);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   writeMapAndSettings(*tree, mapSettings(o, k, om, d, seconds), o.out);
   std::cout << "method " << o.method << ", " << d.scans.size() << " scans, " << pointCount(d.scans)

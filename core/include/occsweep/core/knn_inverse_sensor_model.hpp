@@ -32,6 +32,21 @@ class KnnInverseSensorModel {
   [[nodiscard]] std::unique_ptr<octomap::OcTree> buildMap(const PointCloudSet& set,
                                                           const KnnSetDistances& distances) const;
 
+  /// buildMap's steps, for a caller that records the scans on several threads: startBuild, then each scan's
+  /// events recorded on its own (recordScan: any thread, one recorder each) and applied in scan order
+  /// (applyScan), then finishBuild. Applied in order, the map is buildMap's, voxel for voxel.
+  struct DirectBuild {
+    std::unique_ptr<octomap::OcTree> tree;  ///< empty until finishBuild; its thresholds give l_min, l_max
+    float l_min = 0, l_max = 0;
+    FlatKeyIndex store;                    ///< the voxels updated so far
+    std::vector<octomap::OcTreeKey> keys;  ///< by store index
+    std::vector<float> values;             ///< their log-odds
+  };
+  [[nodiscard]] DirectBuild startBuild() const;
+  void recordScan(ScanEventRecorder& recorder, const Scan& scan, const KnnScanDistances& d, ScanEvents& events) const;
+  void applyScan(DirectBuild& build, const ScanEvents& events, const KnnSetDistances& distances, std::size_t t) const;
+  [[nodiscard]] std::unique_ptr<octomap::OcTree> finishBuild(DirectBuild&& build) const;
+
   /// The reference: Algorithm 1 applied through OcTree::updateNode scan by scan, with octomap::KeySet and
   /// liboctomap's ray keys, as plainly as possible. Slower; the tests compare buildMap against it.
   [[nodiscard]] std::unique_ptr<octomap::OcTree> buildMapReference(const PointCloudSet& set,
@@ -85,37 +100,55 @@ float KnnInverseSensorModel::hitDelta(const Distances& s, double mu, double sigm
 inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const PointCloudSet& set,
                                                                        const KnnSetDistances& distances) const {
   detail::checkDistances(params_, set, distances);
-  auto tree = makeTree(params_.resolution, params_.p_max, params_.p_min, params_.p_t);
-  const float l_min = tree->getClampingThresMinLog(), l_max = tree->getClampingThresMaxLog();
-  const VoxelUpdateRule<float> rule = updateRule();
+  DirectBuild build = startBuild();
   ScanEventRecorder recorder(params_.resolution);
   ScanEvents events;
-  FlatKeyIndex store;
-  std::vector<octomap::OcTreeKey> keys;
-  std::vector<float> values;
-  std::vector<double> s;
   for (std::size_t t = 0; t < set.size(); ++t) {
-    const auto& d = distances.scans[t];
-    const bool online = params_.stats == StatsMode::Online;
-    const double mu = online ? d.online_mu : distances.mu, sigma = online ? d.online_sigma : distances.sigma;
-    recorder.recordAll(set[t], d.inner, params_.s_c, events);
-    for (const VoxelEvent& e : events.voxels) {
-      const std::uint32_t i = store.findOrInsert(e.key);
-      if (i == values.size()) {
-        keys.push_back(e.key);
-        values.push_back(0.0f);  // a new node starts at log-odds 0, as in OctoMap
-      }
-      float& v = values[i];
-      const auto voxelHitDelta = [&] {
-        s.clear();
-        for (std::uint32_t h = 0; h < e.hit_count; ++h) s.push_back(d.s[events.hit_points[e.first_hit + h]]);
-        return hitDelta(s, mu, sigma, l_min, l_max);
-      };
-      rule.apply(e.flags, voxelHitDelta, [&](float delta) { v = clampedUpdate(v, delta, l_min, l_max); });
-    }
+    recordScan(recorder, set[t], distances.scans[t], events);
+    applyScan(build, events, distances, t);
   }
-  for (std::size_t i = 0; i < keys.size(); ++i) tree->setNodeValue(keys[i], values[i]);
-  return tree;
+  return finishBuild(std::move(build));
+}
+
+inline KnnInverseSensorModel::DirectBuild KnnInverseSensorModel::startBuild() const {
+  DirectBuild build;
+  build.tree = makeTree(params_.resolution, params_.p_max, params_.p_min, params_.p_t);
+  build.l_min = build.tree->getClampingThresMinLog();
+  build.l_max = build.tree->getClampingThresMaxLog();
+  return build;
+}
+
+inline void KnnInverseSensorModel::recordScan(ScanEventRecorder& recorder, const Scan& scan, const KnnScanDistances& d,
+                                              ScanEvents& events) const {
+  recorder.recordAll(scan, d.inner, params_.s_c, events);
+}
+
+inline void KnnInverseSensorModel::applyScan(DirectBuild& build, const ScanEvents& events,
+                                             const KnnSetDistances& distances, std::size_t t) const {
+  const auto& d = distances.scans[t];
+  const bool online = params_.stats == StatsMode::Online;
+  const double mu = online ? d.online_mu : distances.mu, sigma = online ? d.online_sigma : distances.sigma;
+  const VoxelUpdateRule<float> rule = updateRule();
+  std::vector<double> s;
+  for (const VoxelEvent& e : events.voxels) {
+    const std::uint32_t i = build.store.findOrInsert(e.key);
+    if (i == build.values.size()) {
+      build.keys.push_back(e.key);
+      build.values.push_back(0.0f);  // a new node starts at log-odds 0, as in OctoMap
+    }
+    float& v = build.values[i];
+    const auto voxelHitDelta = [&] {
+      s.clear();
+      for (std::uint32_t h = 0; h < e.hit_count; ++h) s.push_back(d.s[events.hit_points[e.first_hit + h]]);
+      return hitDelta(s, mu, sigma, build.l_min, build.l_max);
+    };
+    rule.apply(e.flags, voxelHitDelta, [&](float delta) { v = clampedUpdate(v, delta, build.l_min, build.l_max); });
+  }
+}
+
+inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::finishBuild(DirectBuild&& build) const {
+  for (std::size_t i = 0; i < build.keys.size(); ++i) build.tree->setNodeValue(build.keys[i], build.values[i]);
+  return std::move(build.tree);
 }
 
 inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMapReference(

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/knn_set_distances.hpp"
 #include "occsweep/core/mapping_method.hpp"
 #include "occsweep/core/method_features.hpp"
@@ -48,6 +50,14 @@ using SetGateScores = std::vector<std::vector<std::vector<float>>>;
 /// computeKnnDistances with the scans' k-NN searches in parallel (TBB); the statistics are then accumulated in
 /// scan order, so the result is identical.
 [[nodiscard]] KnnSetDistances parallelKnnDistances(const PointCloudSet& set, int k, double s_c);
+
+/// KnnInverseSensorModel::buildMap with the scans' events recorded in parallel (TBB), `batch` scans at a time
+/// (0: twice the threads), and applied in scan order on this thread: the same map, voxel for voxel. What
+/// `occsweep map --method knn` runs.
+[[nodiscard]] std::unique_ptr<octomap::OcTree> parallelBuildMap(const KnnInverseSensorModel& model,
+                                                                const PointCloudSet& set,
+                                                                const KnnSetDistances& distances,
+                                                                std::size_t batch = 0);
 
 /// A feature of every point (method_features.hpp) with the scans in parallel (TBB); identical to setFeature.
 [[nodiscard]] SetFeature parallelSetFeature(const PointCloudSet& set, const FeatureRequest& request, double s_c,
