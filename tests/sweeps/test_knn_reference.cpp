@@ -264,10 +264,11 @@ void requireLibraryMapsEqual(const LogOddsMap& ref, const KnnParams& p, const Sc
     if (path == "buildMap") return model.buildMap(scene.set);
     if (path == "buildMapReference") return model.buildMapReference(scene.set, distances);
     // `occsweep map`'s path: scans recorded in parallel, batches of 1, 2, 3 scans (batch ends inside the set)
-    return parallelBuildMap(model, scene.set, parallelKnnDistances(scene.set, p.k, p.s_c), std::size_t(path.back() - '0'));
+    const std::size_t batch = std::size_t(path.back() - '0');
+    return parallelBuildMap(model, scene.set, parallelKnnDistances(scene.set, p.k, p.s_c), batch);
   };
-  for (const std::string path : {"buildMap", "buildMapReference", "parallelBuildMap batch 1", "parallelBuildMap batch 2",
-                                 "parallelBuildMap batch 3"}) {
+  for (const std::string path : {"buildMap", "buildMapReference", "parallelBuildMap batch 1",
+                                 "parallelBuildMap batch 2", "parallelBuildMap batch 3"}) {
     INFO("library path " << path);
     const auto tree = build(path);
     const auto diffs = mapDifferences(ref, voxelLogOdds(*tree));
