@@ -217,6 +217,14 @@ TEST_CASE("replayGatedCounts equals the single-lane replay of each lane's kept e
     for (std::size_t l = 0; l < draw.lanes.size(); ++l) {
       auto& gate = gates.emplace_back();
       for (std::uint32_t t = 0; t < kScans; ++t) gate.push_back(rng.below(4) == 0 ? -1.0 : 1.2 * rng.uniform() - 0.1);
+      // Some gates at a recorded extreme, or one double step beside it: a float bound of the gate must keep
+      // exactly the extremes the double comparison keeps.
+      for (std::uint32_t t = 0; t < kScans; ++t) {
+        if (rng.below(3) != 0 || r.extremes.empty()) continue;
+        const double at = r.extremes[rng.below(r.extremes.size())];
+        const double beside[3] = {std::nextafter(at, -2.0), at, std::nextafter(at, 2.0)};
+        gate[t] = beside[rng.below(3)];
+      }
     }
     std::vector<std::vector<ConfusionCounts>> observable;
     const auto counts = replayGatedCounts(r, draw.rules(), 0, gates, draw.p_t(), &observable);

@@ -8,6 +8,8 @@
 // log_odds.hpp), starting from 0.
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstring>
 #include <limits>
 #include <optional>
 #include <span>
@@ -60,6 +62,16 @@ inline void update(Lanes<Q>& v, const Lanes<Q>& d, const Lanes<Q>& lo, const Lan
       v[i] = sum < lo[i] ? lo[i] : below_hi;
   }
 }
+
+// The same on one vector, any bounds.
+inline Quad clampedQuad(Quad v, Quad d, Quad lo, Quad hi) {
+  const Quad sum = v + d;
+  const Quad below_hi = sum > hi ? hi : sum;
+  return sum < lo ? lo : below_hi;
+}
+
+// A lane mask: all bits set on lanes where a comparison held.
+using LaneMask = std::int32_t __attribute__((vector_size(16)));
 
 // What every lane of one pass shares (the hit rule, the variant) and what each has of its own (clamp bounds, l_in,
 // l_out, OctoMap's l_hit); spare lanes repeat the pass's last map and are never counted.
@@ -413,10 +425,19 @@ struct GateLanes {
   std::span<const std::vector<double>> gates;
   std::size_t column = 0;
   std::vector<double> lowest, highest;  ///< per scan
+  std::vector<float> lanes;             ///< per scan, a pass's lanes: each gate as a float bound (floatGate)
 };
 
+// A float bound g' such that, for every float x, x >= g' exactly when x >= g (compared as doubles, as keptFlags
+// does): the least float not below g. float(g) rounds to nearest; one step up when that fell below g. A NaN stays
+// NaN (no x reaches it), a g above every float becomes +inf (only +inf reaches it).
+inline float floatGate(double g) {
+  const float f = float(g);
+  return double(f) < g ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
 GateLanes gateLanes(std::size_t column, std::span<const std::vector<double>> gates) {
-  GateLanes g{gates, column, {}, {}};
+  GateLanes g{gates, column, {}, {}, {}};
   const std::size_t scans = gates.front().size();
   g.lowest.assign(scans, std::numeric_limits<double>::infinity());
   g.highest.assign(scans, -std::numeric_limits<double>::infinity());
@@ -425,6 +446,9 @@ GateLanes gateLanes(std::size_t column, std::span<const std::vector<double>> gat
       g.lowest[t] = std::min(g.lowest[t], lane[t]);
       g.highest[t] = std::max(g.highest[t], lane[t]);
     }
+  g.lanes.assign(scans * kReplayPassLanes, std::numeric_limits<float>::quiet_NaN());  // spare lanes keep nothing
+  for (std::size_t l = 0; l < gates.size(); ++l)
+    for (std::size_t t = 0; t < scans; ++t) g.lanes[t * kReplayPassLanes + l] = floatGate(gates[l][t]);
   return g;
 }
 
@@ -450,22 +474,34 @@ GateOutcome gateOutcome(const RecordedSet& r, std::uint32_t v, const GateLanes& 
   return all ? GateOutcome::AllKeep : (none ? GateOutcome::NoneKeep : GateOutcome::Mixed);
 }
 
-// One lane of a mixed voxel, event by event through the one update rule; false when no event happens (unknown).
+// Every lane of a mixed voxel, event by event: each lane keeps the kinds whose extreme reaches its gate, then
+// takes VoxelUpdateRule::apply's updates for its kept flags, lane by lane in selections: the hit where kept; then,
+// where no hit was kept or in the Literal variant, l_in where a ray to an in-range point was kept, else l_out
+// where a cut ray was. `known`: lanes with any kept event (the others stay unknown).
 template <std::size_t Q>
-bool gatedLaneValue(const RecordedSet& r, std::uint32_t v, const LaneRules<Q>& lanes, const GateLanes& g,
-                    std::size_t l, float& value) {
-  const VoxelUpdateRule<float> rule{lane(lanes.rule.l_in, l), lane(lanes.rule.l_out, l), lanes.rule.variant};
-  const float lo = lane(lanes.lo, l), hi = lane(lanes.hi, l), hit = lane(lanes.hit, l);
-  const std::vector<double>& gate = g.gates[l];
-  bool known = false;
-  value = 0.0f;
+void gatedLaneValues(const RecordedSet& r, std::uint32_t v, const LaneRules<Q>& lanes, const GateLanes& g,
+                     Lanes<Q>& value, std::array<LaneMask, Q>& known) {
+  const bool literal = lanes.rule.variant == UpdateVariant::Literal;
+  value = Lanes<Q>{};
+  known = {};
   for (std::uint32_t e = r.voxel_first[v]; e < r.voxel_first[v + 1]; ++e) {
-    const std::uint8_t flags = keptFlags(r, e, g.column, gate[r.event_scan[e]]);
-    if (!flags) continue;
-    known = true;
-    rule.apply(flags, [&] { return hit; }, [&](float d) { value = clampedUpdate(value, d, lo, hi); });
+    const std::uint8_t f = r.flags[e];
+    const float* x = r.extremes.data() + (std::size_t(e) * r.gate_columns + g.column) * kExtremes;
+    const float* gate = g.lanes.data() + std::size_t(r.event_scan[e]) * kReplayPassLanes;
+    const LaneMask none{};
+    for (std::size_t i = 0; i < Q; ++i) {
+      Quad lane_gate;
+      std::memcpy(&lane_gate, gate + i * kQuadLanes, sizeof lane_gate);
+      const LaneMask hit = (f & kHit) ? LaneMask(splat(x[kHitExtreme]) >= lane_gate) : none;
+      const LaneMask in = (f & kCrossedIn) ? LaneMask(splat(x[kCrossedInExtreme]) >= lane_gate) : none;
+      const LaneMask out = (f & kCrossedOut) ? LaneMask(splat(x[kCrossedOutExtreme]) >= lane_gate) : none;
+      known[i] |= hit | in | out;
+      value[i] = hit ? clampedQuad(value[i], lanes.hit[i], lanes.lo[i], lanes.hi[i]) : value[i];
+      const LaneMask miss = (literal ? ~none : ~hit) & (in | out);
+      const Quad delta = in ? lanes.rule.l_in[i] : lanes.rule.l_out[i];
+      value[i] = miss ? clampedQuad(value[i], delta, lanes.lo[i], lanes.hi[i]) : value[i];
+    }
   }
-  return known;
 }
 
 template <HitSource kSource, Kernel kKernel, std::size_t Q>
@@ -480,10 +516,11 @@ void countGatedReach(const RecordedSet& r, const Pass<Q>& pass, const GateLanes&
       countLanes(r, v, voxelValue<kSource, kKernel>(r, v, pass), pass.lanes.counted, thresholds);
       continue;
     }
-    for (std::size_t l = 0; l < pass.lanes.counted; ++l) {
-      float value = 0.0f;
-      if (gatedLaneValue(r, v, pass.lanes, g, l, value)) countValue(r, v, value, thresholds[l]);
-    }
+    Lanes<Q> value;
+    std::array<LaneMask, Q> known;
+    gatedLaneValues(r, v, pass.lanes, g, value, known);
+    for (std::size_t l = 0; l < pass.lanes.counted; ++l)
+      if (known[l / kQuadLanes][l % kQuadLanes]) countValue(r, v, lane(value, l), thresholds[l]);
   }
 }
 
