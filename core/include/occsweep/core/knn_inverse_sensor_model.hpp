@@ -36,7 +36,7 @@ class KnnInverseSensorModel {
   /// events recorded on its own (recordScan: any thread, one recorder each) and applied in scan order
   /// (applyScan), then finishBuild. Applied in order, the map is buildMap's, voxel for voxel.
   struct DirectBuild {
-    std::unique_ptr<octomap::OcTree> tree;  ///< empty until finishBuild; its thresholds give l_min, l_max
+    std::unique_ptr<octomap::OcTree> tree;  ///< no node until finishBuild; its thresholds give l_min, l_max
     float l_min = 0, l_max = 0;
     FlatKeyIndex store;                    ///< the voxels updated so far
     std::vector<octomap::OcTreeKey> keys;  ///< by store index
