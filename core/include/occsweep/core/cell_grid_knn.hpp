@@ -96,6 +96,7 @@ class CellGridKnn {
   std::uint64_t mask_ = 0;
   int shift_ = 64;  ///< 64 - log2(table size)
   std::vector<SortedPoint> sorted_;  ///< the points cell by cell
+  std::vector<std::uint32_t> first_point_order_;  ///< the cells' slots in the order of their first point
 };
 
 // ---------------------------------------------------------------------------------------------------------
@@ -229,6 +230,7 @@ inline void CellGridKnn::sortIntoCells() {
     const auto& p = points_[i];
     const std::uint64_t key = keyOf(cellOf(p.x(), p.y(), p.z()));
     const std::size_t s = slotOf(key);
+    if (keys_[s] == kEmpty) first_point_order_.push_back(std::uint32_t(s));
     keys_[s] = key;
     ++cells_[s].count;
     slot[i] = std::uint32_t(s);
@@ -280,8 +282,9 @@ void CellGridKnn::offerCell(const SortedPoint& q, const SortedPoint* begin, cons
       const double dx = qx - double(chunk[j].x), dy = qy - double(chunk[j].y), dz = qz - double(chunk[j].z);
       d2[j] = dx * dx + dy * dy + dz * dz;  // squaredDistance(q, p), the same operations in the same order
     }
+    double worst = nearest.worst();  // a local: the loop reads no vector between offers
     for (std::ptrdiff_t j = 0; j < m; ++j)
-      if (d2[j] < nearest.worst() && chunk[j].index != q.index) nearest.offer(d2[j]);
+      if (d2[j] < worst && chunk[j].index != q.index) nearest.offer(d2[j]), worst = nearest.worst();
   }
 }
 
@@ -336,14 +339,11 @@ template <class Visit>
 void CellGridKnn::forEachPointNearestOthers(int k, Visit&& visit) const {
   std::vector<double> d2;
   std::vector<BlockCell> block;  // the non-empty cells among the 27 around one cell, that cell first
-  std::vector<bool> done(cells_.size(), false);
   const std::size_t count = nearestCount(k);
   const double margin = 1e-9 * (span_ + cell_);
-  for (const auto& p : points_) {
-    const CellCoords c = cellOf(p.x(), p.y(), p.z());
-    const std::size_t slot = slotOf(keyOf(c));
-    if (done[slot]) continue;
-    done[slot] = true;
+  for (const std::uint32_t slot : first_point_order_) {
+    const SortedPoint& first = sorted_[cells_[slot].start];
+    const CellCoords c = cellOf(first.x, first.y, first.z);
     block.assign(1, blockCell(c, cells_[slot]));
     for (std::int64_t z = std::max(c.c[2] - 1, std::int64_t(0)); z <= std::min(c.c[2] + 1, last_cell_[2]); ++z)
       for (std::int64_t y = std::max(c.c[1] - 1, std::int64_t(0)); y <= std::min(c.c[1] + 1, last_cell_[1]); ++y)
@@ -381,8 +381,9 @@ inline double CellGridKnn::boxGap(const SortedPoint& q, const BlockCell& b, doub
   const double p[3] = {q.x, q.y, q.z};
   double gap2 = 0.0;
   for (int a = 0; a < 3; ++a) {
-    const double gap = std::max({b.low[a] - p[a], p[a] - (b.low[a] + cell_), 0.0}) - margin;
-    if (gap > 0) gap2 += gap * gap;
+    // max(below, above, 0) - margin where positive, else nothing: the same sum without a branch (+0 adds nothing)
+    const double gap = std::max(std::max(b.low[a] - p[a], p[a] - (b.low[a] + cell_)) - margin, 0.0);
+    gap2 += gap * gap;
   }
   return gap2;
 }
