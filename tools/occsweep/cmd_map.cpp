@@ -8,7 +8,7 @@
 #include <limits>
 #include <unistd.h>
 
-#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include "command_registry.hpp"
 #include "option_checks.hpp"
@@ -34,11 +34,13 @@ struct MapOptions {
 };
 
 // The k-NN direct build with the scans' searches and rays on `threads` workers (0: all): the same map as one
-// thread's KnnInverseSensorModel::buildMap (parallelBuildMap). liboctomap's build stays on one thread.
+// thread's KnnInverseSensorModel::buildMap (parallelBuildMap). In an arena of that many threads, as `sweep` runs,
+// so that parallelBuildMap's batch (twice the arena's threads) follows --threads. liboctomap's build stays on one
+// thread.
 std::unique_ptr<octomap::OcTree> buildKnnMap(const PointCloudSet& scans, const KnnParams& k, int threads) {
-  std::unique_ptr<tbb::global_control> limit;
-  if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
-  return parallelBuildMap(KnnInverseSensorModel(k), scans, parallelKnnDistances(scans, k.k, k.s_c));
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  return arena.execute(
+      [&] { return parallelBuildMap(KnnInverseSensorModel(k), scans, parallelKnnDistances(scans, k.k, k.s_c)); });
 }
 
 constexpr const char* kSettingsFormat = "occsweep-map-settings";

@@ -44,30 +44,30 @@ inline void setLane(Lanes<Q>& v, std::size_t l, float x) {
 
 inline Quad splat(float x) { return Quad{x, x, x, x}; }
 
-// OctoMap's clamped update on every lane, clampedUpdate's comparisons in its order (OccupancyOcTreeBase::
-// updateNodeLogOdds): value += delta; below l_min gives l_min, else above l_max gives l_max.
-//
-// kOrderedBounds, where no lane has l_min > l_max (orderedBounds): the last step tests l_min > below_hi instead of
-// sum < l_min, which gives the same value: the tests can differ only where sum > l_max (below_hi = l_max), and there
-// both are false (sum < l_min would need l_min > l_max; so would l_min > l_max). Each step is then one instruction,
-// the vector min and max, instead of a compare and a select (docs/performance.md, "Replay counting").
-template <bool kOrderedBounds = false, std::size_t Q>
-inline void update(Lanes<Q>& v, const Lanes<Q>& d, const Lanes<Q>& lo, const Lanes<Q>& hi) {
-  for (std::size_t i = 0; i < Q; ++i) {
-    const Quad sum = v[i] + d[i];
-    const Quad below_hi = sum > hi[i] ? hi[i] : sum;
-    if constexpr (kOrderedBounds)
-      v[i] = lo[i] > below_hi ? lo[i] : below_hi;
-    else
-      v[i] = sum < lo[i] ? lo[i] : below_hi;
-  }
-}
-
-// The same on one vector, any bounds.
+// OctoMap's clamped update on the four lanes of one vector, clampedUpdate's comparisons in its order
+// (OccupancyOcTreeBase::updateNodeLogOdds): value += delta; below l_min gives l_min, else above l_max gives l_max.
 inline Quad clampedQuad(Quad v, Quad d, Quad lo, Quad hi) {
   const Quad sum = v + d;
   const Quad below_hi = sum > hi ? hi : sum;
   return sum < lo ? lo : below_hi;
+}
+
+// The same on every lane of a pass. kOrderedBounds, where no lane has l_min > l_max (orderedBounds): the last step
+// tests l_min > below_hi instead of sum < l_min, which gives the same value: the tests can differ only where
+// sum > l_max (below_hi = l_max), and there both are false (sum < l_min would need l_min > l_max; so would
+// l_min > l_max). Each step is then one instruction, the vector min and max, instead of a compare and a select
+// (docs/performance.md, "Replay counting").
+template <bool kOrderedBounds = false, std::size_t Q>
+inline void update(Lanes<Q>& v, const Lanes<Q>& d, const Lanes<Q>& lo, const Lanes<Q>& hi) {
+  for (std::size_t i = 0; i < Q; ++i) {
+    if constexpr (kOrderedBounds) {
+      const Quad sum = v[i] + d[i];
+      const Quad below_hi = sum > hi[i] ? hi[i] : sum;
+      v[i] = lo[i] > below_hi ? lo[i] : below_hi;
+    } else {
+      v[i] = clampedQuad(v[i], d[i], lo[i], hi[i]);
+    }
+  }
 }
 
 // A lane mask: all bits set on lanes where a comparison held.
@@ -422,7 +422,6 @@ std::vector<std::vector<ConfusionCounts>> countsOfLanes(const RecordedSet& r,
 // A filter's gates on the lanes of one pass: per lane and scan the threshold, and per scan the lowest and highest
 // over the lanes, so that a voxel whose events every lane keeps (or none does) is settled without a lane loop.
 struct GateLanes {
-  std::span<const std::vector<double>> gates;
   std::size_t column = 0;
   std::vector<double> lowest, highest;  ///< per scan
   std::vector<float> lanes;             ///< per scan, a pass's lanes: each gate as a float bound (floatGate)
@@ -437,7 +436,7 @@ inline float floatGate(double g) {
 }
 
 GateLanes gateLanes(std::size_t column, std::span<const std::vector<double>> gates) {
-  GateLanes g{gates, column, {}, {}, {}};
+  GateLanes g{column, {}, {}, {}};
   const std::size_t scans = gates.front().size();
   g.lowest.assign(scans, std::numeric_limits<double>::infinity());
   g.highest.assign(scans, -std::numeric_limits<double>::infinity());
@@ -452,9 +451,14 @@ GateLanes gateLanes(std::size_t column, std::span<const std::vector<double>> gat
   return g;
 }
 
+// Event e's kExtremes gate extremes of one gate column.
+inline const float* eventExtremes(const RecordedSet& r, std::uint32_t e, std::size_t column) {
+  return r.extremes.data() + (std::size_t(e) * r.gate_columns + column) * kExtremes;
+}
+
 // The flags of event e that a gate of threshold `gate` keeps: each kind happens when its extreme reaches it.
 inline std::uint8_t keptFlags(const RecordedSet& r, std::uint32_t e, std::size_t column, double gate) {
-  const float* x = r.extremes.data() + (std::size_t(e) * r.gate_columns + column) * kExtremes;
+  const float* x = eventExtremes(r, e, column);
   const std::uint8_t f = r.flags[e];
   return std::uint8_t(((f & kHit) && x[kHitExtreme] >= gate ? kHit : 0) |
                       ((f & kCrossedIn) && x[kCrossedInExtreme] >= gate ? kCrossedIn : 0) |
@@ -486,7 +490,7 @@ void gatedLaneValues(const RecordedSet& r, std::uint32_t v, const LaneRules<Q>& 
   known = {};
   for (std::uint32_t e = r.voxel_first[v]; e < r.voxel_first[v + 1]; ++e) {
     const std::uint8_t f = r.flags[e];
-    const float* x = r.extremes.data() + (std::size_t(e) * r.gate_columns + g.column) * kExtremes;
+    const float* x = eventExtremes(r, e, g.column);
     const float* gate = g.lanes.data() + std::size_t(r.event_scan[e]) * kReplayPassLanes;
     const LaneMask none{};
     for (std::size_t i = 0; i < Q; ++i) {
