@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -44,16 +45,34 @@ class CellGridKnn {
     std::uint32_t start = 0;  ///< first point of the cell in sorted_
     std::uint32_t count = 0;
   };
-  struct SortedPoint {
+  /// The points cell by cell, one array per coordinate: the distance loops read two or four points a step.
+  struct SortedPoints {
+    std::vector<float> x, y, z;
+    std::vector<std::uint32_t> index;  ///< into points_
+  };
+  /// A query: one sorted point, or any point of points_.
+  struct Query {
     float x, y, z;
     std::uint32_t index;  ///< into points_
   };
-  struct BlockCell {
-    double low[3];  ///< the cell's lowest corner
-    std::uint32_t start, count;
-  };
   struct CellCoords {
     std::int64_t c[3];
+  };
+  /// A non-empty cell among the 26 around a query's: where it lies per axis (0 below the query's cell, 1 level
+  /// with it, 2 above) and its points [start, end) in sorted_.
+  struct NeighbourCell {
+    std::uint8_t side[3];
+    std::uint32_t start, end;
+  };
+  /// Per axis, the squared distance from a query to the cells below, level with and above its own, each face's
+  /// distance made smaller by the margin (+inf beyond the grid's edge, where no cell is). A neighbour cell's gap
+  /// is the sum over its axes: a lower bound on the squared distance to any point in it.
+  struct FaceGaps {
+    double gap2[3][3];
+    double nearest;  ///< the smallest: no point outside the query's cell is nearer
+    [[nodiscard]] double of(const NeighbourCell& b) const {
+      return gap2[0][b.side[0]] + gap2[1][b.side[1]] + gap2[2][b.side[2]];
+    }
   };
   static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
   static constexpr int kAxisBits = 21;  ///< cells per axis at most 2^21: three fit in one 64-bit key
@@ -67,20 +86,31 @@ class CellGridKnn {
   void sortIntoCells();
   /// The distance from q to the nearest face of the block of cells within `ring` of its cell, made smaller by
   /// a margin far above the rounding of cellOf and of the squared distances: no unread point is nearer.
-  [[nodiscard]] double unreadLowerBound(const SortedPoint& q, const CellCoords& c, std::int64_t ring) const;
+  [[nodiscard]] double unreadLowerBound(const Query& q, const CellCoords& c, std::int64_t ring) const;
   [[nodiscard]] bool blockCoversGrid(const CellCoords& c, std::int64_t ring) const;
   [[nodiscard]] const Cell* find(const CellCoords& c) const;  ///< nullptr: an empty cell
-  [[nodiscard]] BlockCell blockCell(const CellCoords& c, const Cell& cell) const;
-  /// A lower bound on the squared distance from q to any point of the cell b (its box, less the margin).
-  [[nodiscard]] double boxGap(const SortedPoint& q, const BlockCell& b, double margin) const;
+  /// The non-empty cells among the 26 around c, into `out`.
+  void neighboursOf(const CellCoords& c, std::vector<NeighbourCell>& out) const;
+  [[nodiscard]] FaceGaps faceGaps(const Query& q, const CellCoords& c, double margin) const;
+  /// A lower bound on the squared distance from q to any point of the cell c (its box, less the margin).
+  [[nodiscard]] double boxGap(const Query& q, const CellCoords& c, double margin) const;
   /// Whether `nearest` (for q, from every cell within `ring` of c) already holds q's nearest points.
   template <class Nearest>
-  [[nodiscard]] bool certain(const SortedPoint& q, const CellCoords& c, std::int64_t ring, const Nearest& nearest) const;
+  [[nodiscard]] bool certain(const Query& q, const CellCoords& c, std::int64_t ring, const Nearest& nearest) const;
   /// Reads the cells at Chebyshev distance first_ring, first_ring + 1, ... from q's cell c until certain.
   template <class Nearest>
-  void searchRings(const SortedPoint& q, const CellCoords& c, std::int64_t first_ring, Nearest& nearest) const;
+  void searchRings(const Query& q, const CellCoords& c, std::int64_t first_ring, Nearest& nearest) const;
+  /// Offers the squared distances from q to the sorted points [begin, end) (q itself excluded by index).
   template <class Nearest>
-  static void offerCell(const SortedPoint& q, const SortedPoint* begin, const SortedPoint* end, Nearest& nearest);
+  void offerCell(const Query& q, std::uint32_t begin, std::uint32_t end, Nearest& nearest) const;
+  /// forEachPointNearestOthers for k = 1: a minimum instead of a list.
+  template <class Visit>
+  void forEachPointNearestOther(Visit&& visit) const;
+  /// The smallest squared distance from q to the sorted points [begin, end), +inf for none.
+  [[nodiscard]] double nearestIn(const Query& q, std::uint32_t begin, std::uint32_t end) const;
+  [[nodiscard]] Query query(std::uint32_t j) const {
+    return {sorted_.x[j], sorted_.y[j], sorted_.z[j], sorted_.index[j]};
+  }
   [[nodiscard]] std::size_t nearestCount(int k) const {
     return std::min<std::size_t>(std::size_t(std::max(k, 0)), points_.empty() ? 0 : points_.size() - 1);
   }
@@ -95,7 +125,7 @@ class CellGridKnn {
   std::vector<Cell> cells_;          ///< same slots
   std::uint64_t mask_ = 0;
   int shift_ = 64;  ///< 64 - log2(table size)
-  std::vector<SortedPoint> sorted_;  ///< the points cell by cell
+  SortedPoints sorted_;
   std::vector<std::uint32_t> first_point_order_;  ///< the cells' slots in the order of their first point
 };
 
@@ -237,14 +267,15 @@ inline void CellGridKnn::sortIntoCells() {
   }
   std::uint32_t end = 0;
   for (Cell& cell : cells_) end += cell.count, cell.start = end;
-  sorted_.resize(n);
+  sorted_.x.resize(n), sorted_.y.resize(n), sorted_.z.resize(n), sorted_.index.resize(n);
   for (std::size_t i = n; i-- > 0;) {
     const auto& p = points_[i];
-    sorted_[--cells_[slot[i]].start] = {p.x(), p.y(), p.z(), std::uint32_t(i)};
+    const std::uint32_t j = --cells_[slot[i]].start;
+    sorted_.x[j] = p.x(), sorted_.y[j] = p.y(), sorted_.z[j] = p.z(), sorted_.index[j] = std::uint32_t(i);
   }
 }
 
-inline double CellGridKnn::unreadLowerBound(const SortedPoint& q, const CellCoords& c, std::int64_t ring) const {
+inline double CellGridKnn::unreadLowerBound(const Query& q, const CellCoords& c, std::int64_t ring) const {
   const double p[3] = {q.x, q.y, q.z};
   double bound = std::numeric_limits<double>::infinity();
   for (int a = 0; a < 3; ++a) {
@@ -262,7 +293,7 @@ inline bool CellGridKnn::blockCoversGrid(const CellCoords& c, std::int64_t ring)
 }
 
 template <class Nearest>
-bool CellGridKnn::certain(const SortedPoint& q, const CellCoords& c, std::int64_t ring, const Nearest& nearest) const {
+bool CellGridKnn::certain(const Query& q, const CellCoords& c, std::int64_t ring, const Nearest& nearest) const {
   if (blockCoversGrid(c, ring)) return true;  // every point read
   if (!nearest.full()) return false;
   const double bound = unreadLowerBound(q, c, ring);
@@ -272,40 +303,41 @@ bool CellGridKnn::certain(const SortedPoint& q, const CellCoords& c, std::int64_
 
 // In chunks: the squared distances first (a loop the compiler vectorises), then the few that beat the k-th.
 template <class Nearest>
-void CellGridKnn::offerCell(const SortedPoint& q, const SortedPoint* begin, const SortedPoint* end, Nearest& nearest) {
-  constexpr std::ptrdiff_t kChunk = 32;
+void CellGridKnn::offerCell(const Query& q, std::uint32_t begin, std::uint32_t end, Nearest& nearest) const {
+  constexpr std::uint32_t kChunk = 32;
   const double qx = q.x, qy = q.y, qz = q.z;
+  const float *x = sorted_.x.data(), *y = sorted_.y.data(), *z = sorted_.z.data();
   double d2[kChunk];
-  for (const SortedPoint* chunk = begin; chunk < end; chunk += kChunk) {
-    const std::ptrdiff_t m = std::min(kChunk, end - chunk);
-    for (std::ptrdiff_t j = 0; j < m; ++j) {
-      const double dx = qx - double(chunk[j].x), dy = qy - double(chunk[j].y), dz = qz - double(chunk[j].z);
+  for (std::uint32_t chunk = begin; chunk < end; chunk += kChunk) {
+    const std::uint32_t m = std::min(kChunk, end - chunk);
+    for (std::uint32_t j = 0; j < m; ++j) {
+      const double dx = qx - double(x[chunk + j]), dy = qy - double(y[chunk + j]), dz = qz - double(z[chunk + j]);
       d2[j] = dx * dx + dy * dy + dz * dz;  // squaredDistance(q, p), the same operations in the same order
     }
     double worst = nearest.worst();  // a local: the loop reads no vector between offers
-    for (std::ptrdiff_t j = 0; j < m; ++j)
-      if (d2[j] < worst && chunk[j].index != q.index) nearest.offer(d2[j]), worst = nearest.worst();
+    for (std::uint32_t j = 0; j < m; ++j)
+      if (d2[j] < worst && sorted_.index[chunk + j] != q.index) nearest.offer(d2[j]), worst = nearest.worst();
   }
 }
 
 template <class Nearest>
-void CellGridKnn::searchRings(const SortedPoint& q, const CellCoords& c, std::int64_t first_ring,
+void CellGridKnn::searchRings(const Query& q, const CellCoords& c, std::int64_t first_ring,
                               Nearest& nearest) const {
   std::size_t cells_read = 0;
   const double margin = 1e-9 * (span_ + cell_);
   const auto read = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
     const CellCoords near{{x, y, z}};
     // not even looked up if its box is farther than the k-th nearest so far (boxGap: a tie at most)
-    if (nearest.full() && !(boxGap(q, blockCell(near, Cell{}), margin) < nearest.worst())) return;
+    if (nearest.full() && !(boxGap(q, near, margin) < nearest.worst())) return;
     ++cells_read;
-    if (const Cell* cell = find(near)) offerCell(q, &sorted_[cell->start], &sorted_[cell->start] + cell->count, nearest);
+    if (const Cell* cell = find(near)) offerCell(q, cell->start, cell->start + cell->count, nearest);
   };
   for (std::int64_t ring = first_ring;; ++ring) {
     if (cells_read > points_.size()) {
       // Far from every other point (an outlier beside dense cells): reading all n points is cheaper than
       // the empty cells around it. Points read twice offer the same distance twice: start again.
       nearest.clear();
-      offerCell(q, sorted_.data(), sorted_.data() + sorted_.size(), nearest);
+      offerCell(q, 0, std::uint32_t(points_.size()), nearest);
       return;
     }
     // the shell of cells at Chebyshev distance `ring`, clipped to the grid
@@ -329,39 +361,34 @@ inline void CellGridKnn::nearestOtherSquaredDistances(std::size_t i, int k, std:
   detail::NearestSoFar nearest(out, nearestCount(k));
   if (nearest.full()) return;  // nothing to find
   const auto& p = points_[i];
-  const SortedPoint q{p.x(), p.y(), p.z(), std::uint32_t(i)};
+  const Query q{p.x(), p.y(), p.z(), std::uint32_t(i)};
   searchRings(q, cellOf(q.x, q.y, q.z), 0, nearest);
 }
 
 // Cells in the order of their first point: for a range scan's points (in image order) the next cell is a
-// neighbour of the last, and the slots its 27 cells probe are mostly in cache already.
+// neighbour of the last, and the slots its 27 cells probe are mostly in cache already. A query reads its own cell,
+// then each cell around it whose gap is below its k-th nearest so far (a point there at exactly that distance would
+// tie: the same distances either way).
 template <class Visit>
 void CellGridKnn::forEachPointNearestOthers(int k, Visit&& visit) const {
-  std::vector<double> d2;
-  std::vector<BlockCell> block;  // the non-empty cells among the 27 around one cell, that cell first
   const std::size_t count = nearestCount(k);
+  if (count == 1) return forEachPointNearestOther(visit);
+  std::vector<double> d2;
+  std::vector<NeighbourCell> neighbours;
   const double margin = 1e-9 * (span_ + cell_);
   for (const std::uint32_t slot : first_point_order_) {
-    const SortedPoint& first = sorted_[cells_[slot].start];
+    const std::uint32_t begin = cells_[slot].start, end = begin + cells_[slot].count;
+    const Query first = query(begin);
     const CellCoords c = cellOf(first.x, first.y, first.z);
-    block.assign(1, blockCell(c, cells_[slot]));
-    for (std::int64_t z = std::max(c.c[2] - 1, std::int64_t(0)); z <= std::min(c.c[2] + 1, last_cell_[2]); ++z)
-      for (std::int64_t y = std::max(c.c[1] - 1, std::int64_t(0)); y <= std::min(c.c[1] + 1, last_cell_[1]); ++y)
-        for (std::int64_t x = std::max(c.c[0] - 1, std::int64_t(0)); x <= std::min(c.c[0] + 1, last_cell_[0]); ++x) {
-          const CellCoords near{{x, y, z}};
-          if (keyOf(near) == keyOf(c)) continue;
-          if (const Cell* cell = find(near)) block.push_back(blockCell(near, *cell));
-        }
-    const Cell& cell = cells_[slot];
-    for (std::uint32_t j = cell.start; j < cell.start + cell.count; ++j) {
-      const SortedPoint& q = sorted_[j];
+    neighboursOf(c, neighbours);
+    for (std::uint32_t j = begin; j < end; ++j) {
+      const Query q = query(j);
       detail::NearestSoFar nearest(d2, count);
       if (!nearest.full()) {
-        // its own cell first; then a cell whose box is farther than the k-th nearest so far holds no nearer
-        // point (a point there at exactly that distance would tie: the same distances either way)
-        for (const BlockCell& b : block)
-          if (!nearest.full() || boxGap(q, b, margin) < nearest.worst())
-            offerCell(q, &sorted_[b.start], &sorted_[b.start] + b.count, nearest);
+        offerCell(q, begin, end, nearest);
+        const FaceGaps gaps = faceGaps(q, c, margin);
+        for (const NeighbourCell& b : neighbours)
+          if (!nearest.full() || gaps.of(b) < nearest.worst()) offerCell(q, b.start, b.end, nearest);
         if (!certain(q, c, 1, nearest)) searchRings(q, c, 2, nearest);
       }
       visit(std::size_t(q.index), static_cast<const std::vector<double>&>(d2));
@@ -369,20 +396,104 @@ void CellGridKnn::forEachPointNearestOthers(int k, Visit&& visit) const {
   }
 }
 
-inline CellGridKnn::BlockCell CellGridKnn::blockCell(const CellCoords& c, const Cell& cell) const {
-  BlockCell b{};
-  for (int a = 0; a < 3; ++a) b.low[a] = origin_[a] + double(c.c[a]) * cell_;
-  b.start = cell.start;
-  b.count = cell.count;
-  return b;
+// k = 1, the optimisation grids' k and the direct build's default: the nearest other point is a minimum, kept in
+// a register instead of a sorted list. A query whose nearest point in its own cell is nearer than the cell's
+// faces is settled by that cell; the others (about two in three on the dense built-in scene) read the cells
+// around it whose gap is below the nearest so far, and the cells' 26 neighbours are looked up once, when the
+// first point of the cell needs them (docs/performance.md, "k = 1").
+template <class Visit>
+void CellGridKnn::forEachPointNearestOther(Visit&& visit) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<NeighbourCell> neighbours;
+  std::vector<double> d2;
+  const double margin = 1e-9 * (span_ + cell_);
+  for (const std::uint32_t slot : first_point_order_) {
+    const std::uint32_t begin = cells_[slot].start, end = begin + cells_[slot].count;
+    const Query first = query(begin);
+    const CellCoords c = cellOf(first.x, first.y, first.z);
+    bool neighbours_found = false;
+    for (std::uint32_t j = begin; j < end; ++j) {
+      const Query q = query(j);
+      double best = std::min(nearestIn(q, begin, j), nearestIn(q, j + 1, end));
+      const FaceGaps gaps = faceGaps(q, c, margin);
+      // No point outside the cell is nearer than its nearest face (one at exactly that distance would tie).
+      if (!(best <= gaps.nearest)) {
+        if (!neighbours_found) neighboursOf(c, neighbours), neighbours_found = true;
+        for (const NeighbourCell& b : neighbours)
+          if (gaps.of(b) < best) best = std::min(best, nearestIn(q, b.start, b.end));
+        detail::NearestSoFar nearest(d2, 1);
+        if (best < kInf) nearest.offer(best);
+        if (!certain(q, c, 1, nearest)) searchRings(q, c, 2, nearest);
+        best = d2.front();
+      }
+      d2.assign(1, best);
+      visit(std::size_t(q.index), static_cast<const std::vector<double>&>(d2));
+    }
+  }
 }
 
-inline double CellGridKnn::boxGap(const SortedPoint& q, const BlockCell& b, double margin) const {
+// Two points a step in vectors of two doubles, two minima side by side; each distance as squaredDistance.
+inline double CellGridKnn::nearestIn(const Query& q, std::uint32_t begin, std::uint32_t end) const {
+  using Float2 = float __attribute__((vector_size(8)));
+  using Double2 = double __attribute__((vector_size(16)));
+  const Double2 qx = {q.x, q.x}, qy = {q.y, q.y}, qz = {q.z, q.z};
+  const float *x = sorted_.x.data(), *y = sorted_.y.data(), *z = sorted_.z.data();
+  const auto load = [](const float* from) {
+    Float2 f;
+    std::memcpy(&f, from, sizeof f);
+    return __builtin_convertvector(f, Double2);
+  };
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Double2 nearest = {kInf, kInf};
+  std::uint32_t j = begin;
+  for (; j + 1 < end; j += 2) {
+    const Double2 dx = qx - load(x + j), dy = qy - load(y + j), dz = qz - load(z + j);
+    const Double2 d2 = dx * dx + dy * dy + dz * dz;
+    nearest = d2 < nearest ? d2 : nearest;
+  }
+  double m = std::min(nearest[0], nearest[1]);
+  if (j < end) {
+    const double dx = double(q.x) - double(x[j]), dy = double(q.y) - double(y[j]), dz = double(q.z) - double(z[j]);
+    m = std::min(m, dx * dx + dy * dy + dz * dz);
+  }
+  return m;
+}
+
+inline void CellGridKnn::neighboursOf(const CellCoords& c, std::vector<NeighbourCell>& out) const {
+  out.clear();
+  for (std::int64_t z = std::max(c.c[2] - 1, std::int64_t(0)); z <= std::min(c.c[2] + 1, last_cell_[2]); ++z)
+    for (std::int64_t y = std::max(c.c[1] - 1, std::int64_t(0)); y <= std::min(c.c[1] + 1, last_cell_[1]); ++y)
+      for (std::int64_t x = std::max(c.c[0] - 1, std::int64_t(0)); x <= std::min(c.c[0] + 1, last_cell_[0]); ++x) {
+        if (x == c.c[0] && y == c.c[1] && z == c.c[2]) continue;
+        if (const Cell* cell = find(CellCoords{{x, y, z}}))
+          out.push_back({{std::uint8_t(x - c.c[0] + 1), std::uint8_t(y - c.c[1] + 1), std::uint8_t(z - c.c[2] + 1)},
+                         cell->start, cell->start + cell->count});
+      }
+}
+
+inline CellGridKnn::FaceGaps CellGridKnn::faceGaps(const Query& q, const CellCoords& c, double margin) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double p[3] = {q.x, q.y, q.z};
+  FaceGaps g{};
+  g.nearest = kInf;
+  for (int a = 0; a < 3; ++a) {
+    const double low = origin_[a] + double(c.c[a]) * cell_;
+    const double below = std::max(p[a] - low - margin, 0.0), above = std::max(low + cell_ - p[a] - margin, 0.0);
+    g.gap2[a][0] = c.c[a] > 0 ? below * below : kInf;
+    g.gap2[a][1] = 0.0;
+    g.gap2[a][2] = c.c[a] < last_cell_[a] ? above * above : kInf;
+    g.nearest = std::min({g.nearest, g.gap2[a][0], g.gap2[a][2]});
+  }
+  return g;
+}
+
+inline double CellGridKnn::boxGap(const Query& q, const CellCoords& c, double margin) const {
   const double p[3] = {q.x, q.y, q.z};
   double gap2 = 0.0;
   for (int a = 0; a < 3; ++a) {
     // max(below, above, 0) - margin where positive, else nothing: the same sum without a branch (+0 adds nothing)
-    const double gap = std::max(std::max(b.low[a] - p[a], p[a] - (b.low[a] + cell_)) - margin, 0.0);
+    const double low = origin_[a] + double(c.c[a]) * cell_;
+    const double gap = std::max(std::max(low - p[a], p[a] - (low + cell_)) - margin, 0.0);
     gap2 += gap * gap;
   }
   return gap2;
