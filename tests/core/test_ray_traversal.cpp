@@ -100,9 +100,9 @@ TEST_CASE("traverseRayInWindow visits exactly the keys of traverseRay that lie i
       for (const auto& k : all)
         if (w.contains(k)) in_window.push_back(k);
       bool indices_match = true;
-      const bool ok_window = traverseRayInWindow(grid, a, b, w, [&](const octomap::OcTreeKey& k, std::uint64_t index) {
-        ours.push_back(k);
-        indices_match = indices_match && index == w.index(k);
+      const bool ok_window = traverseRayInWindow(grid, a, b, w, [&](std::uint64_t index) {
+        ours.push_back(w.key(index));
+        indices_match = indices_match && index < w.volume() && index == w.index(w.key(index));
       });
       REQUIRE(indices_match);
       REQUIRE(ok_window == ok);

@@ -36,12 +36,19 @@ struct KeyWindow {
     return (std::uint64_t(k[0] - lo[0]) * std::uint64_t(hi[1] - lo[1] + 1) + std::uint64_t(k[1] - lo[1])) *
                std::uint64_t(hi[2] - lo[2] + 1) + std::uint64_t(k[2] - lo[2]);
   }
+  /// The key of an index of this window (the inverse of index).
+  [[nodiscard]] octomap::OcTreeKey key(std::uint64_t index) const {
+    const auto nz = std::uint64_t(hi[2] - lo[2] + 1), ny = std::uint64_t(hi[1] - lo[1] + 1);
+    return octomap::OcTreeKey(octomap::key_type(lo[0] + int(index / (ny * nz))),
+                              octomap::key_type(lo[1] + int(index / nz % ny)),
+                              octomap::key_type(lo[2] + int(index % nz)));
+  }
 };
 
-/// Visits, in order, exactly the keys of traverseRay(grid, origin, end) that lie in `window`, as visit(key,
-/// window.index(key)); returns what traverseRay returns. A ray's keys move monotonically along each axis, so those
-/// in a box are one run: the keys before it are skipped without stepping through them (docs/performance.md,
-/// "Skipping to the window"), and the ray stops after it.
+/// Visits, in order, exactly the keys of traverseRay(grid, origin, end) that lie in `window`, as
+/// visit(window.index(key)) (window.key gives the key back); returns what traverseRay returns. A ray's keys move
+/// monotonically along each axis, so those in a box are one run: the keys before it are skipped without stepping
+/// through them (docs/performance.md, "Skipping to the window"), and the ray stops after it.
 template <class Visit>
 bool traverseRayInWindow(const octomap::OcTree& grid, const octomap::point3d& origin, const octomap::point3d& end,
                          const KeyWindow& window, Visit&& visit);
@@ -193,40 +200,38 @@ inline Skip skipToWindow(RayState& s, const KeyWindow& box, std::array<int, 3>& 
 }
 
 // continueRay inside a window, from a key in it: an axis's step leaves the window when that axis has no step left
-// in range (steps_left), so no key is compared with the window; the key's window index (KeyWindow::index) moves by
-// the axis's stride. Stops, as continueRay, at the end key and past the length; visit(key, index). Its picks are
-// continueRay's (see there why they are written twice).
+// in range (steps_left), so no key is compared with the window; the key is kept only as its window index
+// (KeyWindow::index), which moves by the axis's stride. Stops, as continueRay, at the end key and past the length:
+// inside the window equal indexes are equal keys, and an end key outside it cannot be reached before the ray
+// leaves the window (its index is then one no key in the window has). visit(index). Its picks are continueRay's
+// (see there why they are written twice).
 template <class Visit>
 void continueRayInWindow(const RayState& s, const std::array<int, 3>& steps_left, const KeyWindow& w, Visit&& visit) {
   double t0 = s.t_max[0], t1 = s.t_max[1], t2 = s.t_max[2];
   const double d0 = s.t_delta[0], d1 = s.t_delta[1], d2 = s.t_delta[2];
-  int k0 = s.key[0], k1 = s.key[1], k2 = s.key[2];
-  const int e0 = s.end[0], e1 = s.end[1], e2 = s.end[2];
-  const int s0 = s.step[0], s1 = s.step[1], s2 = s.step[2];
   int left0 = steps_left[0], left1 = steps_left[1], left2 = steps_left[2];
   const auto nz = std::int64_t(w.hi[2] - w.lo[2] + 1), nyz = std::int64_t(w.hi[1] - w.lo[1] + 1) * nz;
-  const std::int64_t stride0 = s0 * nyz, stride1 = s1 * nz, stride2 = s2;
-  std::int64_t index = std::int64_t(w.index(octomap::OcTreeKey(octomap::key_type(k0), octomap::key_type(k1),
-                                                               octomap::key_type(k2))));
+  const std::int64_t stride0 = s.step[0] * nyz, stride1 = s.step[1] * nz, stride2 = s.step[2];
+  const auto keyOf = [](const std::array<int, 3>& k) {
+    return octomap::OcTreeKey(octomap::key_type(k[0]), octomap::key_type(k[1]), octomap::key_type(k[2]));
+  };
+  std::int64_t index = std::int64_t(w.index(keyOf(s.key)));
+  const std::int64_t end_index = w.contains(keyOf(s.end)) ? std::int64_t(w.index(keyOf(s.end))) : -1;
   const float length = s.length;
   while (true) {
     const bool first_is_1 = t1 <= t0;
     const double t_first = first_is_1 ? t1 : t0;
     const bool pick2 = !(t_first < t2);
     const bool pick1 = first_is_1 && !pick2, pick0 = !first_is_1 && !pick2;
-    k0 += pick0 ? s0 : 0;
-    k1 += pick1 ? s1 : 0;
-    k2 += pick2 ? s2 : 0;
     left0 -= pick0, left1 -= pick1, left2 -= pick2;
     index += pick0 ? stride0 : (pick1 ? stride1 : stride2);
     t0 = pick0 ? t0 + d0 : t0;
     t1 = pick1 ? t1 + d1 : t1;
     t2 = pick2 ? t2 + d2 : t2;
     if ((left0 | left1 | left2) < 0) return;  // left the window (keys in it are never wrapped)
-    if (k0 == e0 && k1 == e1 && k2 == e2) return;
+    if (index == end_index) return;
     if (std::min(std::min(t0, t1), t2) > length) return;
-    visit(octomap::OcTreeKey(octomap::key_type(k0), octomap::key_type(k1), octomap::key_type(k2)),
-          std::uint64_t(index));
+    visit(std::uint64_t(index));
   }
 }
 
@@ -265,7 +270,7 @@ bool traverseRayInWindow(const octomap::OcTree& grid, const octomap::point3d& or
       auto filtered = [&](const octomap::OcTreeKey& k) {
         if (!box.contains(k)) return !entered;
         entered = true;
-        visit(k, box.index(k));
+        visit(box.index(k));
         return true;
       };
       if (filtered(octomap::OcTreeKey(octomap::key_type(s.key[0]), octomap::key_type(s.key[1]),
@@ -280,8 +285,8 @@ bool traverseRayInWindow(const octomap::OcTree& grid, const octomap::point3d& or
   // The loop's length stop after the step into the box (the origin's key has none: it is always visited). Its end
   // key stop cannot come here: a skip to the end key is Stepwise.
   if (skip == detail::Skip::Skipped && std::min({s.t_max[0], s.t_max[1], s.t_max[2]}) > s.length) return true;
-  const octomap::OcTreeKey first(octomap::key_type(s.key[0]), octomap::key_type(s.key[1]), octomap::key_type(s.key[2]));
-  visit(first, box.index(first));
+  visit(box.index(octomap::OcTreeKey(octomap::key_type(s.key[0]), octomap::key_type(s.key[1]),
+                                    octomap::key_type(s.key[2]))));
   detail::continueRayInWindow(s, steps_left, box, visit);
   return true;
 }

@@ -76,7 +76,6 @@ class ScanEventRecorder {
   void markRays(const Scan& scan, double s_c, const KeyWindow& window, std::uint16_t stamp);
   // Gate scores: the largest score of point i over kind (GateExtreme) in cell's extremes.
   void raiseExtremes(std::uint32_t cell, std::size_t i, std::uint8_t kind);
-  [[nodiscard]] static octomap::OcTreeKey keyOfCell(const KeyWindow& window, std::uint32_t cell);
   void groupHitPoints(ScanEvents& out);
 
   octomap::OcTree grid_;  // only for OctoMap's key arithmetic; never holds nodes
@@ -234,21 +233,12 @@ template <bool kGated>
     const octomap::point3d end =
         is_inner_[i] ? p : scan.origin + (p - scan.origin).normalized() * float(s_c);  // cut as computeUpdate
     if (!is_inner_[i] && !mayReach(reach, scan.origin, end)) continue;
-    traverseRayInWindow(grid_, scan.origin, end, window, [&](const octomap::OcTreeKey&, std::uint64_t index) {
+    traverseRayInWindow(grid_, scan.origin, end, window, [&](std::uint64_t index) {
       const auto cell = std::uint32_t(index);
       mark<kGated>(cell, flag, stamp);
       if constexpr (kGated) raiseExtremes(cell, i, flag == kCrossedIn ? kCrossedInExtreme : kCrossedOutExtreme);
     });
   }
-}
-
-// The inverse of KeyWindow::index for the 32-bit cells of a window.
-inline octomap::OcTreeKey ScanEventRecorder::keyOfCell(const KeyWindow& window, std::uint32_t cell) {
-  const std::uint32_t nz = std::uint32_t(window.hi[2] - window.lo[2] + 1);
-  const std::uint32_t ny = std::uint32_t(window.hi[1] - window.lo[1] + 1);
-  return octomap::OcTreeKey(octomap::key_type(window.lo[0] + int(cell / (ny * nz))),
-                            octomap::key_type(window.lo[1] + int(cell / nz % ny)),
-                            octomap::key_type(window.lo[2] + int(cell % nz)));
 }
 
 // Each voxel's hit points, in point order: a counting sort of hits_ by voxel.
@@ -293,7 +283,7 @@ inline void ScanEventRecorder::record(const Scan& scan, const std::vector<std::u
   // One event per touched cell, in first-touch order; hit points grouped per voxel in point order.
   out.voxels.reserve(touched_.size());
   for (std::uint32_t cell : touched_)
-    out.voxels.push_back(VoxelEvent{keyOfCell(window, cell), std::uint8_t(cells_[cell] & 0xFF), 0, 0});
+    out.voxels.push_back(VoxelEvent{window.key(cell), std::uint8_t(cells_[cell] & 0xFF), 0, 0});
   if (!hits_.empty()) groupHitPoints(out);
 }
 
