@@ -1,7 +1,7 @@
-// An exact k-nearest-neighbour search over a uniform grid of cubic cells, for the dense clouds of a range
-// scan (docs/performance.md, "The k-NN search over a grid of cells"): cells a few k-th neighbour distances wide in a hash table;
-// a query reads its own cell, then the cells around it nearer than its k-th nearest so far, ring by ring,
-// and stops as soon as no unread cell can hold a nearer point.
+// An exact k-nearest-neighbour search over a uniform grid of cubic cells, for the dense clouds of a range scan
+// (docs/performance.md, "The k-NN search over a grid of cells"): cells a few k-th neighbour distances wide in a
+// hash table; a query reads its own cell, then the cells around it nearer than its k-th nearest so far, ring by
+// ring, and stops as soon as no unread cell can hold a nearer point. For k = 1 the nearest is kept as a minimum.
 #pragma once
 
 #include <algorithm>
@@ -400,7 +400,7 @@ void CellGridKnn::forEachPointNearestOthers(int k, Visit&& visit) const {
 // a register instead of a sorted list. A query whose nearest point in its own cell is nearer than the cell's
 // faces is settled by that cell; the others (about two in three on the dense built-in scene) read the cells
 // around it whose gap is below the nearest so far, and the cells' 26 neighbours are looked up once, when the
-// first point of the cell needs them (docs/performance.md, "k = 1").
+// first point of the cell needs them (docs/performance.md, "k = 1 as a minimum").
 template <class Visit>
 void CellGridKnn::forEachPointNearestOther(Visit&& visit) const {
   constexpr double kInf = std::numeric_limits<double>::infinity();
