@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -23,7 +24,7 @@ enum VoxelEventFlags : std::uint8_t { kHit = 1, kCrossedIn = 2, kCrossedOut = 4 
 struct VoxelEvent {
   octomap::OcTreeKey key;
   std::uint8_t flags = 0;
-  std::uint32_t first_hit = 0, hit_count = 0;  ///< range in ScanEvents::hit_points
+  std::uint32_t first_hit = 0, hit_count = 0;  ///< range in ScanEvents::hit_points (first_hit 0 without hits)
 };
 
 struct ScanEvents {
@@ -67,13 +68,18 @@ class ScanEventRecorder {
   };
   [[nodiscard]] ReachBox reachBox(const KeyWindow& w) const;
   [[nodiscard]] static bool mayReach(const ReachBox& box, const octomap::point3d& a, const octomap::point3d& b);
-  // The steps of record(), in order.
+  // Whether a ray is tested against the window before it is traversed: only a window that holds every ray
+  // (windowOf's) needs no test; with it the k-NN build was 5 % faster (docs/performance.md).
+  enum class RayTest { MayReach, None };
+  // record() with the test of its rays; the steps below, in order.
+  void recordIn(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c, const KeyWindow& window,
+                ScanEvents& out, const GateScores& scores, RayTest test);
   [[nodiscard]] std::uint16_t startScan(const KeyWindow& window);
   template <bool kGated>
   void mark(std::uint32_t cell, std::uint8_t flag, std::uint16_t stamp);
   void markHits(const Scan& scan, const std::vector<std::uint32_t>& inner, const KeyWindow& window, std::uint16_t stamp);
   template <bool kGated>
-  void markRays(const Scan& scan, double s_c, const KeyWindow& window, std::uint16_t stamp);
+  void markRays(const Scan& scan, double s_c, const KeyWindow& window, std::uint16_t stamp, RayTest test);
   // Gate scores: the largest score of point i over kind (GateExtreme) in cell's extremes.
   void raiseExtremes(std::uint32_t cell, std::size_t i, std::uint8_t kind);
   void groupHitPoints(ScanEvents& out);
@@ -84,6 +90,9 @@ class ScanEventRecorder {
   std::vector<std::uint16_t> cells_;
   std::uint8_t generation_ = 0;
   std::vector<std::uint32_t> touched_;                         // cells touched this scan, in first-touch order
+  std::uint32_t hit_voxels_ = 0;                                // the first of them, touched by markHits
+  static constexpr std::uint32_t kNoCell = ~std::uint32_t(0);   // a free slot of hit_slots_ (cells are below it)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> hit_slots_;  // groupHitPoints' table: (cell, voxel)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (cell, j) in point order
   std::vector<std::uint8_t> is_inner_;
   // With gate scores only: per window cell its index in touched_ (valid while its stamp is this scan's), and per
@@ -155,9 +164,10 @@ inline KeyWindow ScanEventRecorder::windowOf(const Scan& scan, double s_c) const
   return w;
 }
 
+// windowOf's window holds every ray of the scan: no ray is tested against it.
 inline void ScanEventRecorder::recordAll(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c,
                                          ScanEvents& out) {
-  record(scan, inner, s_c, windowOf(scan, s_c), out);
+  recordIn(scan, inner, s_c, windowOf(scan, s_c), out, {}, RayTest::None);
 }
 
 // Forgets the previous scan and returns this scan's stamp (its generation in the high byte).
@@ -223,16 +233,18 @@ inline void ScanEventRecorder::markHits(const Scan& scan, const std::vector<std:
 // loop with 9% (recordSet) and 4% (k-NN build) more instructions (callgrind, built-in scene).
 // kGated: also raise the cells' gate extremes (a separate instantiation keeps the plain loop as it was).
 template <bool kGated>
-[[gnu::noinline]] inline void ScanEventRecorder::markRays(const Scan& scan, double s_c, const KeyWindow& window, std::uint16_t stamp) {
+[[gnu::noinline]] inline void ScanEventRecorder::markRays(const Scan& scan, double s_c, const KeyWindow& window,
+                                                          std::uint16_t stamp, RayTest test) {
   const ReachBox reach = reachBox(window);
+  const bool tested = test == RayTest::MayReach;
   for (std::size_t i = 0; i < scan.points.size(); ++i) {
     const auto& p = scan.points[i];
     // A cut ray lies on the ray to its point (within float rounding): when that one misses, no cut is computed.
-    if (!mayReach(reach, scan.origin, p)) continue;
+    if (tested && !mayReach(reach, scan.origin, p)) continue;
     const std::uint8_t flag = is_inner_[i] ? kCrossedIn : kCrossedOut;
     const octomap::point3d end =
         is_inner_[i] ? p : scan.origin + (p - scan.origin).normalized() * float(s_c);  // cut as computeUpdate
-    if (!is_inner_[i] && !mayReach(reach, scan.origin, end)) continue;
+    if (tested && !is_inner_[i] && !mayReach(reach, scan.origin, end)) continue;
     traverseRayInWindow(grid_, scan.origin, end, window, [&](std::uint64_t index) {
       const auto cell = std::uint32_t(index);
       mark<kGated>(cell, flag, stamp);
@@ -243,22 +255,31 @@ template <bool kGated>
 
 // Each voxel's hit points, in point order: a counting sort of hits_ by voxel.
 inline void ScanEventRecorder::groupHitPoints(ScanEvents& out) {
-  // Hit cells are few: map cell -> voxel through a sorted list of (cell, voxel).
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> voxel_of;
-  voxel_of.reserve(out.voxels.size());
-  for (std::uint32_t v = 0; v < touched_.size(); ++v)
-    if (out.voxels[v].flags & kHit) voxel_of.emplace_back(touched_[v], v);
-  std::sort(voxel_of.begin(), voxel_of.end());
-  auto voxel = [&](std::uint32_t cell) {
-    return std::lower_bound(voxel_of.begin(), voxel_of.end(), std::make_pair(cell, 0u))->second;
-  };
-  for (auto& h : hits_) h.first = voxel(h.first);
+  // markHits runs before any ray: the voxels with hits are the first hit_voxels_ touched. A hash table of their
+  // cells, open addressing, at most half full, maps each hit's cell to its voxel (a binary search over the sorted
+  // cells was 5 % of a k-NN build).
+  std::size_t size = 16;
+  while (size < 2 * std::size_t(hit_voxels_)) size *= 2;
+  const int shift = 64 - std::countr_zero(size);
+  const std::size_t mask = size - 1;
+  const auto slotOf = [&](std::uint32_t cell) { return std::size_t((cell * 0x9E3779B97F4A7C15ull) >> shift); };
+  hit_slots_.assign(size, {kNoCell, 0});
+  for (std::uint32_t v = 0; v < hit_voxels_; ++v) {
+    std::size_t s = slotOf(touched_[v]);
+    while (hit_slots_[s].first != kNoCell) s = (s + 1) & mask;
+    hit_slots_[s] = {touched_[v], v};
+  }
+  for (auto& h : hits_) {
+    std::size_t s = slotOf(h.first);
+    while (hit_slots_[s].first != h.first) s = (s + 1) & mask;
+    h.first = hit_slots_[s].second;
+  }
   for (const auto& [v, j] : hits_) ++out.voxels[v].hit_count;
   std::uint32_t offset = 0;
-  for (auto& v : out.voxels) {
-    v.first_hit = offset;
-    offset += v.hit_count;
-    v.hit_count = 0;
+  for (std::uint32_t v = 0; v < hit_voxels_; ++v) {
+    out.voxels[v].first_hit = offset;
+    offset += out.voxels[v].hit_count;
+    out.voxels[v].hit_count = 0;
   }
   out.hit_points.resize(offset);
   for (const auto& [v, j] : hits_) out.hit_points[out.voxels[v].first_hit + out.voxels[v].hit_count++] = j;
@@ -266,6 +287,12 @@ inline void ScanEventRecorder::groupHitPoints(ScanEvents& out) {
 
 inline void ScanEventRecorder::record(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c,
                                       const KeyWindow& window, ScanEvents& out, const GateScores& scores) {
+  recordIn(scan, inner, s_c, window, out, scores, RayTest::MayReach);
+}
+
+inline void ScanEventRecorder::recordIn(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c,
+                                        const KeyWindow& window, ScanEvents& out, const GateScores& scores,
+                                        RayTest test) {
   out.voxels.clear();
   out.hit_points.clear();
   out.extremes.clear();
@@ -274,10 +301,11 @@ inline void ScanEventRecorder::record(const Scan& scan, const std::vector<std::u
   if (scores_ && slot_.size() < window.volume()) slot_.resize(window.volume());
   extremes_.clear();
   markHits(scan, inner, window, stamp);
+  hit_voxels_ = std::uint32_t(touched_.size());
   if (scores_)
-    markRays<true>(scan, s_c, window, stamp);
+    markRays<true>(scan, s_c, window, stamp, test);
   else
-    markRays<false>(scan, s_c, window, stamp);
+    markRays<false>(scan, s_c, window, stamp, test);
   if (scores_) out.extremes.swap(extremes_);
   scores_ = nullptr;
   // One event per touched cell, in first-touch order; hit points grouped per voxel in point order.
