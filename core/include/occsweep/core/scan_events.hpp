@@ -68,8 +68,9 @@ class ScanEventRecorder {
   };
   [[nodiscard]] ReachBox reachBox(const KeyWindow& w) const;
   [[nodiscard]] static bool mayReach(const ReachBox& box, const octomap::point3d& a, const octomap::point3d& b);
-  // Whether a ray is tested against the window before it is traversed: only a window that holds every ray
-  // (windowOf's) needs no test; with it the k-NN build was 5 % faster (docs/performance.md).
+  // Whether a ray is tested against the window before it is traversed. The test only spares the traversal of rays
+  // that miss the window (which visit nothing), so the events are the same either way; a window that holds every
+  // ray (windowOf's) skips it: the k-NN build 5 % faster (docs/performance.md).
   enum class RayTest { MayReach, None };
   // record() with the test of its rays; the steps below, in order.
   void recordIn(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c, const KeyWindow& window,
