@@ -108,6 +108,18 @@ class CellGridKnn {
   void forEachPointNearestOther(Visit&& visit) const;
   /// The smallest squared distance from q to the sorted points [begin, end), +inf for none.
   [[nodiscard]] double nearestIn(const Query& q, std::uint32_t begin, std::uint32_t end) const;
+  /// The table's cell at `slot`: its points [begin, end) in sorted_, and its coordinates.
+  struct SlotCell {
+    std::uint32_t begin, end;
+    CellCoords c;
+  };
+  [[nodiscard]] SlotCell slotCell(std::uint32_t slot) const {
+    const std::uint32_t begin = cells_[slot].start;
+    const Query first = query(begin);
+    return {begin, begin + cells_[slot].count, cellOf(first.x, first.y, first.z)};
+  }
+  /// What a cell's gap is made smaller by: far above the rounding of cellOf and of the squared distances.
+  [[nodiscard]] double gapMargin() const { return 1e-9 * (span_ + cell_); }
   [[nodiscard]] Query query(std::uint32_t j) const {
     return {sorted_.x[j], sorted_.y[j], sorted_.z[j], sorted_.index[j]};
   }
@@ -324,7 +336,7 @@ template <class Nearest>
 void CellGridKnn::searchRings(const Query& q, const CellCoords& c, std::int64_t first_ring,
                               Nearest& nearest) const {
   std::size_t cells_read = 0;
-  const double margin = 1e-9 * (span_ + cell_);
+  const double margin = gapMargin();
   const auto read = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
     const CellCoords near{{x, y, z}};
     // not even looked up if its box is farther than the k-th nearest so far (boxGap: a tie at most)
@@ -375,11 +387,9 @@ void CellGridKnn::forEachPointNearestOthers(int k, Visit&& visit) const {
   if (count == 1) return forEachPointNearestOther(visit);
   std::vector<double> d2;
   std::vector<NeighbourCell> neighbours;
-  const double margin = 1e-9 * (span_ + cell_);
+  const double margin = gapMargin();
   for (const std::uint32_t slot : first_point_order_) {
-    const std::uint32_t begin = cells_[slot].start, end = begin + cells_[slot].count;
-    const Query first = query(begin);
-    const CellCoords c = cellOf(first.x, first.y, first.z);
+    const auto [begin, end, c] = slotCell(slot);
     neighboursOf(c, neighbours);
     for (std::uint32_t j = begin; j < end; ++j) {
       const Query q = query(j);
@@ -406,11 +416,9 @@ void CellGridKnn::forEachPointNearestOther(Visit&& visit) const {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<NeighbourCell> neighbours;
   std::vector<double> d2;
-  const double margin = 1e-9 * (span_ + cell_);
+  const double margin = gapMargin();
   for (const std::uint32_t slot : first_point_order_) {
-    const std::uint32_t begin = cells_[slot].start, end = begin + cells_[slot].count;
-    const Query first = query(begin);
-    const CellCoords c = cellOf(first.x, first.y, first.z);
+    const auto [begin, end, c] = slotCell(slot);
     bool neighbours_found = false;
     for (std::uint32_t j = begin; j < end; ++j) {
       const Query q = query(j);
