@@ -1,6 +1,6 @@
 // The grid-of-cells k-NN search (cell_grid_knn.hpp) against brute force, bit for bit: dense and sparse clouds
-// over 20 seeds, duplicates, ties on a lattice, outliers far from dense cells, k above the points, one point;
-// and one search for several k against a search per k.
+// over 20 seeds, duplicates, ties on a lattice, outliers far from dense cells, isolated points whose nearest lies
+// rings of cells away, k above the points, one point; and one search for several k against a search per k.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -56,6 +56,22 @@ TEST_CASE("the cell-grid k-NN search equals brute force bit for bit on dense and
       requireBitIdentical(averageKnnDistances(dense, k), averageKnnDistancesBruteForce(dense, k), "dense");
       requireBitIdentical(averageKnnDistances(sparse, k), averageKnnDistancesBruteForce(sparse, k), "sparse");
     }
+  }
+}
+
+TEST_CASE("isolated points around a dense cluster find their nearest rings away in every direction, 20 seeds") {
+  // The cluster sizes the cells small; each isolated point's nearest lies some rings of cells away, in any
+  // direction, so the ring search's pruning of planes, rows and cells by their gaps decides the result.
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    SplitMix64 rng(300 + seed);
+    std::vector<octomap::point3d> pts;
+    for (int i = 0; i < 2000; ++i)
+      pts.emplace_back(float(0.2 * rng.uniform()), float(0.2 * rng.uniform()), float(0.2 * rng.uniform()));
+    const auto around = [&] { return float(-1.5 + 3 * rng.uniform()); };
+    for (int i = 0; i < 300; ++i) pts.emplace_back(around(), around(), around());
+    for (int k : {1, 2 + int(rng.below(4))})
+      requireBitIdentical(averageKnnDistances(pts, k), averageKnnDistancesBruteForce(pts, k),
+                          "seed " + std::to_string(seed) + " k " + std::to_string(k));
   }
 }
 

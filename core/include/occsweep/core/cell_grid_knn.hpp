@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include <octomap/octomap_types.h>
@@ -45,14 +46,15 @@ class CellGridKnn {
     std::uint32_t start = 0;  ///< first point of the cell in sorted_
     std::uint32_t count = 0;
   };
-  /// The points cell by cell, one array per coordinate: the distance loops read two or four points a step.
+  /// The points cell by cell, one array per coordinate, in double (each float converted once, exactly, instead of
+  /// in every distance): the distance loops read two points a step.
   struct SortedPoints {
-    std::vector<float> x, y, z;
+    std::vector<double> x, y, z;
     std::vector<std::uint32_t> index;  ///< into points_
   };
   /// A query: one sorted point, or any point of points_.
   struct Query {
-    float x, y, z;
+    double x, y, z;  ///< a point's float coordinates
     std::uint32_t index;  ///< into points_
   };
   struct CellCoords {
@@ -80,7 +82,7 @@ class CellGridKnn {
 
   [[nodiscard]] double sampledKthNeighbourDistance(int k) const;
   void chooseCellSize(int k);
-  [[nodiscard]] CellCoords cellOf(float x, float y, float z) const;
+  [[nodiscard]] CellCoords cellOf(double x, double y, double z) const;
   [[nodiscard]] static std::uint64_t keyOf(const CellCoords& c);
   [[nodiscard]] std::size_t slotOf(std::uint64_t key) const;  ///< the key's slot, or the free slot it would take
   void sortIntoCells();
@@ -92,8 +94,6 @@ class CellGridKnn {
   /// The non-empty cells among the 26 around c, into `out`.
   void neighboursOf(const CellCoords& c, std::vector<NeighbourCell>& out) const;
   [[nodiscard]] FaceGaps faceGaps(const Query& q, const CellCoords& c, double margin) const;
-  /// A lower bound on the squared distance from q to any point of the cell c (its box, less the margin).
-  [[nodiscard]] double boxGap(const Query& q, const CellCoords& c, double margin) const;
   /// Whether `nearest` (for q, from every cell within `ring` of c) already holds q's nearest points.
   template <class Nearest>
   [[nodiscard]] bool certain(const Query& q, const CellCoords& c, std::int64_t ring, const Nearest& nearest) const;
@@ -108,16 +108,22 @@ class CellGridKnn {
   void forEachPointNearestOther(Visit&& visit) const;
   /// The smallest squared distance from q to the sorted points [begin, end), +inf for none.
   [[nodiscard]] double nearestIn(const Query& q, std::uint32_t begin, std::uint32_t end) const;
-  /// The table's cell at `slot`: its points [begin, end) in sorted_, and its coordinates.
-  struct SlotCell {
+  /// Per sorted point j of [begin, end), the smallest squared distance to another point of the range, into
+  /// nearest[j - begin] (+inf for none): each pair's distance computed once and taken by both points.
+  void nearestWithin(std::uint32_t begin, std::uint32_t end, std::vector<double>& nearest) const;
+  /// Cell number `id`: its points [begin, end) in sorted_, and its coordinates.
+  struct NumberedCell {
     std::uint32_t begin, end;
     CellCoords c;
   };
-  [[nodiscard]] SlotCell slotCell(std::uint32_t slot) const {
-    const std::uint32_t begin = cells_[slot].start;
+  [[nodiscard]] NumberedCell numberedCell(std::uint32_t id) const {
+    const std::uint32_t begin = cells_[id].start;
     const Query first = query(begin);
-    return {begin, begin + cells_[slot].count, cellOf(first.x, first.y, first.z)};
+    return {begin, begin + cells_[id].count, cellOf(first.x, first.y, first.z)};
   }
+  /// The number of the cell with this key, a new one (cells_.size()) if it has none yet.
+  std::uint32_t numberOf(std::uint64_t key);
+  void growTable();
   /// What a cell's gap is made smaller by: far above the rounding of cellOf and of the squared distances.
   [[nodiscard]] double gapMargin() const { return 1e-9 * (span_ + cell_); }
   [[nodiscard]] Query query(std::uint32_t j) const {
@@ -131,18 +137,30 @@ class CellGridKnn {
   double origin_[3] = {0, 0, 0};
   std::int64_t last_cell_[3] = {0, 0, 0};  ///< the largest cell coordinate per axis
   double cell_ = 1.0, inverse_cell_ = 1.0, span_ = 0.0;
-  // A hash table, open addressing with linear probing, power-of-two size: the keys apart from the cells, so
-  // that probing (mostly for empty cells) reads 8 bytes a slot.
-  std::vector<std::uint64_t> keys_;  ///< kEmpty for a free slot
-  std::vector<Cell> cells_;          ///< same slots
+  // The non-empty cells, numbered in the order of their first point (for a range scan's points, in image order,
+  // the next cell is a neighbour of the last: the 27 around it are mostly in cache already), and their points in
+  // sorted_ in that order. A hash table, open addressing with linear probing, power-of-two size, at most an
+  // eighth full, maps a cell's key to its number: sized by the cells, not the points (a cell holds about ten), it
+  // stays in cache; the keys apart from the numbers, so that probing (mostly for empty cells) reads 8 bytes a slot.
+  std::vector<Cell> cells_;             ///< by number
+  std::vector<std::uint64_t> keys_;     ///< kEmpty for a free slot
+  std::vector<std::uint32_t> numbers_;  ///< same slots
   std::uint64_t mask_ = 0;
   int shift_ = 64;  ///< 64 - log2(table size)
   SortedPoints sorted_;
-  std::vector<std::uint32_t> first_point_order_;  ///< the cells' slots in the order of their first point
 };
 
 // ---------------------------------------------------------------------------------------------------------
 namespace detail {
+
+/// The smallest squared distance offered so far (k = 1): NearestSoFar's interface, kept in a register.
+struct NearestOne {
+  double d2 = std::numeric_limits<double>::infinity();
+  [[nodiscard]] bool full() const { return d2 < std::numeric_limits<double>::infinity(); }
+  [[nodiscard]] double worst() const { return d2; }
+  void clear() { d2 = std::numeric_limits<double>::infinity(); }
+  void offer(double d) { d2 = std::min(d2, d); }
+};
 
 /// The k smallest squared distances offered so far, ascending (a new one after those equal to it).
 class NearestSoFar {
@@ -199,11 +217,14 @@ inline double CellGridKnn::sampledKthNeighbourDistance(int k) const {
     detail::NearestSoFar nearest(nearest_d2, kk);
     for (std::size_t chunk = 0; chunk < n; chunk += kChunk) {
       const std::size_t m = std::min(kChunk, n - chunk);
+      float chunk_nearest = std::numeric_limits<float>::infinity();
       for (std::size_t j = 0; j < m; ++j) {
         const auto& p = points_[chunk + j];
         const float dx = qx - p.x(), dy = qy - p.y(), dz = qz - p.z();
         d2[j] = dx * dx + dy * dy + dz * dz;
+        chunk_nearest = std::min(chunk_nearest, chunk + j == i ? std::numeric_limits<float>::infinity() : d2[j]);
       }
+      if (!(chunk_nearest < nearest.worst())) continue;  // most chunks: nothing to offer
       for (std::size_t j = 0; j < m; ++j)
         if (d2[j] < nearest.worst() && chunk + j != i) nearest.offer(d2[j]);
     }
@@ -233,7 +254,7 @@ inline void CellGridKnn::chooseCellSize(int k) {
   for (int a = 0; a < 3; ++a) last_cell_[a] = std::int64_t(std::floor((hi[a] - lo[a]) * inverse_cell_));
 }
 
-inline CellGridKnn::CellCoords CellGridKnn::cellOf(float x, float y, float z) const {
+inline CellGridKnn::CellCoords CellGridKnn::cellOf(double x, double y, double z) const {
   const double p[3] = {x, y, z};
   CellCoords c{};
   for (int a = 0; a < 3; ++a)
@@ -255,34 +276,49 @@ inline std::size_t CellGridKnn::slotOf(std::uint64_t key) const {
 
 inline const CellGridKnn::Cell* CellGridKnn::find(const CellCoords& c) const {
   const std::size_t s = slotOf(keyOf(c));
-  return keys_[s] == kEmpty ? nullptr : &cells_[s];
+  return keys_[s] == kEmpty ? nullptr : &cells_[numbers_[s]];
 }
 
-// A counting sort by cell: count per cell, each cell's end, then place every point by counting down.
+inline std::uint32_t CellGridKnn::numberOf(std::uint64_t key) {
+  const std::size_t s = slotOf(key);
+  if (keys_[s] != kEmpty) return numbers_[s];
+  const auto number = std::uint32_t(cells_.size());
+  keys_[s] = key, numbers_[s] = number;
+  cells_.push_back(Cell{});
+  if (8 * cells_.size() > keys_.size()) growTable();  // at most an eighth full: few probes for an empty cell
+  return number;
+}
+
+inline void CellGridKnn::growTable() {
+  std::vector<std::uint64_t> keys(keys_.size() * 2, kEmpty);
+  std::vector<std::uint32_t> numbers(keys.size());
+  keys.swap(keys_), numbers.swap(numbers_);
+  mask_ = keys_.size() - 1, --shift_;
+  for (std::size_t old = 0; old < keys.size(); ++old)
+    if (keys[old] != kEmpty) {
+      const std::size_t s = slotOf(keys[old]);
+      keys_[s] = keys[old], numbers_[s] = numbers[old];
+    }
+}
+
+// A counting sort by cell: count per cell, each cell's end, then place every point by counting down. The table
+// starts at 64 slots and doubles as cells come (numberOf).
 inline void CellGridKnn::sortIntoCells() {
   const std::size_t n = points_.size();
-  std::size_t size = 16;
-  shift_ = 64 - 4;
-  while (size < 2 * n) size *= 2, --shift_;
-  keys_.assign(size, kEmpty);
-  cells_.assign(size, Cell{});
-  mask_ = size - 1;
-  std::vector<std::uint32_t> slot(n);
+  keys_.assign(64, kEmpty), numbers_.assign(64, 0);
+  mask_ = 63, shift_ = 64 - 6;
+  std::vector<std::uint32_t> cell_of(n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = points_[i];
-    const std::uint64_t key = keyOf(cellOf(p.x(), p.y(), p.z()));
-    const std::size_t s = slotOf(key);
-    if (keys_[s] == kEmpty) first_point_order_.push_back(std::uint32_t(s));
-    keys_[s] = key;
-    ++cells_[s].count;
-    slot[i] = std::uint32_t(s);
+    cell_of[i] = numberOf(keyOf(cellOf(p.x(), p.y(), p.z())));
+    ++cells_[cell_of[i]].count;
   }
   std::uint32_t end = 0;
   for (Cell& cell : cells_) end += cell.count, cell.start = end;
   sorted_.x.resize(n), sorted_.y.resize(n), sorted_.z.resize(n), sorted_.index.resize(n);
   for (std::size_t i = n; i-- > 0;) {
     const auto& p = points_[i];
-    const std::uint32_t j = --cells_[slot[i]].start;
+    const std::uint32_t j = --cells_[cell_of[i]].start;
     sorted_.x[j] = p.x(), sorted_.y[j] = p.y(), sorted_.z[j] = p.z(), sorted_.index[j] = std::uint32_t(i);
   }
 }
@@ -318,12 +354,12 @@ template <class Nearest>
 void CellGridKnn::offerCell(const Query& q, std::uint32_t begin, std::uint32_t end, Nearest& nearest) const {
   constexpr std::uint32_t kChunk = 32;
   const double qx = q.x, qy = q.y, qz = q.z;
-  const float *x = sorted_.x.data(), *y = sorted_.y.data(), *z = sorted_.z.data();
+  const double *x = sorted_.x.data(), *y = sorted_.y.data(), *z = sorted_.z.data();
   double d2[kChunk];
   for (std::uint32_t chunk = begin; chunk < end; chunk += kChunk) {
     const std::uint32_t m = std::min(kChunk, end - chunk);
     for (std::uint32_t j = 0; j < m; ++j) {
-      const double dx = qx - double(x[chunk + j]), dy = qy - double(y[chunk + j]), dz = qz - double(z[chunk + j]);
+      const double dx = qx - x[chunk + j], dy = qy - y[chunk + j], dz = qz - z[chunk + j];
       d2[j] = dx * dx + dy * dy + dz * dz;  // squaredDistance(q, p), the same operations in the same order
     }
     double worst = nearest.worst();  // a local: the loop reads no vector between offers
@@ -337,12 +373,28 @@ void CellGridKnn::searchRings(const Query& q, const CellCoords& c, std::int64_t 
                               Nearest& nearest) const {
   std::size_t cells_read = 0;
   const double margin = gapMargin();
-  const auto read = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
-    const CellCoords near{{x, y, z}};
-    // not even looked up if its box is farther than the k-th nearest so far (boxGap: a tie at most)
-    if (nearest.full() && !(boxGap(q, near, margin) < nearest.worst())) return;
+  const double p[3] = {q.x, q.y, q.z};
+  // A cell's gap, a lower bound on the squared distance from q to any of its points, is the sum over the axes of
+  // axisGap2 (the distance to its box along that axis, less the margin). A cell is not even looked up when its gap
+  // reaches the k-th nearest so far (a tie at most); nor is a plane or a row of cells whose partial sum does (the
+  // sum only grows).
+  const auto axisGap2 = [&](int a, std::int64_t v) {
+    const double low = origin_[a] + double(v) * cell_;
+    const double gap = std::max(std::max(low - p[a], p[a] - (low + cell_)) - margin, 0.0);
+    return gap * gap;
+  };
+  const auto farther = [&](double gap2) { return nearest.full() && !(gap2 < nearest.worst()); };
+  const auto read = [&](std::int64_t x, std::int64_t y, std::int64_t z, double gap2_yz) {
+    if (farther(gap2_yz + axisGap2(0, x))) return;
     ++cells_read;
-    if (const Cell* cell = find(near)) offerCell(q, cell->start, cell->start + cell->count, nearest);
+    const CellCoords near{{x, y, z}};
+    const Cell* cell = find(near);
+    if (!cell) return;
+    // k = 1 beyond the query's own cell (ring > 0): no point to exclude, the minimum of the vector loop
+    if constexpr (std::is_same_v<Nearest, detail::NearestOne>)
+      if (near.c[0] != c.c[0] || near.c[1] != c.c[1] || near.c[2] != c.c[2])
+        return nearest.offer(nearestIn(q, cell->start, cell->start + cell->count));
+    offerCell(q, cell->start, cell->start + cell->count, nearest);
   };
   for (std::int64_t ring = first_ring;; ++ring) {
     if (cells_read > points_.size()) {
@@ -356,15 +408,20 @@ void CellGridKnn::searchRings(const Query& q, const CellCoords& c, std::int64_t 
     const std::int64_t z0 = std::max(c.c[2] - ring, std::int64_t(0)), z1 = std::min(c.c[2] + ring, last_cell_[2]);
     const std::int64_t y0 = std::max(c.c[1] - ring, std::int64_t(0)), y1 = std::min(c.c[1] + ring, last_cell_[1]);
     const std::int64_t x0 = std::max(c.c[0] - ring, std::int64_t(0)), x1 = std::min(c.c[0] + ring, last_cell_[0]);
-    for (std::int64_t z = z0; z <= z1; ++z)
+    for (std::int64_t z = z0; z <= z1; ++z) {
+      const double gap2_z = axisGap2(2, z);
+      if (farther(gap2_z)) continue;
       for (std::int64_t y = y0; y <= y1; ++y) {
+        const double gap2_yz = gap2_z + axisGap2(1, y);
+        if (farther(gap2_yz)) continue;
         if (std::abs(z - c.c[2]) == ring || std::abs(y - c.c[1]) == ring) {
-          for (std::int64_t x = x0; x <= x1; ++x) read(x, y, z);
+          for (std::int64_t x = x0; x <= x1; ++x) read(x, y, z, gap2_yz);
         } else {
-          if (c.c[0] - ring >= 0) read(c.c[0] - ring, y, z);
-          if (ring > 0 && c.c[0] + ring <= last_cell_[0]) read(c.c[0] + ring, y, z);
+          if (c.c[0] - ring >= 0) read(c.c[0] - ring, y, z, gap2_yz);
+          if (ring > 0 && c.c[0] + ring <= last_cell_[0]) read(c.c[0] + ring, y, z, gap2_yz);
         }
       }
+    }
     if (certain(q, c, ring, nearest)) return;
   }
 }
@@ -388,8 +445,8 @@ void CellGridKnn::forEachPointNearestOthers(int k, Visit&& visit) const {
   std::vector<double> d2;
   std::vector<NeighbourCell> neighbours;
   const double margin = gapMargin();
-  for (const std::uint32_t slot : first_point_order_) {
-    const auto [begin, end, c] = slotCell(slot);
+  for (std::uint32_t id = 0; id < cells_.size(); ++id) {
+    const auto [begin, end, c] = numberedCell(id);
     neighboursOf(c, neighbours);
     for (std::uint32_t j = begin; j < end; ++j) {
       const Query q = query(j);
@@ -413,26 +470,25 @@ void CellGridKnn::forEachPointNearestOthers(int k, Visit&& visit) const {
 // first point of the cell needs them (docs/performance.md, "k = 1 as a minimum").
 template <class Visit>
 void CellGridKnn::forEachPointNearestOther(Visit&& visit) const {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<NeighbourCell> neighbours;
-  std::vector<double> d2;
+  std::vector<double> d2, own;
   const double margin = gapMargin();
-  for (const std::uint32_t slot : first_point_order_) {
-    const auto [begin, end, c] = slotCell(slot);
+  for (std::uint32_t id = 0; id < cells_.size(); ++id) {
+    const auto [begin, end, c] = numberedCell(id);
+    nearestWithin(begin, end, own);
     bool neighbours_found = false;
     for (std::uint32_t j = begin; j < end; ++j) {
       const Query q = query(j);
-      double best = std::min(nearestIn(q, begin, j), nearestIn(q, j + 1, end));
+      double best = own[j - begin];
       const FaceGaps gaps = faceGaps(q, c, margin);
       // No point outside the cell is nearer than its nearest face (one at exactly that distance would tie).
       if (!(best <= gaps.nearest)) {
         if (!neighbours_found) neighboursOf(c, neighbours), neighbours_found = true;
         for (const NeighbourCell& b : neighbours)
           if (gaps.of(b) < best) best = std::min(best, nearestIn(q, b.start, b.end));
-        detail::NearestSoFar nearest(d2, 1);
-        if (best < kInf) nearest.offer(best);
+        detail::NearestOne nearest{best};
         if (!certain(q, c, 1, nearest)) searchRings(q, c, 2, nearest);
-        best = d2.front();
+        best = nearest.d2;
       }
       d2.assign(1, best);
       visit(std::size_t(q.index), static_cast<const std::vector<double>&>(d2));
@@ -442,14 +498,13 @@ void CellGridKnn::forEachPointNearestOther(Visit&& visit) const {
 
 // Two points a step in vectors of two doubles, two minima side by side; each distance as squaredDistance.
 inline double CellGridKnn::nearestIn(const Query& q, std::uint32_t begin, std::uint32_t end) const {
-  using Float2 = float __attribute__((vector_size(8)));
   using Double2 = double __attribute__((vector_size(16)));
   const Double2 qx = {q.x, q.x}, qy = {q.y, q.y}, qz = {q.z, q.z};
-  const float *x = sorted_.x.data(), *y = sorted_.y.data(), *z = sorted_.z.data();
-  const auto load = [](const float* from) {
-    Float2 f;
-    std::memcpy(&f, from, sizeof f);
-    return __builtin_convertvector(f, Double2);
+  const double *x = sorted_.x.data(), *y = sorted_.y.data(), *z = sorted_.z.data();
+  const auto load = [](const double* from) {
+    Double2 d;
+    std::memcpy(&d, from, sizeof d);
+    return d;
   };
   constexpr double kInf = std::numeric_limits<double>::infinity();
   Double2 nearest = {kInf, kInf};
@@ -461,10 +516,47 @@ inline double CellGridKnn::nearestIn(const Query& q, std::uint32_t begin, std::u
   }
   double m = std::min(nearest[0], nearest[1]);
   if (j < end) {
-    const double dx = double(q.x) - double(x[j]), dy = double(q.y) - double(y[j]), dz = double(q.z) - double(z[j]);
+    const double dx = q.x - x[j], dy = q.y - y[j], dz = q.z - z[j];
     m = std::min(m, dx * dx + dy * dy + dz * dz);
   }
   return m;
+}
+
+// The pairs (i, j > i), j two at a time: the distance from i to j is the one from j to i (the differences only
+// change sign), so the minima are those of nearestIn over the range without i. The pairs start at an even j, so a
+// row reads its minima from where the rows before stored them whole (a load across two stores waits for both);
+// a lane that is i itself, or past the range, counts as +inf.
+inline void CellGridKnn::nearestWithin(std::uint32_t begin, std::uint32_t end, std::vector<double>& nearest) const {
+  using Double2 = double __attribute__((vector_size(16)));
+  using Mask2 = long long __attribute__((vector_size(16)));
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::uint32_t m = end - begin;
+  nearest.assign(m + 1, kInf);  // one more: the last pair of an odd range
+  const double *x = sorted_.x.data() + begin, *y = sorted_.y.data() + begin, *z = sorted_.z.data() + begin;
+  double* out = nearest.data();
+  const auto load = [&](const double* from, std::uint32_t j) {  // past the range: the pair's own first point
+    const Double2 d = {from[j], from[j + 1 < m ? j + 1 : j]};
+    return d;
+  };
+  const Double2 inf2 = {kInf, kInf};
+  for (std::uint32_t i = 0; i < m; ++i) {
+    const Double2 qx = {x[i], x[i]}, qy = {y[i], y[i]}, qz = {z[i], z[i]};
+    Double2 mine = inf2;
+    for (std::uint32_t j = (i + 1) & ~1u; j < m; j += 2) {
+      const Double2 dx = qx - load(x, j), dy = qy - load(y, j), dz = qz - load(z, j);
+      Double2 d2 = dx * dx + dy * dy + dz * dz;
+      const Mask2 lane = {j, j + 1};
+      const Mask2 valid = (lane > (long long)i) & (lane < (long long)m);
+      d2 = valid ? d2 : inf2;
+      mine = d2 < mine ? d2 : mine;
+      Double2 theirs;
+      std::memcpy(&theirs, out + j, sizeof theirs);
+      theirs = d2 < theirs ? d2 : theirs;
+      std::memcpy(out + j, &theirs, sizeof theirs);
+    }
+    out[i] = std::min({out[i], mine[0], mine[1]});
+  }
+  nearest.pop_back();
 }
 
 inline void CellGridKnn::neighboursOf(const CellCoords& c, std::vector<NeighbourCell>& out) const {
@@ -493,18 +585,6 @@ inline CellGridKnn::FaceGaps CellGridKnn::faceGaps(const Query& q, const CellCoo
     g.nearest = std::min({g.nearest, g.gap2[a][0], g.gap2[a][2]});
   }
   return g;
-}
-
-inline double CellGridKnn::boxGap(const Query& q, const CellCoords& c, double margin) const {
-  const double p[3] = {q.x, q.y, q.z};
-  double gap2 = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    // max(below, above, 0) - margin where positive, else nothing: the same sum without a branch (+0 adds nothing)
-    const double low = origin_[a] + double(c.c[a]) * cell_;
-    const double gap = std::max(std::max(low - p[a], p[a] - (low + cell_)) - margin, 0.0);
-    gap2 += gap * gap;
-  }
-  return gap2;
 }
 
 }  // namespace occsweep

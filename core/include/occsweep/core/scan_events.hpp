@@ -76,8 +76,9 @@ class ScanEventRecorder {
   void recordIn(const Scan& scan, const std::vector<std::uint32_t>& inner, double s_c, const KeyWindow& window,
                 ScanEvents& out, const GateScores& scores, RayTest test);
   [[nodiscard]] std::uint16_t startScan(const KeyWindow& window);
+  // cells: cells_.data(), passed in so that the ray loop keeps it in a register
   template <bool kGated>
-  void mark(std::uint32_t cell, std::uint8_t flag, std::uint16_t stamp);
+  void mark(std::uint16_t* cells, std::uint32_t cell, std::uint8_t flag, std::uint16_t stamp);
   void markHits(const Scan& scan, const std::vector<std::uint32_t>& inner, const KeyWindow& window, std::uint16_t stamp);
   template <bool kGated>
   void markRays(const Scan& scan, double s_c, const KeyWindow& window, std::uint16_t stamp, RayTest test);
@@ -191,8 +192,9 @@ inline std::uint16_t ScanEventRecorder::startScan(const KeyWindow& window) {
 // kGated: also give a newly touched cell its slot of gate extremes. A template, so that the plain recording's hot
 // loop carries no test for it (measured: 12 % more time for octomap-opt's sweep with a run-time test).
 template <bool kGated>
-inline void ScanEventRecorder::mark(std::uint32_t cell, std::uint8_t flag, std::uint16_t stamp) {
-  std::uint16_t& c = cells_[cell];
+inline void ScanEventRecorder::mark(std::uint16_t* cells, std::uint32_t cell, std::uint8_t flag,
+                                     std::uint16_t stamp) {
+  std::uint16_t& c = cells[cell];
   if ((c & 0xFF00) != stamp) {
     c = stamp;
     if constexpr (kGated) {
@@ -220,10 +222,10 @@ inline void ScanEventRecorder::markHits(const Scan& scan, const std::vector<std:
     if (!grid_.coordToKeyChecked(scan.points[inner[j]], key) || !window.contains(key)) continue;
     const auto cell = std::uint32_t(window.index(key));
     if (scores_) {
-      mark<true>(cell, kHit, stamp);
+      mark<true>(cells_.data(), cell, kHit, stamp);
       raiseExtremes(cell, inner[j], kHitExtreme);
     } else {
-      mark<false>(cell, kHit, stamp);
+      mark<false>(cells_.data(), cell, kHit, stamp);
     }
     hits_.emplace_back(cell, j);
   }
@@ -246,9 +248,11 @@ template <bool kGated>
     const octomap::point3d end =
         is_inner_[i] ? p : scan.origin + (p - scan.origin).normalized() * float(s_c);  // cut as computeUpdate
     if (tested && !is_inner_[i] && !mayReach(reach, scan.origin, end)) continue;
-    traverseRayInWindow(grid_, scan.origin, end, window, [&](std::uint64_t index) {
+    // captures by value: the loop's stores to cells could otherwise change them (docs/performance.md)
+    std::uint16_t* const cells = cells_.data();
+    traverseRayInWindow(grid_, scan.origin, end, window, [this, cells, flag, stamp, i](std::uint64_t index) {
       const auto cell = std::uint32_t(index);
-      mark<kGated>(cell, flag, stamp);
+      mark<kGated>(cells, cell, flag, stamp);
       if constexpr (kGated) raiseExtremes(cell, i, flag == kCrossedIn ? kCrossedInExtreme : kCrossedOutExtreme);
     });
   }
