@@ -153,6 +153,15 @@ class CellGridKnn {
 // ---------------------------------------------------------------------------------------------------------
 namespace detail {
 
+/// Two doubles in one SSE register: the distance loops take two points a step.
+using Double2 = double __attribute__((vector_size(16)));
+/// The two doubles at `from` (any alignment).
+inline Double2 loadTwo(const double* from) {
+  Double2 d;
+  std::memcpy(&d, from, sizeof d);
+  return d;
+}
+
 /// The smallest squared distance offered so far (k = 1): NearestSoFar's interface, kept in a register.
 struct NearestOne {
   double d2 = std::numeric_limits<double>::infinity();
@@ -498,19 +507,14 @@ void CellGridKnn::forEachPointNearestOther(Visit&& visit) const {
 
 // Two points a step in vectors of two doubles, two minima side by side; each distance as squaredDistance.
 inline double CellGridKnn::nearestIn(const Query& q, std::uint32_t begin, std::uint32_t end) const {
-  using Double2 = double __attribute__((vector_size(16)));
+  using detail::Double2, detail::loadTwo;
   const Double2 qx = {q.x, q.x}, qy = {q.y, q.y}, qz = {q.z, q.z};
   const double *x = sorted_.x.data(), *y = sorted_.y.data(), *z = sorted_.z.data();
-  const auto load = [](const double* from) {
-    Double2 d;
-    std::memcpy(&d, from, sizeof d);
-    return d;
-  };
   constexpr double kInf = std::numeric_limits<double>::infinity();
   Double2 nearest = {kInf, kInf};
   std::uint32_t j = begin;
   for (; j + 1 < end; j += 2) {
-    const Double2 dx = qx - load(x + j), dy = qy - load(y + j), dz = qz - load(z + j);
+    const Double2 dx = qx - loadTwo(x + j), dy = qy - loadTwo(y + j), dz = qz - loadTwo(z + j);
     const Double2 d2 = dx * dx + dy * dy + dz * dz;
     nearest = d2 < nearest ? d2 : nearest;
   }
@@ -527,7 +531,7 @@ inline double CellGridKnn::nearestIn(const Query& q, std::uint32_t begin, std::u
 // row reads its minima from where the rows before stored them whole (a load across two stores waits for both);
 // a lane that is i itself, or past the range, counts as +inf.
 inline void CellGridKnn::nearestWithin(std::uint32_t begin, std::uint32_t end, std::vector<double>& nearest) const {
-  using Double2 = double __attribute__((vector_size(16)));
+  using detail::Double2, detail::loadTwo;
   using Mask2 = long long __attribute__((vector_size(16)));
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const std::uint32_t m = end - begin;
@@ -549,8 +553,7 @@ inline void CellGridKnn::nearestWithin(std::uint32_t begin, std::uint32_t end, s
       const Mask2 valid = (lane > (long long)i) & (lane < (long long)m);
       d2 = valid ? d2 : inf2;
       mine = d2 < mine ? d2 : mine;
-      Double2 theirs;
-      std::memcpy(&theirs, out + j, sizeof theirs);
+      Double2 theirs = loadTwo(out + j);
       theirs = d2 < theirs ? d2 : theirs;
       std::memcpy(out + j, &theirs, sizeof theirs);
     }
