@@ -16,6 +16,8 @@
 #include <vector>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 namespace occsweep {
 namespace fs = std::filesystem;
 
@@ -303,6 +305,8 @@ void writeFileAtomically(const fs::path& target, std::string_view bytes) {
   out.stream().write(bytes.data(), std::streamsize(bytes.size()));
   out.commit();
 }
+
+void writeJsonAtomically(const nlohmann::json& j, const fs::path& file) { writeFileAtomically(file, j.dump(1) + '\n'); }
 
 void writeFileChecked(const fs::path& file, std::string_view bytes) {
   const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);

@@ -9,6 +9,7 @@
 #include "limit_options.hpp"
 #include "task_options.hpp"
 #include "compare_tables.hpp"
+#include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
 namespace occsweep::cli {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "occsweep/eval/output_file.hpp"
 #include "reproduce_internal.hpp"
 
 namespace occsweep {

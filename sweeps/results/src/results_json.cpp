@@ -287,10 +287,6 @@ ResultsFile readResults(const std::filesystem::path& file) {
   return parseResults(readJsonFile(file), file.string());
 }
 
-void writeJsonAtomically(const json& j, const std::filesystem::path& file) {
-  writeFileAtomically(file, j.dump(1) + '\n');
-}
-
 ReplaceableOutput jsonOutput(const std::string& name, const std::string& format) {
   return {name, [format](const std::filesystem::path& file) {
             std::error_code ec;

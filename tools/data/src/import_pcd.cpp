@@ -32,7 +32,7 @@ std::uint64_t unsignedField(const TextLines& lines, std::string_view tok, const 
   return v;
 }
 
-PcdHeader parseHeader(std::string_view bytes, const std::filesystem::path& file) {
+PcdHeader parsePcdHeader(std::string_view bytes, const std::filesystem::path& file) {
   TextLines lines(bytes, file);
   std::vector<std::string_view> tok;
   PcdHeader h;
@@ -107,7 +107,7 @@ bool keepPoint(const double v[3], std::size_t index, std::size_t* skipped, const
 
 std::vector<octomap::point3d> decodePcd(std::string_view bytes, const std::filesystem::path& file,
                                         std::size_t* skipped_nan) {
-  const PcdHeader h = parseHeader(bytes, file);
+  const PcdHeader h = parsePcdHeader(bytes, file);
   const std::uint64_t left = bytes.size() - std::min(bytes.size(), h.body);
   std::vector<octomap::point3d> pts;
   double v[3];

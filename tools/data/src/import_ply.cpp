@@ -38,14 +38,14 @@ bool scalarType(std::string_view s, ScalarType& t) {
   return false;
 }
 
-struct Header {
+struct PlyHeader {
   Encoding encoding = Encoding::Ascii;
   std::vector<Element> elements;
   std::size_t body = 0;        // byte offset of the first element
   std::size_t body_line = 0;   // its line number, for ascii errors
 };
 
-Header parseHeader(std::string_view bytes, const std::filesystem::path& file) {
+PlyHeader parsePlyHeader(std::string_view bytes, const std::filesystem::path& file) {
   if (bytes.substr(0, 4) != "ply\n" && bytes.substr(0, 5) != "ply\r\n")
     throw DataError(file, "magic", "not a PLY file: must start with a line \"ply\"");
   // A header is a few hundred bytes; 1 MiB of header is a broken or hostile file (docs/robustness.md).
@@ -57,7 +57,7 @@ Header parseHeader(std::string_view bytes, const std::filesystem::path& file) {
     throw DataError(file, "header", "no end_header line in the first " + std::to_string(kMaxHeaderBytes) +
                                         " bytes (1 MiB, the most a PLY header may hold)");
   const auto nl = bytes.find('\n', end);
-  Header h;
+  PlyHeader h;
   h.body = nl == std::string_view::npos ? bytes.size() : nl + 1;
   TextLines lines(bytes.substr(0, h.body), file);
   std::vector<std::string_view> tok;
@@ -102,7 +102,7 @@ Header parseHeader(std::string_view bytes, const std::filesystem::path& file) {
 // Values of the body in order, whatever the encoding; every read is bounded.
 class Body {
  public:
-  Body(std::string_view bytes, const Header& h, const std::filesystem::path& file)
+  Body(std::string_view bytes, const PlyHeader& h, const std::filesystem::path& file)
       : enc_(h.encoding), data_(bytes.substr(h.body)), file_(file), lines_(data_, file, h.body_line) {}
 
   // Refuses counts that the remaining bytes cannot hold before anything is allocated.
@@ -168,7 +168,7 @@ class Body {
 }  // namespace
 
 PlyData decodePly(std::string_view bytes, const std::filesystem::path& file) {
-  const Header h = parseHeader(bytes, file);
+  const PlyHeader h = parsePlyHeader(bytes, file);
   Body body(bytes, h, file);
   PlyData out;
   std::uint64_t vertex_count = 0;

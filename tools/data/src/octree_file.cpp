@@ -22,7 +22,7 @@ struct OtHeader {
 };
 
 // The header as AbstractOcTree::readHeader reads it: whitespace-separated keywords, '#' comment lines, up to "data".
-OtHeader parseHeader(std::string_view bytes, const std::filesystem::path& file) {
+OtHeader parseOtHeader(std::string_view bytes, const std::filesystem::path& file) {
   constexpr std::string_view kMagic = "# Octomap OcTree file";
   if (bytes.substr(0, kMagic.size()) != kMagic)
     throw DataError(file, "magic", "not an OctoMap .ot file: must start with \"# Octomap OcTree file\"");
@@ -100,7 +100,7 @@ std::size_t walkNodes(std::string_view data, std::size_t base, const std::filesy
 }  // namespace
 
 std::unique_ptr<octomap::OcTree> decodeOcTree(std::string_view bytes, const std::filesystem::path& file) {
-  const OtHeader h = parseHeader(bytes, file);
+  const OtHeader h = parseOtHeader(bytes, file);
   auto tree = std::make_unique<octomap::OcTree>(h.resolution);
   if (h.size == 0) return tree;  // liboctomap writes no node stream for an empty tree
   const std::string_view data = bytes.substr(h.data_offset);

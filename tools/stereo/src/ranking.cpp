@@ -74,10 +74,6 @@ void rankSets(std::vector<PointCloudSetSummary>& sets) {
   for (std::size_t i = 0; i < sets.size(); ++i) sets[i].rank = int(i + 1);
 }
 
-void writeJsonAtomically(const nlohmann::json& j, const std::filesystem::path& file) {
-  writeFileAtomically(file, j.dump(1) + '\n');
-}
-
 void writeRanking(const DatasetSummary& s, const GenerateConfig& c, const PointCloudGrid& grid,
                   const std::filesystem::path& dir) {
   nlohmann::json ranking = {{"format", "occsweep-pointcloud-ranking"}, {"version", 1}, {"dataset", s.name},

@@ -254,6 +254,7 @@ template <bool kGated>
       const auto cell = std::uint32_t(index);
       mark<kGated>(cells, cell, flag, stamp);
       if constexpr (kGated) raiseExtremes(cell, i, flag == kCrossedIn ? kCrossedInExtreme : kCrossedOutExtreme);
+      else static_cast<void>(i);  // read only when gated: clang warns of an unused capture otherwise
     });
   }
 }

@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 
+#include <nlohmann/json_fwd.hpp>
+
 namespace occsweep {
 
 /// A refused or failed output. The message names the file and says why ("no space left on device", ...).
@@ -79,6 +81,8 @@ class OutputFolder {
 
 /// `bytes` as `target`, atomically (OutputFile).
 void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes);
+/// `j` as `file`, one space of indent and a final newline, atomically: every JSON output of occsweep.
+void writeJsonAtomically(const nlohmann::json& j, const std::filesystem::path& file);
 
 /// `bytes` as `file` directly, every write checked: for files inside an OutputFolder's temporary folder.
 void writeFileChecked(const std::filesystem::path& file, std::string_view bytes);

@@ -93,7 +93,6 @@ void setEngines(ResultsHeader& h, const std::set<std::string>& engines);
 
 /// JSON, written to a temporary name beside `file` and renamed (writeFileAtomically).
 void writeResults(const ResultsFile& f, const std::filesystem::path& file);
-void writeJsonAtomically(const nlohmann::json& j, const std::filesystem::path& file);
 
 /// A JSON file whose "format" field is `format`: occsweep's own output of that kind, which --force may replace.
 [[nodiscard]] ReplaceableOutput jsonOutput(const std::string& name, const std::string& format);

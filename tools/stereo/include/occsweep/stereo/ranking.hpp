@@ -26,6 +26,4 @@ void writeRanking(const DatasetSummary& summary, const GenerateConfig& config, c
 /// The summary row of one data set, for OUT/summary.json and docs/datasets.md.
 [[nodiscard]] nlohmann::json summaryRow(const DatasetSummary& summary);
 
-void writeJsonAtomically(const nlohmann::json& j, const std::filesystem::path& file);
-
 }  // namespace occsweep::stereo
