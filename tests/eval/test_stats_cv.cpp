@@ -69,3 +69,21 @@ TEST_CASE("Leave-one-group-out refuses fewer than 2 groups, ragged rows, no comb
   CHECK_THROWS_WITH(leaveOneGroupOut({{}, {}}), Catch::Contains("at least 1 combination"));
   CHECK_THROWS_WITH(leaveOneGroupOut({{0.5}, {NAN}}), Catch::Contains("not finite"));
 }
+
+TEST_CASE("Leave one set out picks a sibling-tuned optimum, leave one data set out does not", "[stats]") {
+  // Three data sets of two point cloud sets each (A1 A2 B1 B2 C1 C2). Combination 0 is generic (0.70 on every set);
+  // combination 1 is tuned to data set A's scene (0.90 on A's sets, 0.66 elsewhere).
+  const std::vector<std::vector<double>> sets{{0.70, 0.90}, {0.70, 0.90}, {0.70, 0.66},
+                                              {0.70, 0.66}, {0.70, 0.66}, {0.70, 0.66}};
+  const auto by_set = leaveOneGroupOut(sets);
+  // A1 held out: A2 is still in the choice, and tips it to the tuned combination ((0.90 + 4 x 0.66) / 5 = 0.708).
+  CHECK(by_set.groups[0].chosen_combination == 1);
+  CHECK(by_set.groups[0].cv_score == 0.90);
+  CHECK(by_set.groups[0].gap == 0.0);  // the held-out score is the set's own optimum: no honest hold-out
+  // The data sets, each the mean of its sets: A held out, B and C choose the generic combination.
+  const std::vector<std::vector<double>> datasets{{0.70, 0.90}, {0.70, 0.66}, {0.70, 0.66}};
+  const auto by_dataset = leaveOneGroupOut(datasets);
+  CHECK(by_dataset.groups[0].chosen_combination == 0);
+  CHECK(by_dataset.groups[0].cv_score == 0.70);
+  CHECK(by_dataset.groups[0].gap == Approx(0.20).epsilon(1e-12));
+}

@@ -40,11 +40,11 @@ ResultsFile syntheticResults(const std::string& method, const std::string& datas
 
 // Sets of several data sets, each with a grid of random AUCs per method; `shift` is added to method b's.
 std::vector<ResultsFile> syntheticComparison(std::uint64_t seed, std::size_t maps_a, std::size_t maps_b, double shift,
-                                             bool b_copies_a) {
+                                             bool b_copies_a, int datasets = 4, int sets_per_dataset = 3) {
   SplitMix64 rng(seed);
   std::vector<ResultsFile> files;
-  for (int d = 0; d < 4; ++d)
-    for (int set = 0; set < 3; ++set) {
+  for (int d = 0; d < datasets; ++d)
+    for (int set = 0; set < sets_per_dataset; ++set) {
       std::vector<double> a, b;
       for (std::size_t m = 0; m < maps_a; ++m) a.push_back(0.5 + 0.3 * rng.uniform());
       for (std::size_t m = 0; m < maps_b; ++m) b.push_back(b_copies_a ? a[m] + shift : 0.5 + 0.3 * rng.uniform() + shift);
@@ -62,13 +62,18 @@ const MethodStatistics& statisticsOf(const std::vector<MethodStatistics>& all, c
   return all.front();
 }
 
+// One method's statistics against "base", by value (the vector they come in is a temporary).
+MethodStatistics statisticsFor(const std::vector<ResultsFile>& files, const std::string& method) {
+  return statisticsOf(compareStatistics(compareBest(files), files, statisticsAgainst("base")), method);
+}
+
 }  // namespace
 
 TEST_CASE("identical methods: no gain, an interval at zero, no budget gap, the same cross-validated score") {
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     const auto files = syntheticComparison(seed, 15, 15, 0.0, true);
     const auto rows = compareBest(files);
-    const auto all = compareStatistics(rows, files, {"base"});
+    const auto all = compareStatistics(rows, files, statisticsAgainst("base"));
     REQUIRE(all.size() == 2);
     CHECK(all[0].method == "base");
     const MethodStatistics& s = statisticsOf(all, "other");
@@ -76,8 +81,9 @@ TEST_CASE("identical methods: no gain, an interval at zero, no budget gap, the s
     CHECK(s.ties == 12);
     REQUIRE(s.improvement_percent);
     CHECK(s.improvement_percent->contains(0.0));
-    CHECK(s.verdict == "no clear difference (the interval contains 0)");
-    CHECK(s.cross_validated_verdict == "no clear difference (the interval contains 0)");
+    CHECK(s.optima.verdict.text == "tie (equal on all 4 data sets)");
+    CHECK(s.cross_validated.verdict.text == "tie (equal on all 4 data sets)");
+    CHECK(s.sets_holding_baseline_best == 12);  // its grid is the baseline's
     CHECK_FALSE(s.wilcoxon);  // every difference is zero
     CHECK(s.sign->p_value == 1.0);
     CHECK_FALSE(s.budget.first_above_baseline);  // a curve never passes its own grid's best
@@ -86,22 +92,85 @@ TEST_CASE("identical methods: no gain, an interval at zero, no budget gap, the s
   }
 }
 
-TEST_CASE("a method better on every map by 0.05 is a gain, per set and cross-validated") {
-  const auto files = syntheticComparison(7, 15, 15, 0.05, true);
-  const auto all = compareStatistics(compareBest(files), files, {"base"});
-  const MethodStatistics& s = statisticsOf(all, "other");
-  CHECK(s.better == 12);
+TEST_CASE("a method better on every map by 0.05: a gain over eight data sets, too few to tell over two or four") {
+  const auto eight = syntheticComparison(7, 15, 15, 0.05, true, 8);
+  const MethodStatistics s = statisticsFor(eight, "other");
+  CHECK(s.better == 24);
+  CHECK(s.datasets == 8);
   CHECK(s.improvement_percent->lower > 0);
-  CHECK(s.verdict == "gain");
-  CHECK(s.cross_validated_verdict == "gain");
-  CHECK(s.sign->p_value == Approx(2.0 / 4096.0));  // 12 of 12 positive, two-sided
+  CHECK(s.optima.verdict.text == "gain");
+  CHECK(s.cross_validated.verdict.text == "gain");
+  REQUIRE(s.optima.test);
+  CHECK(s.optima.test->p_value == Approx(2.0 / 256.0));  // 8 of 8 data sets positive, two-sided
+  CHECK(s.optima.verdict.basis.find("n = 8 data sets") != std::string::npos);
+  CHECK(s.sign->p_value == Approx(2.0 / (1 << 24)));     // the per-set sign test stays, as description
   CHECK(s.budget.first_above_baseline.has_value());
+  for (const int datasets : {2, 4}) {
+    const auto few = syntheticComparison(7, 15, 15, 0.05, true, datasets);
+    const MethodStatistics f = statisticsFor(few, "other");
+    INFO(datasets << " data sets");
+    CHECK(f.improvement_percent->lower > 0);  // the per-set interval excludes 0: today's "gain"
+    CHECK(f.optima.verdict.kind == stats::VerdictKind::TooFew);
+    CHECK(f.optima.verdict.text == (datasets == 2 ? "too few data sets to tell (n = 2; the smallest p possible is 0.5)"
+                                                  : "too few data sets to tell (n = 4; the smallest p possible is 0.125)"));
+  }
+}
+
+TEST_CASE("four point cloud sets of one data set are one sample, not four") {
+  const auto files = syntheticComparison(3, 10, 10, 0.05, true, 1, 4);
+  const MethodStatistics s = statisticsFor(files, "other");
+  CHECK(s.sets == 4);
+  CHECK(s.better == 4);
+  CHECK(s.datasets == 1);
+  CHECK(s.optima.per_dataset.size() == 1);
+  CHECK(s.optima.verdict.text == "too few data sets to tell (n = 1; the smallest p possible is 1)");
+  CHECK(s.cross_validated.verdict.text == "too few data sets to tell (n = 1; holding one out needs at least 2)");
+}
+
+TEST_CASE("Holm's correction runs over every method compared with the baseline") {
+  // Six data sets of one set each, "up" better on all six (exact p = 2/64 = 0.03125 < 0.05): a gain alone; beside two
+  // methods equal to the baseline (p = 1 each) Holm multiplies it by 3 (0.094) and it is no longer a gain.
+  auto files = syntheticComparison(5, 10, 10, 0.05, true, 6, 1);
+  for (auto& f : files)
+    if (f.header.method == "other") f.header.method = "up";
+  auto alone = compareStatistics(compareBest(files), files, statisticsAgainst("base"));
+  CHECK(statisticsOf(alone, "up").optima.verdict.text == "gain");
+  CHECK(statisticsOf(alone, "up").optima.holm_p == Approx(0.03125));
+  const std::size_t n = files.size();
+  for (std::size_t i = 0; i < n; ++i)
+    if (files[i].header.method == "base")
+      for (const char* twin : {"same-1", "same-2"}) {
+        ResultsFile copy = files[i];
+        copy.header.method = twin;
+        files.push_back(copy);
+      }
+  const auto three = compareStatistics(compareBest(files), files, statisticsAgainst("base"));
+  const MethodStatistics& up = statisticsOf(three, "up");
+  CHECK(up.optima.family == 3);
+  CHECK(up.optima.holm_p == Approx(3 * 0.03125));
+  CHECK(up.optima.verdict.text == "no clear difference");
+  CHECK(up.optima.verdict.basis.find("Holm-adjusted over 3 comparisons 0.0938") != std::string::npos);
+  CHECK(statisticsOf(three, "same-1").optima.verdict.kind == stats::VerdictKind::Tie);
+}
+
+TEST_CASE("a difference of -0.004 % on every set with a tight interval is negligible, not a loss") {
+  auto files = syntheticComparison(9, 12, 12, 0.0, true, 10, 2);
+  for (auto& f : files)
+    if (f.header.method == "other")
+      for (auto& m : f.maps) m.area.anchored = m.area.observed = m.area.anchored * (1.0 - 4e-5);
+  const MethodStatistics s = statisticsFor(files, "other");
+  CHECK(s.worse == 20);
+  REQUIRE(s.optima.interval);
+  CHECK(s.optima.interval->upper < 0);  // excludes 0 and the test rejects: today's "loss"
+  CHECK(s.optima.interval->estimate == Approx(-0.004).epsilon(1e-6));
+  CHECK(s.optima.verdict.text == "negligible (the interval lies within +-0.1 %)");
+  CHECK(s.sets_holding_baseline_best == 0);
 }
 
 TEST_CASE("leave-one-set-out and leave-one-data-set-out scores equal a brute-force loop") {
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     const auto files = syntheticComparison(seed, 6, 9, 0.0, false);
-    const auto all = compareStatistics(compareBest(files), files, {"base"});
+    const auto all = compareStatistics(compareBest(files), files, statisticsAgainst("base"));
     for (const char* method : {"base", "other"}) {
       std::vector<std::vector<double>> sets;  // per set, every map's AUC
       std::vector<int> dataset;
@@ -141,33 +210,67 @@ TEST_CASE("leave-one-set-out and leave-one-data-set-out scores equal a brute-for
   }
 }
 
+TEST_CASE("the cross-validated verdict rests on leave one data set out, one value per data set") {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const auto files = syntheticComparison(seed, 6, 6, 0.01, false, 7, 3);
+    const MethodStatistics s = statisticsFor(files, "other");
+    // Brute force: per data set, each method's map chosen by the best mean over the other data sets' sets (data
+    // sets weigh equally: the mean of their means), scored by its mean over the held-out data set's sets.
+    auto heldOut = [&](const char* method, int out) {
+      std::vector<std::vector<double>> mean(7, std::vector<double>(6, 0.0));
+      for (const auto& f : files)
+        if (f.header.method == method) {
+          const int d = f.header.dataset_name[1] - '0';
+          for (std::size_t m = 0; m < 6; ++m) mean[std::size_t(d)][m] += f.maps[m].area.anchored / 3.0;
+        }
+      std::size_t chosen = 0;
+      double best = -1;
+      for (std::size_t m = 0; m < 6; ++m) {
+        double sum = 0;
+        for (int d = 0; d < 7; ++d)
+          if (d != out) sum += mean[std::size_t(d)][m];
+        if (sum / 6.0 > best) best = sum / 6.0, chosen = m;
+      }
+      return mean[std::size_t(out)][chosen];
+    };
+    REQUIRE(s.cross_validated.per_dataset.size() == 7);
+    for (int d = 0; d < 7; ++d) {
+      const double expected = (heldOut("other", d) - heldOut("base", d)) / heldOut("base", d) * 100.0;
+      INFO("seed " << seed << " data set " << d);
+      CHECK(s.cross_validated.per_dataset[std::size_t(d)] == Approx(expected).epsilon(1e-9).margin(1e-12));
+    }
+    CHECK(s.leave_one_set_out_improvement.has_value());  // kept beside it, marked optimistic
+  }
+}
+
 TEST_CASE("the statistics do not depend on the order the files are given in") {
   auto files = syntheticComparison(11, 8, 12, 0.01, false);
-  const auto forward = compareStatistics(compareBest(files), files, {"base"});
+  const auto forward = compareStatistics(compareBest(files), files, statisticsAgainst("base"));
   std::reverse(files.begin(), files.end());
-  const auto backward = compareStatistics(compareBest(files), files, {"base"});
+  const auto backward = compareStatistics(compareBest(files), files, statisticsAgainst("base"));
   const MethodStatistics &a = statisticsOf(forward, "other"), &b = statisticsOf(backward, "other");
   CHECK(a.improvement_percent->lower == b.improvement_percent->lower);
   CHECK(a.improvement_percent->upper == b.improvement_percent->upper);
-  CHECK(a.improvement_over_datasets->lower == b.improvement_over_datasets->lower);
+  CHECK(a.optima.interval->lower == b.optima.interval->lower);
   CHECK(a.wilcoxon->p_value == b.wilcoxon->p_value);
 }
 
 TEST_CASE("sets of one grid with different numbers of maps (Eq. 16 groups) get no budget curve") {
   auto files = syntheticComparison(5, 6, 9, 0.0, false);
   files.back().maps.pop_back();  // the last set of "other" holds one map fewer
-  const auto all = compareStatistics(compareBest(files), files, {"base"});
+  const auto all = compareStatistics(compareBest(files), files, statisticsAgainst("base"));
   const MethodStatistics& s = statisticsOf(all, "other");
   CHECK(s.budget.maps == 0);
   CHECK(s.leave_one_set_out.groups == 0);
-  CHECK_FALSE(s.cross_validated_improvement);
-  CHECK(s.cross_validated_verdict == "not computed (the sets differ in grid or maps, or an AUC is undefined)");
+  CHECK_FALSE(s.leave_one_set_out_improvement);
+  CHECK(s.cross_validated.per_dataset.empty());
+  CHECK(s.cross_validated.verdict.text == "not computed (the sets differ in grid or maps, or an AUC is undefined)");
   CHECK(s.sets == 12);
 }
 
 TEST_CASE("a baseline that was not given is refused, naming the methods that were") {
   const auto files = syntheticComparison(3, 5, 5, 0.0, true);
-  CHECK_THROWS_WITH(compareStatistics(compareBest(files), files, {"octomap"}),
+  CHECK_THROWS_WITH(compareStatistics(compareBest(files), files, statisticsAgainst("octomap")),
                     Catch::Contains("baseline octomap") && Catch::Contains("base, other"));
 }
 

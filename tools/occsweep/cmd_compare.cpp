@@ -123,6 +123,12 @@ void checkOutputs(const CompareTask& o) {
   if (!o.latex.empty()) checkOutputTarget(o.latex, o.force, tableOutput("comparison LaTeX", "% occsweep compare"));
 }
 
+CompareStatisticsOptions statisticsOptions(const CompareTask& o) {
+  CompareStatisticsOptions options = statisticsAgainst(o.baseline);
+  options.rules = {o.alpha, o.smallest_effect};
+  return options;
+}
+
 // The statistics against the baseline; none (with a note) when the default baseline was not given at all.
 std::vector<MethodStatistics> statisticsOf(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& in,
                                            const CompareTask& o, std::vector<std::string>& notes) {
@@ -131,7 +137,7 @@ std::vector<MethodStatistics> statisticsOf(const std::vector<ComparisonRow>& row
     notes.push_back("no statistics: no results of the baseline " + o.baseline + " given (--baseline names another)");
     return {};
   }
-  return compareStatistics(rows, in, {o.baseline});
+  return compareStatistics(rows, in, statisticsOptions(o));
 }
 
 void writeTables(const CompareTask& o, const ComparisonTables& t) {
@@ -165,7 +171,7 @@ int runCompare(const CompareTask& o) {
   if (!o.json.empty())
     writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", o.files}, {"allow_mixed", o.allow_mixed},
                          {"mixed", mixed}, {"truth", truthModeName(truth)}, {"rows", j}, {"baseline", o.baseline},
-                         {"statistics", toJson(statistics, CompareStatisticsOptions{o.baseline})}},
+                         {"statistics", toJson(statistics, statisticsOptions(o))}},
                         o.json);
   writeTables(o, tables);
   return 0;

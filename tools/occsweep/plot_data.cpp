@@ -58,7 +58,7 @@ json budgetData(const PlotInputs& in) {
 
 json improvementData(const PlotInputs& in) {
   json methods = json::array();
-  for (const MethodStatistics& s : compareStatistics(in.rows, in.files, {in.baseline})) {
+  for (const MethodStatistics& s : compareStatistics(in.rows, in.files, statisticsAgainst(in.baseline))) {
     if (s.is_baseline) continue;
     json points = json::array();
     for (const ComparisonRow& row : in.rows) {
@@ -67,7 +67,7 @@ json improvementData(const PlotInputs& in) {
     }
     json interval = nullptr;
     if (const auto& i = s.improvement_percent) interval = {{"mean", i->estimate}, {"lower", i->lower}, {"upper", i->upper}};
-    methods.push_back({{"method", s.method}, {"points", points}, {"interval", interval}, {"verdict", s.verdict}});
+    methods.push_back({{"method", s.method}, {"points", points}, {"interval", interval}, {"verdict", s.optima.verdict.text}});
   }
   return {{"kind", "improvement"}, {"baseline", in.baseline}, {"methods", methods}};
 }

@@ -11,6 +11,7 @@
 
 #include "occsweep/stats/budget_curve.hpp"
 #include "occsweep/stats/cross_validation.hpp"
+#include "occsweep/stats/multiple_testing.hpp"
 
 namespace occsweep {
 namespace {
@@ -130,19 +131,29 @@ std::optional<stats::BootstrapInterval> meanInterval(std::vector<double> values,
   return stats::bootstrapMeanInterval(values, {o.level, o.resamples, o.seed, stats::BootstrapMethod::BCa});
 }
 
-// Each data set's mean of its sets' improvements (percent).
-std::vector<double> perDatasetMeans(const std::vector<double>& improvement, const std::vector<std::string>& dataset) {
+// Each data set's mean of its sets' values, in data-set name order.
+std::vector<double> perDatasetMeans(const std::vector<double>& values, const std::vector<std::string>& dataset) {
   std::map<std::string, std::pair<double, std::size_t>> sums;
-  for (std::size_t i = 0; i < improvement.size(); ++i) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
     auto& [sum, n] = sums[dataset[i]];
-    sum += improvement[i], ++n;
+    sum += values[i], ++n;
   }
   std::vector<double> out;
   for (const auto& [_, v] : sums) out.push_back(v.first / double(v.second));
   return out;
 }
 
-// The paired tests of a method against the baseline on the sets where both have an AUC.
+// A comparison over data sets, up to Holm's correction (applied over the family by holmAndDecide).
+DatasetComparison overDatasets(std::vector<double> per_dataset, const CompareStatisticsOptions& o) {
+  DatasetComparison c;
+  c.per_dataset = std::move(per_dataset);
+  c.interval = meanInterval(c.per_dataset, o);
+  if (std::any_of(c.per_dataset.begin(), c.per_dataset.end(), [](double v) { return v != 0.0; }))
+    c.test = stats::exactPairedTest(c.per_dataset);
+  return c;
+}
+
+// The paired description over sets, and the comparison of the optima over data sets.
 void pairedTests(const PairedSets& p, const CompareStatisticsOptions& o, MethodStatistics& s) {
   std::vector<double> differences, improvement;
   std::vector<std::string> dataset;
@@ -153,32 +164,116 @@ void pairedTests(const PairedSets& p, const CompareStatisticsOptions& o, MethodS
     (d > 0 ? s.better : (d < 0 ? s.worse : s.ties))++;
   }
   s.sets = differences.size();
+  s.datasets = std::set<std::string>(p.dataset.begin(), p.dataset.end()).size();
   if (differences.empty()) return;
   s.effect = stats::pairedEffectSize(differences);
   s.sign = stats::signTest(differences);
   if (s.better + s.worse > 0) s.wilcoxon = stats::wilcoxonSignedRank(differences);
   s.improvement_percent = meanInterval(improvement, o);
-  s.improvement_over_datasets = meanInterval(perDatasetMeans(improvement, dataset), o);
+  s.optima = overDatasets(perDatasetMeans(improvement, dataset), o);
 }
 
-// Leave one set out for both, paired by set: the method's held-out score against the baseline's, in percent.
-std::optional<stats::BootstrapInterval> crossValidatedImprovement(const AucTable& mine, const AucTable& base,
-                                                                  const CompareStatisticsOptions& o) {
-  if (!mine.one_grid || !base.one_grid || mine.row != base.row || !rectangular(mine.per_set) ||
-      !rectangular(base.per_set))
-    return std::nullopt;
-  const stats::LeaveOneGroupOut m = stats::leaveOneGroupOut(mine.per_set), b = stats::leaveOneGroupOut(base.per_set);
+// Per held-out group, the method's cross-validated score against the baseline's, in percent of the baseline's.
+std::vector<double> heldOutImprovement(const std::vector<std::vector<double>>& mine,
+                                       const std::vector<std::vector<double>>& base) {
+  const stats::LeaveOneGroupOut m = stats::leaveOneGroupOut(mine), b = stats::leaveOneGroupOut(base);
   std::vector<double> improvement;
   for (std::size_t i = 0; i < m.groups.size(); ++i)
     if (b.groups[i].cv_score > 0)
       improvement.push_back((m.groups[i].cv_score - b.groups[i].cv_score) / b.groups[i].cv_score * 100.0);
-  return meanInterval(improvement, o);
+  return improvement;
 }
 
-std::string verdictOf(const std::optional<stats::BootstrapInterval>& interval) {
-  if (!interval) return "too few sets";
-  if (interval->contains(0.0)) return "no clear difference (the interval contains 0)";
-  return interval->lower > 0 ? "gain" : "loss";
+// Both methods on the same sets of one grid each, every AUC defined: what cross-validation needs.
+bool crossValidatable(const AucTable& mine, const AucTable& base) {
+  return mine.one_grid && base.one_grid && mine.row == base.row && rectangular(mine.per_set) &&
+         rectangular(base.per_set);
+}
+
+// Leave one data set out (the verdict's basis) and leave one set out (optimistic: siblings share a scene).
+void crossValidatedImprovements(const AucTable& mine, const AucTable& base, const CompareStatisticsOptions& o,
+                                MethodStatistics& s) {
+  if (s.datasets < 2) {
+    s.cross_validated.not_computed = "too few data sets to tell (n = " + std::to_string(s.datasets) +
+                                     "; holding one out needs at least 2)";
+    return;
+  }
+  if (!crossValidatable(mine, base)) {
+    s.cross_validated.not_computed = "not computed (the sets differ in grid or maps, or an AUC is undefined)";
+    return;
+  }
+  s.leave_one_set_out_improvement = meanInterval(heldOutImprovement(mine.per_set, base.per_set), o);
+  s.cross_validated = overDatasets(heldOutImprovement(perDataset(mine), perDataset(base)), o);
+}
+
+// Holm's correction over the family of comparisons with the baseline (one p-value each; 1 where there is no
+// test), then each verdict.
+void holmAndDecide(std::vector<DatasetComparison*> family, const stats::VerdictRules& rules) {
+  std::vector<double> p;
+  for (const DatasetComparison* c : family) p.push_back(c->test ? c->test->p_value : 1.0);
+  const std::vector<double> adjusted = stats::holmAdjusted(p);
+  for (std::size_t i = 0; i < family.size(); ++i) {
+    DatasetComparison& c = *family[i];
+    c.holm_p = adjusted[i];
+    c.family = family.size();
+    if (!c.not_computed.empty()) {
+      c.verdict = {stats::VerdictKind::NotComputed, c.not_computed, ""};
+      continue;
+    }
+    c.verdict = stats::decideVerdict({c.per_dataset.size(), "data sets", "%", c.interval, c.test, c.holm_p, c.family},
+                                     rules);
+  }
+}
+
+// Sets where the method's results hold a map scoring the baseline's best AUC exactly (grids that nest).
+std::size_t setsHoldingBaselineBest(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& files,
+                                    const std::string& method, const std::string& baseline) {
+  std::size_t n = 0;
+  for (const ComparisonRow& row : rows) {
+    const auto m = row.best(method), b = row.best(baseline);
+    if (!m || !b) continue;
+    const auto& maps = files[m->file].maps;
+    n += std::any_of(maps.begin(), maps.end(), [&](const MapResult& r) {
+      return r.area.anchored == b->auc && r.area.observed == b->observed;
+    });
+  }
+  return n;
+}
+
+// One method's statistics against the baseline, up to Holm's correction over the methods.
+MethodStatistics methodStatistics(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& files,
+                                  const std::string& method, const AucTable& baseline_table, std::size_t budget,
+                                  const CompareStatisticsOptions& o) {
+  MethodStatistics s;
+  s.method = method;
+  s.is_baseline = method == o.baseline;
+  PairedSets paired;
+  std::vector<double> bests;
+  for (const ComparisonRow& row : rows) {
+    const auto m = row.best(method), b = row.best(o.baseline);
+    if (m) bests.push_back(m->auc);
+    if (m && b) paired.method.push_back(m->auc), paired.baseline.push_back(b->auc), paired.dataset.push_back(datasetOf(row.dataset));
+  }
+  const std::vector<double>& theirs = paired.baseline;
+  s.mean_best_auc = bests.empty() ? NAN : std::accumulate(bests.begin(), bests.end(), 0.0) / double(bests.size());
+  const AucTable table = aucTable(rows, files, method);
+  if (table.one_grid) {
+    s.leave_one_set_out = crossValidated(table.per_set);
+    s.leave_one_dataset_out = crossValidated(perDataset(table));
+  }
+  // Summed as budgetSummary sums its curves (each term divided first), so that identical grids compare equal.
+  double baseline_best = theirs.empty() ? NAN : 0.0;
+  for (double b : theirs) baseline_best += b / double(theirs.size());
+  s.budget = budgetSummary(table, budget, baseline_best, o.budget_max_maps);
+  if (s.is_baseline) {
+    s.sets = bests.size();
+    s.datasets = std::set<std::string>(paired.dataset.begin(), paired.dataset.end()).size();
+    return s;
+  }
+  pairedTests(paired, o, s);
+  crossValidatedImprovements(table, baseline_table, o, s);
+  s.sets_holding_baseline_best = setsHoldingBaselineBest(rows, files, method, o.baseline);
+  return s;
 }
 
 }  // namespace
@@ -213,77 +308,77 @@ std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>
   const std::size_t budget = baseline_table.one_grid && !baseline_table.per_set.empty()
                                  ? baseline_table.per_set.front().size() : 0;
   std::vector<MethodStatistics> out;
-  for (const std::string& method : methods) {
-    MethodStatistics s;
-    s.method = method;
-    s.is_baseline = method == o.baseline;
-    PairedSets paired;
-    std::vector<double> bests;
-    for (const ComparisonRow& row : rows) {
-      const auto m = row.best(method), b = row.best(o.baseline);
-      if (m) bests.push_back(m->auc);
-      if (m && b) paired.method.push_back(m->auc), paired.baseline.push_back(b->auc), paired.dataset.push_back(datasetOf(row.dataset));
-    }
-    const std::vector<double>& theirs = paired.baseline;
-    s.mean_best_auc = bests.empty() ? NAN : std::accumulate(bests.begin(), bests.end(), 0.0) / double(bests.size());
-    const AucTable table = aucTable(rows, files, method);
-    if (table.one_grid) {
-      s.leave_one_set_out = crossValidated(table.per_set);
-      s.leave_one_dataset_out = crossValidated(perDataset(table));
-    }
-    // Summed as budgetSummary sums its curves (each term divided first), so that identical grids compare equal.
-    double baseline_best = theirs.empty() ? NAN : 0.0;
-    for (double b : theirs) baseline_best += b / double(theirs.size());
-    s.budget = budgetSummary(table, budget, baseline_best, o.budget_max_maps);
-    if (s.is_baseline) {
-      s.sets = bests.size();
-      s.verdict = s.cross_validated_verdict = "baseline";
-    } else {
-      pairedTests(paired, o, s);
-      s.verdict = verdictOf(s.improvement_percent);
-      s.cross_validated_improvement = crossValidatedImprovement(table, baseline_table, o);
-      s.cross_validated_verdict = s.cross_validated_improvement || s.sets < 2
-                                      ? verdictOf(s.cross_validated_improvement)
-                                      : "not computed (the sets differ in grid or maps, or an AUC is undefined)";
-    }
-    out.push_back(std::move(s));
-  }
+  for (const std::string& method : methods)
+    out.push_back(methodStatistics(rows, files, method, baseline_table, budget, o));
+  std::vector<DatasetComparison*> optima, cross_validated;
+  for (MethodStatistics& s : out)
+    if (!s.is_baseline) optima.push_back(&s.optima), cross_validated.push_back(&s.cross_validated);
+  holmAndDecide(optima, o.rules);
+  holmAndDecide(cross_validated, o.rules);
   return out;
 }
 
+namespace {
+
+nlohmann::json crossValidatedJson(const CrossValidated& c) {
+  if (!c.groups) return nullptr;
+  return {{"groups", c.groups}, {"optimum", finiteNumber(c.optimum)}, {"score", finiteNumber(c.score)},
+          {"gap", finiteNumber(c.gap)}};
+}
+
+nlohmann::json intervalJson(const std::optional<stats::BootstrapInterval>& i, const CompareStatisticsOptions& o) {
+  if (!i) return nullptr;
+  return {{"mean", finiteNumber(i->estimate)}, {"lower", finiteNumber(i->lower)}, {"upper", finiteNumber(i->upper)},
+          {"level", o.level}, {"resamples", o.resamples}, {"seed", o.seed}, {"method", "BCa bootstrap"}};
+}
+
+// A comparison over data sets: its sample, interval, exact test with Holm's correction, and the rules applied.
+nlohmann::json datasetComparisonJson(const DatasetComparison& c, const CompareStatisticsOptions& o) {
+  nlohmann::json test = nullptr;
+  if (c.test)
+    test = {{"name", c.test->name}, {"p_value", c.test->p_value}, {"nonzero", c.test->nonzero},
+            {"smallest_possible_p", c.test->smallest_possible_p}, {"holm_p", c.holm_p}, {"family", c.family}};
+  return {{"datasets", c.per_dataset.size()}, {"improvement_percent", intervalJson(c.interval, o)}, {"test", test},
+          {"alpha", o.rules.alpha}, {"smallest_effect_percent", o.rules.smallest_effect},
+          {"verdict", c.verdict.text}, {"basis", c.verdict.basis}};
+}
+
+nlohmann::json budgetJson(const BudgetSummary& b) {
+  return {{"maps", b.maps}, {"budget", b.budget}, {"expected_best_at_budget", finiteNumber(b.expected_best_at_budget)},
+          {"first_above_baseline", b.first_above_baseline ? nlohmann::json(*b.first_above_baseline) : nlohmann::json(nullptr)}};
+}
+
+// Against the baseline: the verdicts first, then the per-set description.
+void addComparisonJson(const MethodStatistics& s, const CompareStatisticsOptions& o, nlohmann::json& j) {
+  j["better"] = s.better, j["worse"] = s.worse, j["ties"] = s.ties;
+  j["sets_holding_baseline_best"] = s.sets_holding_baseline_best;
+  j["verdict"] = s.optima.verdict.text;
+  j["cross_validated_verdict"] = s.cross_validated.verdict.text;
+  j["optima_over_datasets"] = datasetComparisonJson(s.optima, o);
+  j["cross_validated_over_datasets"] = datasetComparisonJson(s.cross_validated, o);
+  j["improvement_percent"] = intervalJson(s.improvement_percent, o);
+  j["improvement_percent_over_datasets"] = intervalJson(s.optima.interval, o);
+  j["cross_validated_improvement_percent"] = intervalJson(s.cross_validated.interval, o);
+  j["leave_one_set_out_improvement_percent"] = intervalJson(s.leave_one_set_out_improvement, o);
+  if (s.wilcoxon) j["wilcoxon"] = {{"statistic", s.wilcoxon->statistic}, {"p_value", s.wilcoxon->p_value},
+                                   {"exact", s.wilcoxon->exact}, {"used", s.wilcoxon->used}};
+  if (s.sign) j["sign_test"] = {{"positive", s.sign->positive}, {"negative", s.sign->negative}, {"p_value", s.sign->p_value}};
+  if (s.effect) j["effect"] = {{"mean_difference", s.effect->mean_difference},
+                               {"median_difference", s.effect->median_difference},
+                               {"rank_biserial", s.effect->rank_biserial}};
+}
+
+}  // namespace
+
 nlohmann::json toJson(const std::vector<MethodStatistics>& statistics, const CompareStatisticsOptions& o) {
   nlohmann::json out = nlohmann::json::array();
-  const auto cv = [](const CrossValidated& c) -> nlohmann::json {
-    if (!c.groups) return nullptr;
-    return {{"groups", c.groups}, {"optimum", finiteNumber(c.optimum)}, {"score", finiteNumber(c.score)}, {"gap", finiteNumber(c.gap)}};
-  };
   for (const MethodStatistics& s : statistics) {
-    nlohmann::json j = {{"method", s.method}, {"baseline", s.is_baseline}, {"sets", s.sets},
-                        {"mean_best_auc", finiteNumber(s.mean_best_auc)}, {"leave_one_set_out", cv(s.leave_one_set_out)},
-                        {"leave_one_dataset_out", cv(s.leave_one_dataset_out)}, {"verdict", s.verdict}};
-    if (s.budget.maps)
-      j["budget"] = {{"maps", s.budget.maps}, {"budget", s.budget.budget},
-                     {"expected_best_at_budget", finiteNumber(s.budget.expected_best_at_budget)},
-                     {"first_above_baseline", s.budget.first_above_baseline ? nlohmann::json(*s.budget.first_above_baseline)
-                                                                            : nlohmann::json(nullptr)}};
-    if (!s.is_baseline) {
-      j["better"] = s.better, j["worse"] = s.worse, j["ties"] = s.ties;
-      j["cross_validated_verdict"] = s.cross_validated_verdict;
-      const auto interval = [&](const std::optional<stats::BootstrapInterval>& i) -> nlohmann::json {
-        if (!i) return nullptr;
-        return {{"mean", finiteNumber(i->estimate)}, {"lower", finiteNumber(i->lower)}, {"upper", finiteNumber(i->upper)},
-                {"level", o.level}, {"resamples", o.resamples}, {"seed", o.seed}, {"method", "BCa bootstrap"}};
-      };
-      j["improvement_percent"] = interval(s.improvement_percent);
-      j["improvement_percent_over_datasets"] = interval(s.improvement_over_datasets);
-      j["cross_validated_improvement_percent"] = interval(s.cross_validated_improvement);
-      if (s.wilcoxon) j["wilcoxon"] = {{"statistic", s.wilcoxon->statistic}, {"p_value", s.wilcoxon->p_value},
-                                       {"exact", s.wilcoxon->exact}, {"used", s.wilcoxon->used}};
-      if (s.sign) j["sign_test"] = {{"positive", s.sign->positive}, {"negative", s.sign->negative}, {"p_value", s.sign->p_value}};
-      if (s.effect) j["effect"] = {{"mean_difference", s.effect->mean_difference},
-                                   {"median_difference", s.effect->median_difference},
-                                   {"rank_biserial", s.effect->rank_biserial}};
-    }
+    nlohmann::json j = {{"method", s.method}, {"baseline", s.is_baseline}, {"sets", s.sets}, {"datasets", s.datasets},
+                        {"mean_best_auc", finiteNumber(s.mean_best_auc)},
+                        {"leave_one_set_out", crossValidatedJson(s.leave_one_set_out)},
+                        {"leave_one_dataset_out", crossValidatedJson(s.leave_one_dataset_out)}, {"verdict", "baseline"}};
+    if (s.budget.maps) j["budget"] = budgetJson(s.budget);
+    if (!s.is_baseline) addComparisonJson(s, o, j);
     out.push_back(std::move(j));
   }
   return out;

@@ -25,6 +25,8 @@ struct CompareTask {
   bool force = false, allow_mixed = false;
   std::string baseline = "octomap";  ///< every other method's statistics are against it (docs/statistics.md)
   std::string csv, markdown, latex;  ///< the table in these formats too; empty: none
+  double alpha = 0.05;               ///< of the verdicts, after Holm's correction (docs/statistics.md, "Verdicts")
+  double smallest_effect = 0.1;      ///< percent of the baseline's AUC: an interval within +-this is negligible
   friend bool operator==(const CompareTask&, const CompareTask&) = default;
 };
 

@@ -1,12 +1,14 @@
-// Whether a method's gain over a baseline is real (docs/statistics.md): over the compared point cloud sets, the
-// paired improvement with a bootstrap interval, Wilcoxon's signed-rank and the sign test, an effect size; per
-// method, its cross-validated score (parameters chosen on the other sets) and its budget curve (the expected best
-// of n maps of its grid), so a bigger grid is not mistaken for a better method.
+// Whether a method's gain over a baseline is real (docs/statistics.md): the verdict over data sets (the unit of the
+// tests, since point cloud sets of one data set share a scene) by the rules of "Verdicts", of the per-set optima
+// and cross-validated by data set; the per-set interval, tests and effect size as description; per method, its
+// cross-validated scores and its budget curve (the expected best of n maps of its grid), so a bigger grid is not
+// mistaken for a better method.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -14,6 +16,7 @@
 #include "occsweep/stats/bootstrap.hpp"
 #include "occsweep/stats/effect_size.hpp"
 #include "occsweep/stats/sign_test.hpp"
+#include "occsweep/stats/verdict.hpp"
 #include "occsweep/stats/wilcoxon.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
@@ -25,7 +28,15 @@ struct CompareStatisticsOptions {
   std::size_t resamples = 10000;     ///< bootstrap resamples (BCa)
   std::uint64_t seed = 1;            ///< bootstrap seed: the same files give the same interval
   std::size_t budget_max_maps = 20000;  ///< budget curves cost O(maps^2) per set: none for larger grids
+  stats::VerdictRules rules;         ///< alpha (after Holm) and the smallest effect of interest, in percent
 };
+
+/// The default options against `baseline`.
+[[nodiscard]] inline CompareStatisticsOptions statisticsAgainst(std::string baseline) {
+  CompareStatisticsOptions options;
+  options.baseline = std::move(baseline);
+  return options;
+}
 
 /// How a method's optimum holds up when its parameters are chosen elsewhere (stats::leaveOneGroupOut): the mean
 /// per-set optimum, the mean score of the parameters chosen on the other groups, and their gap (overfitting).
@@ -43,29 +54,46 @@ struct BudgetSummary {
   std::optional<std::size_t> first_above_baseline;  ///< none: never, even with the whole grid
 };
 
+/// One comparison with the baseline whose unit is the data set (docs/statistics.md, "Verdicts"): each data set's
+/// improvement in percent of the baseline's AUC (the mean over its point cloud sets, which share a scene), their
+/// bootstrap interval, the exact paired test, its p-value after Holm's correction over the methods compared with
+/// the baseline, and the verdict these give.
+struct DatasetComparison {
+  std::vector<double> per_dataset;  ///< improvement %, one per data set
+  std::optional<stats::BootstrapInterval> interval;  ///< none below 2 data sets
+  std::optional<stats::ExactPairedTest> test;        ///< none when every data set's difference is 0
+  double holm_p = 1.0;
+  std::size_t family = 0;           ///< the comparisons Holm's correction ran over
+  std::string not_computed;         ///< why there is no evidence (then the verdict says so); empty when there is
+  stats::Verdict verdict;
+};
+
 /// One method over the sets where it and the baseline both have an AUC.
 struct MethodStatistics {
   std::string method;
   bool is_baseline = false;
   std::size_t sets = 0;              ///< sets with an AUC of this method (and, but for the baseline, of the baseline)
+  std::size_t datasets = 0;          ///< the data sets those sets belong to
   double mean_best_auc = 0.0;        ///< mean per-set optimum (the paper's number)
   CrossValidated leave_one_set_out, leave_one_dataset_out;
   BudgetSummary budget;
   // Against the baseline (not for the baseline itself); differences are method - baseline on each set.
   std::size_t better = 0, worse = 0, ties = 0;
+  /// Sets where the method's own results hold a map that scores the baseline's best AUC exactly (anchored and
+  /// observed AUC equal to the last bit): there the method's optimum cannot be below the baseline's, by construction
+  /// of its grid (knn-opt holds OctoMap's maps as p_u = p_l); only `better` sets are strict gains.
+  std::size_t sets_holding_baseline_best = 0;
+  // Description over point cloud sets (not independent: sets of one data set share a scene).
   std::optional<stats::BootstrapInterval> improvement_percent;  ///< mean of (m - b) / b * 100; none below 2 sets
-  /// The same over data sets: each data set's mean improvement over its sets; none below 2 data sets.
-  std::optional<stats::BootstrapInterval> improvement_over_datasets;
-  /// The cross-validated improvement: on each set, the method's leave-one-set-out score against the baseline's,
-  /// in percent of the baseline's; none when either has no leave-one-set-out score on the same sets.
-  std::optional<stats::BootstrapInterval> cross_validated_improvement;
   std::optional<stats::SignedRankResult> wilcoxon;              ///< of the AUC differences; none when all are zero
   std::optional<stats::SignTestResult> sign;
   std::optional<stats::PairedEffectSize> effect;
-  /// "gain", "loss", or why neither is claimed: "no clear difference (the interval contains 0)", "too few sets",
-  /// "not computed (...)"; of the per-set optima (`verdict`) and of the cross-validated scores
-  /// (`cross_validated_verdict`).
-  std::string verdict, cross_validated_verdict;
+  /// The method's leave-one-set-out score against the baseline's, per set, in percent: optimistic, as the
+  /// parameters are chosen partly on sibling sets of the held-out set's data set; none when not computable.
+  std::optional<stats::BootstrapInterval> leave_one_set_out_improvement;
+  /// The verdicts: over the per-set optima, and cross-validated (each data set held out in turn, parameters
+  /// chosen on the other data sets).
+  DatasetComparison optima, cross_validated;
 };
 
 /// The mean over sets of a method's budget curve: entry n-1 is the expected best AUC of n maps of its grid drawn at

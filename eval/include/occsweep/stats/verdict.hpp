@@ -1,0 +1,64 @@
+// The verdict on a paired comparison of two methods: "gain", "loss", "negligible", "tie", "no clear difference" or
+// "too few to tell", by the rules of docs/statistics.md ("Verdicts"): an interval that excludes 0 is not enough; the
+// exact test must reject after Holm's correction, and the sample must be able to reject at all.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "occsweep/stats/bootstrap.hpp"
+
+namespace occsweep::stats {
+
+struct VerdictRules {
+  double alpha = 0.05;            ///< family-wise, over the methods compared with one baseline (Holm)
+  double smallest_effect = 0.1;   ///< in the interval's unit (percent of the baseline's AUC): within +-this is negligible
+};
+
+/// The exact paired test a verdict rests on: Wilcoxon's signed-rank test where its exact null distribution applies
+/// (untied non-zero |differences|, at most 1,000 of them), otherwise the sign test. Zeros are dropped by both.
+struct ExactPairedTest {
+  std::string name;               ///< "Wilcoxon signed-rank, exact" or "sign test, exact"
+  double p_value = 1.0;           ///< two-sided
+  std::size_t nonzero = 0;        ///< the differences the test uses
+  double smallest_possible_p = 1.0;  ///< the least p-value `nonzero` differences can give (smallestPossibleP)
+};
+
+/// Throws std::invalid_argument on a non-finite difference or when every difference is zero (no test is possible).
+[[nodiscard]] ExactPairedTest exactPairedTest(const std::vector<double>& differences);
+
+/// The least two-sided p-value of the exact sign or signed-rank test on n non-zero differences: all n of one sign,
+/// 2 / 2^n (1 for n <= 1). Below alpha only from n = 6 on at alpha = 0.05 (0.03125).
+[[nodiscard]] double smallestPossibleP(std::size_t nonzero);
+
+/// NotComputed is the caller's, where the evidence itself could not be had; decideVerdict never returns it.
+enum class VerdictKind { Gain, Loss, Negligible, Tie, NoClearDifference, TooFew, NotComputed };
+
+/// What a comparison shows, over `units` paired units (data sets): the interval of the mean difference, the exact
+/// test (none when every difference is zero) and its p-value after Holm's correction over a family of `family`
+/// comparisons.
+struct VerdictEvidence {
+  std::size_t units = 0;
+  std::string unit_name = "data sets";
+  std::string value_unit = "%";  ///< of the differences and the interval (percent of the baseline's AUC)
+  std::optional<BootstrapInterval> interval;
+  std::optional<ExactPairedTest> test;
+  double holm_p = 1.0;
+  std::size_t family = 1;
+};
+
+struct Verdict {
+  VerdictKind kind = VerdictKind::TooFew;
+  std::string text;   ///< what is printed: "gain", "loss", "negligible (...)", "tie (...)", "no clear difference", "too few ..."
+  std::string basis;  ///< its sample, test and correction, in one sentence
+};
+
+/// The rules, in order: fewer than 2 units: too few to tell; every difference zero: tie; fewer non-zero differences
+/// than can give a p-value at most alpha: too few to tell; the interval within +-smallest_effect: negligible; the
+/// interval excluding 0 and the Holm-adjusted p at most alpha: gain or loss (by the interval's side); otherwise no
+/// clear difference.
+[[nodiscard]] Verdict decideVerdict(const VerdictEvidence& evidence, const VerdictRules& rules = {});
+
+}  // namespace occsweep::stats

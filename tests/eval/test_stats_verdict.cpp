@@ -1,0 +1,182 @@
+// The verdict rules (docs/statistics.md, "Verdicts"): Holm's correction against hand-computed values and against the
+// step-down procedure it stands for; the smallest p-value a sample can give; the exact test chosen; each rule.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "occsweep/core/splitmix64.hpp"
+#include "occsweep/stats/bootstrap.hpp"
+#include "occsweep/stats/multiple_testing.hpp"
+#include "occsweep/stats/sign_test.hpp"
+#include "occsweep/stats/verdict.hpp"
+#include "occsweep/stats/wilcoxon.hpp"
+
+using namespace occsweep::stats;
+using occsweep::SplitMix64;
+
+namespace {
+
+// Holm's step-down procedure as Holm wrote it: with the p-values sorted, reject H_(1), H_(2), ... while
+// p_(i) <= alpha / (m - i + 1), and stop at the first that is not. The oracle for the adjusted p-values.
+std::vector<bool> holmRejects(const std::vector<double>& p, double alpha) {
+  std::vector<std::size_t> order(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p[a] < p[b]; });
+  std::vector<bool> reject(p.size(), false);
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (p[order[i]] > alpha / double(p.size() - i)) break;
+    reject[order[i]] = true;
+  }
+  return reject;
+}
+
+VerdictEvidence evidence(std::size_t units, BootstrapInterval interval, std::vector<double> differences,
+                         double holm_p, std::size_t family = 1) {
+  VerdictEvidence e;
+  e.units = units;
+  e.interval = interval;
+  if (std::any_of(differences.begin(), differences.end(), [](double d) { return d != 0; }))
+    e.test = exactPairedTest(differences);
+  e.holm_p = holm_p;
+  e.family = family;
+  return e;
+}
+
+}  // namespace
+
+TEST_CASE("Holm over three methods: hand-computed adjusted p-values", "[stats]") {
+  // Sorted 0.01, 0.03, 0.04: 3 x 0.01 = 0.03; max(0.03, 2 x 0.03) = 0.06; max(0.06, 1 x 0.04) = 0.06.
+  const std::vector<double> adjusted = holmAdjusted({0.01, 0.04, 0.03});
+  CHECK(adjusted[0] == Approx(0.03).epsilon(1e-15));
+  CHECK(adjusted[1] == Approx(0.06).epsilon(1e-15));
+  CHECK(adjusted[2] == Approx(0.06).epsilon(1e-15));
+  // Capped at 1, and equal p-values stay equal.
+  const std::vector<double> capped = holmAdjusted({0.4, 0.4, 0.9});
+  CHECK(capped[0] == 1.0);
+  CHECK(capped[1] == 1.0);
+  CHECK(capped[2] == 1.0);
+  CHECK(holmAdjusted({0.02, 0.02})[0] == Approx(0.04).epsilon(1e-15));
+  CHECK(holmAdjusted({0.02, 0.02})[1] == Approx(0.04).epsilon(1e-15));
+  CHECK(holmAdjusted({}).empty());
+  CHECK_THROWS_WITH(holmAdjusted({0.1, NAN}), Catch::Contains("p-value 1"));
+  CHECK_THROWS_WITH(holmAdjusted({1.5}), Catch::Contains("p-value 0"));
+}
+
+TEST_CASE("Holm: an adjusted p-value is at most alpha exactly when the step-down procedure rejects", "[stats]") {
+  SplitMix64 rng(28);
+  for (int seed = 0; seed < 500; ++seed) {
+    const std::size_t m = 1 + rng.below(8);
+    std::vector<double> p(m);
+    for (double& v : p) v = double(rng.below(1001)) / 1000.0 * (rng.below(2) ? 0.1 : 1.0);  // ties and small values
+    const double alpha = 0.01 + 0.09 * rng.uniform();
+    const std::vector<double> adjusted = holmAdjusted(p);
+    const std::vector<bool> reject = holmRejects(p, alpha);
+    for (std::size_t i = 0; i < m; ++i) {
+      INFO("seed " << seed << " p " << p[i] << " alpha " << alpha);
+      CHECK((adjusted[i] <= alpha) == reject[i]);
+      CHECK(adjusted[i] >= p[i]);
+    }
+  }
+}
+
+TEST_CASE("The smallest p-value n non-zero differences can give is that of n of one sign", "[stats]") {
+  CHECK(smallestPossibleP(0) == 1.0);
+  CHECK(smallestPossibleP(1) == 1.0);
+  CHECK(smallestPossibleP(2) == 0.5);
+  CHECK(smallestPossibleP(4) == 0.125);
+  CHECK(smallestPossibleP(5) == 0.0625);
+  CHECK(smallestPossibleP(6) == 0.03125);
+  for (std::size_t n = 1; n <= 20; ++n) {
+    std::vector<double> all_positive;
+    for (std::size_t i = 0; i < n; ++i) all_positive.push_back(double(i + 1));
+    INFO("n = " << n);
+    CHECK(signTest(all_positive).p_value == Approx(smallestPossibleP(n)).epsilon(1e-12));
+    CHECK(wilcoxonSignedRank(all_positive, {SignedRankMode::Exact, false}).p_value ==
+          Approx(smallestPossibleP(n)).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("The exact test: Wilcoxon's where its exact distribution applies, else the sign test", "[stats]") {
+  const std::vector<double> untied{0.3, -0.1, 0.5, 0.7, 0.2, 0.0, 0.9};
+  const ExactPairedTest w = exactPairedTest(untied);
+  CHECK(w.name == "Wilcoxon signed-rank, exact");
+  CHECK(w.nonzero == 6);
+  CHECK(w.p_value == wilcoxonSignedRank(untied, {SignedRankMode::Exact, false}).p_value);
+  const std::vector<double> tied{0.3, -0.3, 0.5, 0.5, 0.2};
+  const ExactPairedTest s = exactPairedTest(tied);
+  CHECK(s.name == "sign test, exact");
+  CHECK(s.p_value == signTest(tied).p_value);
+  CHECK_THROWS_WITH(exactPairedTest({0.0, 0.0}), Catch::Contains("every difference is zero"));
+}
+
+TEST_CASE("Verdict rules, each on its own", "[stats]") {
+  const BootstrapInterval positive{1.0, 0.5, 1.5};
+  SECTION("two data sets, both better: too few to tell, whatever the interval") {
+    const Verdict v = decideVerdict(evidence(2, positive, {1.0, 1.2}, 0.5));
+    CHECK(v.kind == VerdictKind::TooFew);
+    CHECK(v.text == "too few data sets to tell (n = 2; the smallest p possible is 0.5)");
+  }
+  SECTION("four data sets, all better: p = 0.125 is the smallest four can give") {
+    const Verdict v = decideVerdict(evidence(4, positive, {1.0, 1.2, 0.8, 0.9}, 0.125));
+    CHECK(v.kind == VerdictKind::TooFew);
+    CHECK(v.text.find("0.125") != std::string::npos);
+  }
+  SECTION("eight data sets, all better: gain, with its sample, test and correction named") {
+    const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7, 1.3, 0.6};
+    const Verdict v = decideVerdict(evidence(8, positive, d, exactPairedTest(d).p_value));
+    CHECK(v.kind == VerdictKind::Gain);
+    CHECK(v.text == "gain");
+    CHECK(v.basis.find("n = 8 data sets") != std::string::npos);
+    CHECK(v.basis.find("Wilcoxon signed-rank, exact p = 0.00781") != std::string::npos);
+    CHECK(v.basis.find("Holm-adjusted over 1 comparison") != std::string::npos);
+  }
+  SECTION("after Holm over three methods: a gain at an adjusted p of 0.023, not at 0.06") {
+    const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7, 1.3, 0.6};
+    CHECK(decideVerdict(evidence(8, positive, d, 3 * 0.0078125, 3)).kind == VerdictKind::Gain);
+    CHECK(decideVerdict(evidence(8, positive, d, 0.06, 3)).kind == VerdictKind::NoClearDifference);
+  }
+  SECTION("six data sets all worse, interval below 0: loss") {
+    const std::vector<double> d{-1.0, -1.2, -0.8, -0.9, -1.1, -0.7};
+    CHECK(decideVerdict(evidence(6, {-1.0, -1.3, -0.7}, d, 0.03125)).kind == VerdictKind::Loss);
+  }
+  SECTION("-0.004 % with a tight interval: negligible, not loss, whatever the p-value") {
+    std::vector<double> d;
+    for (int i = 0; i < 20; ++i) d.push_back(-0.004 - 0.0001 * i);
+    const Verdict v = decideVerdict(evidence(20, {-0.005, -0.006, -0.004}, d, 1e-6));
+    CHECK(v.kind == VerdictKind::Negligible);
+    CHECK(v.text == "negligible (the interval lies within +-0.1 %)");
+  }
+  SECTION("an interval that reaches past the smallest effect is not negligible") {
+    const std::vector<double> d{-0.05, -0.2, -0.1, -0.15, -0.12, -0.08};
+    CHECK(decideVerdict(evidence(6, {-0.12, -0.18, -0.06}, d, 0.03125)).kind == VerdictKind::Loss);
+  }
+  SECTION("an interval containing 0: no clear difference") {
+    const std::vector<double> d{1.0, -1.2, 0.8, -0.9, 1.1, -0.7};
+    CHECK(decideVerdict(evidence(6, {0.0, -0.8, 0.8}, d, 0.8)).kind == VerdictKind::NoClearDifference);
+  }
+  SECTION("an interval excluding 0 with a test that does not reject: no clear difference") {
+    const std::vector<double> d{1.0, -0.2, 0.8, 0.9, -0.1, 0.7};
+    CHECK(decideVerdict(evidence(6, {0.5, 0.1, 0.9}, d, 0.16)).kind == VerdictKind::NoClearDifference);
+  }
+  SECTION("every data set equal: a tie") {
+    const Verdict v = decideVerdict(evidence(7, {0, 0, 0}, {0, 0, 0, 0, 0, 0, 0}, 1.0));
+    CHECK(v.kind == VerdictKind::Tie);
+    CHECK(v.text == "tie (equal on all 7 data sets)");
+  }
+  SECTION("six data sets of which three differ: too few, with the smallest p of three") {
+    const Verdict v = decideVerdict(evidence(6, positive, {1.0, 0, 1.2, 0, 0.8, 0}, 0.25));
+    CHECK(v.kind == VerdictKind::TooFew);
+    CHECK(v.text.find("0.25") != std::string::npos);
+    CHECK(v.basis.find("(3 not tied)") != std::string::npos);
+  }
+  SECTION("one data set: too few") {
+    CHECK(decideVerdict(evidence(1, positive, {1.0}, 1.0)).kind == VerdictKind::TooFew);
+  }
+  SECTION("alpha and the smallest effect are the caller's") {
+    const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7};
+    CHECK(decideVerdict(evidence(6, positive, d, 0.03125), {0.01, 0.1}).kind == VerdictKind::TooFew);
+    CHECK(decideVerdict(evidence(6, positive, d, 0.03125), {0.05, 2.0}).kind == VerdictKind::Negligible);
+  }
+}
