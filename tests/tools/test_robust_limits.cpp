@@ -445,3 +445,42 @@ TEST_CASE("bad_alloc never escapes as an abort: a raised limit meeting a memory 
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("out of memory while running `occsweep grid`") != std::string::npos);
 }
+
+TEST_CASE("worker threads are bounded on every command that takes them: a refusal naming the flag, never a crash") {
+  // Old binary: --threads 1073741824 or 2147483647 ended map --method knn and sweep in SIGSEGV (leaving the partial
+  // results), and --threads 1000000 cost 550 MB on the built-in scene before any work.
+  const fs::path dir = occsweep::test::processScratch("limits_threads");
+  const std::string data = " --dataset " + scene().string();
+  const std::string grid = (fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "octomap-opt.json").string();
+  for (const char* threads : {"1025", "1000000", "1073741824", "2147483647", "99999999999"}) {
+    const std::string t = threads;
+    const struct {
+      std::string args, output;
+    } cases[] = {
+        {"map --method knn" + data + " --threads " + t + " --out " + (dir / "m.ot").string(), "m.ot"},
+        {"sweep" + data + " --grid " + grid + " --threads " + t + " --out " + (dir / "r.json").string(), "r.json"},
+        {"reproduce --scale ci --no-figures --threads " + t + " --out " + (dir / "repro").string(), "repro"},
+        {"dataset generate --name building-plain-I --threads " + t + " --out " + (dir / "gen").string(), "gen"},
+        {"cluster plan --experiment sweep --datasets " + scene().string() + " --grids " + grid + " --threads " + t +
+             " --out " + (dir / "plan").string(), "plan"},
+    };
+    for (const auto& c : cases) {
+      INFO(c.args);
+      const Run r = runOccsweep(c.args);
+      checkRefused(r, {"--threads must be an integer from 0 to 1024, got " + t});
+      CHECK_FALSE(fs::exists(dir / c.output));
+    }
+    INFO("run-local --jobs " << t);
+    checkRefused(runOccsweep("cluster run-local " + (dir / "no-plan").string() + " --jobs " + t),
+                 {"--jobs must be an integer from 1 to 1024, got " + t});
+  }
+  CHECK(leftovers(dir).empty());
+  // The bound itself runs, in bounded memory, and gives the map one thread gives (docs/robustness.md).
+  const Run at_bound = runOccsweep("map --method knn" + data + " --threads 1024 --out " + (dir / "at.ot").string());
+  INFO(at_bound.output);
+  CHECK(at_bound.exit_code == 0);
+  checkPeak(at_bound);
+  const Run one = runOccsweep("map --method knn" + data + " --threads 1 --out " + (dir / "one.ot").string());
+  CHECK(one.exit_code == 0);
+  CHECK(occsweep::test::bytesOf(dir / "at.ot") == occsweep::test::bytesOf(dir / "one.ot"));
+}

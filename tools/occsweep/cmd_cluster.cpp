@@ -93,7 +93,8 @@ void addPlanRunOptions(CLI::App& plan, PlanOptions& o) {
   plan.add_option("--grids", o.grids, "NAME[:SHARDS[:grouped]], grouped: data set i sweeps Eq. 16 group i of the data sets "
                                       "(default octomap-opt:1,knn-opt:4, and reduction:4:grouped for reproduce)")->delimiter(',');
   plan.add_option("--group-seed", c.group_seed, "Eq. 16 permutation seed of grouped grids")->capture_default_str();
-  plan.add_option("--threads", c.sweep_threads, "--threads of each sweep (0: --cpus-per-task)")->capture_default_str();
+  plan.add_option("--threads", c.sweep_threads, "--threads of each sweep (0: --cpus-per-task)")->capture_default_str()
+      ->check(threadCount());
   plan.add_option("--sweep-args", o.sweep_args, "More `occsweep sweep` settings for every sweep, e.g. --s-c,4")->delimiter(',');
   plan.add_option("--occsweep", c.occsweep, "occsweep binary the tasks run (default: this one)");
   plan.add_option("--cpus-per-task", c.slurm.cpus_per_task, "sbatch --cpus-per-task")->capture_default_str()->check(integerAtLeast<int>(1));
@@ -203,7 +204,7 @@ Subcommand addRunLocal(CLI::App& app) {
   auto jobs = std::make_shared<int>(1);
   CLI::App* local = app.add_subcommand("run-local", "Run the plan's unfinished shards on this machine");
   local->add_option("dir", *dir, "Plan folder")->required();
-  local->add_option("-j,--jobs", *jobs, "Tasks at a time")->capture_default_str()->check(integerAtLeast<int>(1));
+  local->add_option("-j,--jobs", *jobs, "Tasks at a time")->capture_default_str()->check(threadCount(1));
   return {local, [dir, jobs] {
             const std::size_t failed = runLocal(readPlan(*dir), *dir, *jobs);
             if (failed) std::cerr << failed << " tasks failed: fix them and run again (done tasks are kept)\n";

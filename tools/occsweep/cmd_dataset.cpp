@@ -113,7 +113,7 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
       ->capture_default_str()->check(numberAtLeast(0));
   addRealismOptions(*gen, *o);
   gen->add_flag("--no-preview", o->no_preview, "Do not write OUT/NAME/preview/*.png");
-  gen->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
+  gen->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(threadCount());
   const auto middlebury = addDatasetMiddlebury(app);  // `dataset middlebury`: cmd_dataset_middlebury.cpp
   return [o, gen, middlebury]() -> int {
     if (middlebury.first->parsed()) return middlebury.second();

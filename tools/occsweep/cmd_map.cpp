@@ -108,7 +108,7 @@ void addMapOptions(CLI::App& app, MapOptions& o) {
                                      "from a scan origin reaches within s_c first; docs/results-format.md)")
       ->check(CLI::IsMember(kTruthModeNames.list()))->capture_default_str();
   app.add_option("--threads", o.threads, "Worker threads of the k-NN build (0: all cores; the map is the same)")
-      ->capture_default_str()->check(integerAtLeast<int>(0));
+      ->capture_default_str()->check(threadCount());
   addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points});
 }
 

@@ -71,7 +71,7 @@ const RegisterCommand kReproduce{"reproduce",
       ->check(integerAtLeast<long>(0));
   app.add_option("--runtime-repeats", o->runtime_repeats, "Times each Fig. 7 build is timed, fastest kept (default per scale)")
       ->check(integerAtLeast<int>(1));
-  app.add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
+  app.add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(threadCount());
   app.add_option("--python", o->python, "Python 3 with matplotlib for the figures (default: search)");
   app.add_flag("--no-figures", o->no_figures, "JSON and report.md only");
   app.add_flag("--quiet", o->quiet, "No progress on stderr");

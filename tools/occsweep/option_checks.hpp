@@ -46,6 +46,14 @@ CLI::Validator integerAtLeast(T lo) {
   return integerIn<T>(lo, std::numeric_limits<T>::max());
 }
 
+/// The most worker threads (or tasks at a time) a command takes (docs/robustness.md, "Limits and non-regular
+/// files"): far above the cores of any machine occsweep runs on, and a bound on what threads cost (a million cost
+/// 550 MB before any work; 2^30 crashed the thread pool).
+inline constexpr int kMaxThreads = 1024;
+
+/// --threads (0: all cores) and --jobs (at least 1): a whole number from `lo` to kMaxThreads.
+inline CLI::Validator threadCount(int lo = 0) { return integerIn<int>(lo, kMaxThreads); }
+
 /// A finite number in [lo, hi] (closed), or above lo (open) when `lo_open`; hi may be infinity.
 inline CLI::Validator numberRule(double lo, double hi, bool lo_open) {
   std::string rule = "must be a number ";

@@ -23,7 +23,7 @@ void addSweepOptions(CLI::App& app, SweepOptions& o) {
   app.add_option("--s-c", o.config.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
   app.add_option("--variant", o.variant, "k-NN update variant")->check(CLI::IsMember(kUpdateVariantNames.list()))->capture_default_str();
   app.add_option("--stats", o.stats, "k-NN mu, sigma source")->check(CLI::IsMember(kStatsModeNames.list()))->capture_default_str();
-  app.add_option("--threads", o.config.threads, "Worker threads (0: all cores)")->capture_default_str()->check(integerAtLeast<int>(0));
+  app.add_option("--threads", o.config.threads, "Worker threads (0: all cores)")->capture_default_str()->check(threadCount());
   app.add_option("--engine", o.config.engine, "replay: record events once, replay every combination; direct: build every map (the reference)")
       ->check(CLI::IsMember(sweepEngineNames()))->capture_default_str();
   app.add_option("--truth", o.truth, "full: every truth voxel counts; observable: only those a ray from a scan origin "
