@@ -55,21 +55,23 @@ json truthJson(const ResultsFile& om, const ResultsFile& knn) {
           {"true_voxels", trueVoxels(om)}};
 }
 
-// compareStatistics' verdict for k-NN against OctoMap over the sets of one configuration, per truth.
+// compareStatistics' verdict for k-NN against OctoMap over the sets of one configuration, per truth: over data sets
+// (docs/statistics.md, "Verdicts"), with the per-set interval as description.
 json statisticsJson(const std::vector<ResultsFile>& full, const std::vector<ResultsFile>& observable) {
   json out = json::object();
   for (const auto& [truth, files] : {std::pair{"full", &full}, {"observable", &observable}}) {
     const CompareStatisticsOptions options;  // baseline octomap, 95 % BCa, 10,000 resamples, seed 1
     const auto statistics = compareStatistics(compareBest(*files), *files, options);
-    for (const MethodStatistics& s : statistics)
-      if (s.method == "knn")
-        out[truth] = {{"sets", s.sets}, {"better", s.better}, {"worse", s.worse}, {"ties", s.ties},
-                      {"verdict", s.verdict}, {"cross_validated_verdict", s.cross_validated_verdict},
-                      {"improvement_percent", s.improvement_percent ? json{{"mean", s.improvement_percent->estimate},
-                                                                           {"lower", s.improvement_percent->lower},
-                                                                           {"upper", s.improvement_percent->upper}}
-                                                                     : json(nullptr)},
-                      {"data_sets_interval", s.improvement_over_datasets ? "computed" : "too few data sets"}};
+    for (const MethodStatistics& s : statistics) {
+      if (s.method != "knn") continue;
+      const auto& per_set = s.improvement_percent;
+      out[truth] = {{"sets", s.sets}, {"datasets", s.datasets}, {"better", s.better}, {"worse", s.worse},
+                    {"ties", s.ties}, {"verdict", s.optima.verdict.text}, {"basis", s.optima.verdict.basis},
+                    {"cross_validated_verdict", s.cross_validated.verdict.text},
+                    {"improvement_percent_over_sets",
+                     per_set ? json{{"mean", per_set->estimate}, {"lower", per_set->lower}, {"upper", per_set->upper}}
+                             : json(nullptr)}};
+    }
   }
   return out;
 }

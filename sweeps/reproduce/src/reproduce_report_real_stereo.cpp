@@ -58,18 +58,17 @@ void realStereoSection(std::ostringstream& o, const json& r) {
       const json& s = configuration.at("statistics").at(truths[t]);
       verdicts.push_back("- " + resolution + " m, " + truths[t] + " truth: k-NN better on " +
                          std::to_string(s.at("better").get<std::size_t>()) + " of " +
-                         std::to_string(s.at("sets").get<std::size_t>()) + " sets; verdict (per-set optima) **" +
-                         s.at("verdict").get<std::string>() + "**, cross-validated **" +
-                         s.at("cross_validated_verdict").get<std::string>() + "**; over data sets: " +
-                         s.at("data_sets_interval").get<std::string>() + ".");
+                         std::to_string(s.at("sets").get<std::size_t>()) + " sets; verdict on the optima **" +
+                         s.at("verdict").get<std::string>() + "** (" + s.at("basis").get<std::string>() +
+                         "); cross-validated **" + s.at("cross_validated_verdict").get<std::string>() + "**.");
     }
   }
   o << "\n| resolution m | truth | mean k-NN improvement % | mean p_u = p_l improvement % |\n|---|---|---|---|\n";
   for (const auto& line : means) o << line << '\n';
   o << "\nIs the gain real? compareStatistics over each configuration's sets (docs/statistics.md):\n\n";
   for (const auto& line : verdicts) o << line << '\n';
-  o << "\nThe sets are three SGBM settings of one scene, one data set: they are not independent samples of scenes, "
-    << "so no interval over data sets can be formed and a per-set verdict speaks for this pair only.\n\n";
+  o << "\nThe sets are three SGBM settings of one scene, one data set: the verdicts' unit is the data set, so one "
+    << "pair cannot tell whether the gain holds beyond it, however large it is on its sets.\n\n";
 }
 
 }  // namespace occsweep::reproduce
