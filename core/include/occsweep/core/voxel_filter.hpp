@@ -6,8 +6,8 @@
 // docs/datasets.md, "Voxel filter", gives the semantics in prose, and tests/core/test_point_filters_pcl.cpp checks
 // them against PCL itself.
 //
-// Where we differ from PCL, and why (all three only move a point by float rounding, never by a voxel, except at
-// a voxel face):
+// Where we differ from PCL, and why (the first two only by float rounding, which moves a point into another voxel
+// only within float ulps of a voxel face; the third only for clouds PCL refuses):
 // - The voxel index. PCL: floor(float(x) * inverse_leaf) with inverse_leaf = 1.0f / float(leaf), all in float
 //   (:341-343). Ours: floor(x / leaf) in double. They agree except for points within a few float ulps of a voxel
 //   face, where PCL's two float roundings may put a point into the neighbouring voxel. Ours is the exact answer for
@@ -17,7 +17,7 @@
 //   float: the same value up to float rounding (the test bounds it), and independent of sort stability.
 // - The size check. PCL returns the input unchanged, with a warning, when the cloud's bounding box spans more than
 //   INT32_MAX voxels (:249-258); ours keys voxels with 64-bit integers and filters any cloud.
-// Order is the same: PCL's linear index x + dx (y + dy z) (:319-324) sorts voxels by z, then y, then x.
+// Order is the same: PCL's linear index x + dx (y + dy z) (:341-346) sorts voxels by z, then y, then x.
 #pragma once
 
 #include <algorithm>
