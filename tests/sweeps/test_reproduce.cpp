@@ -284,3 +284,90 @@ TEST_CASE("reproduce finds its figure script beside its binary (share/occsweep),
   CHECK_THAT(r.output, Catch::Contains((dir / "prefix" / "share" / "occsweep").string()));
   CHECK(!fs::exists(dir / "out"));
 }
+
+TEST_CASE("reproduce --steps real-stereo: the Aloe pair unfiltered, both grids and truths, the p_u = p_l ablation") {
+  // Debian's opencv-doc ships the pair (tools/setup.sh installs it); test_stereo_middlebury fails naming the package
+  // when it is missing, so here a missing pair must give the report's "not run" line instead.
+  const bool have_pair = std::filesystem::exists("/usr/share/doc/opencv-doc/examples/data/aloeGT.png");
+  const auto dir = test::scratch("reproduce-real-stereo");
+  const auto r = test::runCli("reproduce --steps real-stereo --no-figures --quiet --out " + dir.string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const json rs = readJsonFile(dir / "real-stereo.json");
+  const std::string report = readText(dir / "report.md");
+  CHECK(report.find("## 7. Real stereo without the voxel filter") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir / "data" / "building-plain-I"));  // no rendered data for this step alone
+  if (!have_pair) {
+    CHECK(rs.at("not_run").get<std::string>().find("opencv-doc") != std::string::npos);
+    CHECK(report.find("Not run: ") != std::string::npos);
+    return;
+  }
+  REQUIRE(rs.at("configurations").size() == 2);
+  for (const json& configuration : rs.at("configurations")) {
+    const double resolution = configuration.at("resolution");
+    INFO("resolution " << resolution);
+    const auto sweeps = dir / "sweeps" / configuration.at("folder").get<std::string>().substr(5);  // "data/..."
+    REQUIRE(configuration.at("sets").size() == 3);
+    for (const json& set : configuration.at("sets")) {
+      const std::string name = set.at("point_cloud_set");
+      INFO(name);
+      // Unfiltered: one point per valid disparity, about a million (the filtered sets hold a few thousand).
+      CHECK(set.at("points").get<std::uint64_t>() > 500000);
+      for (const char* truth : {"full", "observable"}) {
+        INFO(truth << " truth");
+        const json& side = set.at("truths").at(truth);
+        const std::string suffix = std::string(truth) == "full" ? ".json" : "-observable.json";
+        // The best AUCs are compare's on the same files.
+        const auto c = test::runCli("compare " + (sweeps / (name + "-octomap-opt" + suffix)).string() + " " +
+                                    (sweeps / (name + "-knn-opt" + suffix)).string() + " --force --json " +
+                                    (dir / "c.json").string());
+        REQUIRE(c.exit_code == 0);
+        const json expected = readJsonFile(dir / "c.json").at("rows").at(0);
+        CHECK(side.at("octomap").at("auc") == expected.at("octomap").at("auc"));
+        CHECK(side.at("knn").at("auc") == expected.at("knn").at("auc"));
+        // The ablation: a map of knn-opt with p_u = p_l, so never above k-NN's best.
+        const json& equal = side.at("knn_equal_hit");
+        CHECK(equal.at("params").at("p_u") == equal.at("params").at("p_l"));
+        CHECK(equal.at("auc").get<double>() <= side.at("knn").at("auc").get<double>());
+        const double om = side.at("octomap").at("auc"), eq = equal.at("auc");
+        CHECK(side.at("knn_equal_hit_improvement_percent").get<double>() == Approx((eq - om) / om * 100.0));
+        CHECK(side.at("true_voxels").get<std::uint64_t>() > 0);
+      }
+      // Observable truth leaves out what the one camera cannot see.
+      CHECK(set.at("truths").at("observable").at("true_voxels").get<std::uint64_t>() <
+            set.at("truths").at("full").at("true_voxels").get<std::uint64_t>());
+    }
+    for (const char* truth : {"full", "observable"}) {
+      // Three sets of one scene: the verdicts' unit is the data set, and one cannot tell.
+      const json& statistics = configuration.at("statistics").at(truth);
+      CHECK(statistics.at("sets") == 3);
+      CHECK(statistics.at("datasets") == 1);
+      CHECK(statistics.at("verdict").get<std::string>().find("too few") != std::string::npos);
+    }
+  }
+  CHECK(report.find("| 0.05 | pcs-0000 | full |") != std::string::npos);
+  CHECK(report.find("Is the gain real?") != std::string::npos);
+}
+
+TEST_CASE("the real-stereo step without a pair: report.md says why it did not run") {
+  const auto dir = test::scratch("reproduce-real-stereo-missing");
+  ReproduceConfig c = reproduceDefaults("ci");
+  c.out = dir / "out";
+  c.steps = {"real-stereo"};
+  c.quiet = true;
+  c.write_real_stereo = [](const std::filesystem::path&, double) {
+    RealStereoSets none;
+    none.not_available = "aloeL.jpg: missing; it comes with Debian's opencv-doc package";
+    return none;
+  };
+  (void)runReproduction(c);
+  CHECK(readJsonFile(c.out / "real-stereo.json").at("not_run") == "aloeL.jpg: missing; it comes with Debian's "
+                                                                  "opencv-doc package");
+  CHECK(readText(c.out / "report.md").find("Not run: aloeL.jpg: missing; it comes with Debian's opencv-doc package.") !=
+        std::string::npos);
+  c.out = dir / "no-writer";
+  c.write_real_stereo = nullptr;  // a program without the stereo tools
+  (void)runReproduction(c);
+  CHECK(readJsonFile(c.out / "real-stereo.json").at("not_run").get<std::string>().find("stereo tools") !=
+        std::string::npos);
+}

@@ -3,6 +3,7 @@
 
 #include <fstream>
 
+#include "occsweep/core/voxel_filter.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_graph.hpp"
 #include "occsweep/data/import_truth.hpp"
@@ -109,5 +110,52 @@ TEST_CASE("ground truth from a PLY or PCD point cloud: the voxels holding its po
     REQUIRE(d.truth.points.size() == expected.size());
     const GroundTruth gt = makeGroundTruth(d.truth, d.region, 0.1);
     CHECK(gt.occupied.size() == 2);
+  }
+}
+
+TEST_CASE("import --voxel-filter: each scan is the voxel filter of the unfiltered import's scan, recorded in source") {
+  const fs::path dir = test::scratch("import_voxel_filter");
+  const fs::path join = kReal / "slambook_joinMap";
+  std::string images;
+  for (int i = 1; i <= 5; ++i) images.append(" ").append((join / "depth" / (std::to_string(i) + ".pgm")).string());
+  // Lines of random points (several per voxel) for `import cloud`, with a shift to exercise the order: the filter
+  // runs in the data set's frame, after --shift.
+  std::ofstream(dir / "a.xyz") << "0.01 0.02 0.03\n0.04 0.05 0.06\n0.31 0.02 0.5\n-0.22 1.5 0.07\n-0.21 1.51 0.08\n";
+  std::ofstream(dir / "b.xyz") << "1 1 1\n1.05 1.05 1.05\n1.09 1.01 1.02\n";
+  const std::string depth = "import depth" + images + " --poses " + (join / "pose.txt").string() +
+                            " --fx 518 --fy 519 --cx 325.5 --cy 253.5 --max-depth 7 --stride 8";
+  const std::string cloud = "import cloud " + (dir / "a.xyz").string() + " " + (dir / "b.xyz").string() +
+                            " --shift 0.5 -0.25 0.125";
+  const std::string graph =
+      "import graph " + (kReal / "octomap_share_data" / "spherical_scan.graph").string();
+  for (const auto& [kind, command] : {std::pair{"depth", depth}, {"cloud", cloud}, {"graph", graph}}) {
+    for (const double leaf : {0.1, 0.05}) {
+      INFO(kind << " at leaf " << leaf);
+      const std::string name = std::string(kind) + "-" + std::to_string(leaf);
+      REQUIRE(test::runCli(command + " --out " + (dir / (name + "-raw")).string()).exit_code == 0);
+      const auto r = test::runCli(command + " --voxel-filter " + std::to_string(leaf) + " --out " +
+                                  (dir / (name + "-filtered")).string());
+      REQUIRE(r.exit_code == 0);
+      const Dataset raw = readDataset(dir / (name + "-raw")), filtered = readDataset(dir / (name + "-filtered"));
+      REQUIRE(filtered.scans.size() == raw.scans.size());
+      std::size_t removed = 0;
+      for (std::size_t i = 0; i < raw.scans.size(); ++i) {
+        CHECK(filtered.scans[i].origin == raw.scans[i].origin);
+        CHECK(filtered.scans[i].points == voxelFilter(raw.scans[i].points, leaf));
+        removed += raw.scans[i].points.size() - filtered.scans[i].points.size();
+      }
+      CHECK(removed > 0);
+      CHECK(filtered.source.at("voxel_filter_leaf") == leaf);
+      CHECK_FALSE(raw.source.contains("voxel_filter_leaf"));
+    }
+  }
+  // Bad leaves: exit 2, the flag named, nothing written.
+  for (const char* bad : {"0", "-0.1", "nan", "inf", "abc"}) {
+    INFO("--voxel-filter " << bad);
+    const fs::path out = dir / (std::string("bad-") + bad);
+    const auto r = test::runCli(cloud + " --voxel-filter " + bad + " --out " + out.string());
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("--voxel-filter") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
   }
 }

@@ -154,3 +154,35 @@ TEST_CASE("dataset middlebury: a missing input is an error naming the file, exit
   CHECK(r.output.find("none.jpg") != std::string::npos);
   CHECK(!fs::exists(dir / "out"));
 }
+
+TEST_CASE("Middlebury --no-voxel-filter: every reprojected point, the same truth, the filter recorded in source",
+          "[stereo][middlebury]") {
+  const MiddleburyPair band = crop(aloePair(), 300, 400, 400, 60);
+  const PointCloudGrid grid = loadPointCloudGrid(resolveGridPath("pointcloud"));
+  const Dataset filtered = middleburyDataset(band, MiddleburyCamera{}, grid.at(800), 224, MiddleburyVoxels{0.05, true});
+  const Dataset raw = middleburyDataset(band, MiddleburyCamera{}, grid.at(800), 224, MiddleburyVoxels{0.05, false});
+  // The filter of the raw points is the filtered set: one code path, only the filter differs.
+  REQUIRE(raw.scans.size() == 1);
+  CHECK(raw.scans[0].points.size() > 2 * filtered.scans[0].points.size());
+  CHECK(voxelFilter(raw.scans[0].points, 0.05) == filtered.scans[0].points);
+  CHECK(raw.truth.points == filtered.truth.points);
+  CHECK(raw.source.at("voxel_filter") == false);
+  CHECK_FALSE(raw.source.contains("voxel_filter_leaf"));
+  CHECK(filtered.source.at("voxel_filter_leaf") == 0.05);
+  CHECK(raw.source.at("truth_leaf") == 0.05);
+  CHECK(filtered.source.at("truth_leaf") == 0.05);
+}
+
+TEST_CASE("dataset middlebury --no-voxel-filter writes the raw points, and a bad --leaf exits 2 naming it",
+          "[stereo][middlebury][cli]") {
+  const fs::path dir = test::processScratch("middlebury-no-filter-cli");
+  const auto r = test::runCli("dataset middlebury --no-voxel-filter --leaf 0.1 --out " + (dir / "raw").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const Dataset d = readDataset(dir / "raw" / "pcs-0800");
+  CHECK(d.source.at("voxel_filter") == false);
+  CHECK(d.scans[0].points.size() > 500000);  // one per valid disparity of the full-size pair
+  const auto bad = test::runCli("dataset middlebury --no-voxel-filter --leaf 0 --out " + (dir / "bad").string());
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.output.find("--leaf") != std::string::npos);
+}

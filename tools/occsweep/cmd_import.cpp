@@ -6,6 +6,7 @@
 
 #include "command_registry.hpp"
 #include "limit_options.hpp"
+#include "option_checks.hpp"
 #include "occsweep/core/limits.hpp"
 #include "occsweep/core/mapping_params.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
@@ -26,6 +27,7 @@ struct ImportOptions {
   std::string out, name, poses, pose_format = "quaternion", dataset;
   DepthImportConfig depth;
   std::vector<double> origin{0, 0, 0}, region, shift;
+  double voxel_filter = 0;  ///< the leaf of --voxel-filter; 0: off (the default)
   bool skip_empty = false, force = false;
 };
 
@@ -46,6 +48,11 @@ void shiftOrWarn(Dataset& d, const ImportOptions& o) {
                 << ' ' << s[2] << " to centre them\n";
       return;
     }
+}
+
+// --voxel-filter, after the shift: the filter's voxels are then the map's at that resolution (docs/import.md).
+void filterIfAsked(Dataset& d, const ImportOptions& o) {
+  if (o.voxel_filter > 0) voxelFilterScans(d, o.voxel_filter);
 }
 
 constexpr const char* kPointsBox = "no truth: the bounding box of every point and origin";
@@ -108,6 +115,9 @@ void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
     sub->add_option("--shift", o.shift, "X Y Z metres added to every point and origin after the poses (far-away, "
                                         "e.g. UTM, clouds into OctoMap's key range); recorded as source.shift")
         ->expected(3);
+    sub->add_option("--voxel-filter", o.voxel_filter, "LEAF metres: per scan, PCL VoxelGrid's filter (one point per "
+                    "voxel at its points' centroid), after --shift; recorded as source.voxel_filter_leaf (default: off)")
+        ->check(numberAbove(0));
   }
 }
 
@@ -155,6 +165,7 @@ int runImportDepth(const ImportOptions& o) {
   c.skip_empty = o.skip_empty;
   Dataset d = importDepthSequence(paths(o.files), o.poses, c);
   shiftOrWarn(d, o);
+  filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
 }
 
@@ -162,6 +173,7 @@ int runImportGraph(const ImportOptions& o) {
   if (o.files.size() != 1) throw std::invalid_argument("give exactly one .graph file");
   Dataset d = importScanGraph(o.files[0], o.skip_empty);
   shiftOrWarn(d, o);
+  filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
 }
 
@@ -173,6 +185,7 @@ int runImportCloud(const ImportOptions& o) {
   cc.skip_empty = o.skip_empty;
   Dataset d = importClouds(paths(o.files), cc);
   shiftOrWarn(d, o);
+  filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -25,8 +26,9 @@ namespace occsweep::reproduce {
 struct BothTruths {
   ResultsFile full, observable;
 };
+/// `resolution`: the map's, metres; none: the sweep's default (0.1 m, Section 4.2).
 [[nodiscard]] BothTruths sweepSetBothTruths(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank,
-                                            const std::string& grid);
+                                            const std::string& grid, std::optional<double> resolution = std::nullopt);
 
 /// The data set with this name, or the first one when it is not in the run (small runs pick a subset).
 [[nodiscard]] const RankedDataset& datasetOrFirst(const std::vector<RankedDataset>& d, const std::string& name);
@@ -64,6 +66,9 @@ void truthSection(std::ostringstream& o, const nlohmann::json& comparison);
 
 /// report.md's section on k-NN against the baselines of docs/methods.md (sor-octomap, ror-octomap, range-octomap).
 void baselineSection(std::ostringstream& o, const nlohmann::json& comparison);
+
+/// report.md's section on real stereo without the voxel filter (real-stereo.json).
+void realStereoSection(std::ostringstream& o, const nlohmann::json& real_stereo);
 
 /// report.md's "Is the gain real?": every method against the optimal OctoMap with intervals, tests, cross-validated
 /// scores and budget curves (docs/statistics.md).

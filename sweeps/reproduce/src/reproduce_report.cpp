@@ -114,7 +114,7 @@ void runtimeSection(std::ostringstream& o, const json& runtime) {
     << (per.empty() ? "not tested (one set size)" : verdict(worst_r2 > 0.9))
     << ". Across data sets (pooled R^2 > 0.9): " << verdict(f17.at("r_squared").get<double>() > 0.9 &&
                                                              f18.at("r_squared").get<double>() > 0.9)
-    << ". Time grows with k (Eq. 18 a > 0, pooled and per data set): " << verdict(k_slope) << ".\n";
+    << ". Time grows with k (Eq. 18 a > 0, pooled and per data set): " << verdict(k_slope) << ".\n\n";
 }
 
 // A step left out by --steps: its section says so, with no number.
@@ -132,7 +132,7 @@ std::string reproductionReport(const ReproduceConfig& c, const ReproductionResul
     << "Written by `occsweep reproduce --scale " << c.scale
     << (c.steps == reproductionSteps() ? std::string() : " --steps " + steps)
     << "`; every number below comes from the JSON files beside this report (fits.json, nca.json, comparison.json, "
-    << "curves.json, runtime.json). Data: " << r.datasets
+    << "curves.json, runtime.json, real-stereo.json). Data: " << r.datasets
     << " rendered data sets (docs/datasets.md), not the paper's recordings, "
     << (r.generator_options.empty() ? std::string("made with the generator's defaults (the plain reproduction)")
                                     : "made with the generator options `" + r.generator_options.dump() + "`" +
@@ -153,6 +153,8 @@ std::string reproductionReport(const ReproduceConfig& c, const ReproductionResul
   else curvesSection(o, r.curves);
   if (r.runtime.is_null()) notRun(o, "6. Run time is linear in the points, and grows with k (Fig. 7)");
   else runtimeSection(o, r.runtime);
+  if (r.real_stereo.is_null()) notRun(o, "7. Real stereo without the voxel filter (Middlebury Aloe)");
+  else reproduce::realStereoSection(o, r.real_stereo);
   return o.str();
 }
 

@@ -37,7 +37,8 @@ void checkReproductionSteps(const std::vector<std::string>& steps) {
   auto has = [&](const std::string& name) { return std::find(steps.begin(), steps.end(), name) != steps.end(); };
   for (std::size_t i = 0; i < steps.size(); ++i) {
     if (std::find(known.begin(), known.end(), steps[i]) == known.end())
-      throw std::invalid_argument("--steps: '" + steps[i] + "' is not a step (fits, nca, comparison, curves, runtime)");
+      throw std::invalid_argument("--steps: '" + steps[i] +
+                                  "' is not a step (fits, nca, comparison, curves, runtime, real-stereo)");
     if (std::find(steps.begin(), steps.begin() + std::ptrdiff_t(i), steps[i]) != steps.begin() + std::ptrdiff_t(i))
       throw std::invalid_argument("--steps: '" + steps[i] + "' is given twice");
   }
@@ -86,7 +87,9 @@ double runReproduction(const ReproduceConfig& c) {
     timing[name] = std::chrono::duration<double>(Clock::now() - t0).count();
     return result;
   };
-  const auto datasets = step("data", [&] { return prepareDatasets(c); });
+  // real-stereo brings its own data: a run of it alone generates no rendered data set.
+  const bool rendered = std::any_of(c.steps.begin(), c.steps.end(), [](const std::string& s) { return s != "real-stereo"; });
+  const auto datasets = rendered ? step("data", [&] { return prepareDatasets(c); }) : std::vector<RankedDataset>{};
   ReproductionResults r;
   r.datasets = datasets.size();
   if (!datasets.empty()) r.generator_options = datasets.front().generator_options;
@@ -102,6 +105,7 @@ double runReproduction(const ReproduceConfig& c) {
   r.comparison = stepFile("comparison", [&] { return runOptimalComparison(c, datasets); });
   r.curves = stepFile("curves", [&] { return runCurvesAndMaps(c, datasets, r.comparison); });
   r.runtime = stepFile("runtime", [&] { return runRuntimeModels(c, datasets); });
+  r.real_stereo = stepFile("real-stereo", [&] { return runRealStereo(c); });
   writeFileAtomically(c.out / "report.md", reproductionReport(c, r));
   if (c.draw_figures) step("figures", [&] { return c.draw_figures(c.out, c.steps), 0; });
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();

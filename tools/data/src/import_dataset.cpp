@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "occsweep/core/limits.hpp"
+#include "occsweep/core/voxel_filter.hpp"
 #include "occsweep/eval/data_error.hpp"
 
 namespace occsweep {
@@ -16,6 +17,13 @@ Dataset importedDataset(std::string name, PointCloudSet scans, nlohmann::json so
   source["truth"] = "none";
   d.source = std::move(source);
   return d;
+}
+
+void voxelFilterScans(Dataset& d, double leaf) {
+  requireVoxelFilterLeaf(leaf, "--voxel-filter");
+  for (Scan& scan : d.scans) scan.points = voxelFilter(scan.points, leaf);
+  d.region = boundingBox(d.scans);
+  d.source["voxel_filter_leaf"] = leaf;
 }
 
 void countPoints(std::uint64_t& total, const Scan& scan, const std::string& file) {

@@ -67,33 +67,6 @@ std::vector<Eigen::Vector3d> reprojectDisparity(const std::vector<std::int16_t>&
   return out;
 }
 
-std::vector<octomap::point3d> voxelFilter(const std::vector<Eigen::Vector3d>& points, double leaf) {
-  struct Keyed {
-    std::array<std::int64_t, 3> key;  // z, y, x
-    std::size_t index;
-  };
-  std::vector<Keyed> keyed;
-  keyed.reserve(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto& p = points[i];
-    keyed.push_back({{std::int64_t(std::floor(p.z() / leaf)), std::int64_t(std::floor(p.y() / leaf)),
-                      std::int64_t(std::floor(p.x() / leaf))}, i});
-  }
-  // Stable order inside a voxel (by input index) so the centroid's rounding is reproducible.
-  std::sort(keyed.begin(), keyed.end(),
-            [](const Keyed& a, const Keyed& b) { return a.key != b.key ? a.key < b.key : a.index < b.index; });
-  std::vector<octomap::point3d> out;
-  for (std::size_t i = 0; i < keyed.size();) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    std::size_t j = i;
-    for (; j < keyed.size() && keyed[j].key == keyed[i].key; ++j) sum += points[keyed[j].index];
-    const Eigen::Vector3d c = sum / double(j - i);
-    out.emplace_back(float(c.x()), float(c.y()), float(c.z()));
-    i = j;
-  }
-  return out;
-}
-
 SharedVoxelFilter::SharedVoxelFilter(const std::vector<std::int16_t>& matcher_disparity, const StereoCamera& cam,
                                      const CameraPose& pose, double max_depth, double leaf) {
   std::vector<Eigen::Vector3d> points;
@@ -103,13 +76,9 @@ SharedVoxelFilter::SharedVoxelFilter(const std::vector<std::int16_t>& matcher_di
     pixels.push_back(std::uint32_t(pixel));
   });
   // voxelFilter's order, once: by voxel (z, y, x), then by index.
-  using Key = std::array<std::int64_t, 3>;
-  std::vector<Key> keys(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto& p = points[i];
-    keys[i] = {std::int64_t(std::floor(p.z() / leaf)), std::int64_t(std::floor(p.y() / leaf)),
-               std::int64_t(std::floor(p.x() / leaf))};
-  }
+  requireVoxelFilterLeaf(leaf, "SharedVoxelFilter");
+  std::vector<VoxelFilterKey> keys(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) keys[i] = voxelFilterKey(points[i], leaf);
   const std::vector<std::uint32_t> order = voxelOrder(keys);
   points_.reserve(points.size());
   pixel_.reserve(points.size());

@@ -89,10 +89,8 @@ std::vector<Eigen::Vector3d> truthPoints(const MiddleburyPair& pair, const Middl
 }
 
 TruthSources voxelCentreTruth(const std::vector<Eigen::Vector3d>& points, double leaf) {
-  std::set<std::array<std::int64_t, 3>> keys;  // (z, y, x), voxelFilter's order
-  for (const auto& p : points)
-    keys.insert({std::int64_t(std::floor(p.z() / leaf)), std::int64_t(std::floor(p.y() / leaf)),
-                 std::int64_t(std::floor(p.x() / leaf))});
+  std::set<VoxelFilterKey> keys;  // (z, y, x), voxelFilter's voxels and order
+  for (const auto& p : points) keys.insert(voxelFilterKey(p, leaf));
   TruthSources truth;
   for (const auto& k : keys)
     truth.points.emplace_back(float((double(k[2]) + 0.5) * leaf), float((double(k[1]) + 0.5) * leaf),
@@ -113,15 +111,20 @@ std::vector<std::uint64_t> middleburyPointCloudIds(const PointCloudGrid& grid) {
 namespace {
 
 // What to repeat the set: camera and the SGBM block as generate's sourceJson records them.
+// The filter as the generator records it (ranking.cpp, realism.cpp): voxel_filter_leaf when filtered,
+// voxel_filter false when not; the truth's voxels always as truth_leaf.
 nlohmann::json sourceOf(const StereoCamera& cam, const MiddleburyCamera& camera, const SgbmParams& params,
-                        int num_disparities, double leaf) {
-  return {
+                        int num_disparities, const MiddleburyVoxels& voxels) {
+  nlohmann::json j = {
       {"generator", "occsweep dataset middlebury"},
       {"camera", {{"width", cam.width}, {"height", cam.height}, {"fx", cam.fx}, {"cx", cam.cx}, {"cy", cam.cy},
                   {"baseline", cam.baseline}, {"doffs", camera.doffs_px}}},
       {"scan", "one: the left camera at the origin, camera axes (x right, y down, z forward)"},
-      {"truth", "voxel centres of the ground-truth disparity's points at voxel_filter_leaf"},
-      {"voxel_filter_leaf", leaf}, {"max_depth", kMaxDepth}, {"sgbm", sgbmSettingsJson(params, num_disparities)}};
+      {"truth", "voxel centres of the ground-truth disparity's points at truth_leaf"}, {"truth_leaf", voxels.leaf},
+      {"max_depth", kMaxDepth}, {"sgbm", sgbmSettingsJson(params, num_disparities)}};
+  if (voxels.voxel_filter) j["voxel_filter_leaf"] = voxels.leaf;
+  else j["voxel_filter"] = false;
+  return j;
 }
 
 MiddleburySetSummary summarise(const MiddleburyPair& pair, const std::vector<std::int16_t>& disparity,
@@ -145,7 +148,7 @@ MiddleburySetSummary summarise(const MiddleburyPair& pair, const std::vector<std
 }  // namespace
 
 Dataset middleburyDataset(const MiddleburyPair& pair, const MiddleburyCamera& camera, const SgbmParams& params,
-                          int num_disparities, double leaf, MiddleburySetSummary* summary) {
+                          int num_disparities, const MiddleburyVoxels& voxels, MiddleburySetSummary* summary) {
   const StereoCamera cam = middleburyStereoCamera(camera, pair.left.width, pair.left.height);
   StereoFrame frame;
   frame.left = pair.left;
@@ -153,16 +156,17 @@ Dataset middleburyDataset(const MiddleburyPair& pair, const MiddleburyCamera& ca
   const std::vector<std::int16_t> disparity = computeDisparity(frame, params, num_disparities);
   Scan scan;  // the left camera at the origin, camera axes (x right, y down, z forward)
   scan.origin = octomap::point3d(0, 0, 0);
-  scan.points = voxelFilter(reprojectDisparity(withDisparityOffset(disparity, camera.doffs_px), cam, CameraPose{},
-                                               kMaxDepth), leaf);
+  const std::vector<Eigen::Vector3d> points =
+      reprojectDisparity(withDisparityOffset(disparity, camera.doffs_px), cam, CameraPose{}, kMaxDepth);
+  scan.points = voxels.voxel_filter ? voxelFilter(points, voxels.leaf) : toPoint3d(points);
   if (scan.points.empty()) throw std::runtime_error("SGBM found no valid disparity in the pair");
   Dataset d;
   d.scans.push_back(std::move(scan));
-  d.truth = voxelCentreTruth(truthPoints(pair, camera), leaf);
+  d.truth = voxelCentreTruth(truthPoints(pair, camera), voxels.leaf);
   if (d.truth.points.empty()) throw std::runtime_error("the ground truth has no known disparity");
   d.region = truthRegion(d.truth);
-  d.source = sourceOf(cam, camera, params, num_disparities, leaf);
-  if (summary) *summary = summarise(pair, disparity, d, leaf);
+  d.source = sourceOf(cam, camera, params, num_disparities, voxels);
+  if (summary) *summary = summarise(pair, disparity, d, voxels.leaf);
   return d;
 }
 

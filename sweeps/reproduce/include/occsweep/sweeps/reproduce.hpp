@@ -14,10 +14,21 @@
 namespace occsweep {
 
 /// The steps of a reproduction in their order: fits (Fig. 3), nca (Fig. 4), comparison (Fig. 5), curves (Fig. 6),
-/// runtime (Fig. 7).
+/// runtime (Fig. 7), and real-stereo (no figure of the paper: k-NN against OctoMap on a real stereo pair without
+/// the voxel filter, docs/fidelity.md, "Real stereo with truth").
 [[nodiscard]] inline std::vector<std::string> reproductionSteps() {
-  return {"fits", "nca", "comparison", "curves", "runtime"};
+  return {"fits", "nca", "comparison", "curves", "runtime", "real-stereo"};
 }
+
+/// What the real-stereo step is given: one real stereo pair's point cloud sets at one resolution, unfiltered, or
+/// why there are none.
+struct RealStereoSets {
+  std::string pair;                     ///< which pair, in words (report.md)
+  std::vector<std::string> folders;     ///< pcs-NNNN under the folder asked for, in point cloud id order
+  std::vector<std::int64_t> ids;        ///< point cloud parameter ids, same order
+  std::vector<std::uint64_t> points;    ///< points of each set (one scan each)
+  std::string not_available;            ///< non-empty: why no set was written (report.md's "not run: ...")
+};
 
 /// `reproduce --realistic`: the `dataset generate` options that the experiments of docs/fidelity.md point to, and
 /// the key every such data set's ranking.json `options` must then hold. One home: the report and the check read it.
@@ -54,6 +65,13 @@ struct ReproduceConfig {
   std::function<void(const std::string& name, const std::string& scale, const std::filesystem::path& out,
                      bool realistic)>
       generate_dataset;
+  /// real-stereo: the map resolutions, each also the truth's voxel size; the sets are not voxel-filtered (one
+  /// point per valid disparity), so that Eq. 7's per-voxel sum over points has several points to sum.
+  std::vector<double> real_stereo_resolutions = {0.05, 0.1};
+  /// Writes the real pair's sets without the voxel filter, truth at `resolution`, into `folder` (the command hands
+  /// in `dataset middlebury --no-voxel-filter --leaf RESOLUTION`'s own code: tools/occsweep/cmd_dataset_middlebury.hpp).
+  /// Empty, or sets with `not_available`: the step writes a "not run" report section saying why.
+  std::function<RealStereoSets(const std::filesystem::path& folder, double resolution)> write_real_stereo;
   /// Draws the figures of `steps` from the step files in OUT, last. Empty: JSON and report.md only (`--no-figures`).
   /// The command checks that it can draw them before the run starts.
   std::function<void(const std::filesystem::path& out, const std::vector<std::string>& steps)> draw_figures;
@@ -94,12 +112,16 @@ nlohmann::json runCurvesAndMaps(const ReproduceConfig& c, const std::vector<Rank
                                 const nlohmann::json& comparison);
 /// Fig. 7: timed builds, Eq. 17 and Eq. 18 fits.
 nlohmann::json runRuntimeModels(const ReproduceConfig& c, const std::vector<RankedDataset>& d);
+/// Real stereo without the voxel filter: per resolution, octomap-opt and knn-opt on each set under full and
+/// observable truth, the best of each, the ablation (the best knn-opt map with p_u = p_l) and compareStatistics'
+/// verdict. The sets go to OUT/data/real-stereo/, the sweeps to OUT/sweeps/real-stereo/. Returns real-stereo.json.
+nlohmann::json runRealStereo(const ReproduceConfig& c);
 
 /// The step files of one reproduction; a step that was not run is null.
 struct ReproductionResults {
   std::size_t datasets = 0;
   nlohmann::json generator_options = nlohmann::json::object();  ///< of every data set (prepareDatasets checks)
-  nlohmann::json fits, nca, comparison, curves, runtime;
+  nlohmann::json fits, nca, comparison, curves, runtime, real_stereo;
 };
 
 /// report.md: each finding of the paper beside ours, every number from the step files; a step not run is said so.

@@ -17,6 +17,13 @@ namespace occsweep {
 /// (docs/import.md). `source` records the reader and its settings; source.truth is set to "none".
 [[nodiscard]] Dataset importedDataset(std::string name, PointCloudSet scans, nlohmann::json source);
 
+/// `import depth|graph|cloud ... --voxel-filter LEAF` (docs/import.md): every scan replaced by the voxel filter
+/// of core/voxel_filter.hpp at `leaf` (PCL VoxelGrid semantics), in the data set's own frame (after --shift, so
+/// that its voxels are the map's at resolution `leaf`); the region becomes the filtered points' bounding box, and
+/// source.voxel_filter_leaf records the leaf, as the stereo generator records its own. Throws
+/// std::invalid_argument naming --voxel-filter for a leaf that is not a finite number above 0.
+void voxelFilterScans(Dataset& dataset, double leaf);
+
 /// "label i/n" on stderr. On a terminal one line rewritten in place, ended when the import ends (also by an error,
 /// so that an error message starts on its own line); into a log file or pipe whole lines only, the first, the last
 /// and one every 5 s, so that a log holds no carriage returns (docs/robustness.md).

@@ -1,4 +1,5 @@
-// From disparity to a keyframe's point cloud: the stereo camera model, the world frame, a 0.1 m voxel filter.
+// From disparity to a keyframe's point cloud: the stereo camera model, the world frame, the voxel filter
+// (core/voxel_filter.hpp, PCL VoxelGrid; its one home, shared with the importers).
 #pragma once
 
 #include <cstdint>
@@ -7,6 +8,7 @@
 #include <octomap/octomap_types.h>
 
 #include "camera.hpp"
+#include "occsweep/core/voxel_filter.hpp"  // voxelFilter, voxelFilterKey
 
 namespace occsweep::stereo {
 
@@ -16,10 +18,6 @@ namespace occsweep::stereo {
 [[nodiscard]] std::vector<Eigen::Vector3d> reprojectDisparity(const std::vector<std::int16_t>& disparity,
                                                               const StereoCamera& camera, const CameraPose& pose,
                                                               double max_depth);
-
-/// PCL VoxelGrid semantics: voxel index floor(p / leaf) per axis, one point per occupied voxel at the centroid
-/// of its points; output ordered by voxel (z, then y, then x), so the result does not depend on input order.
-[[nodiscard]] std::vector<octomap::point3d> voxelFilter(const std::vector<Eigen::Vector3d>& points, double leaf);
 
 /// The points unfiltered, in input order (--no-voxel-filter), as the data-set format stores them (float).
 [[nodiscard]] std::vector<octomap::point3d> toPoint3d(const std::vector<Eigen::Vector3d>& points);

@@ -62,18 +62,33 @@ struct MiddleburyPair {
 [[nodiscard]] std::vector<std::uint64_t> middleburyPointCloudIds(const PointCloudGrid& grid);
 
 struct MiddleburySetSummary {
-  std::uint64_t points = 0;             ///< after the voxel filter
+  std::uint64_t points = 0;             ///< after the voxel filter (if any)
   std::uint64_t truth_pixels = 0;       ///< pixels with a known disparity
   double valid_fraction = 0;            ///< of those, with a valid SGBM disparity
   double bad1_fraction = 0;             ///< of the valid ones, |SGBM - truth| > 1 px (Middlebury's "bad 1.0")
   ConfusionCounts naive;                ///< filtered points against the truth voxels
 };
 
+/// The voxel sizes of a Middlebury set: the truth's voxels, and whether the clouds are voxel-filtered at that size
+/// (`dataset middlebury --leaf L [--no-voxel-filter]`, the generator's flag: docs/datasets.md).
+struct MiddleburyVoxels {
+  double leaf = 0.1;         ///< truth voxels, and the sweep's resolution
+  bool voxel_filter = true;  ///< false: the raw reprojected points (one per valid disparity)
+};
+
 /// One point cloud set: SGBM with `params` and `num_disparities`, doffs added, reprojected (max depth 20 m as the
-/// rendered sets), voxel-filtered at `leaf`; one scan from the origin; truth and region (truthRegion) from the GT.
-/// `source` records the camera and the SGBM block as generate's sourceJson does (name, id and grid: the caller's).
+/// rendered sets), voxel-filtered at `voxels.leaf` unless `voxels.voxel_filter` is false; one scan from the
+/// origin; truth and region (truthRegion) from the GT at `voxels.leaf`. `source` records the camera, the SGBM block
+/// as generate's sourceJson does and the filter (name, id and grid: the caller's).
 [[nodiscard]] Dataset middleburyDataset(const MiddleburyPair& pair, const MiddleburyCamera& camera,
-                                        const SgbmParams& params, int num_disparities, double leaf,
+                                        const SgbmParams& params, int num_disparities, const MiddleburyVoxels& voxels,
                                         MiddleburySetSummary* summary = nullptr);
+
+/// The same, voxel-filtered at `leaf` (the default of `dataset middlebury`).
+[[nodiscard]] inline Dataset middleburyDataset(const MiddleburyPair& pair, const MiddleburyCamera& camera,
+                                               const SgbmParams& params, int num_disparities, double leaf,
+                                               MiddleburySetSummary* summary = nullptr) {
+  return middleburyDataset(pair, camera, params, num_disparities, MiddleburyVoxels{leaf, true}, summary);
+}
 
 }  // namespace occsweep::stereo
