@@ -157,7 +157,9 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
     REQUIRE(at != std::string::npos);
     CHECK(partial.find("Not run in this reproduction", at) < partial.find("\n## ", at + 1));
   }
-  CHECK(partial.find("Pearson correlation") != std::string::npos);  // the comparison's own section is there
+  // The comparison's own section is there, the trend with its controls (docs/statistics.md, "Correlation").
+  CHECK(partial.find("| sets | Pearson r | permutation p | Spearman rho | permutation p |") != std::string::npos);
+  CHECK(partial.find("The trend holds when the rank correlation is negative") != std::string::npos);
 }
 
 TEST_CASE("reproduce refuses bad input with the field named") {

@@ -7,8 +7,10 @@ usage: summarize.py OUT    (reads OUT/NAME/experiment.tsv and OUT/NAME/repro/com
 For each experiment and each truth (full, observable) it measures the paper's three findings that do not hold on
 our default data (docs/fidelity.md):
   1. the headline: k-NN's improvement over the optimal OctoMap, in % of OctoMap's AUC, over the 60 sets (mean with a
-     seeded 95 % percentile bootstrap interval over sets, range, sets where k-NN is better) and its Pearson
-     correlation with OctoMap's AUC (the paper: negative, the gain grows where OctoMap is weak);
+     seeded 95 % percentile bootstrap interval over sets, range, sets where k-NN is better) and its trend against
+     OctoMap's AUC (the paper: negative, the gain grows where OctoMap is weak) with the controls of
+     docs/statistics.md, "Correlation": Pearson r and Spearman rho with permutation p-values, and both within each
+     texture and each environment, since a correlation over all sets can come from the groups alone;
   2. Voronoi against plain boxes: mean best OctoMap AUC of each texture (the paper: Voronoi higher);
   3. buildings against the parking lot: mean best OctoMap AUC of each environment (the paper: buildings higher).
 Every number comes from the comparison files; nothing is typed in.
@@ -24,10 +26,14 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from scipy import stats  # noqa: E402
 
 TRUTHS = ("full", "observable")
 BOOTSTRAP_RESAMPLES = 10000
 BOOTSTRAP_SEED = 1
+PERMUTATIONS = 10000
+PERMUTATION_SEED = 1
+TREND_LEVEL = 0.05
 
 
 def best_octomap_and_gain(row, truth):
@@ -44,6 +50,46 @@ def bootstrap_mean_interval(values):
     return float(np.percentile(means, 2.5)), float(np.percentile(means, 97.5))
 
 
+def permutation_p(x, y):
+    """Two-sided permutation p of a correlation: |r| of permuted y against x, as occsweep's
+    correlationPermutationTest (docs/statistics.md, "Correlation"); x and y are values or mid-ranks."""
+    x = np.asarray(x, dtype=float)
+    xm = x - x.mean()
+
+    def statistic(yy, axis=-1):
+        ym = yy - yy.mean(axis=-1, keepdims=True)
+        return np.abs((ym @ xm) / np.sqrt((xm @ xm) * (ym * ym).sum(axis=-1)))
+
+    return float(stats.permutation_test((np.asarray(y, dtype=float),), statistic, permutation_type="pairings",
+                                        vectorized=True, n_resamples=PERMUTATIONS, alternative="greater",
+                                        random_state=np.random.default_rng(PERMUTATION_SEED)).pvalue)
+
+
+def correlations(x, y):
+    """Pearson r and Spearman rho; None where x or y is constant or fewer than 3 values."""
+    if len(x) < 3 or np.ptp(x) == 0 or np.ptp(y) == 0:
+        return None, None
+    return float(stats.pearsonr(x, y)[0]), float(stats.spearmanr(x, y).correlation)
+
+
+def trend(rows, octomap, gain):
+    """The paper's trend with its controls; it holds when rho < 0 with p < 0.05 and rho < 0 within each texture."""
+    r, rho = correlations(octomap, gain)
+    t = {"pearson": r, "spearman": rho, "pearson_p": None, "spearman_p": None, "within": {}}
+    if r is not None:
+        t["pearson_p"] = permutation_p(octomap, gain)
+        t["spearman_p"] = permutation_p(stats.rankdata(octomap), stats.rankdata(gain))
+    for key in ("texture", "environment"):
+        for value in sorted({row[key] for row in rows}):
+            member = np.array([row[key] == value for row in rows])
+            gr, grho = correlations(octomap[member], gain[member])
+            t["within"][value] = {"n": int(member.sum()), "pearson": gr, "spearman": grho}
+    textures = [t["within"][v]["spearman"] for v in sorted({row["texture"] for row in rows})]
+    t["holds"] = (rho is not None and rho < 0 and t["spearman_p"] < TREND_LEVEL and
+                  all(v is not None and v < 0 for v in textures))
+    return t
+
+
 def findings(rows, truth):
     pairs = [best_octomap_and_gain(r, truth) for r in rows]
     octomap = np.array([p[0] for p in pairs])
@@ -58,7 +104,7 @@ def findings(rows, truth):
         "improvement_mean": float(gain.mean()), "improvement_ci95": [low, high],
         "improvement_min": float(gain.min()), "improvement_max": float(gain.max()),
         "knn_better": int((gain > 0).sum()),
-        "pearson_gain_octomap": float(np.corrcoef(gain, octomap)[0, 1]) if gain.std() > 0 else None,
+        "trend": trend(rows, octomap, gain),
         "octomap_mean": float(octomap.mean()),
         "voronoi": group_mean("texture", "voronoi"), "plain": group_mean("texture", "plain"),
         "building": group_mean("environment", "building"), "parking": group_mean("environment", "parking"),
@@ -85,9 +131,9 @@ def fmt_signed(v, digits=2):
 
 
 def table(experiments):
-    lines = ["| experiment | truth | improvement % mean [95 % CI] | range % | k-NN better | r(gain, OctoMap AUC) | "
+    lines = ["| experiment | truth | improvement % mean [95 % CI] | range % | k-NN better | "
              "OctoMap AUC Voronoi / plain | building / parking |",
-             "|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|"]
     for e in experiments:
         for t in TRUTHS:
             f = e["truths"][t]
@@ -95,8 +141,29 @@ def table(experiments):
             lines.append(
                 f"| {e['name']} | {t} | {fmt_signed(f['improvement_mean'])} [{fmt_signed(lo)}, {fmt_signed(hi)}] | "
                 f"{fmt_signed(f['improvement_min'])} to {fmt_signed(f['improvement_max'])} | "
-                f"{f['knn_better']} of {f['sets']} | {fmt_signed(f['pearson_gain_octomap'], 3)} | "
+                f"{f['knn_better']} of {f['sets']} | "
                 f"{f['voronoi']:.3f} / {f['plain']:.3f} | {f['building']:.3f} / {f['parking']:.3f} |")
+    return "\n".join(lines)
+
+
+def fmt_p(p):
+    return "n/a" if p is None else f"{p:.2g}"
+
+
+def trend_table(experiments):
+    groups = ("plain", "voronoi", "building", "parking")
+    lines = ["| experiment | truth | Pearson r (p) | Spearman rho (p) | " +
+             " | ".join(f"r / rho {g}" for g in groups) + " | trend |",
+             "|---|---|---|---|" + "---|" * len(groups) + "---|"]
+    for e in experiments:
+        for t in TRUTHS:
+            tr = e["truths"][t]["trend"]
+            within = [tr["within"].get(g, {"pearson": None, "spearman": None}) for g in groups]
+            lines.append(
+                f"| {e['name']} | {t} | {fmt_signed(tr['pearson'], 3)} ({fmt_p(tr['pearson_p'])}) | "
+                f"{fmt_signed(tr['spearman'], 3)} ({fmt_p(tr['spearman_p'])}) | " +
+                " | ".join(f"{fmt_signed(w['pearson'], 3)} / {fmt_signed(w['spearman'], 3)}" for w in within) +
+                f" | {'holds' if tr['holds'] else 'does not hold'} |")
     return "\n".join(lines)
 
 
@@ -179,6 +246,7 @@ def main():
         for e in experiments:
             f.write(f"| {e['name']} | `{e['options'] or '(defaults)'}` | {e['question']} | {e['seconds']} |\n")
         f.write("\n" + table(experiments) + "\n")
+        f.write("\n" + trend_table(experiments) + "\n")
     figure_findings(experiments, out)
     figure_noise(experiments, out)
     print(open(os.path.join(out, "summary.md")).read())

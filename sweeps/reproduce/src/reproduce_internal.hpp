@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "occsweep/eval/bounded_read.hpp"  // readJsonFile
+#include "occsweep/stats/correlation.hpp"
 #include "occsweep/sweeps/reproduce.hpp"
 #include "occsweep/sweeps/results.hpp"
 
@@ -60,6 +61,35 @@ struct BothTruths {
 
 /// report.md's sections 3 and 4 (Fig. 5): improvement and the texture / environment means.
 void comparisonSection(std::ostringstream& o, const nlohmann::json& comparison);
+
+/// The paper's trend (Fig. 5) over the sets of comparison.json: OctoMap's best AUC against k-NN's improvement,
+/// with each set's texture and environment; sets where either is undefined are left out.
+struct TrendInput {
+  std::vector<double> octomap_auc, improvement;
+  std::vector<std::string> texture, environment;
+};
+/// `truth` "full" or "observable" reads rows' `truths`; nullptr reads the rows' own fields (the run's truth).
+[[nodiscard]] TrendInput trendInput(const nlohmann::json& rows, const char* truth);
+
+/// The trend with its controls (docs/statistics.md, "Correlation"): Pearson r and Spearman rho with permutation
+/// p-values (10,000 permutations, seed 1), both within each texture and each environment, and the pooled
+/// within-texture r (each texture's means removed).
+struct TrendControls {
+  std::size_t sets = 0;
+  double pearson = NAN, spearman = NAN, pearson_p = NAN, spearman_p = NAN, pooled_within_texture = NAN;
+  std::vector<stats::GroupCorrelation> by_texture, by_environment;
+};
+[[nodiscard]] TrendControls trendControls(const TrendInput& in);
+
+/// "**holds**" when the rank correlation is negative with permutation p < 0.05 and negative within each texture,
+/// else "**does not hold** (what fails)".
+[[nodiscard]] std::string trendVerdict(const TrendControls& c);
+
+/// "plain (30) +0.215 / +0.190, ...": each group's n, Pearson r and Spearman rho.
+[[nodiscard]] std::string groupCorrelations(const std::vector<stats::GroupCorrelation>& groups);
+
+/// report.md section 3's table of the trend's controls and its verdict.
+void trendParagraph(std::ostringstream& o, const TrendControls& c);
 
 /// report.md's section on the same comparison under full and observable truth, side by side.
 void truthSection(std::ostringstream& o, const nlohmann::json& comparison);
