@@ -153,6 +153,7 @@ Dataset middleburyDataset(const MiddleburyPair& pair, const MiddleburyCamera& ca
   const std::vector<std::int16_t> disparity = computeDisparity(frame, params, num_disparities);
   Scan scan;  // the left camera at the origin, camera axes (x right, y down, z forward)
   scan.origin = octomap::point3d(0, 0, 0);
+  scan.view = leftCameraView(cam, CameraPose{});
   scan.points = voxelFilter(reprojectDisparity(withDisparityOffset(disparity, camera.doffs_px), cam, CameraPose{},
                                                kMaxDepth), leaf);
   if (scan.points.empty()) throw std::runtime_error("SGBM found no valid disparity in the pair");
