@@ -144,9 +144,12 @@ std::optional<ConeView> coneOfFlags(const ImportOptions& o) {
     if (!o.view_axis.empty()) throw std::invalid_argument("--view-axis needs --view-half-angle (degrees)");
     return std::nullopt;
   }
-  if (o.view_axis.empty() && *o.view_half_angle != 180)
-    throw std::invalid_argument("--view-half-angle " + std::to_string(*o.view_half_angle) +
-                                " needs --view-axis X Y Z (only 180, every direction, has no axis)");
+  if (o.view_axis.empty() && *o.view_half_angle != 180) {
+    std::ostringstream why;
+    why << "--view-half-angle " << *o.view_half_angle << " needs --view-axis X Y Z (only 180, every direction, has "
+        << "no axis)";
+    throw std::invalid_argument(why.str());
+  }
   ConeView cone{{0, 0, 1}, *o.view_half_angle};
   if (!o.view_axis.empty()) cone.axis = {o.view_axis[0], o.view_axis[1], o.view_axis[2]};
   return cone;
