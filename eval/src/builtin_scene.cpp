@@ -36,6 +36,15 @@ double rayBox(const Vec& o, const Vec& d, const AxisBox& b) {
   return t0;
 }
 
+// What the simulated camera sees: its rays leave through pixel centres u + 0.5 - width / 2 to the right and
+// v + 0.5 - height / 2 down at `focal` forward, so in camera axes (x right, y down, z forward) it is a pinhole with
+// fx = fy = focal and the principal point between the middle pixels (docs/dataset-format.md, "Sensor views").
+PinholeView cameraView(const BuiltinSceneConfig& c, double focal, const Vec& right, const Vec& up, const Vec& forward) {
+  const Vec down = up * -1.0;
+  return PinholeView{focal, focal, c.width / 2.0 - 0.5, c.height / 2.0 - 0.5, c.width, c.height,
+                     {right.x, down.x, forward.x, right.y, down.y, forward.y, right.z, down.z, forward.z}};
+}
+
 }  // namespace
 
 Dataset makeBuiltinScene(const BuiltinSceneConfig& c) {
@@ -63,6 +72,7 @@ Dataset makeBuiltinScene(const BuiltinSceneConfig& c) {
     const Vec up = right.cross(forward);
     Scan scan;
     scan.origin = octomap::point3d(float(origin.x), float(origin.y), float(origin.z));
+    scan.view = cameraView(c, focal, right, up, forward);
     for (int v = 0; v < c.height; ++v)
       for (int u = 0; u < c.width; ++u) {
         const Vec dir = (forward * focal + right * (u + 0.5 - c.width / 2.0) - up * (v + 0.5 - c.height / 2.0)).unit();

@@ -14,6 +14,7 @@
 #include "occsweep/eval/fnv1a.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/eval/sensor_view_json.hpp"
 
 namespace occsweep {
 
@@ -170,7 +171,10 @@ void writeDataset(const Dataset& d, const fs::path& dir) {
     char name[32];
     std::snprintf(name, sizeof name, "scans/%06zu.f32", i);
     writeFloats(tmp / name, d.scans[i].points);
-    m["scans"].push_back({{"file", name}, {"origin", vec(d.scans[i].origin)}, {"points", d.scans[i].points.size()}});
+    json scan = {{"file", name}, {"origin", vec(d.scans[i].origin)}, {"points", d.scans[i].points.size()}};
+    // Only when recorded: a data set without views keeps its manifest, and its content hash, byte for byte.
+    if (d.scans[i].view) scan["view"] = sensorViewJson(*d.scans[i].view);
+    m["scans"].push_back(std::move(scan));
   }
   json truth = {{"boxes", json::array()}};
   for (const auto& b : d.truth.boxes) truth["boxes"].push_back({{"min", vec(b.min)}, {"max", vec(b.max)}});
@@ -239,6 +243,7 @@ Dataset readDataset(const fs::path& dir) {
     scan.origin = octomap::point3d(float(o[0]), float(o[1]), float(o[2]));
     const auto n = mf.count(mf.at(s, "points", where + "."), where + ".points");
     if (n == 0) throw DataError(file, where + ".points", "an empty scan (0 points) is not allowed");
+    if (s.contains("view")) scan.view = sensorViewFromJson(s.at("view"), file, where + ".view");
     scan.points = readFloats(mf.inside(mf.at(s, "file", where + "."), where + ".file"), n, where);
     d.scans.push_back(std::move(scan));
   }

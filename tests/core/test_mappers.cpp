@@ -34,7 +34,7 @@ std::size_t leafCount(const octomap::OcTree& t) {
 
 float lo(double p) { return float(std::log(p / (1.0 - p))); }  // Eq. 2, by hand
 
-Scan lineScan(std::vector<octomap::point3d> pts) { return Scan{{0.05f, 0.05f, 0.05f}, std::move(pts)}; }
+Scan lineScan(std::vector<octomap::point3d> pts) { return Scan{{0.05f, 0.05f, 0.05f}, std::move(pts), {}}; }
 
 }  // namespace
 

@@ -380,8 +380,8 @@ TEST_CASE("a hit whose l(p(s)) exceeds l_max adds only l_max to a voxel freed be
   p.k = 2, p.p_u = 0.9, p.p_l = 0.8, p.p_m = 0.3, p.p_m_out = 0.4, p.p_max = 0.6, p.p_min = 0.12, p.p_t = 0.5;
   const octomap::point3d origin(0.05f, 0.05f, 0.05f), in_v(0.55f, 0.05f, 0.05f);
   const PointCloudSet set = {
-      {origin, {{1.05f, 0.05f, 0.05f}}},  // scan 0: its ray frees voxel V (the one holding in_v) with l(p_m)
-      {origin, {in_v, {0.55f, 0.55f, 0.05f}}},  // scan 1: a point in V, its neighbour 0.5 m away; F = 1, p = p_l
+      {origin, {{1.05f, 0.05f, 0.05f}}, {}},  // scan 0: its ray frees voxel V (the one holding in_v) with l(p_m)
+      {origin, {in_v, {0.55f, 0.55f, 0.05f}}, {}},  // scan 1: a point in V, its neighbour 0.5 m away; F = 1, p = p_l
   };
   const octomap::OcTree grid(p.resolution);
   const octomap::OcTreeKey v = grid.coordToKey(in_v);

@@ -174,7 +174,7 @@ TEST_CASE("observable truth equals the computeRayKeys oracle on 60 random scenes
 
 TEST_CASE("unobservable voxels leave the evaluation: neither positive nor negative") {
   const GroundTruth full = truthOfBoxes({AxisBox{{1.02, -0.18, 0.32}, {1.38, 0.28, 0.78}}});
-  const GroundTruth observable = restrictToObservable(full, {kOrigin}, 4.0);
+  const GroundTruth observable = restrictToObservable(full, {Viewpoint{kOrigin}}, 4.0);
   CHECK(observable.excluded.size() == 75);
   const octomap::OcTree empty_map(kResolution);
   const RegionSample a = sampleRegion(empty_map, full), b = sampleRegion(empty_map, observable);
@@ -260,7 +260,7 @@ TEST_CASE("a sweep with observable truth counts fewer true voxels where box inte
     // Isolated truth voxels: every one observable, so both truths count alike.
     const Dataset iso = readDataset(s.surface);
     const GroundTruth gt = makeGroundTruth(iso.truth, iso.region, 0.1);
-    REQUIRE(evaluatedTruth(TruthMode::Observable, gt, iso.scans, 4.0).excluded.empty());
+    REQUIRE(evaluatedTruth(TruthMode::Observable, gt, iso.scans, 4.0, s.surface.string()).excluded.empty());
     for (const std::string& g : {std::string("octomap-opt"), grid.string()}) {
       const std::string tag = e + "-" + fs::path(g).stem().string();
       const ResultsFile a = sweep(s.surface, g, e, TruthMode::Full, s.dir / (tag + "-iso-full.json"));

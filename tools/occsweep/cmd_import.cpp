@@ -2,6 +2,7 @@
 #include <array>
 #include <cstdint>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "command_registry.hpp"
@@ -26,7 +27,8 @@ struct ImportOptions {
   std::vector<std::string> files;
   std::string out, name, poses, pose_format = "quaternion", dataset;
   DepthImportConfig depth;
-  std::vector<double> origin{0, 0, 0}, region, shift;
+  std::vector<double> origin{0, 0, 0}, region, shift, view_axis;
+  std::optional<double> view_half_angle;
   double voxel_filter = 0;  ///< the leaf of --voxel-filter; 0: off (the default)
   bool skip_empty = false, force = false;
 };
@@ -138,6 +140,29 @@ void addCloudOptions(CLI::App& cloud, ImportOptions& o) {
   cloud.add_option("--poses", o.poses, "Pose file, sensor-to-world, one pose per cloud (default: clouds in world frame)");
   addPoseOptions(&cloud, o);
   cloud.add_option("--origin", o.origin, "Sensor origin of every cloud when there is no pose file")->expected(3);
+  cloud.add_option("--view-axis", o.view_axis, "X Y Z: the sensor's cone axis, in the sensor frame with --poses "
+                                              "(each pose turns it), else in the world frame (docs/import.md)")
+      ->expected(3);
+  cloud.add_option("--view-half-angle", o.view_half_angle, "Degrees in (0, 180] around --view-axis that the sensor "
+                                                           "sees; 180 (no axis needed): every direction");
+}
+
+// The cone of --view-axis and --view-half-angle, or none: then the data set records no view and observable truth
+// looks in every direction from its origins, with a warning (docs/import.md, "Sensor views").
+std::optional<ConeView> coneOfFlags(const ImportOptions& o) {
+  if (!o.view_half_angle) {
+    if (!o.view_axis.empty()) throw std::invalid_argument("--view-axis needs --view-half-angle (degrees)");
+    return std::nullopt;
+  }
+  if (o.view_axis.empty() && *o.view_half_angle != 180) {
+    std::ostringstream why;
+    why << "--view-half-angle " << *o.view_half_angle << " needs --view-axis X Y Z (only 180, every direction, has "
+        << "no axis)";
+    throw std::invalid_argument(why.str());
+  }
+  ConeView cone{{0, 0, 1}, *o.view_half_angle};
+  if (!o.view_axis.empty()) cone.axis = {o.view_axis[0], o.view_axis[1], o.view_axis[2]};
+  return cone;
 }
 
 void addTruthOptions(CLI::App& truth, ImportOptions& o) {
@@ -183,6 +208,7 @@ int runImportCloud(const ImportOptions& o) {
   cc.pose_format = poseFormatNamed(o.pose_format);
   cc.origin = {o.origin[0], o.origin[1], o.origin[2]};
   cc.skip_empty = o.skip_empty;
+  cc.view = coneOfFlags(o);
   Dataset d = importClouds(paths(o.files), cc);
   shiftOrWarn(d, o);
   filterIfAsked(d, o);

@@ -174,7 +174,7 @@ int runMap(const MapOptions& o) {
   const bool has_truth = !d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty();
   std::optional<GroundTruth> gt;
   const TruthMode truth = parseTruthMode(o.truth);
-  if (has_truth) gt = evaluatedTruth(truth, groundTruthOf(d, o.dataset, k.resolution), d.scans, k.s_c);
+  if (has_truth) gt = evaluatedTruth(truth, groundTruthOf(d, o.dataset, k.resolution), d.scans, k.s_c, o.dataset);
   const auto start = std::chrono::steady_clock::now();
   auto tree = o.method == "octomap" ? buildOctoMap(d.scans, om) : buildKnnMap(d.scans, k, o.threads);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -47,7 +47,7 @@ SweepTruths sweepTruths(const SweepConfig& c, const Dataset& data) {
   t.full = groundTruthOf(data, c.dataset, c.resolution);
   const bool twin = hasTwin(c);
   if (twin && c.truth != TruthMode::Full) throw std::invalid_argument("sweep: observable_out needs full truth");
-  t.marked = evaluatedTruth(twin ? TruthMode::Observable : c.truth, t.full, data.scans, c.s_c);
+  t.marked = evaluatedTruth(twin ? TruthMode::Observable : c.truth, t.full, data.scans, c.s_c, c.dataset.string());
   return t;
 }
 

@@ -253,7 +253,8 @@ DatasetChecker::DatasetChecker(const ResultsHeader& h, const std::string& file, 
   const Dataset d = readDataset(dir);
   requireInKeyRange(d, dir, h.resolution);
   // Observable truth leaves its unobservable voxels out of the region and of the truth alike.
-  const GroundTruth gt = evaluatedTruth(h.truth, makeGroundTruth(d.truth, d.region, h.resolution), d.scans, h.s_c);
+  const GroundTruth gt =
+      evaluatedTruth(h.truth, makeGroundTruth(d.truth, d.region, h.resolution), d.scans, h.s_c, dir.string());
   state_->region = gt.evaluatedVoxelCount();
   state_->truth_voxels = gt.evaluatedTrueVoxelCount();
 }

@@ -41,8 +41,20 @@ std::vector<octomap::point3d> decodeCloud(std::string_view bytes, const fs::path
 
 std::vector<octomap::point3d> readCloud(const fs::path& file) { return decodeCloud(readFileBytes(file), file); }
 
+SensorView cloudView(const ConeView& cone, const RigidPose& pose) {
+  if (const auto broken = brokenViewRule(cone))
+    throw std::invalid_argument((broken->field == "axis" ? "--view-axis: " : "--view-half-angle: ") + broken->rule);
+  if (cone.half_angle_deg >= 180) return SphereView{};
+  const auto& r = pose.rotation;
+  const auto& a = cone.axis;
+  return ConeView{{r[0] * a[0] + r[1] * a[1] + r[2] * a[2], r[3] * a[0] + r[4] * a[1] + r[5] * a[2],
+                   r[6] * a[0] + r[7] * a[1] + r[8] * a[2]},
+                  cone.half_angle_deg};
+}
+
 Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfig& c) {
   if (clouds.empty()) throw std::invalid_argument("no point cloud given");
+  if (c.view) (void)cloudView(*c.view, RigidPose{});  // its rules, before any file is read
   std::vector<RigidPose> poses;
   if (c.pose_file) {
     poses = readPoses(*c.pose_file, c.pose_format);
@@ -67,6 +79,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
       scan.origin = octomap::point3d(float(c.origin[0]), float(c.origin[1]), float(c.origin[2]));
       scan.points = local;
     }
+    if (c.view) scan.view = cloudView(*c.view, c.pose_file ? poses[i] : RigidPose{});
     if (scan.points.empty() && c.skip_empty) continue;
     requireNonEmpty(scan, clouds[i].string(), "");
     requireFiniteScan(scan, clouds[i].string(), "", c.pose_file ? "after the pose of " + c.pose_file->string() : "");
@@ -75,6 +88,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
   }
   if (scans.empty()) throw std::invalid_argument("every point cloud is empty");
   nlohmann::json source = {{"generator", "occsweep import cloud"}, {"clouds", files}};
+  if (c.view) source["view"] = {{"axis", c.view->axis}, {"half_angle_deg", c.view->half_angle_deg}};
   if (c.pose_file) {
     source["poses"] = c.pose_file->filename().string();
     source["pose_format"] = poseFormatName(c.pose_format);

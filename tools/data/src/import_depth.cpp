@@ -26,9 +26,19 @@ std::string tooManyPixels(std::uint64_t width, std::uint64_t height) {
       .what();
 }
 
+PinholeView cameraView(const DepthImage& image, const RigidPose& pose, const DepthImportConfig& c) {
+  PinholeView view{c.fx, c.fy, c.cx, c.cy, image.width, image.height, pose.rotation};
+  // A negative focal length (ICL-NUIM's fy) mirrors the image: recorded as its mirror, focal length > 0 and the
+  // principal point reflected (size - 1 - c), which bounds the same pyramid (docs/dataset-format.md, "Sensor views").
+  if (view.fx < 0) view.fx = -view.fx, view.cx = image.width - 1 - view.cx;
+  if (view.fy < 0) view.fy = -view.fy, view.cy = image.height - 1 - view.cy;
+  return view;
+}
+
 Scan depthToScan(const DepthImage& image, const RigidPose& pose, const DepthImportConfig& c) {
   Scan scan;
   scan.origin = pose.origin();
+  scan.view = cameraView(image, pose, c);
   const auto stride = std::size_t(c.stride);
   for (std::size_t v = 0; v < std::size_t(image.height); v += stride)
     for (std::size_t u = 0; u < std::size_t(image.width); u += stride) {

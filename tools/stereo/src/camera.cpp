@@ -18,6 +18,12 @@ StereoCamera zedLikeCamera(int width, int height) {
   return c;
 }
 
+PinholeView leftCameraView(const StereoCamera& camera, const CameraPose& pose) {
+  const Eigen::Matrix3d& r = pose.rotation;
+  return PinholeView{camera.fx, camera.fx, camera.cx, camera.cy, camera.width, camera.height,
+                     {r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2)}};
+}
+
 CameraPose lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
   const Eigen::Vector3d forward = (target - eye).normalized();
   const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();

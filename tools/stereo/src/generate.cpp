@@ -92,7 +92,7 @@ struct StereoScans {
 };
 
 // What keyframe i's disparity gives its set besides the points: the target pixel counts, the scan's origin and
-// (keyframe 0) the preview.
+// view, and (keyframe 0) the preview.
 void recordDisparity(const DatasetContext& x, std::size_t i, const std::vector<std::int16_t>& disparity,
                      StereoScans& out) {
   const Keyframes& key = x.key;
@@ -100,6 +100,7 @@ void recordDisparity(const DatasetContext& x, std::size_t i, const std::vector<s
     if (key.frames[i].target_mask[p]) out.target_pixels[i] += 1, out.target_valid[i] += disparity[p] > 0;
   out.scans[i].origin = octomap::point3d(float(key.mapping[i].position.x()), float(key.mapping[i].position.y()),
                                          float(key.mapping[i].position.z()));
+  out.scans[i].view = leftCameraView(x.cam, key.mapping[i]);  // the pose the clouds are placed with
   if (i == 0 && x.c.preview) out.preview_disparity = disparity;
 }
 

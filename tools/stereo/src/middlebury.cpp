@@ -156,6 +156,7 @@ Dataset middleburyDataset(const MiddleburyPair& pair, const MiddleburyCamera& ca
   const std::vector<std::int16_t> disparity = computeDisparity(frame, params, num_disparities);
   Scan scan;  // the left camera at the origin, camera axes (x right, y down, z forward)
   scan.origin = octomap::point3d(0, 0, 0);
+  scan.view = leftCameraView(cam, CameraPose{});
   const std::vector<Eigen::Vector3d> points =
       reprojectDisparity(withDisparityOffset(disparity, camera.doffs_px), cam, CameraPose{}, kMaxDepth);
   scan.points = voxels.voxel_filter ? voxelFilter(points, voxels.leaf) : toPoint3d(points);

@@ -80,7 +80,7 @@ inline std::unique_ptr<octomap::OcTree> buildMapByRule(const MappingMethod& meth
     const std::vector<std::uint32_t> kept =
         keptPoints(set[t], rule, rule.gate ? &gate_feature.values[t] : nullptr,
                    rule.gate ? gate_feature.summaries[t] : FeatureScanSummary{});
-    Scan filtered{set[t].origin, {}};
+    Scan filtered{set[t].origin, {}, set[t].view};
     for (std::uint32_t i : kept) filtered.points.push_back(set[t].points[i]);
     const std::vector<std::uint32_t> inner = innerPoints(filtered, context.s_c);
     recorder.recordAll(filtered, inner, context.s_c, events);

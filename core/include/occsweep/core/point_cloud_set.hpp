@@ -2,16 +2,21 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include <octomap/octomap_types.h>
 
+#include "sensor_view.hpp"
+
 namespace occsweep {
 
 /// One scan z_t taken from sensor origin x_t. Points are in the world frame, like the clouds OctoMap inserts.
+/// `view`: what the sensor could see from the origin, when the data set records it (observable truth only).
 struct Scan {
   octomap::point3d origin;
   std::vector<octomap::point3d> points;
+  std::optional<SensorView> view;
 };
 
 /// The ordered scans of one data set under one set of point cloud parameters.

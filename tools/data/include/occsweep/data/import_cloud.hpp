@@ -40,7 +40,16 @@ struct CloudImportConfig {
   PoseFormat pose_format = PoseFormat::Quaternion;
   std::array<double, 3> origin{0, 0, 0};           ///< sensor origin of every cloud when there is no pose file
   bool skip_empty = false;
+  /// What the sensor sees (docs/import.md, "Sensor views"): a cone whose axis is in the sensor frame (each pose
+  /// turns it) or, without a pose file, in the world frame; a half-angle of 180 degrees is every direction. None:
+  /// the data set records no view.
+  std::optional<ConeView> view;
 };
+
+/// The view recorded for a cloud taken with `pose` (sensor -> world): the cone with its axis turned by the pose, or
+/// a sphere at 180 degrees. std::invalid_argument naming --view-axis or --view-half-angle when the cone breaks a
+/// rule (zero axis, half-angle outside (0, 180]).
+[[nodiscard]] SensorView cloudView(const ConeView& cone, const RigidPose& pose);
 
 /// One scan a cloud file, in order; progress on stderr. A data set without ground truth.
 [[nodiscard]] Dataset importClouds(const std::vector<std::filesystem::path>& clouds, const CloudImportConfig& config);

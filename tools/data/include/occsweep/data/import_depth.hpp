@@ -45,8 +45,13 @@ struct DepthImportConfig {
 /// Throws std::invalid_argument naming the field that breaks a rule (scale > 0, fx, fy != 0, stride >= 1...).
 void validate(const DepthImportConfig& config);
 
+/// What one frame's camera sees: the image's pinhole (rotation = the pose's), a negative focal length recorded as
+/// its mirror (> 0, principal point reflected), which bounds the same pyramid.
+[[nodiscard]] PinholeView cameraView(const DepthImage& image, const RigidPose& pose, const DepthImportConfig& config);
+
 /// Back-projects one frame: x = (u - cx) z / fx, y = (v - cy) z / fy, z = value / scale, camera frame (z forward),
-/// then moved to the world by `pose`. Zero pixels are skipped. The scan's origin is the camera position.
+/// then moved to the world by `pose`. Zero pixels are skipped. The scan's origin is the camera position, its view
+/// cameraView.
 [[nodiscard]] Scan depthToScan(const DepthImage& image, const RigidPose& pose, const DepthImportConfig& config);
 
 /// Reads `images` in order with one pose each from `pose_file`; progress on stderr. A data set without ground

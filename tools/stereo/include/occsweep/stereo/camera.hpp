@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include "occsweep/core/sensor_view.hpp"
+
 namespace occsweep::stereo {
 
 /// Pinhole intrinsics shared by both rectified images. Pixel centres are at integer coordinates (OpenCV).
@@ -25,6 +27,10 @@ struct CameraPose {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
 };
+
+/// What the left camera sees from `pose`: its image as a pinhole (fx = fy), the pose's rotation camera -> world.
+/// Recorded with every scan (docs/dataset-format.md, "Sensor views").
+[[nodiscard]] PinholeView leftCameraView(const StereoCamera& camera, const CameraPose& pose);
 
 /// A camera at `eye` looking at `target`, image x horizontal (z up in the world).
 [[nodiscard]] CameraPose lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
