@@ -32,11 +32,12 @@ std::vector<bool> holmRejects(const std::vector<double>& p, double alpha) {
   return reject;
 }
 
-VerdictEvidence evidence(std::size_t units, BootstrapInterval interval, std::vector<double> differences,
-                         double holm_p, std::size_t family = 1) {
+VerdictEvidence evidence(BootstrapInterval interval, std::vector<double> differences, double holm_p,
+                         std::size_t family = 1, double family_least_smallest_p = 1.0) {
   VerdictEvidence e;
-  e.units = units;
+  e.differences = differences;
   e.interval = interval;
+  e.family_least_smallest_p = family_least_smallest_p;
   if (std::any_of(differences.begin(), differences.end(), [](double d) { return d != 0; }))
     e.test = exactPairedTest(differences);
   e.holm_p = holm_p;
@@ -114,18 +115,18 @@ TEST_CASE("The exact test: Wilcoxon's where its exact distribution applies, else
 TEST_CASE("Verdict rules, each on its own", "[stats]") {
   const BootstrapInterval positive{1.0, 0.5, 1.5};
   SECTION("two data sets, both better: too few to tell, whatever the interval") {
-    const Verdict v = decideVerdict(evidence(2, positive, {1.0, 1.2}, 0.5));
+    const Verdict v = decideVerdict(evidence(positive, {1.0, 1.2}, 0.5));
     CHECK(v.kind == VerdictKind::TooFew);
     CHECK(v.text == "too few data sets to tell (n = 2; the smallest p possible is 0.5)");
   }
   SECTION("four data sets, all better: p = 0.125 is the smallest four can give") {
-    const Verdict v = decideVerdict(evidence(4, positive, {1.0, 1.2, 0.8, 0.9}, 0.125));
+    const Verdict v = decideVerdict(evidence(positive, {1.0, 1.2, 0.8, 0.9}, 0.125));
     CHECK(v.kind == VerdictKind::TooFew);
     CHECK(v.text.find("0.125") != std::string::npos);
   }
   SECTION("eight data sets, all better: gain, with its sample, test and correction named") {
     const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7, 1.3, 0.6};
-    const Verdict v = decideVerdict(evidence(8, positive, d, exactPairedTest(d).p_value));
+    const Verdict v = decideVerdict(evidence(positive, d, exactPairedTest(d).p_value));
     CHECK(v.kind == VerdictKind::Gain);
     CHECK(v.text == "gain");
     CHECK(v.basis.find("n = 8 data sets") != std::string::npos);
@@ -134,49 +135,91 @@ TEST_CASE("Verdict rules, each on its own", "[stats]") {
   }
   SECTION("after Holm over three methods: a gain at an adjusted p of 0.023, not at 0.06") {
     const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7, 1.3, 0.6};
-    CHECK(decideVerdict(evidence(8, positive, d, 3 * 0.0078125, 3)).kind == VerdictKind::Gain);
-    CHECK(decideVerdict(evidence(8, positive, d, 0.06, 3)).kind == VerdictKind::NoClearDifference);
+    CHECK(decideVerdict(evidence(positive, d, 3 * 0.0078125, 3)).kind == VerdictKind::Gain);
+    CHECK(decideVerdict(evidence(positive, d, 0.06, 3)).kind == VerdictKind::NoClearDifference);
   }
   SECTION("six data sets all worse, interval below 0: loss") {
     const std::vector<double> d{-1.0, -1.2, -0.8, -0.9, -1.1, -0.7};
-    CHECK(decideVerdict(evidence(6, {-1.0, -1.3, -0.7}, d, 0.03125)).kind == VerdictKind::Loss);
+    CHECK(decideVerdict(evidence({-1.0, -1.3, -0.7}, d, 0.03125)).kind == VerdictKind::Loss);
   }
   SECTION("-0.004 % with a tight interval: negligible, not loss, whatever the p-value") {
     std::vector<double> d;
     for (int i = 0; i < 20; ++i) d.push_back(-0.004 - 0.0001 * i);
-    const Verdict v = decideVerdict(evidence(20, {-0.005, -0.006, -0.004}, d, 1e-6));
+    const Verdict v = decideVerdict(evidence({-0.005, -0.006, -0.004}, d, 1e-6));
     CHECK(v.kind == VerdictKind::Negligible);
-    CHECK(v.text == "negligible (the interval lies within +-0.1 %)");
+    CHECK(v.text.find("negligible (TOST: the 90% t interval [") == 0);
+    CHECK(v.text.find("lies within +-0.1 %)") != std::string::npos);
+    REQUIRE(v.equivalence);
+    CHECK(v.equivalence->level == Approx(0.9));
   }
   SECTION("an interval that reaches past the smallest effect is not negligible") {
     const std::vector<double> d{-0.05, -0.2, -0.1, -0.15, -0.12, -0.08};
-    CHECK(decideVerdict(evidence(6, {-0.12, -0.18, -0.06}, d, 0.03125)).kind == VerdictKind::Loss);
+    CHECK(decideVerdict(evidence({-0.12, -0.18, -0.06}, d, 0.03125)).kind == VerdictKind::Loss);
   }
   SECTION("an interval containing 0: no clear difference") {
     const std::vector<double> d{1.0, -1.2, 0.8, -0.9, 1.1, -0.7};
-    CHECK(decideVerdict(evidence(6, {0.0, -0.8, 0.8}, d, 0.8)).kind == VerdictKind::NoClearDifference);
+    CHECK(decideVerdict(evidence({0.0, -0.8, 0.8}, d, 0.8)).kind == VerdictKind::NoClearDifference);
   }
   SECTION("an interval excluding 0 with a test that does not reject: no clear difference") {
     const std::vector<double> d{1.0, -0.2, 0.8, 0.9, -0.1, 0.7};
-    CHECK(decideVerdict(evidence(6, {0.5, 0.1, 0.9}, d, 0.16)).kind == VerdictKind::NoClearDifference);
+    CHECK(decideVerdict(evidence({0.5, 0.1, 0.9}, d, 0.16)).kind == VerdictKind::NoClearDifference);
   }
   SECTION("every data set equal: a tie") {
-    const Verdict v = decideVerdict(evidence(7, {0, 0, 0}, {0, 0, 0, 0, 0, 0, 0}, 1.0));
+    const Verdict v = decideVerdict(evidence({0, 0, 0}, {0, 0, 0, 0, 0, 0, 0}, 1.0));
     CHECK(v.kind == VerdictKind::Tie);
     CHECK(v.text == "tie (equal on all 7 data sets)");
   }
   SECTION("six data sets of which three differ: too few, with the smallest p of three") {
-    const Verdict v = decideVerdict(evidence(6, positive, {1.0, 0, 1.2, 0, 0.8, 0}, 0.25));
+    const Verdict v = decideVerdict(evidence(positive, {1.0, 0, 1.2, 0, 0.8, 0}, 0.25));
     CHECK(v.kind == VerdictKind::TooFew);
     CHECK(v.text.find("0.25") != std::string::npos);
-    CHECK(v.basis.find("(3 not tied)") != std::string::npos);
+    CHECK(v.basis.find("(3 non-zero)") != std::string::npos);
   }
-  SECTION("one data set: too few") {
-    CHECK(decideVerdict(evidence(1, positive, {1.0}, 1.0)).kind == VerdictKind::TooFew);
+  SECTION("one data set: too few, named in the singular") {
+    const Verdict v = decideVerdict(evidence(positive, {1.0}, 1.0));
+    CHECK(v.kind == VerdictKind::TooFew);
+    CHECK(v.basis.find("n = 1 data set") == 0);
+    CHECK(v.basis.find("n = 1 data sets") == std::string::npos);
+  }
+  SECTION("Holm decides whether the sample can reject: six data sets all better in a family of three") {
+    // 2 / 2^6 = 0.03125 <= 0.05 alone, but Holm multiplies the least p of the family by 3: 0.09375 > 0.05.
+    const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7};
+    const Verdict v = decideVerdict(evidence(positive, d, 3 * 0.03125, 3));
+    CHECK(v.kind == VerdictKind::TooFew);
+    CHECK(v.text == "too few data sets to tell (n = 6; the smallest p possible is 0.0938 after Holm's correction "
+                    "over 3 comparisons)");
+    CHECK(decideVerdict(evidence(positive, d, 0.03125, 1)).kind == VerdictKind::Gain);
+  }
+  SECTION("Holm's bound uses the family's least p: a comparison on 6 can pass beside one on 8") {
+    // Ranked second of two behind a p of 2 / 2^8: adjusted max(2 x 0.0078125, 1 x 0.03125) = 0.03125.
+    const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7};
+    CHECK(smallestPossibleHolmP(0.03125, 0.0078125, 2) == 0.03125);
+    CHECK(smallestPossibleHolmP(0.03125, 1.0, 2) == 0.0625);
+    CHECK(decideVerdict(evidence(positive, d, 0.03125, 2, 0.0078125)).kind == VerdictKind::Gain);
+    CHECK(decideVerdict(evidence(positive, d, 0.0625, 2, 0.03125)).kind == VerdictKind::TooFew);
+  }
+  SECTION("seven of eight data sets equal, the eighth -0.004 %: negligible, not too few") {
+    const Verdict v = decideVerdict(evidence({-0.0005, -0.001, 0.0}, {0, 0, 0, 0, -0.004, 0, 0, 0}, 1.0));
+    CHECK(v.kind == VerdictKind::Negligible);
+  }
+  SECTION("negligible rests on the t interval, not the bootstrap's: a BCa interval within +-0.1 is not enough") {
+    // Six differences whose 90% t interval reaches past 0.1 while a (too narrow) bootstrap interval would not.
+    const std::vector<double> d{0.02, 0.11, 0.0, 0.12, 0.03, 0.1};
+    const MeanTInterval t = meanTInterval(d, 0.9);
+    REQUIRE(t.upper > 0.1);
+    const Verdict v = decideVerdict(evidence({0.063, 0.03, 0.095}, d, 0.03125));
+    CHECK(v.kind != VerdictKind::Negligible);
+  }
+  SECTION("the equivalence test is Bonferroni-corrected over the family: 1 - 2 alpha / 3") {
+    std::vector<double> d;
+    for (int i = 0; i < 20; ++i) d.push_back(-0.004 - 0.0001 * i);
+    const Verdict v = decideVerdict(evidence({-0.005, -0.006, -0.004}, d, 1e-6, 3));
+    REQUIRE(v.equivalence);
+    CHECK(v.equivalence->level == Approx(1 - 0.1 / 3));
   }
   SECTION("alpha and the smallest effect are the caller's") {
     const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7};
-    CHECK(decideVerdict(evidence(6, positive, d, 0.03125), {0.01, 0.1}).kind == VerdictKind::TooFew);
-    CHECK(decideVerdict(evidence(6, positive, d, 0.03125), {0.05, 2.0}).kind == VerdictKind::Negligible);
+    CHECK(decideVerdict(evidence(positive, d, 0.03125), {0.01, 0.1}).kind == VerdictKind::TooFew);
+    CHECK(decideVerdict(evidence(positive, d, 0.03125), {0.05, 2.0}).kind == VerdictKind::Negligible);
   }
 }

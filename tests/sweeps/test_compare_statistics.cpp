@@ -105,6 +105,19 @@ TEST_CASE("a method better on every map by 0.05: a gain over eight data sets, to
   CHECK(s.optima.verdict.basis.find("n = 8 data sets") != std::string::npos);
   CHECK(s.sign->p_value == Approx(2.0 / (1 << 24)));     // the per-set sign test stays, as description
   CHECK(s.budget.first_above_baseline.has_value());
+  // --json carries each data set's value beside the verdict, so that a reader can recompute it.
+  const nlohmann::json j = toJson(compareStatistics(compareBest(eight), eight, statisticsAgainst("base")),
+                                  statisticsAgainst("base"));
+  for (const nlohmann::json& m : j)
+    if (m.at("method") == "other") {
+      const nlohmann::json& per = m.at("optima_over_datasets").at("per_dataset");
+      REQUIRE(per.size() == 8);
+      for (std::size_t i = 0; i < 8; ++i) {
+        CHECK(per[i].at("dataset").get<std::string>() == s.optima.datasets[i]);
+        CHECK(per[i].at("improvement_percent").get<double>() == s.optima.per_dataset[i]);
+      }
+      CHECK(m.at("cross_validated_over_datasets").at("per_dataset").size() == 8);
+    }
   for (const int datasets : {2, 4}) {
     const auto few = syntheticComparison(7, 15, 15, 0.05, true, datasets);
     const MethodStatistics f = statisticsFor(few, "other");
@@ -129,7 +142,8 @@ TEST_CASE("four point cloud sets of one data set are one sample, not four") {
 
 TEST_CASE("Holm's correction runs over every method compared with the baseline") {
   // Six data sets of one set each, "up" better on all six (exact p = 2/64 = 0.03125 < 0.05): a gain alone; beside two
-  // methods equal to the baseline (p = 1 each) Holm multiplies it by 3 (0.094) and it is no longer a gain.
+  // methods equal to the baseline (p = 1 each) Holm multiplies it by 3 (0.094): six data sets cannot show a gain in
+  // a family of three, and the verdict says so with the bound after the correction.
   auto files = syntheticComparison(5, 10, 10, 0.05, true, 6, 1);
   for (auto& f : files)
     if (f.header.method == "other") f.header.method = "up";
@@ -148,7 +162,8 @@ TEST_CASE("Holm's correction runs over every method compared with the baseline")
   const MethodStatistics& up = statisticsOf(three, "up");
   CHECK(up.optima.family == 3);
   CHECK(up.optima.holm_p == Approx(3 * 0.03125));
-  CHECK(up.optima.verdict.text == "no clear difference");
+  CHECK(up.optima.verdict.text ==
+        "too few data sets to tell (n = 6; the smallest p possible is 0.0938 after Holm's correction over 3 comparisons)");
   CHECK(up.optima.verdict.basis.find("Holm-adjusted over 3 comparisons 0.0938") != std::string::npos);
   CHECK(statisticsOf(three, "same-1").optima.verdict.kind == stats::VerdictKind::Tie);
 }
@@ -163,7 +178,11 @@ TEST_CASE("a difference of -0.004 % on every set with a tight interval is neglig
   REQUIRE(s.optima.interval);
   CHECK(s.optima.interval->upper < 0);  // excludes 0 and the test rejects: today's "loss"
   CHECK(s.optima.interval->estimate == Approx(-0.004).epsilon(1e-6));
-  CHECK(s.optima.verdict.text == "negligible (the interval lies within +-0.1 %)");
+  CHECK(s.optima.verdict.kind == stats::VerdictKind::Negligible);
+  CHECK(s.optima.verdict.text.find("negligible (TOST: the 90% t interval [") == 0);
+  REQUIRE(s.optima.verdict.equivalence);
+  CHECK(s.optima.verdict.equivalence->upper < 0.1);
+  CHECK(s.optima.verdict.equivalence->lower > -0.1);
   CHECK(s.sets_holding_baseline_best == 0);
 }
 

@@ -77,7 +77,7 @@ SweepConfig randomSweep(SplitMix64& rng) {
   s.stats = rng.below(2) ? StatsMode::Online : StatsMode::Batch;
   s.engine = rng.below(2) ? "direct" : "replay";
   s.truth = rng.below(2) ? TruthMode::Observable : TruthMode::Full;
-  s.threads = int(rng.below(rng.below(2) ? 8 : 100000));
+  s.threads = int(rng.below(rng.below(2) ? 8 : 1025));
   s.quiet = rng.below(2);
   s.force = rng.below(2);
   return s;
@@ -111,10 +111,12 @@ TEST_CASE("merge, compare and select tasks parse back to themselves over many ra
     INFO("seed " << seed);
     const MergeTask merge{randomFiles(rng), randomName(rng), bool(rng.below(2))};
     CHECK(parseTask<MergeTask>(taskArgv(merge), addMergeOptions) == merge);
-    const CompareTask compare{randomFiles(rng), rng.below(2) ? randomName(rng) : "", bool(rng.below(2)),
-                              bool(rng.below(2)), rng.below(2) ? randomName(rng) : "octomap",
-                              rng.below(2) ? randomName(rng) : "", rng.below(2) ? randomName(rng) : "",
-                              rng.below(2) ? randomName(rng) : ""};
+    CompareTask compare{randomFiles(rng), rng.below(2) ? randomName(rng) : "", bool(rng.below(2)),
+                        bool(rng.below(2)), rng.below(2) ? randomName(rng) : "octomap",
+                        rng.below(2) ? randomName(rng) : "", rng.below(2) ? randomName(rng) : "",
+                        rng.below(2) ? randomName(rng) : ""};
+    if (rng.below(2)) compare.alpha = 1e-6 + (0.5 - 1e-6) * rng.uniform();  // the verdicts' rules travel too
+    if (rng.below(2)) compare.smallest_effect = 100.0 * rng.uniform();
     CHECK(parseTask<CompareTask>(taskArgv(compare), addCompareOptions) == compare);
     const SelectTask select{randomFiles(rng), randomName(rng)};
     CHECK(parseTask<SelectTask>(taskArgv(select), addSelectOptions) == select);

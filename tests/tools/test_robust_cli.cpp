@@ -64,15 +64,15 @@ TEST_CASE("numeric flags are refused with their rule in plain numbers, exit 2, n
   requireUsageError("map --dataset " + ds + " --p-m abc --out " + out, "--p-m must be a number in [0, 1], got abc", dir);
   requireUsageError("map --dataset " + ds + " --p-h 1.5 --out " + out, "--p-h must be a number in [0, 1], got 1.5", dir);
   requireUsageError("map --dataset " + ds + " --p-t nan --out " + out, "--p-t must be a number in [0, 1], got nan", dir);
-  requireUsageError("map --dataset " + ds + " --threads -1 --out " + out, "--threads must be an integer >= 0, got -1",
+  requireUsageError("map --dataset " + ds + " --threads -1 --out " + out, "--threads must be an integer from 0 to 1024, got -1",
                     dir);
   requireUsageError("sweep --dataset " + ds + " --grid octomap-opt --threads -1 --out " + (dir / "s.json").string(),
-                    "--threads must be an integer >= 0, got -1", dir);
+                    "--threads must be an integer from 0 to 1024, got -1", dir);
   requireUsageError("scene --out " + (dir / "s").string() + " --scans 0", "--scans must be an integer from 1 to 100000, got 0",
                     dir);
   requireUsageError("scene --out " + (dir / "s").string() + " --seed abc", "--seed cannot take the value abc", dir);
   requireUsageError("grid count octomap-opt --groups 0", "--groups must be an integer >= 1, got 0", dir);
-  requireUsageError("cluster run-local " + dir.string() + " -j 0", "--jobs must be an integer >= 1, got 0", dir);
+  requireUsageError("cluster run-local " + dir.string() + " -j 0", "--jobs must be an integer from 1 to 1024, got 0", dir);
 }
 
 TEST_CASE("a typo in a command or an option is exit 2 with the nearest valid name") {

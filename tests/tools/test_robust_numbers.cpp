@@ -381,6 +381,34 @@ TEST_CASE("compare refuses results that do not compare, names the file behind ev
     CHECK(has(r.output, "warning"));
     CHECK(has(r.output, "shard.json"));
   }
+  SECTION("an Eq. 16 group against a whole grid (old: compared as if the group were the grid)") {
+    const fs::path group = sweep(grid.string(), "--group 1/3 --seed 7", fx.dir / "group.json");
+    requireRefused(run("compare " + group.string() + " " + fx.octomap.string()),
+                   {"group.json", "group 1/3", "Eq. 16", "--allow-mixed"});
+    const auto r = run("compare --allow-mixed " + group.string() + " " + fx.octomap.string());
+    INFO(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(has(r.output, "warning"));
+  }
+  SECTION("the verdicts' alpha and smallest effect must be numbers in their range (old: nan accepted)") {
+    for (const std::string flag : {"--alpha nan", "--alpha inf", "--alpha 0.7", "--smallest-effect nan",
+                                   "--smallest-effect -1"}) {
+      const auto r = run("compare " + flag + " " + fx.octomap.string() + " " + fx.knn.string());
+      INFO(flag << ": " << r.output);
+      CHECK(r.exit_code == 2);
+      CHECK(has(r.output, flag.substr(0, flag.find(' '))));
+      CHECK(has(r.output, "must be a number in ["));
+    }
+  }
+  SECTION("two outputs naming one file are refused before anything is written (old: the CSV overwrote the JSON)") {
+    const fs::path both = fx.dir / "both.out";
+    const auto r = run("compare " + fx.octomap.string() + " " + fx.knn.string() + " --json " + both.string() +
+                       " --csv " + (fx.dir / "." / "both.out").string());
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(has(r.output, "--json and --csv name one file"));
+    CHECK_FALSE(fs::exists(both));
+  }
   SECTION("k-NN at 0.2 m against OctoMap at 0.1 m (old: -24.60 %)") {
     const fs::path coarse = sweep(grid.string(), "--resolution 0.2", fx.dir / "coarse.json");
     requireRefused(run("compare " + coarse.string() + " " + fx.octomap.string()),

@@ -114,8 +114,25 @@ ReplaceableOutput tableOutput(const std::string& name, const std::string& first_
           }};
 }
 
+// Two output flags naming one file would leave only the last written: refused, naming both flags.
+void requireDistinctOutputs(const CompareTask& o) {
+  const std::vector<std::pair<const char*, std::string>> outputs{
+      {"--json", o.json}, {"--csv", o.csv}, {"--markdown", o.markdown}, {"--latex", o.latex}};
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+    for (std::size_t j = i + 1; j < outputs.size(); ++j) {
+      if (outputs[i].second.empty() || outputs[j].second.empty()) continue;
+      std::error_code ec;
+      const auto a = std::filesystem::weakly_canonical(outputs[i].second, ec);
+      const auto b = std::filesystem::weakly_canonical(outputs[j].second, ec);
+      if (a == b)
+        throw std::invalid_argument(std::string(outputs[i].first) + " and " + outputs[j].first + " name one file (" +
+                                    outputs[j].second + "): each output needs a file of its own");
+    }
+}
+
 // Each output given is checked before anything is read or written: a user's file is never replaced.
 void checkOutputs(const CompareTask& o) {
+  requireDistinctOutputs(o);
   if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("comparison", "occsweep-comparison"));
   if (!o.csv.empty()) checkOutputTarget(o.csv, o.force, tableOutput("comparison CSV", "dataset,point_cloud_set,"));
   if (!o.markdown.empty())
@@ -166,7 +183,7 @@ int runCompare(const CompareTask& o) {
   printTruth(truth);
   std::vector<std::string> methods;
   for (const auto& s : statistics) methods.push_back(s.method);
-  const ComparisonTables tables{rows, in, o.files, methods, statistics, o.baseline};
+  const ComparisonTables tables{rows, in, o.files, methods, statistics, o.baseline, {o.alpha, o.smallest_effect}};
   std::cout << statisticsText(tables);
   if (!o.json.empty())
     writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", o.files}, {"allow_mixed", o.allow_mixed},

@@ -36,8 +36,9 @@ std::string crossValidatedText(const CrossValidated& c) {
 
 std::string budgetText(const BudgetSummary& b) {
   if (!b.maps) return "-";
-  return cell(b.expected_best_at_budget, "%.4f") + " at " + std::to_string(b.budget) + " maps; passes at " +
-         (b.first_above_baseline ? std::to_string(*b.first_above_baseline) : std::string("never")) + " of " +
+  return cell(b.expected_best_at_budget, "%.4f") + " at " + std::to_string(b.budget) + " maps; " +
+         (b.first_above_baseline ? "passes at " + std::to_string(*b.first_above_baseline) + " of "
+                                 : std::string("does not pass within ")) +
          std::to_string(b.maps);
 }
 
@@ -67,6 +68,19 @@ Cells statisticsCells(const std::vector<MethodStatistics>& statistics, const std
   return c;
 }
 
+// Where the method's results hold a map scoring the baseline's best AUC exactly (found from the maps, not the
+// names), its optimum there is at least the baseline's: a tie at the optimum is no evidence, and where that holds on
+// every set the optima verdict cannot be a loss; the cross-validated verdict can.
+std::string nestingText(const MethodStatistics& s) {
+  auto of = [&](std::size_t n) { return std::to_string(n) + " of " + std::to_string(s.sets); };
+  std::string text = s.method + ": on " + of(s.sets_holding_baseline_best) + " sets its results hold a map "
+                     "scoring the baseline's best AUC exactly, so its optimum there is at least the baseline's; "
+                     "better on " + of(s.better) + ", equal on " + of(s.ties) + ", worse on " + of(s.worse);
+  if (s.sets_holding_baseline_best == s.sets)
+    text += " (on every set: the optima verdict cannot be a loss; the cross-validated one can)";
+  return text;
+}
+
 // Each verdict with its sample, test and correction, one line each.
 std::vector<std::string> verdictBases(const std::vector<MethodStatistics>& statistics) {
   std::vector<std::string> lines;
@@ -76,11 +90,7 @@ std::vector<std::string> verdictBases(const std::vector<MethodStatistics>& stati
                                   {"cross-validated by data set", s.cross_validated}})
       lines.push_back(s.method + ", " + what + ": " + c.verdict.text +
                       (c.verdict.basis.empty() ? "" : ": " + c.verdict.basis));
-    if (s.sets_holding_baseline_best)
-      lines.push_back(s.method + ": on " + std::to_string(s.sets_holding_baseline_best) + " of " +
-                      std::to_string(s.sets) + " sets its results hold a map with the baseline's best AUC, so its "
-                      "optimum is not below the baseline's there by construction; strict gains on " +
-                      std::to_string(s.better) + " sets");
+    if (s.sets_holding_baseline_best) lines.push_back(nestingText(s));
   }
   return lines;
 }
@@ -179,8 +189,10 @@ std::string statisticsText(const ComparisonTables& t) {
       o << (i ? "  " : "") << line[i] << std::string(i + 1 < line.size() ? width[i] - line[i].size() : 0, ' ');
     o << '\n';
   }
-  o << "verdicts over data sets (exact test after Holm's correction, interval, smallest effect; docs/statistics.md):\n";
-  for (const std::string& line : verdictBases(t.statistics)) o << "  " << line << '\n';
+  const std::vector<std::string> bases = verdictBases(t.statistics);
+  if (!bases.empty())
+    o << "verdicts over data sets (exact test after Holm's correction, interval, smallest effect; docs/statistics.md):\n";
+  for (const std::string& line : bases) o << "  " << line << '\n';
   return o.str();
 }
 
@@ -242,8 +254,10 @@ std::string markdownTables(const ComparisonTables& t) {
                     markdown(perSetCells(t));
   if (!t.statistics.empty()) {
     out += "\nStatistics against " + t.baseline + " (docs/statistics.md):\n\n" +
-           markdown(statisticsCells(t.statistics, t.baseline)) + "\nVerdicts:\n\n";
-    for (const std::string& line : verdictBases(t.statistics)) out += "- " + line + "\n";
+           markdown(statisticsCells(t.statistics, t.baseline));
+    const std::vector<std::string> bases = verdictBases(t.statistics);
+    if (!bases.empty()) out += "\nVerdicts:\n\n";
+    for (const std::string& line : bases) out += "- " + line + "\n";
   }
   return out;
 }
@@ -251,11 +265,18 @@ std::string markdownTables(const ComparisonTables& t) {
 std::string latexTables(const ComparisonTables& t) {
   std::string out = "% occsweep compare --latex: needs \\usepackage{booktabs}\n" +
                     latex(perSetCells(t), "Best AUC per set, and the improvement over " + t.baseline + " in percent");
-  if (!t.statistics.empty())
-    out += latex(statisticsCells(t.statistics, t.baseline),
-                 "Statistics against " + t.baseline +
-                     ". Verdicts over data sets: gain or loss only when the interval excludes 0 and the exact test "
-                     "rejects after Holm's correction");
+  if (t.statistics.empty()) return out;
+  const stats::VerdictRules& rules = t.rules;
+  out += latex(statisticsCells(t.statistics, t.baseline),
+               "Statistics against " + t.baseline + ", the data set as the unit. Verdicts: gain or loss only when the "
+               "95% BCa interval excludes 0 and the exact test (Wilcoxon signed-rank, or the sign test on ties) "
+               "rejects at alpha " + cell(rules.alpha, "%g") + " after Holm's correction over the methods compared; "
+               "negligible when TOST puts the mean within +-" + cell(rules.smallest_effect, "%g") + " %");
+  // Each verdict's basis (its sample, test and correction) under the tables, as compare prints it.
+  const std::vector<std::string> bases = verdictBases(t.statistics);
+  if (!bases.empty()) out += "\\begin{itemize}\n";
+  for (const std::string& line : bases) out += "  \\item " + latexEscaped(line) + "\n";
+  if (!bases.empty()) out += "\\end{itemize}\n";
   return out;
 }
 

@@ -20,6 +20,7 @@ struct ComparisonTables {
   const std::vector<std::string>& methods;    ///< the baseline first (compareStatistics' order)
   const std::vector<MethodStatistics>& statistics;  ///< empty when the baseline was not given
   std::string baseline;
+  stats::VerdictRules rules{};  ///< alpha and the smallest effect the verdicts used (compare --alpha, --smallest-effect)
 };
 
 /// The results files compare and plot read: only complete files that pass every check of `results check`

@@ -96,10 +96,10 @@ void addCompareOptions(CLI::App& app, CompareTask& task) {
       ->capture_default_str();
   app.add_option("--alpha", task.alpha, "Significance level of the verdicts, after Holm's correction over the methods "
                                         "compared with the baseline (docs/statistics.md, Verdicts)")
-      ->check(CLI::Range(1e-6, 0.5))->capture_default_str();
+      ->check(numberIn(1e-6, 0.5))->capture_default_str();
   app.add_option("--smallest-effect", task.smallest_effect, "Smallest improvement of interest, in percent of the "
                                                             "baseline's AUC: an interval within +-this is negligible")
-      ->check(CLI::Range(0.0, 100.0))->capture_default_str();
+      ->check(numberIn(0.0, 100.0))->capture_default_str();
   app.add_flag("--force", task.force, "Replace occsweep's own previous outputs at --json, --csv, --markdown, --latex "
                                       "(nothing else)");
   app.add_flag("--allow-mixed", task.allow_mixed, "Compare anyway when files of one data set differ in resolution, "

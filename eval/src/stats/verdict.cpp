@@ -20,6 +20,11 @@ bool tiedMagnitudes(std::vector<double> nonzero) {
   return std::adjacent_find(nonzero.begin(), nonzero.end()) != nonzero.end();
 }
 
+// "data set" for "data sets": the unit's name for n = 1.
+std::string singular(const std::string& plural) {
+  return plural.size() > 1 && plural.back() == 's' ? plural.substr(0, plural.size() - 1) : plural;
+}
+
 std::string number(double v, const char* format) {
   char buf[48];
   std::snprintf(buf, sizeof buf, format, v);
@@ -27,15 +32,16 @@ std::string number(double v, const char* format) {
 }
 
 std::string sampleText(const VerdictEvidence& e) {
-  std::string s = "n = " + std::to_string(e.units) + " " + e.unit_name;
-  if (e.test && e.test->nonzero < e.units) s += " (" + std::to_string(e.test->nonzero) + " not tied)";
+  const std::size_t n = e.differences.size();
+  std::string s = "n = " + std::to_string(n) + " " + (n == 1 ? singular(e.unit_name) : e.unit_name);
+  if (e.test && e.test->nonzero < n) s += " (" + std::to_string(e.test->nonzero) + " non-zero)";
   return s;
 }
 
 std::string intervalText(const VerdictEvidence& e) {
   const BootstrapInterval& i = *e.interval;
-  return "mean " + number(i.estimate, "%+.3g") + " " + e.value_unit + " [" + number(i.lower, "%+.3g") + ", " +
-         number(i.upper, "%+.3g") + "]";
+  return "mean " + number(i.estimate, "%+.3g") + " " + e.value_unit + ", " + number(e.interval_level * 100, "%g") +
+         "% BCa interval [" + number(i.lower, "%+.3g") + ", " + number(i.upper, "%+.3g") + "]";
 }
 
 std::string testText(const VerdictEvidence& e, const VerdictRules& r) {
@@ -52,11 +58,27 @@ std::string basisText(const VerdictEvidence& e, const VerdictRules& r) {
   return s;
 }
 
+std::string equivalenceText(const MeanTInterval& t, const VerdictEvidence& e, const VerdictRules& r) {
+  return "TOST: the " + number(t.level * 100, "%.4g") + "% t interval [" + number(t.lower, "%+.3g") + ", " +
+         number(t.upper, "%+.3g") + "] " + e.value_unit + " lies within +-" + number(r.smallest_effect, "%g") + " " +
+         e.value_unit;
+}
+
+// The equivalence test (two one-sided t tests at alpha each, Bonferroni over the family): the mean's t interval at
+// 1 - 2 alpha / family within +-smallest_effect.
+std::optional<MeanTInterval> equivalenceInterval(const VerdictEvidence& e, const VerdictRules& r) {
+  if (e.differences.size() < 2) return std::nullopt;
+  const double level = 1.0 - 2.0 * r.alpha / double(std::max<std::size_t>(e.family, 1));
+  if (!(level > 0.0)) return std::nullopt;
+  return meanTInterval(e.differences, level);
+}
+
 Verdict tooFew(const VerdictEvidence& e, const VerdictRules& r, double smallest_p) {
-  return {VerdictKind::TooFew,
-          "too few " + e.unit_name + " to tell (n = " + std::to_string(e.units) + "; the smallest p possible is " +
-              number(smallest_p, "%.3g") + ")",
-          basisText(e, r)};
+  const std::size_t n = e.differences.size();
+  std::string bound = "the smallest p possible is " + number(smallest_p, "%.3g");
+  if (e.family > 1 && n >= 2) bound += " after Holm's correction over " + std::to_string(e.family) + " comparisons";
+  return {VerdictKind::TooFew, std::nullopt,
+          "too few " + e.unit_name + " to tell (n = " + std::to_string(n) + "; " + bound + ")", basisText(e, r)};
 }
 
 }  // namespace
@@ -80,18 +102,28 @@ ExactPairedTest exactPairedTest(const std::vector<double>& differences) {
   return t;
 }
 
+double smallestPossibleHolmP(double own_smallest_p, double family_least_smallest_p, std::size_t family) {
+  const double least = std::min(own_smallest_p, family_least_smallest_p);
+  return std::max(own_smallest_p, std::min(1.0, double(std::max<std::size_t>(family, 1)) * least));
+}
+
 Verdict decideVerdict(const VerdictEvidence& e, const VerdictRules& r) {
-  if (e.units < 2) return tooFew(e, r, 1.0);
-  if (!e.test) return {VerdictKind::Tie, "tie (equal on all " + std::to_string(e.units) + " " + e.unit_name + ")", basisText(e, r)};
-  if (e.test->smallest_possible_p > r.alpha) return tooFew(e, r, e.test->smallest_possible_p);
+  const std::size_t n = e.differences.size();
+  if (n < 2) return tooFew(e, r, 1.0);
+  if (!e.test)
+    return {VerdictKind::Tie, std::nullopt, "tie (equal on all " + std::to_string(n) + " " + e.unit_name + ")",
+            basisText(e, r)};
   const std::string basis = basisText(e, r);
-  if (!e.interval) return {VerdictKind::NoClearDifference, "no clear difference", basis};
+  if (const std::optional<MeanTInterval> t = equivalenceInterval(e, r);
+      t && t->lower > -r.smallest_effect && t->upper < r.smallest_effect)
+    return {VerdictKind::Negligible, t, "negligible (" + equivalenceText(*t, e, r) + ")", basis};
+  const double least_p = smallestPossibleHolmP(e.test->smallest_possible_p, e.family_least_smallest_p, e.family);
+  if (least_p > r.alpha) return tooFew(e, r, least_p);
+  if (!e.interval) return {VerdictKind::NoClearDifference, std::nullopt, "no clear difference", basis};
   const BootstrapInterval& i = *e.interval;
-  if (i.lower > -r.smallest_effect && i.upper < r.smallest_effect)
-    return {VerdictKind::Negligible, "negligible (the interval lies within +-" + number(r.smallest_effect, "%g") + " " + e.value_unit + ")", basis};
   if (!i.contains(0.0) && e.holm_p <= r.alpha)
-    return i.lower > 0 ? Verdict{VerdictKind::Gain, "gain", basis} : Verdict{VerdictKind::Loss, "loss", basis};
-  return {VerdictKind::NoClearDifference, "no clear difference", basis};
+    return {i.lower > 0 ? VerdictKind::Gain : VerdictKind::Loss, std::nullopt, i.lower > 0 ? "gain" : "loss", basis};
+  return {VerdictKind::NoClearDifference, std::nullopt, "no clear difference", basis};
 }
 
 }  // namespace occsweep::stats

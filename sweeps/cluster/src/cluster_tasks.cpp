@@ -81,6 +81,9 @@ std::vector<std::string> taskArgv(const CompareTask& c) {
   if (!c.csv.empty()) argv.insert(argv.end(), {"--csv", value(c.csv, "--csv")});
   if (!c.markdown.empty()) argv.insert(argv.end(), {"--markdown", value(c.markdown, "--markdown")});
   if (!c.latex.empty()) argv.insert(argv.end(), {"--latex", value(c.latex, "--latex")});
+  if (c.alpha != CompareTask{}.alpha) argv.insert(argv.end(), {"--alpha", exactNumber(c.alpha)});
+  if (c.smallest_effect != CompareTask{}.smallest_effect)
+    argv.insert(argv.end(), {"--smallest-effect", exactNumber(c.smallest_effect)});
   return argv;
 }
 

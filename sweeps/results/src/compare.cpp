@@ -91,6 +91,11 @@ std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, co
                          std::to_string(h.selection.shard_count) + " of grid " + h.grid_name +
                          ", not the whole grid: its best AUC is the best of part of the grid (occsweep merge the "
                          "shards first)");
+    if (h.selection.group)
+      problems.push_back(names[i] + ": group " + std::to_string(h.selection.group->index) + "/" +
+                         std::to_string(h.selection.group->count) + " (Eq. 16, seed " +
+                         std::to_string(h.selection.group->seed) + ") of grid " + h.grid_name +
+                         ", not the whole grid: its best AUC is the best of a random part of the grid");
     const auto [same, fresh] = first_of_hash.try_emplace(h.dataset_hash, i);
     const ResultsHeader& o = files[same->second].header;
     if (!fresh && (o.resolution != h.resolution || o.s_c != h.s_c))

@@ -132,21 +132,27 @@ std::optional<stats::BootstrapInterval> meanInterval(std::vector<double> values,
 }
 
 // Each data set's mean of its sets' values, in data-set name order.
-std::vector<double> perDatasetMeans(const std::vector<double>& values, const std::vector<std::string>& dataset) {
+struct PerDataset {
+  std::vector<std::string> names;
+  std::vector<double> values;
+};
+
+PerDataset perDatasetMeans(const std::vector<double>& values, const std::vector<std::string>& dataset) {
   std::map<std::string, std::pair<double, std::size_t>> sums;
   for (std::size_t i = 0; i < values.size(); ++i) {
     auto& [sum, n] = sums[dataset[i]];
     sum += values[i], ++n;
   }
-  std::vector<double> out;
-  for (const auto& [_, v] : sums) out.push_back(v.first / double(v.second));
+  PerDataset out;
+  for (const auto& [name, v] : sums) out.names.push_back(name), out.values.push_back(v.first / double(v.second));
   return out;
 }
 
 // A comparison over data sets, up to Holm's correction (applied over the family by holmAndDecide).
-DatasetComparison overDatasets(std::vector<double> per_dataset, const CompareStatisticsOptions& o) {
+DatasetComparison overDatasets(PerDataset per_dataset, const CompareStatisticsOptions& o) {
   DatasetComparison c;
-  c.per_dataset = std::move(per_dataset);
+  c.datasets = std::move(per_dataset.names);
+  c.per_dataset = std::move(per_dataset.values);
   c.interval = meanInterval(c.per_dataset, o);
   if (std::any_of(c.per_dataset.begin(), c.per_dataset.end(), [](double v) { return v != 0.0; }))
     c.test = stats::exactPairedTest(c.per_dataset);
@@ -173,15 +179,27 @@ void pairedTests(const PairedSets& p, const CompareStatisticsOptions& o, MethodS
   s.optima = overDatasets(perDatasetMeans(improvement, dataset), o);
 }
 
-// Per held-out group, the method's cross-validated score against the baseline's, in percent of the baseline's.
-std::vector<double> heldOutImprovement(const std::vector<std::vector<double>>& mine,
-                                       const std::vector<std::vector<double>>& base) {
+// Per held-out group, the method's cross-validated score against the baseline's, in percent of the baseline's
+// (groups where the baseline scores 0 have no percentage and are left out).
+PerDataset heldOutImprovement(const std::vector<std::vector<double>>& mine, const std::vector<std::vector<double>>& base,
+                              const std::vector<std::string>& names) {
   const stats::LeaveOneGroupOut m = stats::leaveOneGroupOut(mine), b = stats::leaveOneGroupOut(base);
-  std::vector<double> improvement;
+  PerDataset out;
   for (std::size_t i = 0; i < m.groups.size(); ++i)
-    if (b.groups[i].cv_score > 0)
-      improvement.push_back((m.groups[i].cv_score - b.groups[i].cv_score) / b.groups[i].cv_score * 100.0);
-  return improvement;
+    if (b.groups[i].cv_score > 0) {
+      out.names.push_back(names.empty() ? std::to_string(i) : names[i]);
+      out.values.push_back((m.groups[i].cv_score - b.groups[i].cv_score) / b.groups[i].cv_score * 100.0);
+    }
+  return out;
+}
+
+// The data sets of a table in order of first appearance (perDataset's group order).
+std::vector<std::string> datasetOrder(const AucTable& t) {
+  std::vector<std::string> order;
+  std::set<std::string> seen;
+  for (const std::string& d : t.dataset)
+    if (seen.insert(d).second) order.push_back(d);
+  return order;
 }
 
 // Both methods on the same sets of one grid each, every AUC defined: what cross-validation needs.
@@ -202,26 +220,31 @@ void crossValidatedImprovements(const AucTable& mine, const AucTable& base, cons
     s.cross_validated.not_computed = "not computed (the sets differ in grid or maps, or an AUC is undefined)";
     return;
   }
-  s.leave_one_set_out_improvement = meanInterval(heldOutImprovement(mine.per_set, base.per_set), o);
-  s.cross_validated = overDatasets(heldOutImprovement(perDataset(mine), perDataset(base)), o);
+  s.leave_one_set_out_improvement = meanInterval(heldOutImprovement(mine.per_set, base.per_set, {}).values, o);
+  s.cross_validated = overDatasets(heldOutImprovement(perDataset(mine), perDataset(base), datasetOrder(mine)), o);
 }
 
 // Holm's correction over the family of comparisons with the baseline (one p-value each; 1 where there is no
-// test), then each verdict.
-void holmAndDecide(std::vector<DatasetComparison*> family, const stats::VerdictRules& rules) {
+// test or no evidence, which keeps the correction conservative: docs/statistics.md, "Verdicts"), then each verdict.
+void holmAndDecide(std::vector<DatasetComparison*> family, const CompareStatisticsOptions& o) {
   std::vector<double> p;
-  for (const DatasetComparison* c : family) p.push_back(c->test ? c->test->p_value : 1.0);
+  double least_smallest_p = 1.0;
+  for (const DatasetComparison* c : family) {
+    p.push_back(c->test ? c->test->p_value : 1.0);
+    if (c->test && c->not_computed.empty()) least_smallest_p = std::min(least_smallest_p, c->test->smallest_possible_p);
+  }
   const std::vector<double> adjusted = stats::holmAdjusted(p);
   for (std::size_t i = 0; i < family.size(); ++i) {
     DatasetComparison& c = *family[i];
     c.holm_p = adjusted[i];
     c.family = family.size();
     if (!c.not_computed.empty()) {
-      c.verdict = {stats::VerdictKind::NotComputed, c.not_computed, ""};
+      c.verdict = {stats::VerdictKind::NotComputed, std::nullopt, c.not_computed, ""};
       continue;
     }
-    c.verdict = stats::decideVerdict({c.per_dataset.size(), "data sets", "%", c.interval, c.test, c.holm_p, c.family},
-                                     rules);
+    stats::VerdictEvidence e{c.per_dataset, "data sets", "%", c.interval, o.level, c.test, c.holm_p, c.family,
+                             least_smallest_p};
+    c.verdict = stats::decideVerdict(e, o.rules);
   }
 }
 
@@ -313,8 +336,8 @@ std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>
   std::vector<DatasetComparison*> optima, cross_validated;
   for (MethodStatistics& s : out)
     if (!s.is_baseline) optima.push_back(&s.optima), cross_validated.push_back(&s.cross_validated);
-  holmAndDecide(optima, o.rules);
-  holmAndDecide(cross_validated, o.rules);
+  holmAndDecide(optima, o);
+  holmAndDecide(cross_validated, o);
   return out;
 }
 
@@ -338,7 +361,15 @@ nlohmann::json datasetComparisonJson(const DatasetComparison& c, const CompareSt
   if (c.test)
     test = {{"name", c.test->name}, {"p_value", c.test->p_value}, {"nonzero", c.test->nonzero},
             {"smallest_possible_p", c.test->smallest_possible_p}, {"holm_p", c.holm_p}, {"family", c.family}};
-  return {{"datasets", c.per_dataset.size()}, {"improvement_percent", intervalJson(c.interval, o)}, {"test", test},
+  nlohmann::json equivalence = nullptr;
+  if (c.verdict.equivalence)
+    equivalence = {{"test", "TOST, t interval"}, {"level", c.verdict.equivalence->level},
+                   {"lower", c.verdict.equivalence->lower}, {"upper", c.verdict.equivalence->upper}};
+  nlohmann::json per_dataset = nlohmann::json::array();
+  for (std::size_t i = 0; i < c.per_dataset.size(); ++i)
+    per_dataset.push_back({{"dataset", c.datasets[i]}, {"improvement_percent", finiteNumber(c.per_dataset[i])}});
+  return {{"datasets", c.per_dataset.size()}, {"per_dataset", per_dataset},
+          {"improvement_percent", intervalJson(c.interval, o)}, {"test", test}, {"equivalence", equivalence},
           {"alpha", o.rules.alpha}, {"smallest_effect_percent", o.rules.smallest_effect},
           {"verdict", c.verdict.text}, {"basis", c.verdict.basis}};
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "occsweep/stats/bootstrap.hpp"
+#include "occsweep/stats/student_t.hpp"
 
 namespace occsweep::stats {
 
@@ -36,29 +37,40 @@ struct ExactPairedTest {
 /// NotComputed is the caller's, where the evidence itself could not be had; decideVerdict never returns it.
 enum class VerdictKind { Gain, Loss, Negligible, Tie, NoClearDifference, TooFew, NotComputed };
 
-/// What a comparison shows, over `units` paired units (data sets): the interval of the mean difference, the exact
-/// test (none when every difference is zero) and its p-value after Holm's correction over a family of `family`
-/// comparisons.
+/// What a comparison shows, over paired units (data sets): their differences, the bootstrap interval of the mean
+/// difference, the exact test (none when every difference is zero) and its p-value after Holm's correction over a
+/// family of `family` comparisons.
 struct VerdictEvidence {
-  std::size_t units = 0;
+  std::vector<double> differences;  ///< one per unit, in `value_unit`
   std::string unit_name = "data sets";
   std::string value_unit = "%";  ///< of the differences and the interval (percent of the baseline's AUC)
   std::optional<BootstrapInterval> interval;
+  double interval_level = 0.95;  ///< the bootstrap interval's coverage (BCa)
   std::optional<ExactPairedTest> test;
   double holm_p = 1.0;
   std::size_t family = 1;
+  /// The least smallestPossibleP of the family's comparisons (1 for one without a test): with it, the least
+  /// Holm-adjusted p this comparison can reach (smallestPossibleHolmP). 1 leaves the comparison's own bound.
+  double family_least_smallest_p = 1.0;
 };
+
+/// The least Holm-adjusted p-value a comparison can reach: its adjusted p is at least its own p and at least
+/// min(1, family x the family's least p), so at least max(own, min(1, family x least)) (docs/statistics.md,
+/// "Verdicts").
+[[nodiscard]] double smallestPossibleHolmP(double own_smallest_p, double family_least_smallest_p, std::size_t family);
 
 struct Verdict {
   VerdictKind kind = VerdictKind::TooFew;
+  /// The equivalence test's interval (TOST: the t interval at 1 - 2 alpha / family), where there were 2 units.
+  std::optional<MeanTInterval> equivalence;
   std::string text;   ///< what is printed: "gain", "loss", "negligible (...)", "tie (...)", "no clear difference", "too few ..."
   std::string basis;  ///< its sample, test and correction, in one sentence
 };
 
-/// The rules, in order: fewer than 2 units: too few to tell; every difference zero: tie; fewer non-zero differences
-/// than can give a p-value at most alpha: too few to tell; the interval within +-smallest_effect: negligible; the
-/// interval excluding 0 and the Holm-adjusted p at most alpha: gain or loss (by the interval's side); otherwise no
-/// clear difference.
+/// The rules, in order (docs/statistics.md, "Verdicts"): fewer than 2 units: too few to tell; every difference
+/// zero: tie; the equivalence test's interval (TOST at alpha, Bonferroni over the family) within +-smallest_effect:
+/// negligible; a least reachable Holm-adjusted p above alpha: too few to tell; the bootstrap interval excluding 0
+/// and the Holm-adjusted p at most alpha: gain or loss (by the interval's side); otherwise no clear difference.
 [[nodiscard]] Verdict decideVerdict(const VerdictEvidence& evidence, const VerdictRules& rules = {});
 
 }  // namespace occsweep::stats

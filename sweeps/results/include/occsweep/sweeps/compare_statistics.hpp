@@ -59,6 +59,7 @@ struct BudgetSummary {
 /// bootstrap interval, the exact paired test, its p-value after Holm's correction over the methods compared with
 /// the baseline, and the verdict these give.
 struct DatasetComparison {
+  std::vector<std::string> datasets;  ///< the data sets' names, in the order of per_dataset
   std::vector<double> per_dataset;  ///< improvement %, one per data set
   std::optional<stats::BootstrapInterval> interval;  ///< none below 2 data sets
   std::optional<stats::ExactPairedTest> test;        ///< none when every data set's difference is 0
@@ -80,8 +81,9 @@ struct MethodStatistics {
   // Against the baseline (not for the baseline itself); differences are method - baseline on each set.
   std::size_t better = 0, worse = 0, ties = 0;
   /// Sets where the method's own results hold a map that scores the baseline's best AUC exactly (anchored and
-  /// observed AUC equal to the last bit): there the method's optimum cannot be below the baseline's, by construction
-  /// of its grid (knn-opt holds OctoMap's maps as p_u = p_l); only `better` sets are strict gains.
+  /// observed AUC equal to the last bit), found from the maps: there the method's optimum is at least the baseline's
+  /// (knn-opt's maps with p_u = p_l often score as OctoMap's; docs/statistics.md, "Grids that nest"); only `better`
+  /// sets are strict gains.
   std::size_t sets_holding_baseline_best = 0;
   // Description over point cloud sets (not independent: sets of one data set share a scene).
   std::optional<stats::BootstrapInterval> improvement_percent;  ///< mean of (m - b) / b * 100; none below 2 sets
