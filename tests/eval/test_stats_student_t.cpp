@@ -1,5 +1,5 @@
-// Student's t against its closed forms (1 and 2 degrees of freedom), the normal limit and a published table of
-// critical values; the t interval against a hand computation.
+// Student's t against SciPy's t.cdf and t.ppf (tools/verdict_reference.py), its closed forms (1 and 2 degrees of
+// freedom), the normal limit and a published table of critical values; the t interval against a hand computation.
 #include <cmath>
 #include <vector>
 
@@ -7,6 +7,7 @@
 
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/stats/student_t.hpp"
+#include "verdict_reference_cases.hpp"
 
 using namespace occsweep::stats;
 
@@ -17,6 +18,19 @@ TEST_CASE("Student's t CDF equals its closed forms for 1 and 2 degrees of freedo
     INFO("t = " << t);
     CHECK(studentTCdf(t, 1) == Approx(0.5 + std::atan(t) / M_PI).margin(1e-13));  // Cauchy
     CHECK(studentTCdf(t, 2) == Approx(0.5 + t / (2.0 * std::sqrt(2.0 + t * t))).margin(1e-13));
+  }
+}
+
+TEST_CASE("Student's t CDF and quantile equal SciPy's t.cdf and t.ppf, df from 0.5 to 119", "[stats]") {
+  for (const auto& r : occsweep::test::kStudentTCdf) {
+    INFO("df = " << r.df << ", t = " << r.x);
+    CHECK(studentTCdf(r.x, r.df) == Approx(r.value).epsilon(1e-11).margin(1e-15));
+  }
+  // SciPy's t.ppf (cephes' stdtrit) is itself good to about 1e-9: at df = 2, p = 0.9875 it gives 6.2053468234, whose
+  // CDF by the closed form is 0.98750000002649, where ours gives 6.2053468166 with a CDF of 0.9875 to the last bit.
+  for (const auto& r : occsweep::test::kStudentTQuantile) {
+    INFO("df = " << r.df << ", p = " << r.x);
+    CHECK(studentTQuantile(r.x, r.df) == Approx(r.value).epsilon(1e-8).margin(1e-12));
   }
 }
 

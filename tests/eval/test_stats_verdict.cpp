@@ -1,7 +1,11 @@
 // The verdict rules (docs/statistics.md, "Verdicts"): Holm's correction against hand-computed values and against the
-// step-down procedure it stands for; the smallest p-value a sample can give; the exact test chosen; each rule.
+// step-down procedure it stands for, and against statsmodels (tools/verdict_reference.py): multipletests for
+// Holm, ttost_paired for the negligible rule; the smallest p-value a sample can give; the exact test chosen; each rule.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -12,6 +16,8 @@
 #include "occsweep/stats/sign_test.hpp"
 #include "occsweep/stats/verdict.hpp"
 #include "occsweep/stats/wilcoxon.hpp"
+#include "test_helpers.hpp"
+#include "verdict_reference_cases.hpp"
 
 using namespace occsweep::stats;
 using occsweep::SplitMix64;
@@ -33,11 +39,11 @@ std::vector<bool> holmRejects(const std::vector<double>& p, double alpha) {
 }
 
 VerdictEvidence evidence(BootstrapInterval interval, std::vector<double> differences, double holm_p,
-                         std::size_t family = 1, double family_least_smallest_p = 1.0) {
+                         std::size_t family = 1, double smallest_possible_holm_p = NAN) {
   VerdictEvidence e;
   e.differences = differences;
   e.interval = interval;
-  e.family_least_smallest_p = family_least_smallest_p;
+  e.smallest_possible_holm_p = smallest_possible_holm_p;
   if (std::any_of(differences.begin(), differences.end(), [](double d) { return d != 0; }))
     e.test = exactPairedTest(differences);
   e.holm_p = holm_p;
@@ -63,6 +69,39 @@ TEST_CASE("Holm over three methods: hand-computed adjusted p-values", "[stats]")
   CHECK(holmAdjusted({}).empty());
   CHECK_THROWS_WITH(holmAdjusted({0.1, NAN}), Catch::Contains("p-value 1"));
   CHECK_THROWS_WITH(holmAdjusted({1.5}), Catch::Contains("p-value 0"));
+}
+
+TEST_CASE("Holm-adjusted p-values equal statsmodels' multipletests(method=holm), ties and ones included", "[stats]") {
+  for (const auto& reference : occsweep::test::kHolmReferenceCases) {
+    INFO(reference.name);
+    const std::vector<double> adjusted = holmAdjusted(reference.p_values);
+    REQUIRE(adjusted.size() == reference.adjusted.size());
+    for (std::size_t i = 0; i < adjusted.size(); ++i) CHECK(adjusted[i] == Approx(reference.adjusted[i]).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("negligible exactly when statsmodels' ttost_paired rejects at alpha 0.05 with +-0.1", "[stats]") {
+  for (const auto& reference : occsweep::test::kTostReferenceCases) {
+    INFO(reference.name << ": TOST p = " << reference.p_value);
+    REQUIRE(std::fabs(reference.p_value - 0.05) > 1e-6);  // no case on the edge, where rounding could decide
+    const Verdict v = decideVerdict(evidence({-1, -1, 1}, reference.differences, 1.0), {0.05, 0.1});
+    CHECK((v.kind == VerdictKind::Negligible) == (reference.p_value <= 0.05));
+  }
+}
+
+TEST_CASE("tools/verdict_reference.py still prints the committed reference values", "[stats]") {
+  const auto source = std::filesystem::path(OCCSWEEP_SOURCE_DIR);
+  if (std::system("/usr/bin/python3 -c 'import statsmodels, scipy; assert scipy.__version__ == \"1.10.1\"' "
+                  "2>/dev/null") != 0) {
+    WARN("skipped: /usr/bin/python3 with statsmodels and SciPy 1.10.1 is not installed (the committed values are "
+         "used above)");
+    return;
+  }
+  const auto out = occsweep::test::scratch("verdict_reference") / "cases.hpp";
+  const std::string command =
+      "/usr/bin/python3 " + (source / "tools" / "verdict_reference.py").string() + " > " + out.string();
+  REQUIRE(std::system(command.c_str()) == 0);
+  CHECK(occsweep::test::bytesOf(out) == occsweep::test::bytesOf(source / "tests" / "verdict_reference_cases.hpp"));
 }
 
 TEST_CASE("Holm: an adjusted p-value is at most alpha exactly when the step-down procedure rejects", "[stats]") {
@@ -184,19 +223,55 @@ TEST_CASE("Verdict rules, each on its own", "[stats]") {
   SECTION("Holm decides whether the sample can reject: six data sets all better in a family of three") {
     // 2 / 2^6 = 0.03125 <= 0.05 alone, but Holm multiplies the least p of the family by 3: 0.09375 > 0.05.
     const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7};
-    const Verdict v = decideVerdict(evidence(positive, d, 3 * 0.03125, 3));
+    const double bound = smallestPossibleHolmP({0.03125, 0.03125, 0.03125}, 0);
+    CHECK(bound == Approx(0.09375).epsilon(1e-15));
+    const Verdict v = decideVerdict(evidence(positive, d, 3 * 0.03125, 3, bound));
     CHECK(v.kind == VerdictKind::TooFew);
     CHECK(v.text == "too few data sets to tell (n = 6; the smallest p possible is 0.0938 after Holm's correction "
                     "over 3 comparisons)");
     CHECK(decideVerdict(evidence(positive, d, 0.03125, 1)).kind == VerdictKind::Gain);
   }
-  SECTION("Holm's bound uses the family's least p: a comparison on 6 can pass beside one on 8") {
+  SECTION("Holm's bound is the family's adjusted smallest p-values: a comparison on 6 can pass beside one on 8") {
     // Ranked second of two behind a p of 2 / 2^8: adjusted max(2 x 0.0078125, 1 x 0.03125) = 0.03125.
     const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7};
-    CHECK(smallestPossibleHolmP(0.03125, 0.0078125, 2) == 0.03125);
-    CHECK(smallestPossibleHolmP(0.03125, 1.0, 2) == 0.0625);
-    CHECK(decideVerdict(evidence(positive, d, 0.03125, 2, 0.0078125)).kind == VerdictKind::Gain);
-    CHECK(decideVerdict(evidence(positive, d, 0.0625, 2, 0.03125)).kind == VerdictKind::TooFew);
+    CHECK(smallestPossibleHolmP({0.0078125, 0.03125}, 1) == 0.03125);
+    CHECK(smallestPossibleHolmP({1.0, 0.03125}, 1) == 0.0625);
+    CHECK(decideVerdict(evidence(positive, d, 0.03125, 2, 0.03125)).kind == VerdictKind::Gain);
+    CHECK(decideVerdict(evidence(positive, d, 0.0625, 2, 0.0625)).kind == VerdictKind::TooFew);
+  }
+  SECTION("Holm's bound counts every multiplier up to the comparison's rank: 8, 6 and 6 data sets give 0.0625") {
+    // Sorted 2/2^8, 2/2^6, 2/2^6: 3 x 0.0078125 = 0.0234; max(0.0234, 2 x 0.03125) = 0.0625; max(0.0625, 0.03125).
+    // (A bound from the family's least p alone, max(own, 3 x least) = 0.03125, would let both six pass.)
+    const std::vector<double> smallest{0.0078125, 0.03125, 0.03125};
+    CHECK(smallestPossibleHolmP(smallest, 0) == Approx(0.0234375).epsilon(1e-15));
+    CHECK(smallestPossibleHolmP(smallest, 1) == Approx(0.0625).epsilon(1e-15));
+    CHECK(smallestPossibleHolmP(smallest, 2) == Approx(0.0625).epsilon(1e-15));
+    CHECK(smallestPossibleHolmP({0.0078125, 0.03125, 0.03125, 0.03125}, 3) == Approx(0.09375).epsilon(1e-15));
+    const std::vector<double> d{1.0, 1.2, 0.8, 0.9, 1.1, 0.7};
+    const Verdict v = decideVerdict(evidence(positive, d, 0.0625, 3, smallestPossibleHolmP(smallest, 1)));
+    CHECK(v.kind == VerdictKind::TooFew);
+    CHECK(v.text.find("the smallest p possible is 0.0625 after Holm's correction over 3 comparisons") !=
+          std::string::npos);
+    CHECK_THROWS_WITH(smallestPossibleHolmP(smallest, 3), Catch::Contains("index 3 of a family of 3"));
+  }
+  SECTION("a mean below 0 from a few large losses while most data sets gain: not a loss (old: loss)") {
+    // 33 of 40 better by about 6 %, 7 worse by 80-93 %: the mean and its interval are negative, but the signed-rank
+    // statistic leans positive (W+ > W-), and its two-sided p is small.
+    std::vector<double> d;
+    for (int i = 0; i < 33; ++i) d.push_back(5.0 + 0.05 * i);
+    for (int i = 0; i < 7; ++i) d.push_back(-80.0 - 2.0 * i);
+    const ExactPairedTest t = exactPairedTest(d);
+    CHECK(t.direction == 1);
+    const Verdict v = decideVerdict(evidence({-24.3, -16.0, -0.5}, d, t.p_value));
+    INFO(v.text << " p = " << t.p_value);
+    REQUIRE(t.p_value <= 0.05);
+    CHECK(v.kind == VerdictKind::NoClearDifference);
+    CHECK(v.text.find("point opposite ways") != std::string::npos);
+  }
+  SECTION("equal non-zero differences have no t interval: never negligible on zero spread") {
+    const Verdict v = decideVerdict(evidence({0.01, 0.01, 0.01}, {0.01, 0.01}, 1.0));
+    CHECK(v.kind == VerdictKind::TooFew);
+    CHECK_FALSE(v.equivalence);
   }
   SECTION("seven of eight data sets equal, the eighth -0.004 %: negligible, not too few") {
     const Verdict v = decideVerdict(evidence({-0.0005, -0.001, 0.0}, {0, 0, 0, 0, -0.004, 0, 0, 0}, 1.0));

@@ -140,6 +140,19 @@ TEST_CASE("four point cloud sets of one data set are one sample, not four") {
   CHECK(s.cross_validated.verdict.text == "too few data sets to tell (n = 1; holding one out needs at least 2)");
 }
 
+TEST_CASE("sets of one name and several contents are one data set, and named as pooled") {
+  // Two contents both named builtin-O (two built-in scenes, or one recording under two regions): one data set, the
+  // cautious reading, and pooledDatasetNames names it for compare's note.
+  auto files = syntheticComparison(5, 10, 10, 0.05, true, 2, 1);
+  for (ResultsFile& f : files) f.header.dataset_name = "builtin-O";
+  const MethodStatistics s = statisticsFor(files, "other");
+  CHECK(s.sets == 2);
+  CHECK(s.datasets == 1);
+  CHECK(pooledDatasetNames(compareBest(files)) == std::vector<std::string>{"builtin-O"});
+  // Generated sets of one data set differ in content by design: not reported.
+  CHECK(pooledDatasetNames(compareBest(syntheticComparison(5, 10, 10, 0.05, true, 1, 3))).empty());
+}
+
 TEST_CASE("Holm's correction runs over every method compared with the baseline") {
   // Six data sets of one set each, "up" better on all six (exact p = 2/64 = 0.03125 < 0.05): a gain alone; beside two
   // methods equal to the baseline (p = 1 each) Holm multiplies it by 3 (0.094): six data sets cannot show a gain in

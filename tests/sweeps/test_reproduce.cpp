@@ -287,7 +287,7 @@ TEST_CASE("reproduce finds its figure script beside its binary (share/occsweep),
   CHECK(!fs::exists(dir / "out"));
 }
 
-TEST_CASE("reproduce --steps real-stereo: the Aloe pair unfiltered, both grids and truths, the p_u = p_l ablation") {
+TEST_CASE("reproduce --steps real-stereo: the Aloe pair with the filter swept, both grids and truths, the p_u = p_l ablation") {
   // Debian's opencv-doc ships the pair (tools/setup.sh installs it); test_stereo_middlebury fails naming the package
   // when it is missing, so here a missing pair must give the report's "not run" line instead.
   const bool have_pair = std::filesystem::exists("/usr/share/doc/opencv-doc/examples/data/aloeGT.png");
@@ -297,24 +297,27 @@ TEST_CASE("reproduce --steps real-stereo: the Aloe pair unfiltered, both grids a
   REQUIRE(r.exit_code == 0);
   const json rs = readJsonFile(dir / "real-stereo.json");
   const std::string report = readText(dir / "report.md");
-  CHECK(report.find("## 7. Real stereo without the voxel filter") != std::string::npos);
+  CHECK(report.find("## 7. Real stereo with and without the voxel filter") != std::string::npos);
   CHECK_FALSE(std::filesystem::exists(dir / "data" / "building-plain-I"));  // no rendered data for this step alone
   if (!have_pair) {
     CHECK(rs.at("not_run").get<std::string>().find("opencv-doc") != std::string::npos);
     CHECK(report.find("Not run: ") != std::string::npos);
     return;
   }
-  REQUIRE(rs.at("configurations").size() == 2);
+  REQUIRE(rs.at("configurations").size() == 6);  // 0.05 and 0.1 m, each unfiltered, filtered at half and at itself
   for (const json& configuration : rs.at("configurations")) {
     const double resolution = configuration.at("resolution");
-    INFO("resolution " << resolution);
+    const json& filter = configuration.at("voxel_filter");
+    INFO("resolution " << resolution << ", voxel filter " << filter.dump());
+    CHECK((filter == false || filter.get<double>() == resolution || filter.get<double>() == resolution / 2));
     const auto sweeps = dir / "sweeps" / configuration.at("folder").get<std::string>().substr(5);  // "data/..."
     REQUIRE(configuration.at("sets").size() == 3);
     for (const json& set : configuration.at("sets")) {
       const std::string name = set.at("point_cloud_set");
       INFO(name);
-      // Unfiltered: one point per valid disparity, about a million (the filtered sets hold a few thousand).
-      CHECK(set.at("points").get<std::uint64_t>() > 500000);
+      // Unfiltered: one point per valid disparity, about a million; filtered: at most a few per truth voxel.
+      if (filter == false) CHECK(set.at("points").get<std::uint64_t>() > 500000);
+      else CHECK(set.at("points").get<std::uint64_t>() < 100000);
       for (const char* truth : {"full", "observable"}) {
         INFO(truth << " truth");
         const json& side = set.at("truths").at(truth);
@@ -347,7 +350,8 @@ TEST_CASE("reproduce --steps real-stereo: the Aloe pair unfiltered, both grids a
       CHECK(statistics.at("verdict").get<std::string>().find("too few") != std::string::npos);
     }
   }
-  CHECK(report.find("| 0.05 | pcs-0000 | full |") != std::string::npos);
+  CHECK(report.find("| 0.05 | none | ") != std::string::npos);
+  CHECK(report.find("| 0.10 | 0.05 m | ") != std::string::npos);
   CHECK(report.find("Is the gain real?") != std::string::npos);
 }
 
@@ -357,7 +361,7 @@ TEST_CASE("the real-stereo step without a pair: report.md says why it did not ru
   c.out = dir / "out";
   c.steps = {"real-stereo"};
   c.quiet = true;
-  c.write_real_stereo = [](const std::filesystem::path&, double) {
+  c.write_real_stereo = [](const std::filesystem::path&, double, double) {
     RealStereoSets none;
     none.not_available = "aloeL.jpg: missing; it comes with Debian's opencv-doc package";
     return none;

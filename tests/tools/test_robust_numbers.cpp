@@ -391,7 +391,7 @@ TEST_CASE("compare refuses results that do not compare, names the file behind ev
     CHECK(has(r.output, "warning"));
   }
   SECTION("the verdicts' alpha and smallest effect must be numbers in their range (old: nan accepted)") {
-    for (const std::string flag : {"--alpha nan", "--alpha inf", "--alpha 0.7", "--smallest-effect nan",
+    for (const std::string flag : {"--alpha nan", "--alpha inf", "--alpha 0.5", "--smallest-effect nan",
                                    "--smallest-effect -1"}) {
       const auto r = run("compare " + flag + " " + fx.octomap.string() + " " + fx.knn.string());
       INFO(flag << ": " << r.output);
@@ -408,6 +408,32 @@ TEST_CASE("compare refuses results that do not compare, names the file behind ev
     CHECK(r.exit_code == 2);
     CHECK(has(r.output, "--json and --csv name one file"));
     CHECK_FALSE(fs::exists(both));
+    // Through a symbolic link and "..", read as the writer reads it or as the disk resolves it, or with a trailing
+    // '/': still one file (old: the CSV replaced the JSON).
+    fs::create_directories(fx.dir / "deep" / "dir");
+    fs::create_symlink(fx.dir / "deep" / "dir", fx.dir / "link");
+    const std::string via_link = (fx.dir / "link" / ".." / "both.out").string();
+    for (const auto& [json_out, csv_out] : std::vector<std::pair<std::string, std::string>>{
+             {both.string(), via_link}, {(fx.dir / "deep" / "both.out").string(), via_link},
+             {both.string(), both.string() + "/"}}) {
+      const auto again = run("compare " + fx.octomap.string() + " " + fx.knn.string() + " --json " + json_out +
+                             " --csv " + csv_out);
+      INFO(json_out << " and " << csv_out << ": " << again.output);
+      CHECK(again.exit_code == 2);
+      CHECK(has(again.output, "name one file"));
+      CHECK_FALSE(fs::exists(both));
+      CHECK_FALSE(fs::exists(fx.dir / "deep" / "both.out"));
+    }
+  }
+  SECTION("an output in a folder that cannot exist is refused before any output is written (old: --json written)") {
+    writeFile(fx.dir / "afile", "a user's file\n");
+    const auto r = run("compare " + fx.octomap.string() + " " + fx.knn.string() + " --json " +
+                       (fx.dir / "j.json").string() + " --latex " + (fx.dir / "afile" / "x.tex").string());
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(has(r.output, "--latex"));
+    CHECK(has(r.output, "is not an existing folder"));
+    CHECK_FALSE(fs::exists(fx.dir / "j.json"));
   }
   SECTION("k-NN at 0.2 m against OctoMap at 0.1 m (old: -24.60 %)") {
     const fs::path coarse = sweep(grid.string(), "--resolution 0.2", fx.dir / "coarse.json");

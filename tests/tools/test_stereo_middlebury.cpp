@@ -1,7 +1,10 @@
 // Issue 14: the real Middlebury 2006 pair (Aloe, from Debian's opencv-doc) as a data set: its camera model, its
 // ground truth, determinism, and the rendered sets' SGBM settings.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <set>
+#include <tuple>
 
 #include <catch2/catch.hpp>
 
@@ -185,4 +188,28 @@ TEST_CASE("dataset middlebury --no-voxel-filter writes the raw points, and a bad
   const auto bad = test::runCli("dataset middlebury --no-voxel-filter --leaf 0 --out " + (dir / "bad").string());
   CHECK(bad.exit_code == 2);
   CHECK(bad.output.find("--leaf") != std::string::npos);
+}
+
+TEST_CASE("dataset middlebury --voxel-filter filters at its own leaf while truth stays at --leaf", "[stereo][middlebury][cli]") {
+  const fs::path dir = test::processScratch("middlebury-filter-leaf-cli");
+  REQUIRE(test::runCli("dataset middlebury --leaf 0.1 --out " + (dir / "at-leaf").string()).exit_code == 0);
+  const auto r = test::runCli("dataset middlebury --leaf 0.1 --voxel-filter 0.05 --out " + (dir / "half").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const Dataset at_leaf = readDataset(dir / "at-leaf" / "pcs-0800"), half = readDataset(dir / "half" / "pcs-0800");
+  CHECK(half.source.at("voxel_filter_leaf") == 0.05);
+  CHECK(half.source.at("truth_leaf") == 0.1);
+  CHECK(at_leaf.source.at("voxel_filter_leaf") == 0.1);
+  CHECK(half.truth.points.size() == at_leaf.truth.points.size());  // the truth does not follow the filter
+  // One point per 0.05 m voxel (each at its points' centroid, so inside it), and more of them than at 0.1 m.
+  std::set<std::tuple<long, long, long>> voxels;
+  for (const auto& p : half.scans[0].points)
+    voxels.insert({std::lround(std::floor(p.x() / 0.05)), std::lround(std::floor(p.y() / 0.05)),
+                   std::lround(std::floor(p.z() / 0.05))});
+  CHECK(voxels.size() > half.scans[0].points.size() * 99 / 100);  // float rounding may move a centroid across a face
+  CHECK(half.scans[0].points.size() > 2 * at_leaf.scans[0].points.size());
+  const auto both = test::runCli("dataset middlebury --voxel-filter 0.05 --no-voxel-filter --out " + (dir / "both").string());
+  CHECK(both.exit_code == 2);
+  CHECK(both.output.find("--voxel-filter") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "both"));
 }

@@ -115,19 +115,37 @@ ReplaceableOutput tableOutput(const std::string& name, const std::string& first_
 }
 
 // Two output flags naming one file would leave only the last written: refused, naming both flags.
+// Two spellings of one file: equal once symbolic links are resolved, or equal as the writer reads them (a trailing
+// '/' dropped, "a/../b" taken lexically), or the same existing file.
+bool sameOutput(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  auto lexical = [](const std::string& s) {
+    fs::path p = fs::absolute(s).lexically_normal();
+    return p.has_filename() ? p : p.parent_path();
+  };
+  std::error_code ec_a, ec_b;
+  if (lexical(a) == lexical(b)) return true;
+  if (fs::weakly_canonical(a, ec_a) == fs::weakly_canonical(b, ec_b) && !ec_a && !ec_b) return true;
+  return fs::exists(a, ec_a) && fs::equivalent(a, b, ec_b) && !ec_b;
+}
+
+// Every output needs a file of its own in an existing folder, checked before the first is written: a failure at
+// the third output must not leave the first two behind.
 void requireDistinctOutputs(const CompareTask& o) {
   const std::vector<std::pair<const char*, std::string>> outputs{
       {"--json", o.json}, {"--csv", o.csv}, {"--markdown", o.markdown}, {"--latex", o.latex}};
-  for (std::size_t i = 0; i < outputs.size(); ++i)
-    for (std::size_t j = i + 1; j < outputs.size(); ++j) {
-      if (outputs[i].second.empty() || outputs[j].second.empty()) continue;
-      std::error_code ec;
-      const auto a = std::filesystem::weakly_canonical(outputs[i].second, ec);
-      const auto b = std::filesystem::weakly_canonical(outputs[j].second, ec);
-      if (a == b)
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    if (outputs[i].second.empty()) continue;
+    const std::filesystem::path parent = std::filesystem::absolute(outputs[i].second).lexically_normal().parent_path();
+    std::error_code ec;
+    if (!std::filesystem::is_directory(parent, ec))
+      throw std::invalid_argument(std::string(outputs[i].first) + " " + outputs[i].second + ": " + parent.string() +
+                                  " is not an existing folder");
+    for (std::size_t j = i + 1; j < outputs.size(); ++j)
+      if (!outputs[j].second.empty() && sameOutput(outputs[i].second, outputs[j].second))
         throw std::invalid_argument(std::string(outputs[i].first) + " and " + outputs[j].first + " name one file (" +
                                     outputs[j].second + "): each output needs a file of its own");
-    }
+  }
 }
 
 // Each output given is checked before anything is read or written: a user's file is never replaced.
@@ -154,6 +172,9 @@ std::vector<MethodStatistics> statisticsOf(const std::vector<ComparisonRow>& row
     notes.push_back("no statistics: no results of the baseline " + o.baseline + " given (--baseline names another)");
     return {};
   }
+  for (const std::string& name : pooledDatasetNames(rows))
+    notes.push_back("sets of several contents are all named " + name + ": counted as one data set (the unit of the "
+                    "verdicts); data sets of their own need names of their own (docs/statistics.md, Verdicts)");
   return compareStatistics(rows, in, statisticsOptions(o));
 }
 

@@ -37,7 +37,7 @@ SetWritten writeSet(const MiddleburyOptions& o, const stereo::MiddleburyPair& pa
   using namespace stereo;
   const MiddleburyCamera camera{o.focal, o.baseline, o.doffs};
   MiddleburySetSummary s;
-  Dataset d = middleburyDataset(pair, camera, grid.at(id), num_disparities, {o.leaf, !o.no_voxel_filter}, &s);
+  Dataset d = middleburyDataset(pair, camera, grid.at(id), num_disparities, {o.leaf, !o.no_voxel_filter, o.voxel_filter}, &s);
   char folder[32];
   std::snprintf(folder, sizeof folder, "pcs-%04llu", static_cast<unsigned long long>(id));
   d.name = std::string("middlebury/") + folder;
@@ -119,8 +119,11 @@ std::pair<CLI::App*, std::function<int()>> addDatasetMiddlebury(CLI::App& datase
   mb->add_option("--out", o->out, "Output folder")->required();
   mb->add_option("--leaf", o->leaf, "Truth voxel size and the voxel filter's leaf, metres (sweep at this resolution)")
       ->capture_default_str()->check(numberAbove(0));
+  auto* filter = mb->add_option("--voxel-filter", o->voxel_filter, "LEAF metres: PCL VoxelGrid's filter at this leaf "
+                                "instead of --leaf (truth stays at --leaf), as import's flag")
+                     ->check(numberAbove(0));
   mb->add_flag("--no-voxel-filter", o->no_voxel_filter, "Write the raw reprojected points, one per valid disparity "
-               "(truth stays at --leaf), as dataset generate's flag");
+               "(truth stays at --leaf), as dataset generate's flag")->excludes(filter);
   mb->add_option("--focal", o->focal, "Focal length, pixels (full size)")->capture_default_str()->check(numberAbove(0));
   mb->add_option("--baseline", o->baseline, "Baseline, metres")->capture_default_str()->check(numberAbove(0));
   mb->add_option("--doffs", o->doffs, "Disparity offset, pixels (the set's dmin.txt)")->capture_default_str()->check(numberAtLeast(0));

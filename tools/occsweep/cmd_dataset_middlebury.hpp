@@ -17,6 +17,7 @@ namespace occsweep::cli {
 struct MiddleburyOptions {
   std::string left, right, gt, out, grid = "pointcloud";
   double leaf = 0.1, focal = 3740.0, baseline = 0.160, doffs = 270.0;
+  double voxel_filter = 0;  ///< --voxel-filter: the filter's leaf; 0: --leaf
   bool no_voxel_filter = false;
 };
 

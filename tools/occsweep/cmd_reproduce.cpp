@@ -53,17 +53,18 @@ auto datasetGenerator(bool quiet) {
   };
 }
 
-/// The real-stereo step's sets: `dataset middlebury --no-voxel-filter --leaf RESOLUTION --out FOLDER` on the
+/// The real-stereo step's sets: `dataset middlebury --leaf RESOLUTION [--voxel-filter LEAF | --no-voxel-filter]` on the
 /// Aloe pair of Debian's opencv-doc, the command's own code in this process; or why the pair is not there.
 auto realStereoWriter() {
-  return [](const std::filesystem::path& folder, double resolution) {
+  return [](const std::filesystem::path& folder, double resolution, double filter_leaf) {
     MiddleburyOptions o = middleburyDefaults();
-    o.out = folder.string(), o.leaf = resolution, o.no_voxel_filter = true;
+    o.out = folder.string(), o.leaf = resolution;
+    o.no_voxel_filter = filter_leaf == 0, o.voxel_filter = filter_leaf;
     RealStereoSets sets;
     sets.not_available = middleburyUnavailable(o);
     if (!sets.not_available.empty()) return sets;
     sets.pair = "Middlebury 2006 Aloe, full size (" + o.left + ", " + o.right + ", " + o.gt +
-                "), as `occsweep dataset middlebury --no-voxel-filter --leaf RESOLUTION` writes it";
+                "), as `occsweep dataset middlebury --leaf RESOLUTION [--voxel-filter LEAF | --no-voxel-filter]` writes it";
     const MiddleburySetsWritten written = writeMiddleburySets(o, true);
     sets.folders = written.folders;
     sets.ids.assign(written.ids.begin(), written.ids.end());

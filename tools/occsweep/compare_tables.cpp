@@ -114,11 +114,21 @@ Cells perSetCells(const ComparisonTables& t) {
   return c;
 }
 
+// A Markdown table cell: a '|' would end the cell and a line break the row (names come from users' files).
+std::string markdownCell(const std::string& s) {
+  std::string out;
+  for (char ch : s) {
+    if (ch == '|' || ch == '\\') out += '\\';
+    out += (ch == '\n' || ch == '\r') ? ' ' : ch;
+  }
+  return out;
+}
+
 std::string markdown(const Cells& c) {
   std::ostringstream o;
   for (std::size_t r = 0; r < c.size(); ++r) {
     o << "|";
-    for (const auto& v : c[r]) o << ' ' << v << " |";
+    for (const auto& v : c[r]) o << ' ' << markdownCell(v) << " |";
     o << '\n';
     if (r == 0) {
       o << "|";
@@ -129,11 +139,18 @@ std::string markdown(const Cells& c) {
   return o.str();
 }
 
+// LaTeX's ten special characters in text mode (names come from users' files), and line breaks as spaces.
 std::string latexEscaped(const std::string& s) {
   std::string out;
   for (char ch : s) {
-    if (ch == '_' || ch == '%' || ch == '&' || ch == '#') out += '\\';
-    out += ch;
+    switch (ch) {
+      case '_': case '%': case '&': case '#': case '$': case '{': case '}': out += '\\', out += ch; break;
+      case '\\': out += "\\textbackslash{}"; break;
+      case '^': out += "\\textasciicircum{}"; break;
+      case '~': out += "\\textasciitilde{}"; break;
+      case '\n': case '\r': out += ' '; break;
+      default: out += ch;
+    }
   }
   return out;
 }

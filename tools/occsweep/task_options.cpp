@@ -95,8 +95,8 @@ void addCompareOptions(CLI::App& app, CompareTask& task) {
   app.add_option("--baseline", task.baseline, "Method every other one is compared with (docs/statistics.md)")
       ->capture_default_str();
   app.add_option("--alpha", task.alpha, "Significance level of the verdicts, after Holm's correction over the methods "
-                                        "compared with the baseline (docs/statistics.md, Verdicts)")
-      ->check(numberIn(1e-6, 0.5))->capture_default_str();
+                                        "compared with the baseline, from 1e-6 to 0.25 (docs/statistics.md, Verdicts)")
+      ->check(numberIn(1e-6, 0.25))->capture_default_str();
   app.add_option("--smallest-effect", task.smallest_effect, "Smallest improvement of interest, in percent of the "
                                                             "baseline's AUC: an interval within +-this is negligible")
       ->check(numberIn(0.0, 100.0))->capture_default_str();

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <stdexcept>
 
+#include "occsweep/stats/multiple_testing.hpp"
 #include "occsweep/stats/sign_test.hpp"
 #include "occsweep/stats/wilcoxon.hpp"
 #include "sample_checks.hpp"
@@ -12,7 +14,8 @@
 namespace occsweep::stats {
 namespace {
 
-constexpr std::size_t kMaxExactSignedRank = 1000;  // wilcoxonSignedRank's exact limit (docs/statistics.md)
+// 2 / 2^n underflows no double below this n; above it the smallest p is reported as 2^-1099, already ~0.
+constexpr std::size_t kSmallestPCount = 1100;
 
 bool tiedMagnitudes(std::vector<double> nonzero) {
   for (double& v : nonzero) v = std::fabs(v);
@@ -68,6 +71,9 @@ std::string equivalenceText(const MeanTInterval& t, const VerdictEvidence& e, co
 // 1 - 2 alpha / family within +-smallest_effect.
 std::optional<MeanTInterval> equivalenceInterval(const VerdictEvidence& e, const VerdictRules& r) {
   if (e.differences.size() < 2) return std::nullopt;
+  // Equal differences have no spread to build a t interval from (SciPy's ttest gives NaN): no equivalence test.
+  if (std::adjacent_find(e.differences.begin(), e.differences.end(), std::not_equal_to<>()) == e.differences.end())
+    return std::nullopt;
   const double level = 1.0 - 2.0 * r.alpha / double(std::max<std::size_t>(e.family, 1));
   if (!(level > 0.0)) return std::nullopt;
   return meanTInterval(e.differences, level);
@@ -83,7 +89,9 @@ Verdict tooFew(const VerdictEvidence& e, const VerdictRules& r, double smallest_
 
 }  // namespace
 
-double smallestPossibleP(std::size_t nonzero) { return nonzero <= 1 ? 1.0 : std::ldexp(1.0, 1 - int(std::min<std::size_t>(nonzero, 1100))); }
+double smallestPossibleP(std::size_t nonzero) {
+  return nonzero <= 1 ? 1.0 : std::ldexp(1.0, 1 - int(std::min(nonzero, kSmallestPCount)));
+}
 
 ExactPairedTest exactPairedTest(const std::vector<double>& differences) {
   detail::requireFinite(differences, "exact paired test");
@@ -92,19 +100,25 @@ ExactPairedTest exactPairedTest(const std::vector<double>& differences) {
   ExactPairedTest t;
   t.nonzero = nonzero.size();
   t.smallest_possible_p = smallestPossibleP(t.nonzero);
-  if (t.nonzero <= kMaxExactSignedRank && !tiedMagnitudes(nonzero)) {
+  if (t.nonzero <= kMaxExactSignedRankCount && !tiedMagnitudes(nonzero)) {
     t.name = "Wilcoxon signed-rank, exact";
-    t.p_value = wilcoxonSignedRank(nonzero, {SignedRankMode::Exact, false}).p_value;
+    const SignedRankResult w = wilcoxonSignedRank(nonzero, {SignedRankMode::Exact, false});
+    t.p_value = w.p_value;
+    t.direction = (w.w_plus > w.w_minus) - (w.w_plus < w.w_minus);
   } else {
     t.name = "sign test, exact";
-    t.p_value = signTest(nonzero).p_value;
+    const SignTestResult s = signTest(nonzero);
+    t.p_value = s.p_value;
+    t.direction = (s.positive > s.negative) - (s.positive < s.negative);
   }
   return t;
 }
 
-double smallestPossibleHolmP(double own_smallest_p, double family_least_smallest_p, std::size_t family) {
-  const double least = std::min(own_smallest_p, family_least_smallest_p);
-  return std::max(own_smallest_p, std::min(1.0, double(std::max<std::size_t>(family, 1)) * least));
+double smallestPossibleHolmP(const std::vector<double>& smallest_possible_p, std::size_t index) {
+  if (index >= smallest_possible_p.size())
+    throw std::invalid_argument("smallestPossibleHolmP: index " + std::to_string(index) + " of a family of " +
+                                std::to_string(smallest_possible_p.size()));
+  return holmAdjusted(smallest_possible_p)[index];
 }
 
 Verdict decideVerdict(const VerdictEvidence& e, const VerdictRules& r) {
@@ -117,12 +131,18 @@ Verdict decideVerdict(const VerdictEvidence& e, const VerdictRules& r) {
   if (const std::optional<MeanTInterval> t = equivalenceInterval(e, r);
       t && t->lower > -r.smallest_effect && t->upper < r.smallest_effect)
     return {VerdictKind::Negligible, t, "negligible (" + equivalenceText(*t, e, r) + ")", basis};
-  const double least_p = smallestPossibleHolmP(e.test->smallest_possible_p, e.family_least_smallest_p, e.family);
+  const double least_p = std::isnan(e.smallest_possible_holm_p) ? e.test->smallest_possible_p
+                                                                : e.smallest_possible_holm_p;
   if (least_p > r.alpha) return tooFew(e, r, least_p);
   if (!e.interval) return {VerdictKind::NoClearDifference, std::nullopt, "no clear difference", basis};
   const BootstrapInterval& i = *e.interval;
-  if (!i.contains(0.0) && e.holm_p <= r.alpha)
-    return {i.lower > 0 ? VerdictKind::Gain : VerdictKind::Loss, std::nullopt, i.lower > 0 ? "gain" : "loss", basis};
+  if (!i.contains(0.0) && e.holm_p <= r.alpha) {
+    const int side = i.lower > 0 ? 1 : -1;
+    if (e.test->direction != side)  // e.g. a mean pulled below 0 by a few large losses, most data sets better
+      return {VerdictKind::NoClearDifference, std::nullopt,
+              "no clear difference (the interval of the mean and the exact test point opposite ways)", basis};
+    return {side > 0 ? VerdictKind::Gain : VerdictKind::Loss, std::nullopt, side > 0 ? "gain" : "loss", basis};
+  }
   return {VerdictKind::NoClearDifference, std::nullopt, "no clear difference", basis};
 }
 

@@ -12,8 +12,6 @@ namespace occsweep::stats {
 
 namespace {
 
-/// Exact mode's largest sample: its null distribution takes n(n+1)/2 + 1 doubles and O(n^3) time.
-constexpr std::size_t kMaxExactCount = 1000;
 /// Auto mode's switch to the normal approximation, as SciPy 1.10's method="auto".
 constexpr std::size_t kMaxAutoExactCount = 50;
 
@@ -103,7 +101,7 @@ SignedRankResult wilcoxonSignedRank(const std::vector<double>& differences, cons
   const bool ties = sums.tie_term > 0.0;
   if (options.mode == SignedRankMode::Exact && ties)
     throw std::invalid_argument("signed-rank test: the exact distribution needs untied |differences|");
-  if (options.mode == SignedRankMode::Exact && result.used > kMaxExactCount)
+  if (options.mode == SignedRankMode::Exact && result.used > kMaxExactSignedRankCount)
     throw std::invalid_argument("signed-rank test: exact mode takes at most 1000 non-zero differences");
   result.exact = options.mode == SignedRankMode::Exact ||
                  (options.mode == SignedRankMode::Auto && !ties && result.used <= kMaxAutoExactCount);

@@ -1,8 +1,9 @@
-// Real stereo without the voxel filter (docs/fidelity.md, "Real stereo with truth"): a real pair's point cloud sets
-// with one point per valid disparity, swept with octomap-opt and knn-opt at each resolution under full and
-// observable truth. With the filter at the map resolution one point is left per voxel and scan, so Eq. 7's
-// per-voxel sum over points has nothing to add and k-NN's best equals OctoMap's; without it, the ablation (the best
-// knn-opt map with p_u = p_l, i.e. every point weighted alike) shows how much of k-NN's gain that sum alone gives.
+// Real stereo with the voxel filter as a swept choice (docs/fidelity.md, "Real stereo with truth"): a real pair's
+// point cloud sets without the filter (one point per valid disparity), filtered at half the map resolution and at
+// the resolution, swept with octomap-opt and knn-opt at each resolution under full and observable truth. With the
+// filter at the map resolution one point is left per voxel and scan, so Eq. 7's per-voxel sum over points has one
+// term, as OctoMap's update; below it, the ablation (the best knn-opt map with p_u = p_l, i.e. every point
+// weighted alike) shows how much of k-NN's gain that sum alone gives.
 #include <cstdio>
 
 #include "occsweep/sweeps/compare_statistics.hpp"
@@ -76,8 +77,11 @@ json statisticsJson(const std::vector<ResultsFile>& full, const std::vector<Resu
   return out;
 }
 
-// One resolution: the pair's sets written unfiltered, both grids swept on each under both truths.
-json configurationJson(const ReproduceConfig& c, double resolution, const RealStereoSets& sets,
+// The filter as the data sets record it: false, or its leaf in metres.
+json voxelFilterJson(double filter_leaf) { return filter_leaf > 0 ? json(filter_leaf) : json(false); }
+
+// One resolution and filter: the pair's sets, both grids swept on each under both truths.
+json configurationJson(const ReproduceConfig& c, double resolution, double filter_leaf, const RealStereoSets& sets,
                        const std::string& name) {
   RankedDataset d{name, c.out / "data" / name, sets.folders, sets.ids};
   json rows = json::array();
@@ -93,35 +97,38 @@ json configurationJson(const ReproduceConfig& c, double resolution, const RealSt
                     {"truths", {{"full", truthJson(om.full, knn.full)},
                                 {"observable", truthJson(om.observable, knn.observable)}}}});
   }
-  return {{"resolution", resolution}, {"folder", (fs::path("data") / name).string()}, {"voxel_filter", false},
-          {"sets", rows}, {"statistics", statisticsJson(full, observable)}};
+  return {{"resolution", resolution}, {"folder", (fs::path("data") / name).string()},
+          {"voxel_filter", voxelFilterJson(filter_leaf)}, {"sets", rows}, {"statistics", statisticsJson(full, observable)}};
 }
 
 }  // namespace
 
 json runRealStereo(const ReproduceConfig& c) {
   json out = {{"format", "occsweep-reproduce-real-stereo"}, {"grids", {{"octomap", kOctoMapGrid}, {"knn", kKnnGrid}}},
-              {"voxel_filter", false},
               {"ablation", "knn_equal_hit: the best knn-opt map with p_u = p_l (Eq. 7's per-voxel sum, no k-NN "
                            "weighting)"},
               {"auc", "anchored TPR-FDR trapezoid (docs/definitions.md, Confusion counts and AUC)"},
               {"configurations", json::array()}};
-  for (const double resolution : c.real_stereo_resolutions) {
-    char name[48];
-    std::snprintf(name, sizeof name, "real-stereo/unfiltered-%.3g", resolution);
-    if (!c.write_real_stereo) {
-      out["not_run"] = "this program hands in no real stereo pair (a build without the stereo tools)";
-      return out;
-    }
-    if (!c.quiet) std::fprintf(stderr, "reproduce: real-stereo: sets at %.3g m\n", resolution);
-    const RealStereoSets sets = c.write_real_stereo(c.out / "data" / name, resolution);
-    if (!sets.not_available.empty() || sets.folders.empty()) {
-      out["not_run"] = sets.not_available.empty() ? "the pair gave no point cloud set" : sets.not_available;
-      return out;
-    }
-    out["pair"] = sets.pair;
-    out["configurations"].push_back(configurationJson(c, resolution, sets, name));
+  if (!c.write_real_stereo) {
+    out["not_run"] = "this program hands in no real stereo pair (a build without the stereo tools)";
+    return out;
   }
+  for (const double resolution : c.real_stereo_resolutions)
+    for (const double fraction : c.real_stereo_filters) {
+      const double filter_leaf = fraction * resolution;
+      char configuration[48];
+      if (filter_leaf > 0) std::snprintf(configuration, sizeof configuration, "%.3g-filter-%.3g", resolution, filter_leaf);
+      else std::snprintf(configuration, sizeof configuration, "%.3g-unfiltered", resolution);
+      const std::string name = std::string("real-stereo/") + configuration;
+      if (!c.quiet) std::fprintf(stderr, "reproduce: real-stereo: sets %s\n", configuration);
+      const RealStereoSets sets = c.write_real_stereo(c.out / "data" / name, resolution, filter_leaf);
+      if (!sets.not_available.empty() || sets.folders.empty()) {
+        out["not_run"] = sets.not_available.empty() ? "the pair gave no point cloud set" : sets.not_available;
+        return out;
+      }
+      out["pair"] = sets.pair;
+      out["configurations"].push_back(configurationJson(c, resolution, filter_leaf, sets, name));
+    }
   return out;
 }
 

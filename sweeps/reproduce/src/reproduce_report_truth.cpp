@@ -45,7 +45,7 @@ void trendByTruth(std::ostringstream& o, const json& rows) {
 void truthSection(std::ostringstream& o, const json& comparison) {
   const json& rows = comparison.at("rows");
   if (rows.empty() || !rows.front().contains("truths")) return;  // a comparison.json of an older run
-  o << "## 3b. Full against observable truth (issue 14)\n\n"
+  o << "## 3b. Full against observable truth\n\n"
     << "The same maps, counted twice: full truth (every truth voxel of the region, the paper's and the default) and "
     << "observable truth (only truth voxels that a ray from a scan origin of the set, aimed at the voxel's centre or "
     << "at one of its face centres inside that scan's camera image, reaches within s_c before any other truth "

@@ -26,9 +26,17 @@ std::optional<std::vector<double>> mapAucs(const ResultsFile& f) {
   return out;
 }
 
-// The data set a point cloud set belongs to: generated sets are named DATASET/pcs-NNNN (docs/datasets.md); any
-// other name is a data set of its own.
+// The data set each row's point cloud set belongs to, the statistics' unit (docs/statistics.md, "Verdicts"):
+// generated sets are named DATASET/pcs-NNNN (docs/datasets.md) and share DATASET; any other name is the data set.
+// Rows of one name and different contents are pooled (pooledDatasetNames): a content hash cannot tell a second
+// recording from the same scans with another region or truth, and pooling can only make a verdict more cautious.
 std::string datasetOf(const std::string& name) { return name.substr(0, name.find('/')); }
+
+std::vector<std::string> datasetUnits(const std::vector<ComparisonRow>& rows) {
+  std::vector<std::string> units;
+  for (const ComparisonRow& row : rows) units.push_back(datasetOf(row.dataset));
+  return units;
+}
 
 // One method's AUC table: per set with a best map, every map's AUC; all sets must come from one grid.
 struct AucTable {
@@ -42,6 +50,7 @@ AucTable aucTable(const std::vector<ComparisonRow>& rows, const std::vector<Resu
                   const std::string& method) {
   AucTable t;
   std::set<std::string> grids;
+  const std::vector<std::string> units = datasetUnits(rows);
   for (const ComparisonRow& row : rows) {
     const std::optional<BestMap> best = row.best(method);
     if (!best) continue;
@@ -50,7 +59,7 @@ AucTable aucTable(const std::vector<ComparisonRow>& rows, const std::vector<Resu
     const auto aucs = mapAucs(f);
     if (!aucs) return {{}, {}, {}, false};
     t.per_set.push_back(*aucs);
-    t.dataset.push_back(datasetOf(row.dataset));
+    t.dataset.push_back(units[std::size_t(&row - rows.data())]);
     t.row.push_back(std::size_t(&row - rows.data()));
   }
   t.one_grid = grids.size() == 1;
@@ -227,11 +236,10 @@ void crossValidatedImprovements(const AucTable& mine, const AucTable& base, cons
 // Holm's correction over the family of comparisons with the baseline (one p-value each; 1 where there is no
 // test or no evidence, which keeps the correction conservative: docs/statistics.md, "Verdicts"), then each verdict.
 void holmAndDecide(std::vector<DatasetComparison*> family, const CompareStatisticsOptions& o) {
-  std::vector<double> p;
-  double least_smallest_p = 1.0;
+  std::vector<double> p, smallest_p;
   for (const DatasetComparison* c : family) {
     p.push_back(c->test ? c->test->p_value : 1.0);
-    if (c->test && c->not_computed.empty()) least_smallest_p = std::min(least_smallest_p, c->test->smallest_possible_p);
+    smallest_p.push_back(c->test && c->not_computed.empty() ? c->test->smallest_possible_p : 1.0);
   }
   const std::vector<double> adjusted = stats::holmAdjusted(p);
   for (std::size_t i = 0; i < family.size(); ++i) {
@@ -243,7 +251,7 @@ void holmAndDecide(std::vector<DatasetComparison*> family, const CompareStatisti
       continue;
     }
     stats::VerdictEvidence e{c.per_dataset, "data sets", "%", c.interval, o.level, c.test, c.holm_p, c.family,
-                             least_smallest_p};
+                             stats::smallestPossibleHolmP(smallest_p, i)};
     c.verdict = stats::decideVerdict(e, o.rules);
   }
 }
@@ -272,10 +280,11 @@ MethodStatistics methodStatistics(const std::vector<ComparisonRow>& rows, const 
   s.is_baseline = method == o.baseline;
   PairedSets paired;
   std::vector<double> bests;
-  for (const ComparisonRow& row : rows) {
-    const auto m = row.best(method), b = row.best(o.baseline);
+  const std::vector<std::string> units = datasetUnits(rows);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const auto m = rows[r].best(method), b = rows[r].best(o.baseline);
     if (m) bests.push_back(m->auc);
-    if (m && b) paired.method.push_back(m->auc), paired.baseline.push_back(b->auc), paired.dataset.push_back(datasetOf(row.dataset));
+    if (m && b) paired.method.push_back(m->auc), paired.baseline.push_back(b->auc), paired.dataset.push_back(units[r]);
   }
   const std::vector<double>& theirs = paired.baseline;
   s.mean_best_auc = bests.empty() ? NAN : std::accumulate(bests.begin(), bests.end(), 0.0) / double(bests.size());
@@ -304,6 +313,16 @@ MethodStatistics methodStatistics(const std::vector<ComparisonRow>& rows, const 
 std::vector<double> meanBudgetCurve(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& files,
                                     const std::string& method, std::size_t max_maps) {
   return meanCurve(aucTable(rows, files, method), max_maps);
+}
+
+std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows) {
+  std::map<std::string, std::set<std::string>> hashes_of_name;
+  for (const ComparisonRow& row : rows)
+    if (row.dataset.find('/') == std::string::npos) hashes_of_name[row.dataset].insert(row.dataset_hash);
+  std::vector<std::string> pooled;
+  for (const auto& [name, hashes] : hashes_of_name)
+    if (hashes.size() > 1) pooled.push_back(name);
+  return pooled;
 }
 
 std::vector<std::string> comparedMethods(const std::vector<ComparisonRow>& rows) {

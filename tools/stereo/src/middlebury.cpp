@@ -122,7 +122,7 @@ nlohmann::json sourceOf(const StereoCamera& cam, const MiddleburyCamera& camera,
       {"scan", "one: the left camera at the origin, camera axes (x right, y down, z forward)"},
       {"truth", "voxel centres of the ground-truth disparity's points at truth_leaf"}, {"truth_leaf", voxels.leaf},
       {"max_depth", kMaxDepth}, {"sgbm", sgbmSettingsJson(params, num_disparities)}};
-  if (voxels.voxel_filter) j["voxel_filter_leaf"] = voxels.leaf;
+  if (voxels.voxel_filter) j["voxel_filter_leaf"] = voxels.filterLeaf();
   else j["voxel_filter"] = false;
   return j;
 }
@@ -159,7 +159,7 @@ Dataset middleburyDataset(const MiddleburyPair& pair, const MiddleburyCamera& ca
   scan.view = leftCameraView(cam, CameraPose{});
   const std::vector<Eigen::Vector3d> points =
       reprojectDisparity(withDisparityOffset(disparity, camera.doffs_px), cam, CameraPose{}, kMaxDepth);
-  scan.points = voxels.voxel_filter ? voxelFilter(points, voxels.leaf) : toPoint3d(points);
+  scan.points = voxels.voxel_filter ? voxelFilter(points, voxels.filterLeaf()) : toPoint3d(points);
   if (scan.points.empty()) throw std::runtime_error("SGBM found no valid disparity in the pair");
   Dataset d;
   d.scans.push_back(std::move(scan));

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +26,9 @@ struct ExactPairedTest {
   double p_value = 1.0;           ///< two-sided
   std::size_t nonzero = 0;        ///< the differences the test uses
   double smallest_possible_p = 1.0;  ///< the least p-value `nonzero` differences can give (smallestPossibleP)
+  /// The side the test's statistic leans to: +1 when the positive differences outweigh the negative ones (Wilcoxon:
+  /// W+ > W-; sign test: more positive), -1 the other way, 0 balanced. A gain or loss needs it on the interval's side.
+  int direction = 0;
 };
 
 /// Throws std::invalid_argument on a non-finite difference or when every difference is zero (no test is possible).
@@ -49,15 +53,16 @@ struct VerdictEvidence {
   std::optional<ExactPairedTest> test;
   double holm_p = 1.0;
   std::size_t family = 1;
-  /// The least smallestPossibleP of the family's comparisons (1 for one without a test): with it, the least
-  /// Holm-adjusted p this comparison can reach (smallestPossibleHolmP). 1 leaves the comparison's own bound.
-  double family_least_smallest_p = 1.0;
+  /// The least Holm-adjusted p this comparison can reach in its family (smallestPossibleHolmP); NaN: its own
+  /// test's smallest possible p, as in a family of one.
+  double smallest_possible_holm_p = std::numeric_limits<double>::quiet_NaN();
 };
 
-/// The least Holm-adjusted p-value a comparison can reach: its adjusted p is at least its own p and at least
-/// min(1, family x the family's least p), so at least max(own, min(1, family x least)) (docs/statistics.md,
-/// "Verdicts").
-[[nodiscard]] double smallestPossibleHolmP(double own_smallest_p, double family_least_smallest_p, std::size_t family);
+/// The least Holm-adjusted p-value comparison `index` of a family can reach, given each comparison's smallest
+/// possible p (smallestPossibleP; 1 for one without a test). Holm's adjusted p-values never fall when a p-value
+/// rises, and each comparison can reach its smallest p at once (all its values of one sign), so the least is
+/// holmAdjusted(smallest_possible_p)[index], and it is reached (docs/statistics.md, "Verdicts").
+[[nodiscard]] double smallestPossibleHolmP(const std::vector<double>& smallest_possible_p, std::size_t index);
 
 struct Verdict {
   VerdictKind kind = VerdictKind::TooFew;

@@ -12,6 +12,9 @@ enum class SignedRankMode {
   Approx,  ///< normal approximation with the tie correction of the variance
 };
 
+/// Exact mode's largest sample: its null distribution takes n(n+1)/2 + 1 doubles and O(n^3) time.
+inline constexpr std::size_t kMaxExactSignedRankCount = 1000;
+
 struct SignedRankOptions {
   SignedRankMode mode = SignedRankMode::Auto;
   bool continuity_correction = true;  ///< in Approx mode only

@@ -20,8 +20,8 @@ namespace occsweep {
   return {"fits", "nca", "comparison", "curves", "runtime", "real-stereo"};
 }
 
-/// What the real-stereo step is given: one real stereo pair's point cloud sets at one resolution, unfiltered, or
-/// why there are none.
+/// What the real-stereo step is given: one real stereo pair's point cloud sets at one resolution and one voxel
+/// filter, or why there are none.
 struct RealStereoSets {
   std::string pair;                     ///< which pair, in words (report.md)
   std::vector<std::string> folders;     ///< pcs-NNNN under the folder asked for, in point cloud id order
@@ -65,13 +65,18 @@ struct ReproduceConfig {
   std::function<void(const std::string& name, const std::string& scale, const std::filesystem::path& out,
                      bool realistic)>
       generate_dataset;
-  /// real-stereo: the map resolutions, each also the truth's voxel size; the sets are not voxel-filtered (one
-  /// point per valid disparity), so that Eq. 7's per-voxel sum over points has several points to sum.
+  /// real-stereo: the map resolutions, each also the truth's voxel size.
   std::vector<double> real_stereo_resolutions = {0.05, 0.1};
-  /// Writes the real pair's sets without the voxel filter, truth at `resolution`, into `folder` (the command hands
-  /// in `dataset middlebury --no-voxel-filter --leaf RESOLUTION`'s own code: tools/occsweep/cmd_dataset_middlebury.hpp).
+  /// real-stereo: the voxel filter's leaf as a fraction of the resolution, 0 for no filter (one point per valid
+  /// disparity). At 1 one point is left per voxel and scan, and Eq. 7's per-voxel sum has one term, as OctoMap's
+  /// update; below 1 and without the filter it has several (docs/fidelity.md, "Real stereo with truth").
+  std::vector<double> real_stereo_filters = {0.0, 0.5, 1.0};
+  /// Writes the real pair's sets, truth at `resolution`, voxel-filtered at `filter_leaf` metres (0: not filtered),
+  /// into `folder` (the command hands in `dataset middlebury --leaf RESOLUTION [--voxel-filter F |
+  /// --no-voxel-filter]`'s own code: tools/occsweep/cmd_dataset_middlebury.hpp).
   /// Empty, or sets with `not_available`: the step writes a "not run" report section saying why.
-  std::function<RealStereoSets(const std::filesystem::path& folder, double resolution)> write_real_stereo;
+  std::function<RealStereoSets(const std::filesystem::path& folder, double resolution, double filter_leaf)>
+      write_real_stereo;
   /// Draws the figures of `steps` from the step files in OUT, last. Empty: JSON and report.md only (`--no-figures`).
   /// The command checks that it can draw them before the run starts.
   std::function<void(const std::filesystem::path& out, const std::vector<std::string>& steps)> draw_figures;

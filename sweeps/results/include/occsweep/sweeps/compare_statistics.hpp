@@ -105,6 +105,10 @@ struct MethodStatistics {
                                                   const std::vector<ResultsFile>& files, const std::string& method,
                                                   std::size_t max_maps = CompareStatisticsOptions{}.budget_max_maps);
 
+/// Names without a set part (not DATASET/pcs-NNNN) that rows of several contents share: the statistics count each
+/// such name as one data set, the cautious reading (docs/statistics.md, "Verdicts"); compare notes them.
+[[nodiscard]] std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows);
+
 /// The methods of `rows`, by name.
 [[nodiscard]] std::vector<std::string> comparedMethods(const std::vector<ComparisonRow>& rows);
 

@@ -69,15 +69,18 @@ struct MiddleburySetSummary {
   ConfusionCounts naive;                ///< filtered points against the truth voxels
 };
 
-/// The voxel sizes of a Middlebury set: the truth's voxels, and whether the clouds are voxel-filtered at that size
-/// (`dataset middlebury --leaf L [--no-voxel-filter]`, the generator's flag: docs/datasets.md).
+/// The voxel sizes of a Middlebury set: the truth's voxels, and whether and at what leaf the clouds are
+/// voxel-filtered (`dataset middlebury --leaf L [--voxel-filter F | --no-voxel-filter]`: docs/datasets.md).
 struct MiddleburyVoxels {
   double leaf = 0.1;         ///< truth voxels, and the sweep's resolution
   bool voxel_filter = true;  ///< false: the raw reprojected points (one per valid disparity)
+  double filter_leaf = 0;    ///< the filter's leaf when filtered; 0: `leaf` (one point per truth voxel)
+
+  [[nodiscard]] double filterLeaf() const { return filter_leaf > 0 ? filter_leaf : leaf; }
 };
 
 /// One point cloud set: SGBM with `params` and `num_disparities`, doffs added, reprojected (max depth 20 m as the
-/// rendered sets), voxel-filtered at `voxels.leaf` unless `voxels.voxel_filter` is false; one scan from the
+/// rendered sets), voxel-filtered at `voxels.filterLeaf()` unless `voxels.voxel_filter` is false; one scan from the
 /// origin; truth and region (truthRegion) from the GT at `voxels.leaf`. `source` records the camera, the SGBM block
 /// as generate's sourceJson does and the filter (name, id and grid: the caller's).
 [[nodiscard]] Dataset middleburyDataset(const MiddleburyPair& pair, const MiddleburyCamera& camera,
