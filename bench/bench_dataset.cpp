@@ -1,4 +1,4 @@
-// Issue 18's benchmark: one data set's 1,600 point cloud sets, generated the way before sharing (each set runs
+// Generation's benchmark: one data set's 1,600 point cloud sets, generated each set alone (each set runs
 // StereoSGBM::compute with its full parameters) and sharing the matcher across the 16 speckle variants of each
 // matcher combination (docs/datasets.md, "How generation shares work"), side by side in one run, at ci and small
 // scale, with the ratio; and whether the sets both paths made are byte-identical. Build in Release (the default).

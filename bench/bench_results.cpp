@@ -1,4 +1,4 @@
-// Issue 18's results at scale, side by side in one run: a grid far finer than the paper's swept on the built-in
+// Results at scale, side by side in one run: a grid far finer than the paper's swept on the built-in
 // scene into a results store and into JSON, then `results check` and `compare` on each: wall time, peak resident
 // memory (VmHWM) and size on disk, and the ratios JSON / store. Build in Release (the default).
 //   build/bench/bench_results                    the 3,202,220-combination grid (bench/grids/knn-fine-3m.json)
@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
   row("compare", store, with_json ? &json : nullptr, &Runs::compare);
   std::printf("%-16s %23.0f MB", "on disk", store.bytes / 1e6);
   if (with_json) std::printf(" %23.0f MB %20.2f x", json.bytes / 1e6, json.bytes / store.bytes);
-  std::printf("\n\ngoals (issue 18, the 3.2 M grid): sweep peak <= 500 MB, results <= 100 MB, compare <= 2 s and "
+  std::printf("\n\ngoals (the 3.2 M grid, docs/performance.md): sweep peak <= 500 MB, results <= 100 MB, compare <= 2 s and "
               "<= 300 MB\n");
   fs::remove_all(dir);
   return 0;

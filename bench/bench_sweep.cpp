@@ -1,6 +1,6 @@
-// Issue 5's benchmark: on a paper-scale point cloud set, side by side in one run, one liboctomap build, the k-NN
+// The sweep benchmark: on a paper-scale point cloud set, side by side in one run, one liboctomap build, the k-NN
 // mapper's direct build, the event recording, the replay of knn-opt and octomap-opt, their ratios, the run-time
-// models (Eq. 17, 18) and the sweep's peak memory; and (issue 18) the k-NN search before and after, the
+// models (Eq. 17, 18) and the sweep's peak memory; and the k-NN search both ways, the
 // nanoflann k-d tree against the grid of cells, on the same clouds. Build in Release (the default). The times the
 // ratios are made of are each the least of three runs, alternated round by round.
 //   build/bench/bench_sweep                  the paper-scale set: building-voronoi-I's median point cloud set at

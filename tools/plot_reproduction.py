@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Figures of `occsweep reproduce` (issue 6): Fig. 3-7 of Miao et al. (Sensors 2022) from the step files.
+"""Figures of `occsweep reproduce`: Fig. 3-7 of Miao et al. (Sensors 2022) from the step files.
 
 usage: plot_reproduction.py OUT [STEP...]
        (reads OUT/{fits,nca,comparison,curves,runtime}.json and OUT/maps/*.ply, writes OUT/fig3_distribution_fits.png

@@ -17,7 +17,7 @@ nlohmann::json parseJsonText(std::string_view text, const std::filesystem::path&
 }
 
 nlohmann::json readJsonFile(const std::filesystem::path& file) {
-  return parseJsonText(readFileBytes(file), file);  // readFileBytes refuses folders and FIFOs by name (issue 13)
+  return parseJsonText(readFileBytes(file), file);  // readFileBytes refuses folders and FIFOs by name
 }
 namespace fs = std::filesystem;
 

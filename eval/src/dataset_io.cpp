@@ -130,8 +130,8 @@ struct Manifest {
   }
 };
 
-// The points the manifest lists, summed before any scan is read (issue 13: 20,000 entries naming one 24 KB scan
-// took 947 MB).
+// The points the manifest lists, summed before any scan is read: a small manifest naming one scan thousands of
+// times is refused before its scans fill memory.
 void checkPointTotal(const Manifest& mf, const json& scans) {
   std::uint64_t total = 0;
   for (std::size_t i = 0; i < scans.size(); ++i) {

@@ -1,4 +1,4 @@
-// libFuzzer: OctoMap .ot maps as `occsweep mapdiff` reads them (decodeOcTree, issue 13), then expanded as mapdiff
+// libFuzzer: OctoMap .ot maps as `occsweep mapdiff` reads them (decodeOcTree), then expanded as mapdiff
 // does: the voxel limit must keep expand() bounded too (-malloc_limit_mb catches a count the walk trusted).
 #include "fuzz_common.hpp"
 #include "occsweep/core/limits.hpp"

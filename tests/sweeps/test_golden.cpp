@@ -58,7 +58,8 @@ TEST_CASE("golden results of the built-in scene recompute identically") {
 
 TEST_CASE("the direct engine (liboctomap for OctoMap, one k-NN map per combination) reproduces the golden results") {
   // The golden files are recomputed above by the replay engine; here by the reference engine, map by map, so that
-  // replay and direct are compared on the built-in scene for every combination of both grids (issue 5).
+  // replay and direct are compared on the built-in scene for every combination of both grids (docs/performance.md,
+  // "Correctness first").
   const auto scene = builtinScene("golden-direct");
   for (const char* grid : {"octomap-opt", "knn-opt"}) requireGolden(scene, grid, "direct");
 }

@@ -1,4 +1,4 @@
-// occsweep reproduce (issue 6) on two ci-scale data sets: every step file is written and agrees with the tools it
+// occsweep reproduce on two ci-scale data sets: every step file is written and agrees with the tools it
 // is built from (compare's best AUCs, directly built maps against the sweep), the report names every finding, and
 // bad input is refused. Also the rank positions that stand for the paper's 1st, 800th and 1,600th.
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// occsweep import depth|graph|cloud|truth and mapdiff end to end on the repository's real samples (issue 8).
+// occsweep import depth|graph|cloud|truth and mapdiff end to end on the repository's real samples (docs/import.md).
 #include <catch2/catch.hpp>
 
 #include <fstream>

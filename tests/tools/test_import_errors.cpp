@@ -1,4 +1,4 @@
-// Broken inputs (issue 8, docs/robustness.md): each gives a DataError naming the file and the rule, and through
+// Broken inputs (docs/robustness.md): each gives a DataError naming the file and the rule, and through
 // the command a non-zero exit, the file named, and no output folder.
 #include <catch2/catch.hpp>
 

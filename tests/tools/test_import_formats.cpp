@@ -1,4 +1,4 @@
-// Readers against writers over many seeds: whatever a well-formed file holds comes back exactly (issue 8).
+// Readers against writers over many seeds: whatever a well-formed file holds comes back exactly (docs/import.md).
 #include <catch2/catch.hpp>
 
 #include <array>

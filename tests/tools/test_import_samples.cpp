@@ -1,4 +1,4 @@
-// The real sample recordings read through the import readers, each against an independent oracle (issue 8).
+// The real sample recordings read through the import readers, each against an independent oracle (docs/import.md).
 #include <catch2/catch.hpp>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Errors a user can act on, real pose formats, data-set paths and logs (issue 13; docs/robustness.md, "Messages,
+// Errors a user can act on, real pose formats, data-set paths and logs (docs/robustness.md, "Messages,
 // formats and the cluster"). Every case runs the real command; OCCSWEEP_TEST_CLI=/path/to/old/occsweep runs them
 // against another build.
 #include <catch2/catch.hpp>

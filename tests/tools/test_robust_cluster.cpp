@@ -1,6 +1,6 @@
 // cluster plan on user data-set folders, relative grid paths, and run-local killed at random moments: its tasks end
 // with it, status sees running shards, a second run-local is refused, and the resumed plan gives the numbers of an
-// uninterrupted one (issue 13; docs/cluster.md, docs/robustness.md "Messages, formats and the cluster").
+// uninterrupted one (docs/cluster.md, docs/robustness.md "Messages, formats and the cluster").
 // OCCSWEEP_TEST_CLI=/path/to/old/occsweep runs the commands of another build.
 #include <catch2/catch.hpp>
 

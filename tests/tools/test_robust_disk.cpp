@@ -1,4 +1,4 @@
-// Issue 13, full disk: every command that writes, with its output on a small full tmpfs, exits 2 saying "no space
+// Full disk: every command that writes, with its output on a small full tmpfs, exits 2 saying "no space
 // left on device" and naming the file, and leaves nothing behind: no temporary, nothing under the final name
 // (docs/robustness.md, "Outputs, temporaries and --force"). Needs `mount` (CI runs as root); skipped otherwise.
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// Issue 13, fault test: scene, import, map, sweep and merge killed at seeded random moments (SIGKILL and SIGTERM
+// Fault test: scene, import, map, sweep and merge killed at seeded random moments (SIGKILL and SIGTERM
 // alternately, 20 kills each). After every kill no final output is partial; after the next run no temporary is left
 // and the output equals an uninterrupted run's (docs/robustness.md, "Outputs, temporaries and --force").
 #include <catch2/catch.hpp>

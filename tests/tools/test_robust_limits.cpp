@@ -1,4 +1,4 @@
-// Issue 13, "no input crashes, hangs or exhausts memory": each small input that crashed occsweep, hung it or made
+// "No input crashes, hangs or exhausts memory": each small input that crashed occsweep, hung it or made
 // it allocate gigabytes, run through the real command. Each case checks the exit status, that the message names the
 // file or flag, the size and the limit, that nothing partial is left, and the command's own peak memory (wait4's
 // ru_maxrss of the child) below 200 MB. docs/robustness.md, "Limits and non-regular files".
@@ -43,7 +43,7 @@ constexpr bool kSanitized = false;
 constexpr bool kSanitized = false;
 #endif
 
-constexpr long kPeakLimitKb = 200 * 1024;  // the issue's bound for every small input
+constexpr long kPeakLimitKb = 200 * 1024;  // the peak allowed for every small input
 
 struct Run {
   int exit_code = -1;    ///< -1 when killed by a signal or by the hang guard

@@ -1,4 +1,4 @@
-// Issue 13, "no silent wrong number" (docs/robustness.md, "Numbers that must not be wrong"): coordinates outside
+// "No silent wrong number" (docs/robustness.md, "Numbers that must not be wrong"): coordinates outside
 // OctoMap's key range, float overflow at import, results files that claim more than they hold, comparisons of
 // results that do not compare, numbers without a meaning, and help text that claims what is not true.
 // Each case runs the real command. OCCSWEEP_TEST_CLI=/path/to/occsweep runs them against another binary (the
@@ -425,14 +425,14 @@ TEST_CASE("compare refuses results that do not compare, names the file behind ev
       CHECK_FALSE(fs::exists(fx.dir / "deep" / "both.out"));
     }
   }
-  SECTION("an output in a folder that cannot exist is refused before any output is written (old: --json written)") {
+  SECTION("an output under a file is refused before any output is written (old: --json written)") {
     writeFile(fx.dir / "afile", "a user's file\n");
     const auto r = run("compare " + fx.octomap.string() + " " + fx.knn.string() + " --json " +
                        (fx.dir / "j.json").string() + " --latex " + (fx.dir / "afile" / "x.tex").string());
     INFO(r.output);
     CHECK(r.exit_code == 2);
     CHECK(has(r.output, "--latex"));
-    CHECK(has(r.output, "is not an existing folder"));
+    CHECK(has(r.output, "afile is not a folder"));
     CHECK_FALSE(fs::exists(fx.dir / "j.json"));
   }
   SECTION("k-NN at 0.2 m against OctoMap at 0.1 m (old: -24.60 %)") {

@@ -1,4 +1,4 @@
-// Issue 4: the voxel filter and the naive approach against brute force, the point cloud grid.
+// The voxel filter and the naive approach against brute force, the point cloud grid.
 #include <map>
 
 #include <catch2/catch.hpp>

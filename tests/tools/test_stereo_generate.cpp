@@ -1,4 +1,4 @@
-// Issue 4: `occsweep dataset generate` end to end: byte-identical outputs, ranking, refusals.
+// `occsweep dataset generate` end to end (docs/datasets.md): byte-identical outputs, ranking, refusals.
 #include <fstream>
 #include <sstream>
 

@@ -1,4 +1,4 @@
-// Issue 4: the renderer's geometry, the stereo reprojection and the scene's ground truth against independent
+// The renderer's geometry, the stereo reprojection and the scene's ground truth against independent
 // oracles (face-plane intersection, hand-counted voxels).
 #include <algorithm>
 #include <cmath>

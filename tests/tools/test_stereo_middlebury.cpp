@@ -1,4 +1,4 @@
-// Issue 14: the real Middlebury 2006 pair (Aloe, from Debian's opencv-doc) as a data set: its camera model, its
+// The real Middlebury 2006 pair (Aloe, from Debian's opencv-doc) as a data set: its camera model, its
 // ground truth, determinism, and the rendered sets' SGBM settings.
 #include <algorithm>
 #include <cmath>

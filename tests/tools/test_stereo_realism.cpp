@@ -1,4 +1,4 @@
-// Issue 14: the generator's realism and experiment options (docs/datasets.md, "Realism and experiment options")
+// The generator's realism and experiment options (docs/datasets.md, "Realism and experiment options")
 // each change only what they say, are deterministic from the seed, and leave the defaults as they were.
 #include <cmath>
 #include <fstream>

@@ -1,4 +1,4 @@
-// Issue 18: generation computes SGBM's matcher once per matcher combination and derives every speckle variant
+// Generation computes SGBM's matcher once per matcher combination and derives every speckle variant
 // with compute's own speckle filter (docs/datasets.md, "How generation shares work"); the point cloud sets are
 // the bytes each set computed alone gives.
 #include <algorithm>

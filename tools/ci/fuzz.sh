@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes every reader with libFuzzer (issue 8): the fuzz targets of tools/ci/sanitized_build.sh (clang-14, ASan,
+# Fuzzes every reader with libFuzzer: the fuzz targets of tools/ci/sanitized_build.sh (clang-14, ASan,
 # UBSan; the same build folder as tools/ci/sanitize.sh by default, so CI compiles once for both), each run for a
 # fixed time from its seed corpus (tests/fuzz/corpus/NAME, copied: the committed seeds stay as they
 # are) plus the inputs of past findings (tests/fuzz/regressions/NAME). Exit 0 only when no target found anything. Usage:

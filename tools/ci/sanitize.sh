@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The test suite under AddressSanitizer + UndefinedBehaviorSanitizer (issue 8): the instrumented build of
+# The test suite under AddressSanitizer + UndefinedBehaviorSanitizer: the instrumented build of
 # tools/ci/sanitized_build.sh (clang-14; any sanitizer report aborts the test, -fno-sanitize-recover), then ctest
 # on every test but the long ones of tools/ci/sanitize_skip.txt.
 # RelWithDebInfo at -O2, not Debug: OctoMap's templates in Debug are ~10x slower and the suite would not fit in

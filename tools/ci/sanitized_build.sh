@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One instrumented build for both sanitizer checks of CI (issue 8), so the project is compiled once for them:
+# One instrumented build for both sanitizer checks of CI, so the project is compiled once for them:
 # clang-14 with AddressSanitizer + UndefinedBehaviorSanitizer (-fno-sanitize-recover: any report aborts) and
 # libFuzzer's coverage instrumentation (-fsanitize=fuzzer-no-link), RelWithDebInfo at -O2 -g1 (line tables are
 # enough for the reports' stack traces; asserts stay on). tools/ci/sanitize.sh runs the test suite from it,

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The experiments of docs/fidelity.md (issue 14): one per suspect of why our reproduction and the paper disagree.
+# The experiments of docs/fidelity.md: one per suspect of why our reproduction and the paper disagree.
 # Each experiment is a line of tools/fidelity/experiments.txt: a name, the `dataset generate` options it changes,
 # and the question it answers. For each, at ci scale on all 20 data sets:
 #   occsweep dataset generate --all --scale ci --no-preview OPTIONS --out OUT/NAME/data

@@ -129,18 +129,25 @@ bool sameOutput(const std::string& a, const std::string& b) {
   return fs::exists(a, ec_a) && fs::equivalent(a, b, ec_b) && !ec_b;
 }
 
-// Every output needs a file of its own in an existing folder, checked before the first is written: a failure at
-// the third output must not leave the first two behind.
+// The nearest existing folder above `output` when it is a folder, or the existing file that blocks the path (the
+// writer creates missing folders, but none under a file).
+std::filesystem::path blockingFile(const std::string& output) {
+  std::filesystem::path p = std::filesystem::absolute(output).lexically_normal().parent_path();
+  std::error_code ec;
+  while (!p.empty() && !std::filesystem::exists(p, ec) && p != p.parent_path()) p = p.parent_path();
+  return std::filesystem::is_directory(p, ec) ? std::filesystem::path() : p;
+}
+
+// Every output needs a file of its own on a path that can hold it, checked before the first is written: a failure
+// at the third output must not leave the first two behind.
 void requireDistinctOutputs(const CompareTask& o) {
   const std::vector<std::pair<const char*, std::string>> outputs{
       {"--json", o.json}, {"--csv", o.csv}, {"--markdown", o.markdown}, {"--latex", o.latex}};
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     if (outputs[i].second.empty()) continue;
-    const std::filesystem::path parent = std::filesystem::absolute(outputs[i].second).lexically_normal().parent_path();
-    std::error_code ec;
-    if (!std::filesystem::is_directory(parent, ec))
-      throw std::invalid_argument(std::string(outputs[i].first) + " " + outputs[i].second + ": " + parent.string() +
-                                  " is not an existing folder");
+    if (const std::filesystem::path file = blockingFile(outputs[i].second); !file.empty())
+      throw std::invalid_argument(std::string(outputs[i].first) + " " + outputs[i].second + ": " + file.string() +
+                                  " is not a folder");
     for (std::size_t j = i + 1; j < outputs.size(); ++j)
       if (!outputs[j].second.empty() && sameOutput(outputs[i].second, outputs[j].second))
         throw std::invalid_argument(std::string(outputs[i].first) + " and " + outputs[j].first + " name one file (" +

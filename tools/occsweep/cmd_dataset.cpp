@@ -1,4 +1,4 @@
-// occsweep dataset generate: the paper's 20 data sets reproduced with rendered stereo and StereoSGBM (issue 4).
+// occsweep dataset generate: the paper's 20 data sets reproduced with rendered stereo and StereoSGBM.
 #include <iostream>
 #include <sstream>
 

@@ -1,5 +1,5 @@
 // occsweep dataset middlebury: a real stereo pair with ground truth (Middlebury 2006, as Debian's opencv-doc ships
-// it) as occsweep data sets, one per point cloud parameter set of the ci subset (issue 14).
+// it) as occsweep data sets, one per point cloud parameter set of the ci subset (docs/datasets.md).
 #include <cstdio>
 #include <iostream>
 #include <sstream>

@@ -47,7 +47,7 @@ GridSpec loadNamedGrid(const GridOptions& o) { return loadGrid(resolveGridPath(o
 
 int runGridCount(const GridOptions& o) {
   const GridSpec g = loadNamedGrid(o);
-  // Eq. 15 counts without allocating; the enumeration, a cross-check, only within the limit (issue 13). Methods
+  // Eq. 15 counts without allocating; the enumeration, a cross-check, only within the limit. Methods
   // other than OctoMap and k-NN have no closed form: their maps are counted one by one.
   const std::optional<std::uint64_t> eq15 = closedFormCount(g);
   const std::uint64_t closed = eq15 ? *eq15 : combinationCount(g);

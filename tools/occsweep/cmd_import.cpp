@@ -1,4 +1,4 @@
-// occsweep import depth|graph|cloud|truth FILES... --out DIR: real recordings into the data-set format (issue 8).
+// occsweep import depth|graph|cloud|truth FILES... --out DIR: real recordings into the data-set format.
 #include <array>
 #include <cstdint>
 #include <iostream>
@@ -59,8 +59,8 @@ void filterIfAsked(Dataset& d, const ImportOptions& o) {
 
 constexpr const char* kPointsBox = "no truth: the bounding box of every point and origin";
 
-// Which region the data set got and what it costs at the default resolution (issue 13: a region of 3.1e9
-// voxels went unnoticed until a sweep was killed).
+// Which region the data set got and what it costs at the default resolution, so that a region of billions of
+// voxels is seen at import, not when a sweep runs out of memory on it.
 void printRegion(const AxisBox& r, const std::string& origin) {
   const double resolution = KnnParams{}.resolution;
   const std::uint64_t voxels = regionVoxelCount(r, resolution);

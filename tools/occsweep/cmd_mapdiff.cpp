@@ -1,4 +1,4 @@
-// occsweep mapdiff A.ot B.ot: how many voxels two maps of the same data disagree on at p_t (issue 8: the real
+// occsweep mapdiff A.ot B.ot: how many voxels two maps of the same data disagree on at p_t (the real
 // samples have no ground truth, so OctoMap's and the k-NN model's maps are compared with each other).
 #include <iostream>
 #include <memory>
@@ -34,7 +34,7 @@ class HeldLibraryChatter {
   std::streambuf *out_, *err_;
 };
 
-// readOcTree bounds the finest-depth voxels by limits().map_voxels, so expand() is bounded too (issue 13).
+// readOcTree bounds the finest-depth voxels by limits().map_voxels, so expand() is bounded too.
 std::unique_ptr<octomap::OcTree> readTree(const std::string& file) {
   std::unique_ptr<octomap::OcTree> tree;
   {

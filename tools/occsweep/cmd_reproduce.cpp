@@ -1,4 +1,4 @@
-// occsweep reproduce: every experiment of the paper's Section 4 (Fig. 3-7) in one command (issue 6).
+// occsweep reproduce: every experiment of the paper's Section 4 (Fig. 3-7) in one command (docs/reproduction.md).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>

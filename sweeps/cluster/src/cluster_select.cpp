@@ -50,7 +50,7 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
   std::vector<RankedSet> sets;
   std::set<std::uint64_t> ids;
   for (const auto& file : rankings) {
-    const std::string text = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
+    const std::string text = readFileBytes(file);  // refuses folders and FIFOs by name
     nlohmann::json j;
     try {
       j = nlohmann::json::parse(text);

@@ -120,8 +120,9 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   const auto voxels = std::uint32_t(region.volume());
   labelTruth(truth, region, voxels, r);
   // Events in scan order, then bucketed by voxel with a stable counting sort done in place over the scans'
-  // own lists (three passes: count per voxel, hits per sorted event, copy). Memory matters here (issue 5: the
-  // sweep's peak at most 3x the points): no intermediate copy of the events, every vector sized exactly.
+  // own lists (three passes: count per voxel, hits per sorted event, copy). Memory matters here (the sweep's
+  // peak stays within 3x the points, docs/performance.md "Memory"): no intermediate copy of the events, every
+  // vector sized exactly.
   std::vector<ScanEvents> per_scan = recordScans(set, region, resolution, s_c, gate_scores);
   bucketByVoxel(per_scan, region, voxels, r);
   std::vector<ScanEvents>().swap(per_scan);

@@ -63,7 +63,7 @@ class ReplayEngine final : public SweepEngine {
       }
     }
     recordWithGates(in, gate_needs);
-    // Replay needs a hit feature only at the recorded hits: one feature at a time, freed at once (memory, issue 5).
+    // Replay needs a hit feature only at the recorded hits: one feature at a time, freed at once (memory).
     for (const FeatureRequest& f : hit_needs) hit_features_[f] = recordedHitFeatures(recorded_, in.scans, f, c.s_c, c.stats);
     // From here on only the recorded events are read: the points (12 bytes each) make room for replay's buffers.
     PointCloudSet().swap(in.scans);

@@ -115,7 +115,7 @@ ParameterLayout layoutOf(const std::string& method) {
 }
 
 GridEnumeration enumerateGrid(const GridSpec& g) {
-  // Counted before anything is allocated (issue 13: a p_t step of 1e-6 took 3.9 GB, then aborted).
+  // Counted before anything is allocated (a p_t step of 1e-6 would take 3.9 GB, then abort).
   checkLimit("grid " + g.name + ": combinations", combinationCount(g), limits().combinations, "--max-combinations");
   GridEnumeration e;
   const std::size_t p_max = g.layout.index("p_max"), p_min = g.layout.index("p_min");

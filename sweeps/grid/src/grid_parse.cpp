@@ -146,7 +146,7 @@ GridSpec parseGrid(const json& j, const std::string& file) {
 }
 
 GridSpec loadGrid(const std::filesystem::path& file) {
-  const std::string bytes = readFileBytes(file);  // refuses folders and FIFOs by name (issue 13)
+  const std::string bytes = readFileBytes(file);  // refuses folders and FIFOs by name
   GridSpec g = parseGrid(parseJsonText(bytes, file), file.string());
   Fnv1a h;
   h.feed(bytes);
@@ -167,7 +167,7 @@ std::filesystem::path resolveGridPath(const std::string& name_or_path) {
   namespace fs = std::filesystem;
   const fs::path given = name_or_path;
   // A path that exists but is no regular file (a folder, a FIFO, a link loop) goes to loadGrid, which says what it
-  // is (issue 13), unless it is a bare name that may be a grid of a grid folder.
+  // is, unless it is a bare name that may be a grid of a grid folder.
   if (fs::is_regular_file(given) ||
       (fs::exists(fs::symlink_status(given)) && (given.has_parent_path() || given.extension() == ".json")))
     return given;

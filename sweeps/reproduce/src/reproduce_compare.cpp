@@ -18,8 +18,8 @@ json bestJson(const std::optional<BestMap>& b, const ResultsFile& f) {
           {"params", toJson(params_only, f.header.parameters).at("params")}};
 }
 
-// The highest TPR any map of either grid reaches at any p_t: the ceiling the truth puts on the curves (issue 14:
-// on the Fig. 6 set no combination passes it, not even at p_t = p_min).
+// The highest TPR any map of either grid reaches at any p_t: the ceiling the truth puts on the curves (on the
+// Fig. 6 set no combination passes it, not even at p_t = p_min; docs/fidelity.md).
 double tprCeiling(const ResultsFile& om, const ResultsFile& knn) {
   double ceiling = NAN;
   for (const ResultsFile* f : {&om, &knn})
@@ -40,7 +40,7 @@ json truthJson(const ResultsFile& om, const ResultsFile& knn) {
           {"true_voxels", positives}};
 }
 
-// The baselines of docs/methods.md (issue 16): "does k-NN beat filtering the outliers first, then OctoMap?"
+// The baselines of docs/methods.md: "does k-NN beat filtering the outliers first, then OctoMap?"
 constexpr const char* kBaselineGrids[] = {"sor-octomap-opt", "ror-octomap-opt", "range-octomap-opt"};
 
 // One truth's side of a baseline on one set: its best map, its improvement over the optimal OctoMap, and k-NN's

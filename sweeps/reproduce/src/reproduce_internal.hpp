@@ -66,23 +66,25 @@ void comparisonSection(std::ostringstream& o, const nlohmann::json& comparison);
 /// with each set's texture and environment; sets where either is undefined are left out.
 struct TrendInput {
   std::vector<double> octomap_auc, improvement;
-  std::vector<std::string> texture, environment;
+  std::vector<std::string> texture, environment, dataset;
 };
 /// `truth` "full" or "observable" reads rows' `truths`; nullptr reads the rows' own fields (the run's truth).
 [[nodiscard]] TrendInput trendInput(const nlohmann::json& rows, const char* truth);
 
 /// The trend with its controls (docs/statistics.md, "Correlation"): Pearson r and Spearman rho with permutation
-/// p-values (10,000 permutations, seed 1), both within each texture and each environment, and the pooled
-/// within-texture r (each texture's means removed).
+/// p-values (10,000 permutations, seed 1), both within each texture and each environment, the pooled
+/// within-texture r (each texture's means removed), and the rank correlation over the data sets' means, the unit of
+/// the verdict: the sets of one data set share a scene, so permuting sets treats them as independent.
 struct TrendControls {
-  std::size_t sets = 0;
+  std::size_t sets = 0, datasets = 0;
   double pearson = NAN, spearman = NAN, pearson_p = NAN, spearman_p = NAN, pooled_within_texture = NAN;
+  double dataset_spearman = NAN, dataset_spearman_p = NAN;
   std::vector<stats::GroupCorrelation> by_texture, by_environment;
 };
 [[nodiscard]] TrendControls trendControls(const TrendInput& in);
 
-/// "**holds**" when the rank correlation is negative with permutation p < 0.05 and negative within each texture,
-/// else "**does not hold** (what fails)".
+/// "**holds**" when the rank correlation over the data sets' means is negative with permutation p < 0.05 and the
+/// rank correlation is negative within each texture, else "**does not hold** (what fails)".
 [[nodiscard]] std::string trendVerdict(const TrendControls& c);
 
 /// "plain (30) +0.215 / +0.190, ...": each group's n, Pearson r and Spearman rho.

@@ -54,7 +54,7 @@ void baselineSection(std::ostringstream& o, const json& comparison) {
     << "own grid (540, 720 and 540 combinations: octomap-opt's 180 under 3-4 settings of the filter or range). "
     << "k-NN's improvement is (k-NN - baseline) / baseline in percent of AUC; the baseline's own is over the "
     << "optimal OctoMap. These are per-set optima, so the larger grid has the advantage (k-NN's 4,050 against "
-    << "540-720): the comparison issue's cross-validated scores correct for that.\n\n"
+    << "540-720): section 3d's cross-validated scores correct for that.\n\n"
     << "| method | truth | sets | mean best AUC | k-NN better on | mean k-NN improvement % | better than OctoMap on "
     << "| mean improvement over OctoMap % |\n|---|---|---|---|---|---|---|---|\n";
   const auto summaries = summarize(rows);

@@ -66,8 +66,8 @@ MergeHeaders mergeHeaders(const std::vector<std::filesystem::path>& files) {
 class IdOwners {
  public:
   IdOwners(const ResultsHeader& merged, const std::filesystem::path& first_file) : n_(merged.grid_combinations) {
-    // Without the grid file the count is only what the file claims (issue 13: a 15 KB file claiming 3e8 took
-    // 2.4 GB): bounded like an enumeration before anything is allocated for it.
+    // Without the grid file the count is only what the file claims (a 15 KB file can claim 3e8,
+    // which would take 2.4 GB): bounded like an enumeration before anything is allocated for it.
     try {
       checkLimit("grid.combinations", n_, limits().combinations, "--max-combinations");
     } catch (const LimitError& e) {

@@ -1,4 +1,4 @@
-// What an input may make occsweep allocate or compute (issue 13): every size an input controls is computed in
+// What an input may make occsweep allocate or compute: every size an input controls is computed in
 // 64 bits and checked against one of these limits before anything is allocated. The values, why they were
 // chosen and the flags that raise them are in docs/robustness.md ("Limits and non-regular files").
 #pragma once

@@ -28,7 +28,7 @@ struct KeyWindow {
   [[nodiscard]] bool contains(const octomap::OcTreeKey& k) const {
     return k[0] >= lo[0] && k[0] <= hi[0] && k[1] >= lo[1] && k[1] <= hi[1] && k[2] >= lo[2] && k[2] <= hi[2];
   }
-  /// In 64 bits: a window of 65536^3 keys does not fit 32 (issue 13: a wrapped volume crashed k-NN maps).
+  /// In 64 bits: a window of 65536^3 keys does not fit 32 (a wrapped volume would crash k-NN maps).
   [[nodiscard]] std::uint64_t volume() const {
     return std::uint64_t(hi[0] - lo[0] + 1) * std::uint64_t(hi[1] - lo[1] + 1) * std::uint64_t(hi[2] - lo[2] + 1);
   }

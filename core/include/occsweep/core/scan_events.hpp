@@ -139,7 +139,7 @@ inline bool ScanEventRecorder::mayReach(const ReachBox& box, const octomap::poin
 // The cube of half-edge s_c around the origin, clipped to the keys of the scan's points and origin grown by two
 // voxels (float rounding of the traversal): every voxel a point or a ray touches lies in both, so the events are
 // the same, and the window's memory follows the scan's extent instead of the cube of s_c / resolution
-// (issue 13: --s-c 40 took 1 GB, --s-c 81.05 wrapped a 32-bit volume). Past the limit: LimitError.
+// (the full cube at --s-c 40 would take 1 GB, at --s-c 81.05 wrap a 32-bit volume). Past the limit: LimitError.
 inline KeyWindow ScanEventRecorder::windowOf(const Scan& scan, double s_c) const {
   const double factor = 1.0 / grid_.getResolution();
   auto keyOf = [&](double c) {  // OctoMap's coordToKey, clamped to the key range, in 64 bits

@@ -1,4 +1,4 @@
-// Bounded access to untrusted bytes and text for the import readers (issue 8): every read is checked against
+// Bounded access to untrusted bytes and text for the import readers: every read is checked against
 // what is left, every failure is a DataError naming the file and the byte offset or line.
 #pragma once
 
@@ -18,7 +18,7 @@ namespace occsweep {
 /// Largest input file the readers accept (a depth frame is ~1 MB, a big PLY a few hundred MB).
 inline constexpr std::uint64_t kMaxImportFileBytes = std::uint64_t(4) << 30;
 
-/// Every reader of an input file calls this first (issue 13): DataError naming the file and what it is when it
+/// Every reader of an input file calls this first: DataError naming the file and what it is when it
 /// is not a regular file (missing, a folder, a FIFO, which would make a reader wait forever, a socket, a device,
 /// a symlink loop or a dangling link), so that no reader hangs or reports "file is missing" for a folder.
 void requireRegularFile(const std::filesystem::path& file);

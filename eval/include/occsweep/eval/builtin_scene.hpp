@@ -1,4 +1,4 @@
-// The built-in scene: the main job's data on a fresh machine, no download (issue 2).
+// The built-in scene: the main job's data on a fresh machine, no download.
 #pragma once
 
 #include <cstdint>

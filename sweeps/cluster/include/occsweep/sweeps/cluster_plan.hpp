@@ -1,4 +1,4 @@
-// A cluster plan (issue 7): the work of an experiment cut into shards, grouped in stages that run as one Slurm job
+// A cluster plan: the work of an experiment cut into shards, grouped in stages that run as one Slurm job
 // array each, chained with --dependency=afterok. The same plan runs on one machine with `cluster run-local`.
 #pragma once
 

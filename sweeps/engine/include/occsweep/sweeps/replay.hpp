@@ -1,4 +1,4 @@
-// The replay engine (issue 5): the update events of a point cloud set do not depend on any probability, so they
+// The replay engine: the update events of a point cloud set do not depend on any probability, so they
 // are recorded once and replayed for every combination with OctoMap's float arithmetic and clamping.
 #pragma once
 

@@ -1,5 +1,5 @@
 // How a sweep turns its maps into TP/FP/FN/TN counts (SweepConfig::engine): replay every map from the region
-// voxels' recorded events (issue 5, replay.hpp), or build every map directly, liboctomap for OctoMap and the k-NN
+// voxels' recorded events (replay.hpp), or build every map directly, liboctomap for OctoMap and the k-NN
 // mapper (the reference). runSweep (sweep_run.cpp) does everything else alike for both.
 #pragma once
 

@@ -1,4 +1,4 @@
-// `occsweep reproduce` (issue 6): every experiment of the paper's Section 4 in one command. Each step writes one
+// `occsweep reproduce`: every experiment of the paper's Section 4 in one command. Each step writes one
 // JSON file under OUT (fits, nca, comparison, curves, runtime); the figures are drawn from those files (the
 // command runs tools/plot_reproduction.py) and report.md sets each of the paper's findings beside ours. See docs/reproduction.md.
 #pragma once

@@ -1,4 +1,4 @@
-// Point clouds of real recordings (issue 8): PLY (ascii, binary little and big endian), PCD (ascii, binary) and
+// Point clouds of real recordings (docs/import.md): PLY (ascii, binary little and big endian), PCD (ascii, binary) and
 // plain `x y z` text, one cloud a scan with an optional pose list.
 #pragma once
 

@@ -59,7 +59,7 @@ class ProgressLine {
 void requireNonEmpty(const Scan& scan, const std::string& file, const std::string& where);
 
 /// Adds a scan's points to `total`; past limits().points (--max-points) throws DataError naming `file`, the one
-/// whose points crossed the limit (issue 13: the imported set is held in memory, then by every reader).
+/// whose points crossed the limit (the imported set is held in memory, then by every reader).
 void countPoints(std::uint64_t& total, const Scan& scan, const std::string& file);
 
 }  // namespace occsweep

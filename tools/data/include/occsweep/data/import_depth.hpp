@@ -1,4 +1,4 @@
-// Depth-image sequences (issue 8): 16-bit PNG or PGM depth, a depth scale, pinhole intrinsics and one pose a
+// Depth-image sequences (docs/import.md): 16-bit PNG or PGM depth, a depth scale, pinhole intrinsics and one pose a
 // frame, turned into scans in the world frame.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Sensor poses of real recordings: `tx ty tz qx qy qz qw` lines or 4x4 matrices, sensor-to-world (issue 8).
+// Sensor poses of real recordings: `tx ty tz qx qy qz qw` lines or 4x4 matrices, sensor-to-world (docs/import.md).
 #pragma once
 
 #include <array>

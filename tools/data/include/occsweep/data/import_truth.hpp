@@ -1,4 +1,4 @@
-// Ground truth of a real recording (issue 8): a PLY mesh, a PLY or PCD point cloud, or a JSON list of boxes.
+// Ground truth of a real recording (docs/import.md): a PLY mesh, a PLY or PCD point cloud, or a JSON list of boxes.
 #pragma once
 
 #include <filesystem>
@@ -19,7 +19,7 @@ inline constexpr double kTruthRegionMargin = 0.5;
 
 /// The default evaluation region of a data set with truth: the bounding box of every box, triangle and point of
 /// the truth grown by kTruthRegionMargin on every side, so that a few far points of a real cloud (disparity near
-/// zero) do not make the region huge (issue 13).
+/// zero) do not make the region huge.
 [[nodiscard]] AxisBox truthRegion(const TruthSources& truth);
 
 /// Boxes from JSON text (the fuzzable part of decodeTruth).

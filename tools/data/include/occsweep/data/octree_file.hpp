@@ -1,5 +1,5 @@
-// OctoMap .ot files read with every count checked (issue 13): liboctomap's reader trusts the bytes (a truncated
-// file or 0xff bytes made `mapdiff` grow to 4 GB), so the structure is walked and bounded here first.
+// OctoMap .ot files read with every count checked: liboctomap's reader trusts the bytes (a truncated file or
+// 0xff bytes can make it allocate gigabytes), so the structure is walked and bounded here first.
 #pragma once
 
 #include <filesystem>

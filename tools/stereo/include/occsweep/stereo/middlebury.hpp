@@ -1,4 +1,4 @@
-// `occsweep dataset middlebury` (issue 14): a real stereo pair with ground-truth disparity from the Middlebury 2006
+// `occsweep dataset middlebury`: a real stereo pair with ground-truth disparity from the Middlebury 2006
 // data sets (Hirschmüller and Scharstein, CVPR 2007) turned into occsweep data sets, with the rendered sets' SGBM
 // settings, reprojection and voxel filter. Camera model and sources: docs/datasets.md, "Real stereo: Middlebury".
 #pragma once

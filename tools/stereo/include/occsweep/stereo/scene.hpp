@@ -1,4 +1,4 @@
-// The scenes of the paper's 20 data sets (docs/definitions.md, The 20 data sets; issue 4): four boxes in a free
+// The scenes of the paper's 20 data sets (docs/definitions.md, The 20 data sets): four boxes in a free
 // tetromino on a ground plane, in front of building facades or on an open parking lot, plain or Voronoi-textured.
 #pragma once
 
