@@ -268,10 +268,11 @@ TEST_CASE("Verdict rules, each on its own", "[stats]") {
     CHECK(v.kind == VerdictKind::NoClearDifference);
     CHECK(v.text.find("point opposite ways") != std::string::npos);
   }
-  SECTION("equal non-zero differences have no t interval: never negligible on zero spread") {
-    const Verdict v = decideVerdict(evidence({0.01, 0.01, 0.01}, {0.01, 0.01}, 1.0));
-    CHECK(v.kind == VerdictKind::TooFew);
-    CHECK_FALSE(v.equivalence);
+  SECTION("equal differences: the interval [d, d], negligible within the smallest effect, as nearly equal ones") {
+    const std::vector<double> equal(8, 0.001), nearly{0.001, 0.001, 0.001, 0.001, 0.001, 0.001, 0.001, 0.0010001};
+    CHECK(decideVerdict(evidence({0.001, 0.001, 0.001}, equal, 0.0078125)).kind == VerdictKind::Negligible);
+    CHECK(decideVerdict(evidence({0.001, 0.001, 0.001}, nearly, 0.0078125)).kind == VerdictKind::Negligible);
+    CHECK(decideVerdict(evidence({0.5, 0.5, 0.5}, std::vector<double>(8, 0.5), 0.0078125)).kind == VerdictKind::Gain);
   }
   SECTION("seven of eight data sets equal, the eighth -0.004 %: negligible, not too few") {
     const Verdict v = decideVerdict(evidence({-0.0005, -0.001, 0.0}, {0, 0, 0, 0, -0.004, 0, 0, 0}, 1.0));

@@ -151,6 +151,16 @@ TEST_CASE("sets of one name and several contents are one data set, and named as 
   CHECK(pooledDatasetNames(compareBest(files)) == std::vector<std::string>{"builtin-O"});
   // Generated sets of one data set differ in content by design: not reported.
   CHECK(pooledDatasetNames(compareBest(syntheticComparison(5, 10, 10, 0.05, true, 1, 3))).empty());
+  // Only a pcs-NNNN part makes a set of a data set (old: any '/' did, silently): foo/bar and foo/baz are two.
+  auto slashed = syntheticComparison(5, 10, 10, 0.05, true, 2, 1);
+  for (std::size_t i = 0; i < slashed.size(); ++i) slashed[i].header.dataset_name = i < 2 ? "foo/bar" : "foo/baz";
+  CHECK(statisticsFor(slashed, "other").datasets == 2);
+  CHECK(pooledDatasetNames(compareBest(slashed)).empty());
+  // A data set given whole and with sets of its own is pooled, and named.
+  auto mixed = syntheticComparison(5, 10, 10, 0.05, true, 1, 2);
+  for (std::size_t i = 0; i < 2; ++i) mixed[i].header.dataset_name = "d0";
+  CHECK(statisticsFor(mixed, "other").datasets == 1);
+  CHECK(pooledDatasetNames(compareBest(mixed)) == std::vector<std::string>{"d0"});
 }
 
 TEST_CASE("Holm's correction runs over every method compared with the baseline") {

@@ -121,6 +121,9 @@ TEST_CASE("import cloud --view-axis --view-half-angle: a box outside the cone is
            {"--view-axis 0 0 1 --view-half-angle 0", "--view-half-angle: must be in (0, 180] degrees"},
            {"--view-axis 0 0 1 --view-half-angle 181", "--view-half-angle: must be in (0, 180] degrees"},
            {"--view-axis 0 0 0 --view-half-angle 30", "--view-axis: must not be the zero vector"},
+           // Old: accepted, and observable truth then held no voxel (the squared length underflowed or overflowed).
+           {"--view-axis 1e-300 0 0 --view-half-angle 90", "--view-axis: must have a length from 1e-150 to 1e150"},
+           {"--view-axis 1e155 0 0 --view-half-angle 90", "--view-axis: must have a length from 1e-150 to 1e150"},
            {"--view-axis 0 0 1", "--view-axis needs --view-half-angle"},
            {"--view-half-angle 60", "--view-half-angle 60 needs --view-axis X Y Z"}}) {
     const auto r = test::runCli("import cloud " + q(dir / "scan.xyz") + " " + flags + " --out " + q(dir / "bad"));

@@ -434,6 +434,19 @@ TEST_CASE("compare refuses results that do not compare, names the file behind ev
     CHECK(has(r.output, "--latex"));
     CHECK(has(r.output, "afile is not a folder"));
     CHECK_FALSE(fs::exists(fx.dir / "j.json"));
+    // One output under another, and one through a broken symbolic link (old: the JSON was written, then exit 2).
+    fs::create_symlink(fx.dir / "nowhere" / "zz", fx.dir / "dangling");
+    for (const auto& [flags, says] : std::vector<std::pair<std::string, std::string>>{
+             {" --json " + (fx.dir / "a").string() + " --csv " + (fx.dir / "a" / "b.csv").string(), "lies under"},
+             {" --csv " + (fx.dir / "a" / "b.csv").string() + " --json " + (fx.dir / "a").string(), "lies under"},
+             {" --json " + (fx.dir / "a").string() + " --csv " + (fx.dir / "dangling" / "x.csv").string(),
+              "dangling is not a folder"}}) {
+      const auto again = run("compare " + fx.octomap.string() + " " + fx.knn.string() + flags);
+      INFO(flags << ": " << again.output);
+      CHECK(again.exit_code == 2);
+      CHECK(has(again.output, says));
+      CHECK_FALSE(fs::exists(fx.dir / "a"));
+    }
   }
   SECTION("k-NN at 0.2 m against OctoMap at 0.1 m (old: -24.60 %)") {
     const fs::path coarse = sweep(grid.string(), "--resolution 0.2", fx.dir / "coarse.json");

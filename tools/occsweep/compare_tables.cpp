@@ -287,7 +287,8 @@ std::string latexTables(const ComparisonTables& t) {
   out += latex(statisticsCells(t.statistics, t.baseline),
                "Statistics against " + t.baseline + ", the data set as the unit. Verdicts: gain or loss only when the "
                "95% BCa interval excludes 0 and the exact test (Wilcoxon signed-rank, or the sign test on ties) "
-               "rejects at alpha " + cell(rules.alpha, "%g") + " after Holm's correction over the methods compared; "
+               "rejects at alpha " + cell(rules.alpha, "%g") + " after Holm's correction over the methods compared, "
+               "leaning the interval's way; "
                "negligible when TOST puts the mean within +-" + cell(rules.smallest_effect, "%g") + " %");
   // Each verdict's basis (its sample, test and correction) under the tables, as compare prints it.
   const std::vector<std::string> bases = verdictBases(t.statistics);

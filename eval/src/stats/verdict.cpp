@@ -71,9 +71,8 @@ std::string equivalenceText(const MeanTInterval& t, const VerdictEvidence& e, co
 // 1 - 2 alpha / family within +-smallest_effect.
 std::optional<MeanTInterval> equivalenceInterval(const VerdictEvidence& e, const VerdictRules& r) {
   if (e.differences.size() < 2) return std::nullopt;
-  // Equal differences have no spread to build a t interval from (SciPy's ttest gives NaN): no equivalence test.
-  if (std::adjacent_find(e.differences.begin(), e.differences.end(), std::not_equal_to<>()) == e.differences.end())
-    return std::nullopt;
+  // Equal differences give the interval [d, d], the limit of the t interval as the spread goes to zero: negligible
+  // exactly when |d| is within the smallest effect, with no jump between equal and nearly equal values.
   const double level = 1.0 - 2.0 * r.alpha / double(std::max<std::size_t>(e.family, 1));
   if (!(level > 0.0)) return std::nullopt;
   return meanTInterval(e.differences, level);

@@ -28,9 +28,18 @@ std::optional<std::vector<double>> mapAucs(const ResultsFile& f) {
 
 // The data set each row's point cloud set belongs to, the statistics' unit (docs/statistics.md, "Verdicts"):
 // generated sets are named DATASET/pcs-NNNN (docs/datasets.md) and share DATASET; any other name is the data set.
-// Rows of one name and different contents are pooled (pooledDatasetNames): a content hash cannot tell a second
-// recording from the same scans with another region or truth, and pooling can only make a verdict more cautious.
-std::string datasetOf(const std::string& name) { return name.substr(0, name.find('/')); }
+// Rows of one unit and different contents are pooled, and pooledDatasetNames names them: a content hash cannot
+// tell a second recording from the same scans under another region or truth, so the names decide.
+bool isPointCloudSetName(const std::string& name, std::size_t slash) {
+  const std::string tail = name.substr(slash + 1);
+  return tail.size() > 4 && tail.compare(0, 4, "pcs-") == 0 &&
+         std::all_of(tail.begin() + 4, tail.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+std::string datasetOf(const std::string& name) {
+  const std::size_t slash = name.rfind('/');
+  return slash != std::string::npos && isPointCloudSetName(name, slash) ? name.substr(0, slash) : name;
+}
 
 std::vector<std::string> datasetUnits(const std::vector<ComparisonRow>& rows) {
   std::vector<std::string> units;
@@ -316,12 +325,19 @@ std::vector<double> meanBudgetCurve(const std::vector<ComparisonRow>& rows, cons
 }
 
 std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows) {
-  std::map<std::string, std::set<std::string>> hashes_of_name;
-  for (const ComparisonRow& row : rows)
-    if (row.dataset.find('/') == std::string::npos) hashes_of_name[row.dataset].insert(row.dataset_hash);
+  struct Unit {
+    std::set<std::string> whole_contents;  ///< hashes of rows named the unit itself (no pcs-NNNN part)
+    bool has_sets = false;                 ///< rows named UNIT/pcs-NNNN
+  };
+  std::map<std::string, Unit> units;
+  for (const ComparisonRow& row : rows) {
+    Unit& u = units[datasetOf(row.dataset)];
+    if (datasetOf(row.dataset) == row.dataset) u.whole_contents.insert(row.dataset_hash);
+    else u.has_sets = true;
+  }
   std::vector<std::string> pooled;
-  for (const auto& [name, hashes] : hashes_of_name)
-    if (hashes.size() > 1) pooled.push_back(name);
+  for (const auto& [name, u] : units)
+    if (u.whole_contents.size() > 1 || (!u.whole_contents.empty() && u.has_sets)) pooled.push_back(name);
   return pooled;
 }
 

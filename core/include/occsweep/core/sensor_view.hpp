@@ -71,6 +71,10 @@ inline std::optional<BrokenViewRule> brokenConeRule(const ConeView& v) {
   if (!(std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2])))
     return BrokenViewRule{"axis", "must be 3 finite numbers"};
   if (a[0] == 0 && a[1] == 0 && a[2] == 0) return BrokenViewRule{"axis", "must not be the zero vector"};
+  // The cone test squares the axis: a length whose square underflows or overflows would see nothing.
+  const double squared = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+  if (!(squared >= 1e-300 && squared <= 1e300))
+    return BrokenViewRule{"axis", "must have a length from 1e-150 to 1e150"};
   if (!(v.half_angle_deg > 0 && v.half_angle_deg <= 180))
     return BrokenViewRule{"half_angle_deg", "must be in (0, 180] degrees"};
   return std::nullopt;

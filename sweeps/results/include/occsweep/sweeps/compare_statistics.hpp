@@ -105,8 +105,9 @@ struct MethodStatistics {
                                                   const std::vector<ResultsFile>& files, const std::string& method,
                                                   std::size_t max_maps = CompareStatisticsOptions{}.budget_max_maps);
 
-/// Names without a set part (not DATASET/pcs-NNNN) that rows of several contents share: the statistics count each
-/// such name as one data set, the cautious reading (docs/statistics.md, "Verdicts"); compare notes them.
+/// Data sets the statistics pool from rows of several contents: a name without a DATASET/pcs-NNNN set part shared
+/// by rows of different contents, or given both alone and with sets (docs/statistics.md, "Verdicts"); compare notes
+/// them.
 [[nodiscard]] std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows);
 
 /// The methods of `rows`, by name.
