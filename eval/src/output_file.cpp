@@ -168,6 +168,59 @@ void checkOutputTarget(const fs::path& target, bool force, const ReplaceableOutp
                       ": refused even with --force (nothing was changed)");
 }
 
+namespace {
+
+// An output as the writer reads it, and as the system resolves it ("link/.." is the link target's parent).
+struct OutputReadings {
+  fs::path lexical, resolved;
+};
+
+OutputReadings outputReadings(const fs::path& output) {
+  auto dropTrailingSlash = [](fs::path p) { return p.has_filename() ? p : p.parent_path(); };
+  const fs::path lexical = dropTrailingSlash(fs::absolute(output).lexically_normal());
+  std::error_code ec;
+  const fs::path resolved = dropTrailingSlash(fs::weakly_canonical(fs::absolute(output), ec));
+  return {lexical, ec ? lexical : resolved};
+}
+
+// `inner` is `outer` or lies under it.
+bool within(const fs::path& inner, const fs::path& outer) {
+  return std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end()).first == outer.end();
+}
+
+// The existing entry that blocks the path to `output`: a file or a broken link where a folder must be (the writer
+// makes missing folders, but none under a file or through a broken link); empty when none does.
+fs::path blockingEntry(const fs::path& output) {
+  std::error_code ec;
+  for (fs::path p = outputReadings(output).lexical.parent_path(); !p.empty(); p = p.parent_path()) {
+    if (fs::symlink_status(p, ec).type() != fs::file_type::not_found) return fs::is_directory(p, ec) ? fs::path() : p;
+    if (p == p.parent_path()) break;
+  }
+  return {};
+}
+
+}  // namespace
+
+bool outputsCollide(const fs::path& a, const fs::path& b) {
+  const OutputReadings ra = outputReadings(a), rb = outputReadings(b);
+  for (const auto& [x, y] : {std::pair{ra.lexical, rb.lexical}, {ra.resolved, rb.resolved}})
+    if (within(x, y) || within(y, x)) return true;
+  return false;
+}
+
+void requireSeparateOutputs(const std::vector<std::pair<std::string, fs::path>>& outputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [flag, path] = outputs[i];
+    if (path.empty()) continue;
+    if (const fs::path entry = blockingEntry(path); !entry.empty())
+      throw OutputError(flag + " " + path.string() + ": " + entry.string() + " is not a folder");
+    for (std::size_t j = i + 1; j < outputs.size(); ++j)
+      if (!outputs[j].second.empty() && outputsCollide(path, outputs[j].second))
+        throw OutputError(flag + " and " + outputs[j].first + " name one file, or one lies under the other (" +
+                          path.string() + ", " + outputs[j].second.string() + "): each output needs a file of its own");
+  }
+}
+
 void removeStaleTemporaries(const fs::path& target) {
   const fs::path t = outputTarget(target);
   const fs::path dir = t.has_parent_path() ? t.parent_path() : fs::path(".");

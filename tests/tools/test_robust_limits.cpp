@@ -446,6 +446,26 @@ TEST_CASE("bad_alloc never escapes as an abort: a raised limit meeting a memory 
   CHECK(r.output.find("out of memory while running `occsweep grid`") != std::string::npos);
 }
 
+TEST_CASE("scene bounds the product of its sizes by the points limit, and its noise, before any work") {
+  // Old binary: --scans 100000 --width 100000 --height 100000 ran unbounded (each option was capped, not their
+  // product), and --noise 1e300 wrote a data set of infinite coordinates, exit 0.
+  const fs::path dir = occsweep::test::processScratch("limits_scene");
+  const Run big = runOccsweep("scene --scans 100000 --width 100000 --height 100000 --out " + (dir / "big").string());
+  checkRefused(big, {"the scene's rays (--scans x --width x --height): 1000000000000000 is more than the limit of",
+                     "--max-points"});
+  CHECK_FALSE(fs::exists(dir / "big"));
+  checkRefused(runOccsweep("scene --noise 1e300 --out " + (dir / "noisy").string()),
+               {"--noise must be a number in [0, 1000], got 1e300"});
+  CHECK_FALSE(fs::exists(dir / "noisy"));
+  // At the limit, raised: it runs (8 x 32 x 24 = 6,144 rays under --max-points 6144).
+  const Run at = runOccsweep("scene --scans 8 --width 32 --height 24 --max-points 6144 --out " + (dir / "at").string());
+  INFO(at.output);
+  CHECK(at.exit_code == 0);
+  checkRefused(runOccsweep("scene --scans 8 --width 32 --height 24 --max-points 6143 --out " + (dir / "over").string()),
+               {"6144 is more than the limit of 6143"});
+  CHECK(leftovers(dir).empty());
+}
+
 TEST_CASE("worker threads are bounded on every command that takes them: a refusal naming the flag, never a crash") {
   // Old binary: --threads 1073741824 or 2147483647 ended map --method knn and sweep in SIGSEGV (leaving the partial
   // results), and --threads 1000000 cost 550 MB on the built-in scene before any work.

@@ -224,6 +224,28 @@ TEST_CASE("a sweep's own unfinished work is resumed without --force: resuming is
   CHECK(fileBytes(dir / "r.json") == first);  // the complete file is returned as it is
 }
 
+TEST_CASE("sweep refuses two grids into one file however it is spelt, before any work", "[outputs]") {
+  // Old binary: --out x.json --out ./x.json (or d/../x.json, or through a linked folder) wrote both grids to one
+  // file; the first grid's results were lost, exit 0.
+  const fs::path dir = withScene("robust_outputs/same_out");
+  fs::create_directories(dir / "d");
+  fs::create_directory_symlink(dir, dir / "here");
+  for (const std::string second : {"./x.json", "d/../x.json", "here/x.json", "x.json/"}) {
+    const CommandResult r = runIn(dir, "sweep --dataset scene --grid tiny.json --grid tiny.json --quiet --out x.json "
+                                       "--out " + second);
+    INFO(second << ": " << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "--out 1 and --out 2 name one file"));
+    CHECK_FALSE(fs::exists(dir / "x.json"));
+  }
+  const CommandResult two = runIn(dir, "sweep --dataset scene --grid tiny.json --grid tiny.json --quiet --out a.json "
+                                       "--out d/b.json");
+  INFO(two.output);
+  CHECK(two.exit_code == 0);
+  CHECK(fs::exists(dir / "a.json"));
+  CHECK(fs::exists(dir / "d" / "b.json"));
+}
+
 TEST_CASE("cluster select replaces its own folder of links, never a user's folder", "[outputs]") {
   const fs::path dir = scratch("robust_outputs/select");
   fs::create_directories(dir / "ds/pcs-0000");

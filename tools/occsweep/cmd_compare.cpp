@@ -115,67 +115,10 @@ ReplaceableOutput tableOutput(const std::string& name, const std::string& first_
 }
 
 // Two output flags naming one file would leave only the last written: refused, naming both flags.
-// An output as the writer reads it (absolute, "a/../b" taken lexically, a trailing '/' dropped), and as the disk
-// resolves it (symbolic links followed as far as they exist).
-struct OutputPaths {
-  std::filesystem::path lexical, resolved;
-};
-
-OutputPaths outputPaths(const std::string& output) {
-  namespace fs = std::filesystem;
-  auto dropTrailingSlash = [](fs::path p) { return p.has_filename() ? p : p.parent_path(); };
-  const fs::path lexical = dropTrailingSlash(fs::absolute(output).lexically_normal());
-  std::error_code ec;  // the operating system's reading: "link/.." is the link target's parent
-  const fs::path resolved = dropTrailingSlash(fs::weakly_canonical(fs::absolute(output), ec));
-  return {lexical, ec ? lexical : resolved};
-}
-
-// `inner` is `outer` or lies under it.
-bool within(const std::filesystem::path& inner, const std::filesystem::path& outer) {
-  const auto [o, i] = std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
-  return o == outer.end();
-}
-
-// Two outputs that would collide: one file, or one under the other, by either reading.
-bool collide(const std::string& a, const std::string& b) {
-  const OutputPaths pa = outputPaths(a), pb = outputPaths(b);
-  for (const auto& [x, y] : {std::pair{pa.lexical, pb.lexical}, {pa.resolved, pb.resolved}})
-    if (within(x, y) || within(y, x)) return true;
-  return false;
-}
-
-// The existing entry that blocks the path to `output`: a file or a dangling link where a folder must be (the
-// writer creates missing folders, but none under a file or through a broken link); empty when none does.
-std::filesystem::path blockingEntry(const std::string& output) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  for (fs::path p = outputPaths(output).lexical.parent_path(); !p.empty(); p = p.parent_path()) {
-    const fs::file_status link = fs::symlink_status(p, ec);
-    if (link.type() == fs::file_type::not_found) {
-      if (p == p.parent_path()) break;
-      continue;
-    }
-    return fs::is_directory(p, ec) ? fs::path() : p;
-  }
-  return {};
-}
-
 // Every output needs a file of its own on a path that can hold it, checked before the first is written: a failure
-// at the third output must not leave the first two behind.
+// at the third output must not leave the first two behind (docs/robustness.md, outputs).
 void requireDistinctOutputs(const CompareTask& o) {
-  const std::vector<std::pair<const char*, std::string>> outputs{
-      {"--json", o.json}, {"--csv", o.csv}, {"--markdown", o.markdown}, {"--latex", o.latex}};
-  for (std::size_t i = 0; i < outputs.size(); ++i) {
-    if (outputs[i].second.empty()) continue;
-    if (const std::filesystem::path entry = blockingEntry(outputs[i].second); !entry.empty())
-      throw std::invalid_argument(std::string(outputs[i].first) + " " + outputs[i].second + ": " + entry.string() +
-                                  " is not a folder");
-    for (std::size_t j = i + 1; j < outputs.size(); ++j)
-      if (!outputs[j].second.empty() && collide(outputs[i].second, outputs[j].second))
-        throw std::invalid_argument(std::string(outputs[i].first) + " and " + outputs[j].first + " name one file, " +
-                                    "or one lies under the other (" + outputs[i].second + ", " + outputs[j].second +
-                                    "): each output needs a file of its own");
-  }
+  requireSeparateOutputs({{"--json", o.json}, {"--csv", o.csv}, {"--markdown", o.markdown}, {"--latex", o.latex}});
 }
 
 // Each output given is checked before anything is read or written: a user's file is never replaced.

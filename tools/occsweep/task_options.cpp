@@ -1,6 +1,7 @@
 // Options of the commands a cluster plan runs (task_options.hpp).
 #include "task_options.hpp"
 
+#include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/sweep_engine.hpp"
 #include "option_checks.hpp"
 #include "selection_options.hpp"
@@ -36,6 +37,9 @@ std::vector<SweepConfig> sweepConfigsOf(const SweepOptions& o) {
   if (o.grids.size() != o.outs.size())
     throw std::invalid_argument("--out: give one per --grid, in the same order (" + std::to_string(o.grids.size()) +
                                 " --grid, " + std::to_string(o.outs.size()) + " --out)");
+  std::vector<std::pair<std::string, std::filesystem::path>> outputs;
+  for (std::size_t i = 0; i < o.outs.size(); ++i) outputs.push_back({"--out " + std::to_string(i + 1), o.outs[i]});
+  requireSeparateOutputs(outputs);  // two grids into one file would lose the first's results
   std::vector<SweepConfig> out;
   for (std::size_t i = 0; i < o.grids.size(); ++i) {
     SweepOptions one = o;

@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -36,6 +38,14 @@ struct ReplaceableOutput {
 /// Refuses an existing `target` (exit 2 through OutputError) unless `force` and `kind.is_own(target)`. An empty
 /// folder is not an output and is replaced. The current folder or one of its parents is always refused.
 void checkOutputTarget(const std::filesystem::path& target, bool force, const ReplaceableOutput& kind);
+
+/// Two outputs that cannot both be written: one file, or one under the other, read as the writer reads them
+/// (absolute, `..` taken lexically, a trailing '/' dropped) or as the system resolves symbolic links.
+[[nodiscard]] bool outputsCollide(const std::filesystem::path& a, const std::filesystem::path& b);
+
+/// Refuses (OutputError naming the flags) outputs of one command that collide, and an output under an existing
+/// file or a broken symbolic link, before any is written; empty paths are outputs not asked for.
+void requireSeparateOutputs(const std::vector<std::pair<std::string, std::filesystem::path>>& flagged_outputs);
 
 /// Removes temporaries of `target` (`.NAME.tmp-PID`, and the older `NAME.tmp-PID`) left by a killed process.
 void removeStaleTemporaries(const std::filesystem::path& target);
