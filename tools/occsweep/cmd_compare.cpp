@@ -114,7 +114,6 @@ ReplaceableOutput tableOutput(const std::string& name, const std::string& first_
           }};
 }
 
-// Two output flags naming one file would leave only the last written: refused, naming both flags.
 // Every output needs a file of its own on a path that can hold it, checked before the first is written: a failure
 // at the third output must not leave the first two behind (docs/robustness.md, outputs).
 void requireDistinctOutputs(const CompareTask& o) {

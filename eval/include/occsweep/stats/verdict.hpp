@@ -66,7 +66,7 @@ struct VerdictEvidence {
 
 struct Verdict {
   VerdictKind kind = VerdictKind::TooFew;
-  /// The equivalence test's interval (TOST: the t interval at 1 - 2 alpha / family), where there were 2 units.
+  /// The equivalence test's interval (TOST: the t interval at 1 - 2 alpha / family), with at least 2 units.
   std::optional<MeanTInterval> equivalence;
   std::string text;   ///< what is printed: "gain", "loss", "negligible (...)", "tie (...)", "no clear difference", "too few ..."
   std::string basis;  ///< its sample, test and correction, in one sentence
@@ -74,8 +74,9 @@ struct Verdict {
 
 /// The rules, in order (docs/statistics.md, "Verdicts"): fewer than 2 units: too few to tell; every difference
 /// zero: tie; the equivalence test's interval (TOST at alpha, Bonferroni over the family) within +-smallest_effect:
-/// negligible; a least reachable Holm-adjusted p above alpha: too few to tell; the bootstrap interval excluding 0
-/// and the Holm-adjusted p at most alpha: gain or loss (by the interval's side); otherwise no clear difference.
+/// negligible; a least reachable Holm-adjusted p above alpha: too few to tell; the bootstrap interval excluding 0,
+/// the Holm-adjusted p at most alpha and the test leaning the interval's way: gain or loss (by the interval's side);
+/// otherwise no clear difference.
 [[nodiscard]] Verdict decideVerdict(const VerdictEvidence& evidence, const VerdictRules& rules = {});
 
 }  // namespace occsweep::stats
