@@ -246,6 +246,45 @@ TEST_CASE("sweep refuses two grids into one file however it is spelt, before any
   CHECK(fs::exists(dir / "d" / "b.json"));
 }
 
+TEST_CASE("compare's CSV, Markdown and LaTeX keep a data set name of special characters intact", "[outputs]") {
+  // Old binary: a `$` broke the LaTeX ("Missing $ inserted"), a `|` added a Markdown column, a carriage return went
+  // into the CSV unquoted.
+  const fs::path dir = withScene("robust_outputs/escaping");
+  const std::string name = "C&D_%$#{x}~^\\ a|b,\"q\"\rz";
+  nlohmann::json manifest = nlohmann::json::parse(fileBytes(dir / "scene" / "manifest.json"));
+  manifest["name"] = name;
+  std::ofstream(dir / "scene" / "manifest.json") << manifest.dump(2);
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json").exit_code == 0);
+  const CommandResult r = runIn(dir, "compare r.json --csv t.csv --markdown t.md --latex t.tex");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  // CSV: Python's csv module reads the name back whole.
+  std::ofstream(dir / "name.txt", std::ios::binary) << name;
+  std::ofstream(dir / "read.py") << "import csv\nrows = list(csv.DictReader(open('t.csv', newline='')))\n"
+                                    "want = open('name.txt', newline='').read()\n"
+                                    "print('same' if rows[0]['dataset'] == want else 'differs: %r' % rows[0]['dataset'])\n";
+  const CommandResult py = runShell("cd " + shellQuoted(dir) + " && /usr/bin/python3 read.py 2>&1");
+  INFO(py.output);
+  CHECK(py.output == "same\n");
+  // Markdown: every row of the per-set table has the header's number of unescaped '|'.
+  const std::string md = fileBytes(dir / "t.md");
+  auto cells = [](const std::string& line) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < line.size(); ++i) n += line[i] == '|' && (i == 0 || line[i - 1] != '\\');
+    return n;
+  };
+  std::istringstream lines(md);
+  std::string header, rule, row;
+  while (std::getline(lines, header) && header.rfind("| data set", 0) != 0) {}
+  std::getline(lines, rule), std::getline(lines, row);
+  CHECK(cells(row) == cells(header));
+  CHECK(row.find("a\\|b") != std::string::npos);
+  // LaTeX: the specials escaped, the name's text kept.
+  const std::string tex = fileBytes(dir / "t.tex");
+  CHECK(tex.find("C\\&D\\_\\%\\$\\#\\{x\\}\\textasciitilde{}\\textasciicircum{}\\textbackslash{} a|b") !=
+        std::string::npos);
+}
+
 TEST_CASE("cluster select replaces its own folder of links, never a user's folder", "[outputs]") {
   const fs::path dir = scratch("robust_outputs/select");
   fs::create_directories(dir / "ds/pcs-0000");

@@ -168,7 +168,7 @@ std::string latex(const Cells& c, const std::string& caption) {
 }
 
 std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
   std::string out = "\"";
   for (char ch : s) out += ch == '"' ? std::string("\"\"") : std::string(1, ch);
   return out + "\"";
@@ -252,7 +252,7 @@ std::string csvTable(const ComparisonTables& t) {
   for (std::size_t i = 0; i < header.size(); ++i) o << (i ? "," : "") << csvField(header[i]);
   o << '\n';
   for (const ComparisonRow& row : t.rows) {
-    o << csvField(row.dataset) << ',' << csvField(row.point_cloud_set) << ',' << row.dataset_hash;
+    o << csvField(row.dataset) << ',' << csvField(row.point_cloud_set) << ',' << csvField(row.dataset_hash);
     for (const auto& [m, params] : columns) {
       const auto best = row.best(m);
       const bool base = m == t.baseline;
