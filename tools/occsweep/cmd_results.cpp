@@ -84,7 +84,7 @@ int runExport(const std::string& source, const ExportTarget& to) {
   return 0;
 }
 
-const RegisterCommand kResults{"results", "Check results files, or compare one with a golden one", [](CLI::App& app) {
+const RegisterCommand kResults{"results", "Check results files, compare one with a golden one, or export one (CSV, JSON, store)", [](CLI::App& app) {
   auto file = std::make_shared<std::string>();
   CLI::App* check = app.add_subcommand("check", "Exit 0 when FILE is a complete, consistent results file (docs/results-format.md)");
   auto dataset = std::make_shared<std::string>();
