@@ -57,6 +57,16 @@ def vector(values):
     return "{" + ", ".join(repr(float(v)) for v in values) + "}"
 
 
+def student_t_table(name, function, xs):
+    """scipy.stats.t.FUNCTION(x, df) for every df of T_DFS and x of XS, as the C++ table NAME."""
+    print("/// scipy.stats.t.%s(x, df)" % function)
+    print("inline const std::vector<StudentTReference> %s = {" % name)
+    for df in T_DFS:
+        for x in xs:
+            print("    {%r, %r, %r}," % (float(df), x, float(getattr(stats.t, function)(x, df))))
+    print("};\n")
+
+
 def tost_p(d, delta):
     zeros = np.zeros(len(d))
     return float(ttost_paired(np.asarray(d, dtype=float), zeros, -delta, delta)[0])
@@ -74,18 +84,8 @@ def main():
     print("};\n")
     print("struct StudentTReference {\n  double df;\n  double x;  ///< t for the CDF, p for the quantile\n"
           "  double value;\n};\n")
-    print("/// scipy.stats.t.cdf(x, df)")
-    print("inline const std::vector<StudentTReference> kStudentTCdf = {")
-    for df in T_DFS:
-        for t in T_VALUES:
-            print("    {%r, %r, %r}," % (float(df), t, float(stats.t.cdf(t, df))))
-    print("};\n")
-    print("/// scipy.stats.t.ppf(x, df)")
-    print("inline const std::vector<StudentTReference> kStudentTQuantile = {")
-    for df in T_DFS:
-        for p in T_PROBABILITIES:
-            print("    {%r, %r, %r}," % (float(df), p, float(stats.t.ppf(p, df))))
-    print("};\n")
+    student_t_table("kStudentTCdf", "cdf", T_VALUES)
+    student_t_table("kStudentTQuantile", "ppf", T_PROBABILITIES)
     print("struct TostReferenceCase {\n  const char* name;\n  std::vector<double> differences;\n"
           "  double p_value;  ///< ttost_paired(differences, 0, -0.1, +0.1)[0]\n};\n")
     print("inline const std::vector<TostReferenceCase> kTostReferenceCases = {")

@@ -12,6 +12,7 @@
 
 #include "correlation_reference_cases.hpp"
 #include "occsweep/stats/correlation.hpp"
+#include "reference_script_check.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep::stats;
@@ -150,14 +151,7 @@ TEST_CASE("Correlation refuses bad input, naming the function and the index", "[
 }
 
 TEST_CASE("tools/correlation_reference.py still prints the committed reference values", "[stats]") {
-  const auto source = std::filesystem::path(OCCSWEEP_SOURCE_DIR);
-  if (std::system("/usr/bin/python3 -c 'import scipy; assert scipy.__version__ == \"1.10.1\"' 2>/dev/null") != 0) {
-    WARN("skipped: /usr/bin/python3 with SciPy 1.10.1 is not installed (the committed values are used above)");
-    return;
-  }
-  const auto out = occsweep::test::scratch("correlation_reference") / "cases.hpp";
-  const std::string command =
-      "/usr/bin/python3 " + (source / "tools" / "correlation_reference.py").string() + " > " + out.string();
-  REQUIRE(std::system(command.c_str()) == 0);
-  CHECK(occsweep::test::bytesOf(out) == occsweep::test::bytesOf(source / "tests" / "correlation_reference_cases.hpp"));
+  occsweep::test::requireReferenceScriptUnchanged("correlation_reference",
+                                                 "import scipy; assert scipy.__version__ == \"1.10.1\"",
+                                                 "SciPy 1.10.1");
 }

@@ -15,6 +15,7 @@
 #include "occsweep/stats/sign_test.hpp"
 #include "occsweep/stats/wilcoxon.hpp"
 #include "stats_reference_cases.hpp"
+#include "reference_script_check.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep::stats;
@@ -32,13 +33,6 @@ bool tiedOrZero(const std::vector<double>& differences) {
   }
   std::sort(magnitudes.begin(), magnitudes.end());
   return std::adjacent_find(magnitudes.begin(), magnitudes.end()) != magnitudes.end();
-}
-
-std::string readFile(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 }  // namespace
@@ -130,14 +124,7 @@ TEST_CASE("Effect sizes: mean and median difference, matched-pairs rank-biserial
 }
 
 TEST_CASE("tools/stats_reference.py still prints the committed reference values", "[stats]") {
-  const auto source = std::filesystem::path(OCCSWEEP_SOURCE_DIR);
-  if (std::system("/usr/bin/python3 -c 'import scipy; assert scipy.__version__ == \"1.10.1\"' 2>/dev/null") != 0) {
-    WARN("skipped: /usr/bin/python3 with SciPy 1.10.1 is not installed (the committed values are used above)");
-    return;
-  }
-  const auto out = occsweep::test::scratch("stats_reference") / "cases.hpp";
-  const std::string command =
-      "/usr/bin/python3 " + (source / "tools" / "stats_reference.py").string() + " > " + out.string();
-  REQUIRE(std::system(command.c_str()) == 0);
-  CHECK(readFile(out) == readFile(source / "tests" / "stats_reference_cases.hpp"));
+  occsweep::test::requireReferenceScriptUnchanged("stats_reference",
+                                                 "import scipy; assert scipy.__version__ == \"1.10.1\"",
+                                                 "SciPy 1.10.1");
 }

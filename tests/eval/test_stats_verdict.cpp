@@ -16,6 +16,7 @@
 #include "occsweep/stats/sign_test.hpp"
 #include "occsweep/stats/verdict.hpp"
 #include "occsweep/stats/wilcoxon.hpp"
+#include "reference_script_check.hpp"
 #include "test_helpers.hpp"
 #include "verdict_reference_cases.hpp"
 
@@ -90,18 +91,9 @@ TEST_CASE("negligible exactly when statsmodels' ttost_paired rejects at alpha 0.
 }
 
 TEST_CASE("tools/verdict_reference.py still prints the committed reference values", "[stats]") {
-  const auto source = std::filesystem::path(OCCSWEEP_SOURCE_DIR);
-  if (std::system("/usr/bin/python3 -c 'import statsmodels, scipy; assert scipy.__version__ == \"1.10.1\"' "
-                  "2>/dev/null") != 0) {
-    WARN("skipped: /usr/bin/python3 with statsmodels and SciPy 1.10.1 is not installed (the committed values are "
-         "used above)");
-    return;
-  }
-  const auto out = occsweep::test::scratch("verdict_reference") / "cases.hpp";
-  const std::string command =
-      "/usr/bin/python3 " + (source / "tools" / "verdict_reference.py").string() + " > " + out.string();
-  REQUIRE(std::system(command.c_str()) == 0);
-  CHECK(occsweep::test::bytesOf(out) == occsweep::test::bytesOf(source / "tests" / "verdict_reference_cases.hpp"));
+  occsweep::test::requireReferenceScriptUnchanged("verdict_reference",
+                                                 "import statsmodels, scipy; assert scipy.__version__ == \"1.10.1\"",
+                                                 "statsmodels and SciPy 1.10.1");
 }
 
 TEST_CASE("Holm: an adjusted p-value is at most alpha exactly when the step-down procedure rejects", "[stats]") {
