@@ -6,7 +6,6 @@ usage: plot_results.py DATA.json FIG.png
 """
 import json
 import math
-import os
 import sys
 
 import matplotlib
@@ -19,10 +18,9 @@ AUC = "AUC (area under the TPR-FDR curve, anchored)"
 
 
 def save(fig, path):
-    tmp = path + f".tmp-{os.getpid()}.png"
-    fig.savefig(tmp, dpi=150, bbox_inches="tight", metadata={"Software": "occsweep plot"})
+    # `path` is occsweep's temporary for the figure: occsweep renames it into place once this script succeeded.
+    fig.savefig(path, format="png", dpi=150, bbox_inches="tight", metadata={"Software": "occsweep plot"})
     plt.close(fig)
-    os.replace(tmp, path)  # a killed run never leaves half a PNG
 
 
 def legend_below(fig, ax_or_axes, ncol=3):

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -197,24 +198,32 @@ void writeDataset(const Dataset& d, const fs::path& dir) {
   folder.commit();
 }
 
+// The files a data set's manifest names: manifest.json, scans/ and each binary file (binaryFiles).
+static std::set<fs::path> datasetFiles(const json& manifest) {
+  std::set<fs::path> files = {"manifest.json", "scans"};
+  for (const fs::path& f : binaryFiles(manifest)) files.insert(f.lexically_normal());
+  return files;
+}
+
 static bool isDatasetFolder(const fs::path& dir) {
-  // Only what writeDataset writes: a folder that also holds a user's file is not occsweep's to replace.
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (name == "scans") {
-      for (fs::directory_iterator s(it->path(), ec); !ec && s != end; s.increment(ec))
-        if (s->path().extension() != ".f32" || !s->is_regular_file()) return false;
-    } else if (name != "manifest.json" && name != "truth_mesh.f32" && name != "truth_points.f32") {
-      return false;
-    }
-  }
-  if (ec) return false;
+  // Only what writeDataset wrote for this manifest: a folder that also holds a user's file (even a
+  // scans/000099.f32 the manifest does not name) is not occsweep's to remove (docs/robustness.md, "Ownership").
+  std::set<fs::path> own;
   try {
-    return readJsonFile(dir / "manifest.json").value("format", "") == kFormat;
+    const json m = readJsonFile(dir / "manifest.json");
+    if (m.value("format", "") != kFormat) return false;
+    own = datasetFiles(m);
   } catch (const std::exception&) {
     return false;
   }
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::path rel = it->path().lexically_relative(dir);
+    const fs::file_type type = it->symlink_status(ec).type();
+    const fs::file_type expected = rel == "scans" ? fs::file_type::directory : fs::file_type::regular;
+    if (!own.contains(rel) || type != expected) return false;
+  }
+  return !ec;
 }
 
 ReplaceableOutput datasetOutput() { return {"data set folder", isDatasetFolder}; }

@@ -1,6 +1,7 @@
 // Atomic outputs, refusal of existing ones, and removal of temporaries on errors, signals and after kills
 // (docs/robustness.md, "Outputs, temporaries and --force").
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/eval/ownership.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -8,10 +9,12 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <map>
 #include <mutex>
 #include <set>
 #include <streambuf>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <thread>
 #include <vector>
 #include <unistd.h>
@@ -31,19 +34,28 @@ std::mutex& registryMutex() {
   return *m;
 }
 
-std::set<fs::path>& registry() {
-  static auto* paths = new std::set<fs::path>;
-  return *paths;
+// Live temporaries of this process, with their ledger claims (ownership.hpp).
+std::map<fs::path, TemporaryClaim>& registry() {
+  static auto* claims = new std::map<fs::path, TemporaryClaim>;
+  return *claims;
 }
 
-void registerTemporary(const fs::path& p) {
+void registerTemporary(const TemporaryClaim& c) {
   std::lock_guard lock(registryMutex());
-  registry().insert(p);
+  registry()[c.path] = c;
 }
 
-void unregisterTemporary(const fs::path& p) {
+// Drops a temporary (removed or committed) from the registry and its record from the ledger.
+void unregisterTemporary(const TemporaryClaim& c) {
   std::lock_guard lock(registryMutex());
-  registry().erase(p);
+  registry().erase(c.path);
+  releaseTemporary(c);
+}
+
+// Children runChild waits for (child_process.hpp): ended before their temporaries are removed.
+std::set<pid_t>& children() {
+  static auto* pids = new std::set<pid_t>;
+  return *pids;
 }
 
 int interrupt_pipe[2] = {-1, -1};
@@ -64,22 +76,20 @@ void cleanOnInterrupt() {
   // The lock is held until _exit: a commit (which takes it too) cannot rename a temporary into place after, or
   // while, its files are removed here (a SIGTERM'd `scene` once renamed a folder holding only manifest.json).
   registryMutex().lock();
-  for (const auto& p : registry()) {
+  // A child still writing (a figure script) would recreate a temporary removed under it: it ends first.
+  for (const pid_t pid : children()) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, nullptr, 0);
+  }
+  for (const auto& [path, claim] : registry()) {
     std::error_code ec;
-    fs::remove_all(p, ec);
+    fs::remove_all(path, ec);
+    releaseTemporary(claim);
   }
   ::_exit(128 + sig);
 }
 
 // ---- names ----
-
-fs::path temporaryName(const fs::path& target) {
-  std::string name = ".";  // appended piece by piece: "." + std::string trips GCC 12's -Wrestrict false positive
-  name += target.filename().string();
-  name += ".tmp-";
-  name += std::to_string(::getpid());
-  return target.parent_path() / name;
-}
 
 [[noreturn]] void fail(const fs::path& file, int error_number) { throw OutputError(writeFailure(file, error_number)); }
 
@@ -96,36 +106,109 @@ void createParent(const fs::path& target) {
   }
 }
 
-bool pidAlive(long pid) { return pid > 0 && (::kill(pid_t(pid), 0) == 0 || errno != ESRCH); }
-
-// The PID after `prefix` in `name`, or -1 when `name` is not a temporary of that prefix.
-long temporaryPid(const std::string& name, const std::string& prefix) {
-  if (name.rfind(prefix, 0) != 0) return -1;
-  std::size_t end = prefix.size();
-  while (end < name.size() && name[end] >= '0' && name[end] <= '9') ++end;
-  if (end == prefix.size() || end - prefix.size() > 9) return -1;
-  const std::string rest = name.substr(end);
-  if (!rest.empty() && rest != ".png") return -1;  // the old preview_png.cpp's NAME.tmp-PID.png
-  return std::stol(name.substr(prefix.size(), end - prefix.size()));
-}
-
 bool isEmptyFolder(const fs::path& p) {
   std::error_code ec;
   return fs::is_directory(fs::symlink_status(p, ec)) && fs::is_empty(p, ec);
 }
 
-// The name the user knows: a temporary `.NAME.tmp-PID` component shown as `NAME` (the output being written).
+// The name the user knows: a temporary `.NAME.tmp-PID-TOKEN` component shown as `NAME` (the output being written).
 std::string userVisible(const fs::path& file) {
   fs::path shown;
-  for (const auto& part : file) {
-    const std::string s = part.string();
-    const std::size_t tmp = s.rfind(".tmp-");
-    const bool temporary = s.size() > 1 && s[0] == '.' && tmp != std::string::npos && tmp > 1 &&
-                           temporaryPid(s, s.substr(0, tmp + 5)) > 0;
-    shown /= temporary ? s.substr(1, tmp - 1) : s;
-  }
+  for (const auto& part : file) shown /= outputNameOf(part.string());
   return shown.string();
 }
+
+// ---- the target as the command checked it ----
+
+}  // namespace
+
+// What stood at an output's path: nothing, an empty folder (replaced, it holds nothing), or an entry named by its
+// device, inode, size and modification time.
+struct TargetState {
+  bool exists = false, empty_folder = false;
+  dev_t device = 0;
+  ino_t inode = 0;
+  off_t size = 0;
+  timespec modified{};
+};
+
+namespace {
+
+TargetState stateOf(const fs::path& p) {
+  struct stat st {};
+  if (::lstat(p.c_str(), &st) != 0) return {};
+  return {true, isEmptyFolder(p), st.st_dev, st.st_ino, st.st_size, st.st_mtim};
+}
+
+bool sameEntry(const TargetState& a, const TargetState& b) {
+  return a.device == b.device && a.inode == b.inode && a.size == b.size && a.modified.tv_sec == b.modified.tv_sec &&
+         a.modified.tv_nsec == b.modified.tv_nsec;
+}
+
+fs::path targetKey(const fs::path& target) {
+  std::error_code ec;
+  const fs::path key = fs::weakly_canonical(fs::absolute(target, ec), ec);
+  return ec ? fs::absolute(target, ec) : key;
+}
+
+// Targets checkOutputTarget accepted, as they were then (under registryMutex): a commit replaces no other state.
+std::map<fs::path, TargetState>& checkedTargets() {
+  static auto* targets = new std::map<fs::path, TargetState>;
+  return *targets;
+}
+
+TargetState checkedState(const fs::path& target) {
+  std::lock_guard lock(registryMutex());
+  const auto it = checkedTargets().find(targetKey(target));
+  return it != checkedTargets().end() ? it->second : stateOf(target);
+}
+
+[[noreturn]] void appeared(const fs::path& target, const char* what) {
+  throw OutputError(userVisible(target) + ": " + what + " while occsweep was writing it: nothing was replaced " +
+                    "(write to another path, or move it away and run again)");
+}
+
+// rename(2) that never replaces: an output created meanwhile stays (link-then-unlink where the file system has no
+// RENAME_NOREPLACE; a folder there is renamed after the check, the one moment left open).
+void renameNoReplace(const fs::path& from, const fs::path& to, bool folder) {
+  if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) == 0) return;
+  if (errno == EEXIST) appeared(to, "was created");
+  if (errno != EINVAL && errno != ENOSYS) fail(to, errno);
+  if (folder) {
+    if (::rename(from.c_str(), to.c_str()) != 0) fail(to, errno);
+  } else {
+    if (::link(from.c_str(), to.c_str()) != 0) errno == EEXIST ? appeared(to, "was created") : fail(to, errno);
+    ::unlink(from.c_str());
+  }
+}
+
+// Puts `temporary` at `target` when the target is still as checked: absent stays absent, an empty folder is
+// replaced, an existing output (accepted by checkOutputTarget, or present when writing began) is still the same
+// entry. Called under registryMutex.
+void placeOutput(const fs::path& temporary, const fs::path& target, const TargetState& checked, bool folder) {
+  const TargetState now = stateOf(target);
+  std::error_code ec;
+  if (now.exists && !now.empty_folder) {
+    if (!checked.exists || checked.empty_folder) appeared(target, "was created");
+    if (!sameEntry(checked, now)) appeared(target, "was changed");
+    if (!folder) {
+      if (::rename(temporary.c_str(), target.c_str()) != 0) fail(target, errno);
+      return;
+    }
+    // Swapped in one step: no moment without either the old or the new folder; the old one, now under the
+    // registered temporary name, is then removed (checkOutputTarget found every entry in it to be occsweep's).
+    if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) == 0) {
+      fs::remove_all(temporary, ec);
+      return;
+    }
+    fs::remove_all(target, ec);  // no RENAME_EXCHANGE on this file system
+  } else if (now.empty_folder) {
+    fs::remove(target, ec);  // an empty folder holds nothing of the user's
+  }
+  renameNoReplace(temporary, target, folder);
+}
+
+void recordCommitted(const fs::path& target) { checkedTargets()[targetKey(target)] = stateOf(target); }
 
 }  // namespace
 
@@ -158,8 +241,12 @@ void checkOutputTarget(const fs::path& target, bool force, const ReplaceableOutp
   if (!there.empty() && mismatch == there.end())
     throw OutputError(target.string() + ": is the current folder or holds it: choose a new folder for the " +
                       kind.name);
-  const auto status = fs::symlink_status(t, ec);
-  if (!fs::exists(status) || isEmptyFolder(t)) return;
+  const TargetState state = stateOf(t);
+  {
+    std::lock_guard lock(registryMutex());
+    checkedTargets()[targetKey(t)] = state;  // the state a commit may replace (placeOutput)
+  }
+  if (!state.exists || state.empty_folder) return;
   if (!force)
     throw OutputError(target.string() + ": exists: occsweep replaces nothing unless asked (--force replaces " +
                       "occsweep's own previous " + kind.name + "; or choose another path)");
@@ -224,17 +311,14 @@ void requireSeparateOutputs(const std::vector<std::pair<std::string, fs::path>>&
 void removeStaleTemporaries(const fs::path& target) {
   const fs::path t = outputTarget(target);
   const fs::path dir = t.has_parent_path() ? t.parent_path() : fs::path(".");
-  const std::string name = t.filename().string();
+  std::string prefix = ".";  // appended piece by piece: "." + std::string trips GCC 12's -Wrestrict false positive
+  prefix += t.filename().string();
+  prefix += ".tmp-";
   std::error_code ec;
-  std::vector<fs::path> stale;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string entry = it->path().filename().string();
-    for (const std::string& prefix : {"." + name + ".tmp-", name + ".tmp-", name + ".old-"}) {
-      const long pid = temporaryPid(entry, prefix);
-      if (pid == long(::getpid()) || (pid > 0 && !pidAlive(pid))) stale.push_back(it->path());
-    }
-  }
-  for (const auto& p : stale) fs::remove_all(p, ec);
+  std::vector<fs::path> candidates;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().filename().string().starts_with(prefix)) candidates.push_back(it->path());
+  for (const auto& p : candidates) removeStaleTemporary(p, t);  // only what the ledger proves (ownership.hpp)
 }
 
 // ---- OutputFile ----
@@ -272,14 +356,17 @@ struct OutputFile::Buffer : std::streambuf {
   int sync() override { return error == 0 && drain() ? 0 : -1; }
 };
 
-OutputFile::OutputFile(const fs::path& target) : target_(outputTarget(target)), temporary_(temporaryName(target_)) {
+OutputFile::OutputFile(const fs::path& target) : target_(outputTarget(target)) {
   createParent(target_);
   removeStaleTemporaries(target_);
-  registerTemporary(temporary_);
-  const int fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  checked_ = std::make_unique<TargetState>(checkedState(target_));
+  claim_ = claimTemporary(target_);
+  temporary_ = claim_.path;
+  registerTemporary(claim_);
+  const int fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) {
     const int e = errno;
-    unregisterTemporary(temporary_);
+    unregisterTemporary(claim_);
     fail(target_, e);
   }
   buffer_ = std::make_unique<Buffer>(fd);
@@ -292,12 +379,13 @@ OutputFile::~OutputFile() {
     std::error_code ec;
     fs::remove(temporary_, ec);
   }
-  unregisterTemporary(temporary_);
+  unregisterTemporary(claim_);
 }
 
 std::ostream& OutputFile::stream() { return *stream_; }
 
-void OutputFile::commit() {
+void OutputFile::finish() {
+  if (buffer_->fd < 0) return;
   stream_->flush();
   if (buffer_->error != 0 || !*stream_) fail(target_, buffer_->error != 0 ? buffer_->error : EIO);
   // fsync: a rename is only as durable as the data it points at (a crash right after it must not leave zeros).
@@ -305,22 +393,28 @@ void OutputFile::commit() {
   const int fd = buffer_->fd;
   buffer_->fd = -1;
   if (::close(fd) != 0) fail(target_, errno);
-  std::error_code ec;
+}
+
+void OutputFile::commit() {
+  finish();
   std::unique_lock lock(registryMutex());  // no rename once an interrupt's cleaning has begun (cleanOnInterrupt)
-  if (isEmptyFolder(target_)) fs::remove(target_, ec);  // an empty folder holds nothing of the user's
-  if (::rename(temporary_.c_str(), target_.c_str()) != 0) fail(target_, errno);
+  placeOutput(temporary_, target_, *checked_, false);
+  recordCommitted(target_);
   committed_ = true;
 }
 
 // ---- OutputFolder ----
 
-OutputFolder::OutputFolder(const fs::path& target) : target_(outputTarget(target)), temporary_(temporaryName(target_)) {
+OutputFolder::OutputFolder(const fs::path& target) : target_(outputTarget(target)) {
   createParent(target_);
   removeStaleTemporaries(target_);
-  registerTemporary(temporary_);
+  checked_ = std::make_unique<TargetState>(checkedState(target_));
+  claim_ = claimTemporary(target_);
+  temporary_ = claim_.path;
+  registerTemporary(claim_);
   if (::mkdir(temporary_.c_str(), 0777) != 0) {
     const int e = errno;
-    unregisterTemporary(temporary_);
+    unregisterTemporary(claim_);
     fail(target_, e);
   }
 }
@@ -330,24 +424,13 @@ OutputFolder::~OutputFolder() {
     std::error_code ec;
     fs::remove_all(temporary_, ec);
   }
-  unregisterTemporary(temporary_);
+  unregisterTemporary(claim_);
 }
 
 void OutputFolder::commit() {
-  std::error_code ec;
   std::unique_lock lock(registryMutex());  // no rename once an interrupt's cleaning has begun (cleanOnInterrupt)
-  if (fs::exists(fs::symlink_status(target_, ec))) {
-    // Swapped in one step (renameat2 RENAME_EXCHANGE): no moment without either the old or the new folder; the old
-    // one, now under the registered temporary name, is then removed.
-    if (::renameat2(AT_FDCWD, temporary_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) == 0) {
-      fs::remove_all(temporary_, ec);
-      committed_ = true;
-      return;
-    }
-    if (isEmptyFolder(target_)) fs::remove(target_, ec);
-    else fs::remove_all(target_, ec);  // no RENAME_EXCHANGE on this file system: checked by checkOutputTarget
-  }
-  if (::rename(temporary_.c_str(), target_.c_str()) != 0) fail(target_, errno);
+  placeOutput(temporary_, target_, *checked_, true);
+  recordCommitted(target_);
   committed_ = true;
 }
 
@@ -378,6 +461,16 @@ void writeFileChecked(const fs::path& file, std::string_view bytes) {
 }
 
 int interruptSignalReceived() { return g_interrupt_signal; }
+
+void registerChildProcess(pid_t pid) {
+  std::lock_guard lock(registryMutex());
+  children().insert(pid);
+}
+
+void unregisterChildProcess(pid_t pid) {
+  std::lock_guard lock(registryMutex());
+  children().erase(pid);
+}
 
 void removeTemporariesOnInterrupt() {
   static std::once_flag once;

@@ -173,25 +173,6 @@ TEST_CASE("a map write past the file-size limit fails by name, exit 2, with no p
   CHECK(snapshot(dir) == before);
 }
 
-TEST_CASE("temporaries left by a killed run (dead PID) are removed by the next run writing that target",
-          "[outputs]") {
-  const fs::path dir = scratch("robust_outputs/stale");
-  // A PID that is surely dead: a child that has exited and been reaped.
-  const pid_t child = ::fork();
-  if (child == 0) ::_exit(0);
-  ::waitpid(child, nullptr, 0);
-  const std::string pid = std::to_string(child);
-  fs::create_directories(dir / (".w.tmp-" + pid) / "scans");
-  writeBytes(dir / (".w.tmp-" + pid) / "manifest.json", "{");
-  fs::create_directories(dir / ("w.tmp-" + pid));  // the name the original code used
-  writeBytes(dir / ("m.ot.tmp-" + pid), "# Octomap OcTree file\ncut");
-  writeBytes(dir / "keep.tmp-notapid", "user's");
-  REQUIRE(runIn(dir, std::string(kTinyScene) + " --out w").exit_code == 0);
-  REQUIRE(runIn(dir, "map --dataset w --method octomap --out m.ot").exit_code == 0);
-  const auto left = leftovers(dir);
-  CHECK(left == std::vector<std::string>{(dir / "keep.tmp-notapid").string()});
-}
-
 TEST_CASE("a sweep begun under --engine direct and resumed under replay records both engines", "[outputs]") {
   const fs::path dir = withScene("robust_outputs/engines");
   REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --engine direct --quiet --out direct.json").exit_code == 0);

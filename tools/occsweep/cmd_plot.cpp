@@ -1,18 +1,18 @@
 // occsweep plot curves|budget|improvement|params FILES... --out FIG.png [--json DATA.json]: the figures of a
 // comparison for the user's own sweeps, drawn by share/occsweep/plot_results.py from the data computed here
 // (docs/statistics.md, "Figures").
+#include <cstdint>
 #include <fstream>
 #include <map>
 #include <iostream>
-#include <unistd.h>
 
 #include "command_registry.hpp"
 #include "limit_options.hpp"
 #include "compare_tables.hpp"
 #include "figure_script.hpp"
 #include "plot_data.hpp"
+#include "occsweep/eval/child_process.hpp"
 #include "occsweep/eval/output_file.hpp"
-#include "occsweep/sweeps/cluster_state.hpp"
 
 namespace occsweep::cli {
 namespace {
@@ -23,16 +23,29 @@ struct PlotOptions {
   bool force = false;
 };
 
-// A figure occsweep plot drew before: a PNG whose text chunk names it (plot_results.py writes "occsweep plot" as
-// its Software); --force replaces nothing else.
+// The value of a PNG's tEXt chunk of that keyword, read chunk by chunk as the format defines it; "" when none.
+std::string pngText(const std::filesystem::path& file, const std::string& keyword) {
+  std::ifstream in(file, std::ios::binary);
+  char signature[8];
+  if (!in.read(signature, 8) || std::string(signature, 8) != "\x89PNG\r\n\x1a\n") return "";
+  for (int chunks = 0; chunks < 64; ++chunks) {  // matplotlib writes its text chunks right after IHDR
+    unsigned char head[8];
+    if (!in.read(reinterpret_cast<char*>(head), 8)) return "";
+    const std::uint32_t length = std::uint32_t(head[0]) << 24 | std::uint32_t(head[1]) << 16 |
+                                 std::uint32_t(head[2]) << 8 | head[3];
+    const std::string type(reinterpret_cast<char*>(head) + 4, 4);
+    if (type == "IDAT" || type == "IEND" || length > (1u << 20)) return "";
+    std::string data(length, '\0');
+    if (!in.read(data.data(), length) || !in.ignore(4)) return "";  // the data, then its CRC
+    if (type == "tEXt" && data.starts_with(keyword + '\0')) return data.substr(keyword.size() + 1);
+  }
+  return "";
+}
+
+// A figure occsweep plot drew before: a PNG whose Software text chunk is exactly "occsweep plot" (plot_results.py
+// writes it). A user's PNG that mentions occsweep in a description is not one (docs/robustness.md, "Ownership").
 ReplaceableOutput figureOutput() {
-  return {"figure", [](const std::filesystem::path& file) {
-            std::ifstream in(file, std::ios::binary);
-            std::string head(4096, '\0');
-            in.read(head.data(), std::streamsize(head.size()));
-            head.resize(std::size_t(in.gcount()));
-            return head.starts_with("\x89PNG") && head.find("occsweep plot") != std::string::npos;
-          }};
+  return {"figure", [](const std::filesystem::path& file) { return pngText(file, "Software") == "occsweep plot"; }};
 }
 
 // The method `params` draws: --method, or the only one given, or the first that is not the baseline.
@@ -55,13 +68,17 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   nlohmann::json data = plotData(kind, inputs);
   data["format"] = "occsweep-plot";
   data["files"] = o.files;
-  const std::filesystem::path data_file =
-      o.json.empty() ? std::filesystem::path(o.out).concat(".data-" + std::to_string(::getpid()) + ".json")
-                     : std::filesystem::path(o.json);
-  writeFileAtomically(data_file, data.dump(1) + '\n');
-  const int code = runWaiting({python, script, data_file.string(), o.out});
-  if (o.json.empty()) std::filesystem::remove(data_file);
+  // Both written as registered temporaries (removed on an error or an interrupt) and committed only when the script
+  // succeeded; the script draws into the figure's temporary, never beside it.
+  OutputFile data_file(o.json.empty() ? o.out + ".data.json" : o.json);
+  data_file.stream() << data.dump(1) << '\n';
+  data_file.finish();
+  OutputFile figure(o.out);
+  figure.finish();
+  const int code = runChild({python, script, data_file.temporary().string(), figure.temporary().string()});
   if (code != 0) throw std::runtime_error("plot: " + python + " " + script + " failed (exit code " + std::to_string(code) + ")");
+  figure.commit();
+  if (!o.json.empty()) data_file.commit();
   std::cout << "wrote " << o.out << (o.json.empty() ? "" : " and " + o.json) << '\n';
   return 0;
 }

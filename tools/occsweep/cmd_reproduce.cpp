@@ -10,7 +10,7 @@
 #include "figure_script.hpp"
 #include "install_paths.hpp"
 #include "option_checks.hpp"
-#include "occsweep/sweeps/cluster_state.hpp"
+#include "occsweep/eval/child_process.hpp"
 #include "occsweep/eval/paper_datasets.hpp"
 #include "occsweep/sweeps/reproduce.hpp"
 
@@ -36,7 +36,7 @@ auto figureDrawer(const std::string& configured_python) {
   return [python, script](const std::filesystem::path& out, const std::vector<std::string>& steps) {
     std::vector<std::string> argv{python, script, out.string()};
     argv.insert(argv.end(), steps.begin(), steps.end());
-    if (const int code = runWaiting(argv); code != 0)
+    if (const int code = runChild(argv); code != 0)
       throw std::runtime_error("reproduce: " + python + " " + script + " failed (exit code " + std::to_string(code) +
                                ")");
   };

@@ -1,5 +1,5 @@
-// Child processes, started without a shell: Slurm's clients (captured), run-local's tasks (logged, ending with
-// run-local) and the figure script of `reproduce` (waited for).
+// Child processes, started without a shell: Slurm's clients (captured) and run-local's tasks (logged, ending with
+// run-local). Figure scripts run through eval's runChild (child_process.hpp).
 #include <cerrno>
 #include <cstring>
 #include <csignal>
@@ -68,13 +68,6 @@ ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet) {
   ::close(fds[0]);
   out.exit_code = waitForExit(pid);
   return out;
-}
-
-int runWaiting(const std::vector<std::string>& argv) {
-  pid_t pid = 0;
-  auto args = cArgv(argv);
-  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return 127;
-  return waitForExit(pid);
 }
 
 pid_t spawnLogged(const std::vector<std::string>& argv, const std::filesystem::path& cwd,

@@ -36,12 +36,27 @@ bool better(const RankedSet& a, const RankedSet& b) {
   return a.id < b.id;
 }
 
-// A folder `selectRanked` wrote: sets.json of its format and links only. A re-run replaces it; nothing else.
+// A folder `selectRanked` wrote: sets.json of its format and the links it lists (each set's folder and rank-N),
+// nothing else. A re-run replaces it; a folder holding anything more is not occsweep's to remove
+// (docs/robustness.md, "Ownership").
 bool isSelectionFolder(const fs::path& dir) {
+  std::set<std::string> links;
+  try {
+    if (!jsonOutput("", "occsweep-selected-sets").is_own(dir / "sets.json")) return false;
+    const nlohmann::json sets = readJsonFile(dir / "sets.json");
+    for (const auto& s : sets.at("sets")) {
+      links.insert(s.at("folder").get<std::string>());
+      links.insert("rank-" + std::to_string(s.at("rank").get<std::uint64_t>()));
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
   std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-    if (it->path().filename() != "sets.json" && !it->is_symlink()) return false;
-  return !ec && jsonOutput("", "occsweep-selected-sets").is_own(dir / "sets.json");
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name != "sets.json" && (!it->is_symlink() || !links.contains(name))) return false;
+  }
+  return !ec;
 }
 
 }  // namespace

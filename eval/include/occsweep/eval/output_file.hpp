@@ -10,10 +10,13 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <sys/types.h>
 #include <utility>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
+
+#include "occsweep/eval/ownership.hpp"
 
 namespace occsweep {
 
@@ -36,7 +39,8 @@ struct ReplaceableOutput {
 [[nodiscard]] std::filesystem::path outputTarget(const std::filesystem::path& target);
 
 /// Refuses an existing `target` (exit 2 through OutputError) unless `force` and `kind.is_own(target)`. An empty
-/// folder is not an output and is replaced. The current folder or one of its parents is always refused.
+/// folder is not an output and is replaced. The current folder or one of its parents is always refused. The target's
+/// state is remembered: a later commit to it replaces that state only (nothing created or changed meanwhile).
 void checkOutputTarget(const std::filesystem::path& target, bool force, const ReplaceableOutput& kind);
 
 /// Two outputs that cannot both be written: one file, or one under the other, read as the writer reads them
@@ -47,12 +51,16 @@ void checkOutputTarget(const std::filesystem::path& target, bool force, const Re
 /// file or a broken symbolic link, before any is written; empty paths are outputs not asked for.
 void requireSeparateOutputs(const std::vector<std::pair<std::string, std::filesystem::path>>& flagged_outputs);
 
-/// Removes temporaries of `target` (`.NAME.tmp-PID`, and the older `NAME.tmp-PID`) left by a killed process.
+/// Removes temporaries of `target` (`.NAME.tmp-PID-TOKEN`) left by a killed process, those the ledger proves
+/// occsweep's (ownership.hpp); an entry of any other name, or not recorded, is left alone.
 void removeStaleTemporaries(const std::filesystem::path& target);
 
-/// One file written under `.NAME.tmp-PID` beside `target`; `commit()` flushes, checks and renames it into place.
-/// Destroyed uncommitted (an exception), it removes the temporary. Every write is checked: the first failure throws
-/// OutputError at the latest in `commit()`.
+struct TargetState;
+
+/// One file written under `.NAME.tmp-PID-TOKEN` beside `target`; `commit()` flushes, checks and renames it into
+/// place, only over what checkOutputTarget accepted (or found when writing began): an output that appeared or
+/// changed meanwhile is kept and the commit fails. Destroyed uncommitted (an exception), it removes the temporary.
+/// Every write is checked: the first failure throws OutputError at the latest in `commit()`.
 class OutputFile {
  public:
   explicit OutputFile(const std::filesystem::path& target);
@@ -62,18 +70,22 @@ class OutputFile {
 
   [[nodiscard]] std::ostream& stream();
   [[nodiscard]] const std::filesystem::path& temporary() const { return temporary_; }
+  /// Flushes, checks, syncs and closes the temporary: another program may then read or write it by its path.
+  void finish();
   void commit();
 
  private:
   struct Buffer;
   std::filesystem::path target_, temporary_;
+  TemporaryClaim claim_;
+  std::unique_ptr<TargetState> checked_;
   std::unique_ptr<Buffer> buffer_;
   std::unique_ptr<std::ostream> stream_;
   bool committed_ = false;
 };
 
-/// One folder built under `.NAME.tmp-PID` beside `target`; `commit()` renames it into place, replacing an existing
-/// target (already allowed by checkOutputTarget). Destroyed uncommitted, it removes the temporary folder.
+/// One folder built under `.NAME.tmp-PID-TOKEN` beside `target`; `commit()` renames it into place, replacing an
+/// existing target only as OutputFile does. Destroyed uncommitted, it removes the temporary folder.
 class OutputFolder {
  public:
   explicit OutputFolder(const std::filesystem::path& target);
@@ -86,6 +98,8 @@ class OutputFolder {
 
  private:
   std::filesystem::path target_, temporary_;
+  TemporaryClaim claim_;
+  std::unique_ptr<TargetState> checked_;
   bool committed_ = false;
 };
 
@@ -105,5 +119,9 @@ void removeTemporariesOnInterrupt();
 /// soon after, however busy the machine: code that starts child processes checks this once its own handlers are
 /// in place, so that no child is started that the exit would leave behind (cluster run-local).
 [[nodiscard]] int interruptSignalReceived();
+
+/// A child the interrupt handler kills (SIGKILL) and waits for before it removes temporaries (runChild).
+void registerChildProcess(pid_t pid);
+void unregisterChildProcess(pid_t pid);
 
 }  // namespace occsweep

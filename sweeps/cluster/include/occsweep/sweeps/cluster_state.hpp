@@ -19,9 +19,6 @@ struct ProcessOutput {
 /// Runs argv (searched on PATH), captures stdout; stderr passes through, or goes to /dev/null when `quiet`
 /// (status queries: sacct without accounting complains on every call).
 [[nodiscard]] ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet = false);
-/// Runs argv (searched on PATH, no shell) with this process's stdin, stdout and stderr, and waits; returns its exit
-/// code as runCapture does (the figures of `reproduce`).
-[[nodiscard]] int runWaiting(const std::vector<std::string>& argv);
 /// Starts argv in `cwd` with stdout and stderr appended to `log`; returns the pid (std::runtime_error on failure).
 /// The child gets SIGTERM when this process dies, even by SIGKILL (PR_SET_PDEATHSIG): run-local's tasks never
 /// outlive it (docs/cluster.md); an argv[0] that cannot be started is exit code 127 with the reason in the log.

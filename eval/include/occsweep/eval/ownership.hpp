@@ -1,0 +1,39 @@
+// Proof that an entry beside an output is occsweep's to remove (docs/robustness.md, "Ownership"). A name alone
+// proves nothing (a user may keep `r.json.old-2023`), nor do bytes a user could write. A temporary is occsweep's
+// when its name carries a random token that the run which made it recorded in occsweep's ledger, beside the
+// temporary's absolute path, before creating it.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace occsweep {
+
+/// The ledger folder: $OCCSWEEP_STATE_DIR, else $XDG_STATE_HOME/occsweep, else $HOME/.local/state/occsweep; empty
+/// when none is set. One file per live temporary, named by its token.
+[[nodiscard]] std::filesystem::path ownershipLedger();
+
+/// A temporary this process may create: `.NAME.tmp-PID-TOKEN` beside `target`, TOKEN 128 random bits in hex.
+struct TemporaryClaim {
+  std::filesystem::path path;
+  std::string token;
+  bool recorded = false;  ///< false when the ledger cannot be written: a kill then leaves the temporary for the user
+};
+
+/// Chooses a temporary's name for `target` (a clean absolute or relative path) and records it in the ledger.
+[[nodiscard]] TemporaryClaim claimTemporary(const std::filesystem::path& target);
+
+/// Drops the ledger record of a temporary that was committed or removed.
+void releaseTemporary(const TemporaryClaim& claim);
+
+/// The name a user knows for a temporary's component (`.NAME.tmp-PID-TOKEN` is `NAME`); other names unchanged.
+[[nodiscard]] std::string outputNameOf(const std::string& component);
+
+/// True when `entry`, beside output `target`, is a temporary of `target` that occsweep recorded and whose process
+/// is gone (or is this process, which has not registered it: a PID reused after a kill). Only then may it go.
+[[nodiscard]] bool isStaleTemporaryOf(const std::filesystem::path& entry, const std::filesystem::path& target);
+
+/// Removes `entry` (a file, or a folder with what it holds) and its record when isStaleTemporaryOf; true if it did.
+bool removeStaleTemporary(const std::filesystem::path& entry, const std::filesystem::path& target);
+
+}  // namespace occsweep

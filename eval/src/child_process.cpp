@@ -1,0 +1,64 @@
+// Child processes that die with occsweep (docs/robustness.md, "Child processes").
+#include "occsweep/eval/child_process.hpp"
+
+#include <cerrno>
+#include <csignal>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "occsweep/eval/output_file.hpp"
+
+namespace occsweep {
+namespace {
+
+std::vector<char*> cArgv(const std::vector<std::string>& argv) {
+  std::vector<char*> out;
+  for (const auto& a : argv) out.push_back(const_cast<char*>(a.c_str()));
+  out.push_back(nullptr);
+  return out;
+}
+
+// In the child, between fork and exec: only system calls.
+[[noreturn]] void execChild(char* const* args, pid_t parent, const sigset_t& previous_mask) {
+  // SIGTERM when the parent dies, however it dies; it may have died before the prctl.
+  if (::prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || ::getppid() != parent) ::_exit(143);
+  ::signal(SIGINT, SIG_IGN);  // occsweep ends it on a Ctrl-C (a Python child would print a traceback)
+  for (int sig : {SIGTERM, SIGHUP}) {
+    struct sigaction current {};
+    if (::sigaction(sig, nullptr, &current) == 0 && current.sa_handler != SIG_IGN) ::signal(sig, SIG_DFL);
+  }
+  ::sigprocmask(SIG_SETMASK, &previous_mask, nullptr);
+  ::execvp(args[0], args);
+  ::_exit(127);
+}
+
+int exitCode(int status) {
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return -1;
+}
+
+}  // namespace
+
+int runChild(const std::vector<std::string>& argv) {
+  auto args = cArgv(argv);  // built before fork: the child only makes system calls
+  const pid_t parent = ::getpid();
+  // Stop signals blocked across fork and registration: the interrupt handler then knows every child it must end.
+  sigset_t stop_signals, previous;
+  sigemptyset(&stop_signals);
+  for (int sig : {SIGTERM, SIGINT, SIGHUP}) sigaddset(&stop_signals, sig);
+  ::pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
+  const pid_t pid = interruptSignalReceived() != 0 ? -1 : ::fork();
+  if (pid == 0) execChild(args.data(), parent, previous);
+  if (pid > 0) registerChildProcess(pid);
+  ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  if (pid < 0) return 127;
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  unregisterChildProcess(pid);
+  return exitCode(status);
+}
+
+}  // namespace occsweep

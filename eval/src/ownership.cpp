@@ -1,0 +1,152 @@
+// The ledger of temporaries (docs/robustness.md, "Ownership"): what proves a leftover temporary is occsweep's.
+#include "occsweep/eval/ownership.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <unistd.h>
+
+namespace occsweep {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kTemporaryMark = ".tmp-";
+constexpr std::size_t kTokenDigits = 32;
+
+std::string randomToken() {
+  std::random_device device;  // /dev/urandom: a user cannot guess the name of a temporary not yet made
+  std::string token;
+  static constexpr char kHex[] = "0123456789abcdef";
+  while (token.size() < kTokenDigits) {
+    const unsigned bits = device();
+    for (int i = 0; i < 8; ++i) token += kHex[(bits >> (4 * i)) & 15u];
+  }
+  return token;
+}
+
+// A process is named by its PID and its start time (clock ticks after boot, /proc/PID/stat field 22): a PID reused
+// after a kill has another start time. "" when there is no such process.
+std::string processIdentity(long pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t comm_end = stat.rfind(')');
+  if (comm_end == std::string::npos) return "";
+  std::istringstream fields(stat.substr(comm_end + 2));
+  std::string field;
+  for (int i = 3; i <= 22 && fields >> field; ++i) {
+  }
+  return std::to_string(pid) + " " + field;
+}
+
+// `.NAME.tmp-PID-TOKEN` parsed: the PID and TOKEN, or pid -1.
+struct TemporaryName {
+  long pid = -1;
+  std::string token;
+};
+
+TemporaryName parseTemporary(const std::string& component, const std::string& output_name) {
+  std::string prefix = ".";  // piece by piece: "." + std::string trips GCC 12's -Wrestrict false positive
+  prefix += output_name;
+  prefix += kTemporaryMark;
+  if (!component.starts_with(prefix)) return {};
+  const std::string rest = component.substr(prefix.size());
+  const std::size_t dash = rest.find('-');
+  if (dash == std::string::npos || dash == 0 || dash > 9 || rest.size() - dash - 1 != kTokenDigits) return {};
+  if (rest.find_first_not_of("0123456789") < dash) return {};
+  if (rest.find_first_not_of("0123456789abcdef", dash + 1) != std::string::npos) return {};
+  return {std::stol(rest.substr(0, dash)), rest.substr(dash + 1)};
+}
+
+// A record: the process identity on the first line, the temporary's absolute path on the second.
+struct LedgerRecord {
+  std::string process;
+  fs::path path;
+};
+
+std::optional<LedgerRecord> readRecord(const fs::path& ledger, const std::string& token) {
+  std::ifstream in(ledger / token);
+  LedgerRecord r;
+  std::string path;
+  if (!std::getline(in, r.process) || !std::getline(in, path)) return std::nullopt;
+  r.path = path;
+  return r;
+}
+
+// The token of `entry` when it is a recorded temporary of `target` whose process is gone.
+std::optional<std::string> staleRecord(const fs::path& entry, const fs::path& target);
+
+}  // namespace
+
+fs::path ownershipLedger() {
+  if (const char* dir = std::getenv("OCCSWEEP_STATE_DIR"); dir && *dir) return fs::path(dir) / "temporaries";
+  if (const char* dir = std::getenv("XDG_STATE_HOME"); dir && *dir) return fs::path(dir) / "occsweep/temporaries";
+  if (const char* home = std::getenv("HOME"); home && *home) return fs::path(home) / ".local/state/occsweep/temporaries";
+  return {};
+}
+
+TemporaryClaim claimTemporary(const fs::path& target) {
+  TemporaryClaim c;
+  c.token = randomToken();
+  std::string name = ".";  // appended piece by piece: "." + std::string trips GCC 12's -Wrestrict false positive
+  name += target.filename().string();
+  name += kTemporaryMark;
+  name += std::to_string(::getpid());
+  name += '-';
+  name += c.token;
+  c.path = target.parent_path() / name;
+  const fs::path ledger = ownershipLedger();
+  std::error_code ec;
+  if (ledger.empty() || (fs::create_directories(ledger, ec), ec)) return c;
+  const fs::path absolute = fs::absolute(c.path, ec).lexically_normal();
+  std::ofstream out(ledger / c.token, std::ios::trunc);
+  out << processIdentity(::getpid()) << '\n' << absolute.string() << '\n';
+  out.flush();
+  c.recorded = bool(out);
+  return c;
+}
+
+void releaseTemporary(const TemporaryClaim& claim) {
+  if (!claim.recorded) return;
+  std::error_code ec;
+  fs::remove(ownershipLedger() / claim.token, ec);
+}
+
+std::string outputNameOf(const std::string& component) {
+  const std::size_t mark = component.rfind(kTemporaryMark);
+  if (component.size() < 2 || component[0] != '.' || mark == std::string::npos || mark < 2) return component;
+  const std::string name = component.substr(1, mark - 1);
+  return parseTemporary(component, name).pid > 0 ? name : component;
+}
+
+bool isStaleTemporaryOf(const fs::path& entry, const fs::path& target) {
+  return staleRecord(entry, target).has_value();
+}
+
+bool removeStaleTemporary(const fs::path& entry, const fs::path& target) {
+  const std::optional<std::string> token = staleRecord(entry, target);
+  if (!token) return false;
+  std::error_code ec;
+  fs::remove_all(entry, ec);  // a folder temporary is occsweep's as a whole: only occsweep wrote into it
+  if (!ec) fs::remove(ownershipLedger() / *token, ec);
+  return true;
+}
+
+namespace {
+std::optional<std::string> staleRecord(const fs::path& entry, const fs::path& target) {
+  const TemporaryName t = parseTemporary(entry.filename().string(), target.filename().string());
+  const fs::path ledger = ownershipLedger();
+  if (t.pid <= 0 || ledger.empty()) return std::nullopt;
+  const std::optional<LedgerRecord> record = readRecord(ledger, t.token);
+  std::error_code ec;
+  if (!record || record->path != fs::absolute(entry, ec).lexically_normal()) return std::nullopt;  // not made here
+  if (!record->process.starts_with(std::to_string(t.pid) + " ")) return std::nullopt;
+  if (processIdentity(t.pid) == record->process) return std::nullopt;  // its process still runs
+  return t.token;  // its process is gone (or the PID is another process's now)
+}
+}  // namespace
+
+}  // namespace occsweep

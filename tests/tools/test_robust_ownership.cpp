@@ -1,0 +1,347 @@
+// Ownership proven, never guessed (docs/robustness.md, "Ownership"): entries named like occsweep's temporaries but
+// not recorded by it survive every writing command; an output created or changed while a command runs is never
+// replaced; --force replaces only what carries occsweep's proof; a figure script never outlives `plot`.
+#include <catch2/catch.hpp>
+
+#include <csignal>
+#include <set>
+#include <sys/wait.h>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "occsweep/eval/output_file.hpp"
+#include "occsweep/eval/ownership.hpp"
+#include "robust_outputs_helpers.hpp"
+
+using namespace occsweep;
+using namespace occsweep::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kPython = "/usr/bin/python3";
+
+void writeTinyGrid(const fs::path& file) {
+  std::ofstream(file) << R"({"name": "tiny", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
+    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.24},
+    "p_m": {"min": 0.02, "max": 0.38, "step": 0.18}, "p_t": {"step": 0.12}}})";
+}
+
+// The inputs every writing command below reads: a tiny scene, a tiny grid, two results files, a cloud.
+fs::path inputs(const std::string& name) {
+  const fs::path dir = processScratch(name);
+  REQUIRE(runIn(dir, std::string(kTinyScene) + " --out scene").exit_code == 0);
+  writeTinyGrid(dir / "tiny.json");
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out oct.json").exit_code == 0);
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid knn-opt --quiet --out knn.json").exit_code == 0);
+  std::ofstream cloud(dir / "a.xyz");
+  for (int i = 0; i < 50; ++i) cloud << 1 + 0.01 * i << ' ' << 0.5 << ' ' << 0.02 * i << '\n';
+  return dir;
+}
+
+// A PID no process has: a child that has exited and been reaped.
+long deadPid() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  return child;
+}
+
+std::string hexToken(SplitMix64& rng) {
+  std::string t;
+  while (t.size() < 32) t += "0123456789abcdef"[rng.next() % 16];
+  return t;
+}
+
+// Every writing command, as (arguments with OUT for the output's name, output name, outputs it writes).
+struct Writer {
+  std::string args, target;
+  std::vector<std::string> outputs;
+};
+
+std::vector<Writer> writers(const fs::path& in) {
+  const std::string s = shellQuoted(in) + "/";
+  return {
+      {"scene --scans 2 --width 8 --height 6 --out OUT", "w", {"w"}},
+      {"import cloud " + s + "a.xyz --out OUT", "w", {"w"}},
+      {"map --dataset " + s + "scene --method octomap --out OUT", "m.ot", {"m.ot", "m.ot.json"}},
+      {"sweep --dataset " + s + "scene --grid " + s + "tiny.json --quiet --out OUT", "r.json", {"r.json"}},
+      {"merge " + s + "oct.json --out OUT", "r.json", {"r.json"}},
+      {"merge " + s + "oct.json --out OUT", "r.db", {"r.db"}},
+      {"compare " + s + "oct.json " + s + "knn.json --json OUT", "c.json", {"c.json"}},
+      {"compare " + s + "oct.json " + s + "knn.json --csv OUT", "c.csv", {"c.csv"}},
+      {"compare " + s + "oct.json " + s + "knn.json --markdown OUT", "c.md", {"c.md"}},
+      {"compare " + s + "oct.json " + s + "knn.json --latex OUT", "c.tex", {"c.tex"}},
+      {"results export " + s + "oct.json --csv OUT", "e.csv", {"e.csv"}},
+      {"results export " + s + "oct.json --store OUT", "e.db", {"e.db"}},
+      {"plot improvement " + s + "oct.json " + s + "knn.json --python " + kPython + " --out OUT", "f.png", {"f.png"}},
+  };
+}
+
+std::string withTarget(std::string args, const std::string& target) {
+  return args.replace(args.find("OUT"), 3, target);
+}
+
+// A name of every pattern occsweep's temporaries ever had, for output `n`, with a PID that is dead, alive, this
+// process's or impossible, and a token nobody recorded.
+std::string temporaryLookalike(const std::string& n, SplitMix64& rng) {
+  const long pids[] = {deadPid(), 1, long(::getpid()), 999999999};
+  const std::string pid = std::to_string(pids[rng.next() % 4]);
+  switch (rng.next() % 6) {
+    case 0: return "." + n + ".tmp-" + pid;
+    case 1: return "." + n + ".tmp-" + pid + "-" + hexToken(rng);
+    case 2: return n + ".tmp-" + pid;
+    case 3: return n + ".old-" + pid;
+    case 4: return n + ".tmp-" + pid + ".png";
+    default: return n + ".old-" + std::to_string(2000 + rng.next() % 30);
+  }
+}
+
+// A user's file or folder (with a file inside) at `path`.
+void userEntry(const fs::path& path, SplitMix64& rng) {
+  const std::string bytes = "a user's backup " + std::to_string(rng.next()) + "\n";
+  if (rng.next() % 2 == 0) {
+    writeBytes(path, bytes);
+  } else {
+    fs::create_directories(path / "sub");
+    writeBytes(path / "sub" / "notes.txt", bytes);
+  }
+}
+
+std::set<std::string> entriesOf(const fs::path& dir) {
+  std::set<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
+  return names;
+}
+
+bool mentions(const CommandResult& r, const std::string& what) { return r.output.find(what) != std::string::npos; }
+
+// A process that runs: /proc/PID exists and is not a zombie (which no one may have reaped yet).
+bool running(long pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  const std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t comm_end = stat.rfind(')');
+  return comm_end != std::string::npos && comm_end + 2 < stat.size() && stat[comm_end + 2] != 'Z';
+}
+
+}  // namespace
+
+TEST_CASE("entries named like temporaries but recorded by no occsweep run survive every writing command",
+          "[ownership]") {
+  // The audit's reproduction first: a backup named like the old `.old-N` temporaries, and a folder tree.
+  const fs::path in = inputs("ownership/inputs");
+  const fs::path dir = scratch("ownership/names");
+  writeBytes(dir / "r.json.old-2023", "backup\n");
+  fs::create_directories(dir / "data.old-2022/sub");
+  writeBytes(dir / "data.old-2022/sub/x", "mine\n");
+  REQUIRE(runIn(dir, "merge " + shellQuoted(in / "oct.json") + " --out r.json").exit_code == 0);
+  REQUIRE(runIn(dir, "scene --scans 2 --width 8 --height 6 --out data").exit_code == 0);
+  CHECK(fileBytes(dir / "r.json.old-2023") == "backup\n");
+  CHECK(fileBytes(dir / "data.old-2022/sub/x") == "mine\n");
+
+  // Then 200 seeded cases: 1 to 4 look-alikes beside one writing command's output, files or folders.
+  const std::vector<Writer> all = writers(in);
+  for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+    SplitMix64 rng(seed);
+    const Writer& w = all[seed % all.size()];
+    const fs::path folder = scratch("ownership/case");
+    std::set<std::string> mine;
+    for (std::uint64_t i = 0, n = 1 + rng.next() % 4; i < n; ++i) {
+      const std::string name = temporaryLookalike(w.target, rng);
+      if (mine.insert(name).second) userEntry(folder / name, rng);
+    }
+    const auto before = snapshot(folder);
+    const CommandResult r = runIn(folder, withTarget(w.args, w.target));
+    INFO("seed " << seed << ": " << withTarget(w.args, w.target) << "\n" << r.output);
+    REQUIRE(r.exit_code == 0);
+    auto after = snapshot(folder);
+    std::erase_if(after, [&](const auto& kv) { return !mine.contains(fs::path(kv.first).begin()->string()); });
+    CHECK(after == before);  // every user entry, and what it holds, byte-identical
+    std::set<std::string> expected = mine;
+    expected.insert(w.outputs.begin(), w.outputs.end());
+    CHECK(entriesOf(folder) == expected);  // and nothing else left
+  }
+}
+
+TEST_CASE("a temporary that a killed run recorded is removed by the next run writing that target, with its record",
+          "[ownership]") {
+  const fs::path dir = scratch("ownership/recorded");
+  const fs::path ledger_dir = dir / "state";
+  ::setenv("OCCSWEEP_STATE_DIR", ledger_dir.c_str(), 1);
+  // A run killed while writing `w`: a child claims a temporary, makes a folder there, and dies without cleaning up.
+  const pid_t child = ::fork();
+  if (child == 0) {
+    const TemporaryClaim c = claimTemporary(dir / "w");
+    fs::create_directories(c.path / "scans");
+    std::ofstream(c.path / "manifest.json") << "{";
+    ::_exit(c.recorded ? 0 : 1);
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ::unsetenv("OCCSWEEP_STATE_DIR");
+  REQUIRE(WEXITSTATUS(status) == 0);
+  const fs::path ledger = ledger_dir / "temporaries";
+  REQUIRE(entriesOf(ledger).size() == 1);
+  REQUIRE(leftovers(dir).size() == 1);
+  const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(ledger_dir);
+  const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out w", env);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(leftovers(dir).empty());
+  CHECK(entriesOf(ledger).empty());
+}
+
+TEST_CASE("an output created or changed while occsweep writes it is kept, and the commit fails naming it",
+          "[ownership]") {
+  const fs::path dir = scratch("ownership/meanwhile");
+  const ReplaceableOutput kind{"text", [](const fs::path&) { return true; }};
+  SECTION("a file created after the check") {
+    checkOutputTarget(dir / "a.txt", false, kind);
+    writeBytes(dir / "a.txt", "the user's\n");
+    CHECK_THROWS_WITH(writeFileAtomically(dir / "a.txt", "occsweep's\n"),
+                      Catch::Contains("a.txt: was created while occsweep was writing it: nothing was replaced"));
+    CHECK(fileBytes(dir / "a.txt") == "the user's\n");
+  }
+  SECTION("a folder created after the check") {
+    checkOutputTarget(dir / "w", false, kind);
+    fs::create_directories(dir / "w");
+    writeBytes(dir / "w" / "thesis.tex", "mine\n");
+    OutputFolder folder(dir / "w");
+    writeFileChecked(folder.path() / "manifest.json", "{}\n");
+    CHECK_THROWS_WITH(folder.commit(), Catch::Contains("w: was created while occsweep was writing it"));
+    CHECK(fileBytes(dir / "w" / "thesis.tex") == "mine\n");
+  }
+  SECTION("an own output accepted by --force, replaced by the user's file meanwhile") {
+    writeBytes(dir / "b.txt", "occsweep's old\n");
+    checkOutputTarget(dir / "b.txt", true, kind);
+    fs::remove(dir / "b.txt");
+    writeBytes(dir / "b.txt", "the user's new\n");
+    CHECK_THROWS_WITH(writeFileAtomically(dir / "b.txt", "occsweep's\n"), Catch::Contains("b.txt: was changed"));
+    CHECK(fileBytes(dir / "b.txt") == "the user's new\n");
+  }
+  SECTION("guards: an absent target stays writable, an accepted own output is replaced, a second commit too") {
+    checkOutputTarget(dir / "c.txt", false, kind);
+    writeFileAtomically(dir / "c.txt", "1\n");
+    writeFileAtomically(dir / "c.txt", "2\n");  // the command's own first write is no one else's
+    CHECK(fileBytes(dir / "c.txt") == "2\n");
+  }
+  CHECK(leftovers(dir).empty());
+}
+
+TEST_CASE("plot keeps an output created while its script draws, exit 2", "[ownership]") {
+  const fs::path in = inputs("ownership/plot_inputs");
+  const fs::path dir = scratch("ownership/plot_meanwhile");
+  // A Python that creates the figure's name before it draws: as another program would while plot runs.
+  std::ofstream(dir / "py.sh") << "#!/bin/sh\n[ -e fig.png ] || echo user > fig.png\nexec " << kPython
+                               << " \"$@\"\n";
+  fs::permissions(dir / "py.sh", fs::perms::owner_all);
+  const CommandResult r = runIn(dir, "plot improvement " + shellQuoted(in / "oct.json") + " " +
+                                         shellQuoted(in / "knn.json") + " --python ./py.sh --out fig.png");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "fig.png: was created while occsweep was writing it"));
+  CHECK(fileBytes(dir / "fig.png") == "user\n");
+  CHECK(entriesOf(dir) == std::set<std::string>{"fig.png", "py.sh"});
+}
+
+TEST_CASE("plot --force replaces only a PNG whose Software chunk is occsweep's", "[ownership]") {
+  const fs::path in = inputs("ownership/plot_force_inputs");
+  const fs::path dir = scratch("ownership/plot_force");
+  const std::string files = shellQuoted(in / "oct.json") + " " + shellQuoted(in / "knn.json");
+  // A user's figure that says "occsweep plot" in its description.
+  REQUIRE(runShell(std::string(kPython) + " -c \"import matplotlib; matplotlib.use('Agg'); import matplotlib.pyplot "
+                   "as plt; plt.figure().savefig('" + (dir / "mine.png").string() +
+                   "', metadata={'Description': 'occsweep plot, redrawn by hand'})\"").exit_code == 0);
+  const std::string mine = fileBytes(dir / "mine.png");
+  const CommandResult refused = runIn(dir, "plot improvement " + files + " --force --out mine.png");
+  INFO(refused.output);
+  CHECK(refused.exit_code == 2);
+  CHECK(mentions(refused, "mine.png: exists and is not occsweep's figure"));
+  CHECK(fileBytes(dir / "mine.png") == mine);
+  // The guard: occsweep's own figure is replaced with --force.
+  REQUIRE(runIn(dir, "plot improvement " + files + " --out own.png").exit_code == 0);
+  CHECK(runIn(dir, "plot curves " + files + " --force --out own.png").exit_code == 0);
+  CHECK(entriesOf(dir) == std::set<std::string>{"mine.png", "own.png"});
+}
+
+TEST_CASE("scene --force refuses a data set folder holding a file its manifest does not name", "[ownership]") {
+  const fs::path dir = scratch("ownership/dataset_force");
+  REQUIRE(runIn(dir, std::string(kTinyScene) + " --out w").exit_code == 0);
+  writeBytes(dir / "w/scans/000099.f32", "a user's scan");
+  const auto before = snapshot(dir);
+  const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out w --force");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "w: exists and is not occsweep's data set folder"));
+  CHECK(snapshot(dir) == before);
+  // The guard: without the stranger, occsweep's own data set is replaced.
+  fs::remove(dir / "w/scans/000099.f32");
+  CHECK(runIn(dir, std::string(kTinyScene) + " --out w --force").exit_code == 0);
+}
+
+TEST_CASE("plot killed at 20 seeded moments: its figure script ends with it and no file is left", "[ownership]") {
+  const fs::path in = inputs("ownership/plot_kill_inputs");
+  const fs::path dir = scratch("ownership/plot_kill");
+  // The script's process writes its PID: `exec` keeps it, so it is the process occsweep started.
+  std::ofstream(dir / "py.sh") << "#!/bin/sh\necho $$ >> pids\nexec " << kPython << " \"$@\"\n";
+  fs::permissions(dir / "py.sh", fs::perms::owner_all);
+  const std::string args = shellQuoted(cliUnderTest()) + " plot improvement " + shellQuoted(in / "oct.json") + " " +
+                           shellQuoted(in / "knn.json") + " --python ./py.sh --out fig.png";
+  int killed_while_drawing = 0;
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    SplitMix64 rng(seed);
+    fs::remove(dir / "fig.png");
+    fs::remove(dir / "pids");
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      if (::chdir(dir.c_str()) != 0) ::_exit(126);
+      ::execl("/bin/sh", "sh", "-c", ("exec " + args + " >/dev/null 2>&1").c_str(), nullptr);
+      ::_exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200 + rng.next() % 1800));
+    const int sig = seed % 2 ? SIGTERM : SIGINT;
+    ::kill(pid, sig);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    const bool finished = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    INFO("seed " << seed << ", exit " << (WIFEXITED(status) ? WEXITSTATUS(status) : -1));
+    CHECK((finished || (WIFEXITED(status) && WEXITSTATUS(status) == 128 + sig)));
+    // No script survives: each PID it wrote is gone within 2 s (PR_SET_PDEATHSIG, or killed and reaped).
+    std::ifstream pids(dir / "pids");
+    for (long child; pids >> child;) {
+      bool gone = false;
+      for (int i = 0; i < 40 && !gone; ++i) {
+        gone = !running(child);
+        if (!gone) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+      CHECK(gone);
+    }
+    std::ifstream last(dir / "pids");
+    int started = 0;
+    for (long child; last >> child;) ++started;
+    if (!finished && started == 2) ++killed_while_drawing;
+    std::set<std::string> expected = {"py.sh", "pids"};
+    if (finished) expected.insert("fig.png");
+    if (!fs::exists(dir / "pids")) expected.erase("pids");
+    CHECK(entriesOf(dir) == expected);  // no temporary, no data file, no half figure
+  }
+  CHECK(killed_while_drawing >= 3);  // the seeds do hit the script at work, not only before or after it
+}
+
+TEST_CASE("cluster select refuses its own folder of links once it holds a link it did not list", "[ownership]") {
+  const fs::path dir = scratch("ownership/select");
+  fs::create_directories(dir / "ds/pcs-0000");
+  std::ofstream(dir / "ds/ranking.json") << R"({"format": "occsweep-pointcloud-ranking",
+    "sets": [{"folder": "pcs-0000", "id": 0, "naive": {"fdr": 0.1, "tpr": 0.9}}]})";
+  REQUIRE(runIn(dir, "cluster select ds/ranking.json --out sel").exit_code == 0);
+  fs::create_directory_symlink("../ds", dir / "sel/my-link");  // the user's, inside occsweep's folder
+  const auto before = snapshot(dir);
+  const CommandResult r = runIn(dir, "cluster select ds/ranking.json --out sel");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "exists and is not occsweep's folder of selected point cloud sets"));
+  CHECK(snapshot(dir) == before);
+  fs::remove(dir / "sel/my-link");  // the guard: its own folder alone is replaced
+  CHECK(runIn(dir, "cluster select ds/ranking.json --out sel").exit_code == 0);
+}
