@@ -3,7 +3,9 @@
 // replaced.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <csignal>
+#include <functional>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -207,6 +209,20 @@ TEST_CASE("a store edited by hand fails results check with the row named") {
                             "AND (SELECT last_id FROM maps WHERE map_index = 5); DELETE FROM maps WHERE map_index = 5");
     CHECK_THAT(checkError(dir / "r.db"), Contains("map 5: missing"));
   }
+  SECTION("a second region row") {
+    // A new store's schema refuses it (the combinations view would list every threshold twice)...
+    sqlite3* db = nullptr;
+    REQUIRE(sqlite3_open((dir / "r.db").c_str(), &db) == SQLITE_OK);
+    CHECK(sqlite3_exec(db, "INSERT INTO region(region, truth) SELECT region, truth FROM region", nullptr, nullptr,
+                       nullptr) == SQLITE_CONSTRAINT);
+    sqlite3_close(db);
+    CHECK(checkError(dir / "r.db") == "passed");
+    // ...and an older store's region without the constraint is refused by results check.
+    editStore(dir / "r.db", "CREATE TABLE r2(region INTEGER NOT NULL, truth INTEGER NOT NULL);"
+                            "INSERT INTO r2 SELECT region, truth FROM region; INSERT INTO r2 SELECT region, truth FROM region;"
+                            "DROP VIEW combinations; DROP TABLE region; ALTER TABLE r2 RENAME TO region");
+    CHECK_THAT(checkError(dir / "r.db"), Contains("r.db") && Contains("region: holds more than one row"));
+  }
   SECTION("completeness") {
     editStore(dir / "r.db", "UPDATE meta SET value = '0' WHERE key = 'complete'");
     CHECK_THAT(checkError(dir / "r.db"), Contains("incomplete"));
@@ -254,4 +270,164 @@ TEST_CASE("another program's SQLite database at --out is never replaced, even wi
                      (dir / "own.db").string())
             .exit_code == 0);
   CHECK(readResultsHeader(dir / "own.db").header.grid_name == "octomap-opt");
+}
+
+namespace {
+
+// One damaged or hand-edited results file of the corpus below: a name (in the failure message) and its path.
+struct Damaged {
+  std::string what;
+  fs::path file;
+};
+
+// `base` copied to `dir/name` and changed by `edit` (SQL run on a store, as a user's sqlite3 shell would).
+fs::path copyOf(const fs::path& base, const fs::path& dir, const std::string& name) {
+  const fs::path out = dir / name;
+  fs::copy_file(base, out, fs::copy_options::overwrite_existing);
+  return out;
+}
+
+// The region table of an older store, without the constraint that keeps it at one row: two rows.
+const char* kSecondRegionRow =
+    "CREATE TABLE r2(region INTEGER NOT NULL, truth INTEGER NOT NULL); INSERT INTO r2 SELECT region, truth FROM region;"
+    "INSERT INTO r2 SELECT region, truth FROM region; DROP VIEW combinations; DROP TABLE region;"
+    "ALTER TABLE r2 RENAME TO region; CREATE VIEW combinations AS SELECT t.id AS id, m.map_index AS map_index,"
+    " t.p_t_micro / 1e6 AS p_t, t.tp AS tp, t.fp AS fp, r.truth - t.tp AS fn, r.region - r.truth - t.fp AS tn"
+    " FROM maps m JOIN thresholds t ON t.id BETWEEN m.first_id AND m.last_id, region r";
+
+// Hand edits of a store: each one a claim results check refuses (an AUC, a count, a row, a table, the header).
+std::vector<Damaged> editedStores(const fs::path& base, const fs::path& dir, std::uint64_t best) {
+  const std::string b = std::to_string(best);
+  const std::string best_rows = "DELETE FROM thresholds WHERE id BETWEEN (SELECT first_id FROM maps WHERE map_index = " +
+                                b + ") AND (SELECT last_id FROM maps WHERE map_index = " + b + "); ";
+  const std::vector<std::pair<std::string, std::string>> edits = {
+      {"auc-5", "UPDATE maps SET auc_anchored = 5.0 WHERE map_index = " + b},
+      {"auc-inf", "UPDATE maps SET auc_anchored = 1e999 WHERE map_index = " + b},
+      {"auc-negative", "UPDATE maps SET auc_anchored = -0.5 WHERE map_index = 1"},
+      {"auc-observed", "UPDATE maps SET auc_observed = 0.123 WHERE map_index = 2"},
+      {"best-map-deleted", best_rows + "DELETE FROM maps WHERE map_index = " + b},
+      {"map-row-deleted", "DELETE FROM maps WHERE map_index = 5"},
+      {"tp-plus-one", "UPDATE thresholds SET tp = tp + 1 WHERE id = 7"},
+      {"fp-negative", "UPDATE thresholds SET fp = -3 WHERE id = 7"},
+      {"tp-text", "UPDATE thresholds SET tp = 'x' WHERE id = 7"},
+      {"p-t-moved", "UPDATE thresholds SET p_t_micro = p_t_micro + 1 WHERE id = 3"},
+      {"region-two-rows", kSecondRegionRow},
+      {"region-below-truth", "PRAGMA ignore_check_constraints = ON; UPDATE region SET region = truth - 1"},
+      {"truth-plus-one", "UPDATE region SET truth = truth + 1"},
+      {"region-negative", "PRAGMA ignore_check_constraints = ON; UPDATE region SET region = -5, truth = -9"},
+      {"thresholds-dropped", "DROP TABLE thresholds"},
+      {"region-dropped", "DROP TABLE region"},
+      {"maps-dropped", "DROP VIEW combinations; DROP TABLE maps"},
+      {"header-deleted", "DELETE FROM meta WHERE key = 'header'"},
+      {"seconds-nan", "UPDATE meta SET value = 'nan' WHERE key = 'seconds'"},
+      {"resolution-negative", "UPDATE meta SET value = json_set(value, '$.map.resolution', -0.1) WHERE key = 'header'"},
+      {"map-seconds-negative", "UPDATE maps SET seconds = -1 WHERE map_index = 2"},
+      {"incomplete", "UPDATE meta SET value = '0' WHERE key = 'complete'"},
+      {"parameter-edited", "UPDATE maps SET p_m = p_m + 0.01 WHERE map_index = 1"},
+  };
+  std::vector<Damaged> out;
+  for (const auto& [name, sql] : edits) {
+    out.push_back({"store " + name, copyOf(base, dir, name + ".db")});
+    editStore(out.back().file, sql);
+  }
+  return out;
+}
+
+// Truncations and seeded single-bit flips of `base` (a store or a JSON file).
+std::vector<Damaged> damagedCopies(const fs::path& base, const fs::path& dir, std::size_t cuts, std::size_t flips,
+                                   std::uint64_t seed) {
+  const std::string bytes = test::bytesOf(base), ext = base.extension().string();
+  std::vector<Damaged> out;
+  for (std::size_t i = 1; i <= cuts; ++i) {
+    const std::size_t size = bytes.size() * i / (cuts + 1);
+    out.push_back({"cut to " + std::to_string(size) + " bytes", dir / ("cut" + std::to_string(size) + ext)});
+    std::ofstream(out.back().file, std::ios::binary) << bytes.substr(0, size);
+  }
+  SplitMix64 rng(seed);
+  for (std::size_t i = 0; i < flips; ++i) {
+    std::string flipped = bytes;
+    const std::size_t at = std::size_t(rng.next() % bytes.size());
+    flipped[at] = char(flipped[at] ^ (1 << (rng.next() % 8)));
+    out.push_back({"bit flip at " + std::to_string(at), dir / ("flip" + std::to_string(i) + ext)});
+    std::ofstream(out.back().file, std::ios::binary) << flipped;
+  }
+  return out;
+}
+
+// Hand edits of a JSON results file, each through nlohmann so the file stays JSON.
+std::vector<Damaged> editedJson(const fs::path& base, const fs::path& dir) {
+  const nlohmann::json j = nlohmann::json::parse(test::bytesOf(base));
+  const std::vector<std::pair<std::string, std::function<void(nlohmann::json&)>>> edits = {
+      {"tp", [](nlohmann::json& f) { f["maps"][3]["thresholds"][1]["tp"] = f["maps"][3]["thresholds"][1]["tp"].get<int>() + 1; }},
+      {"tn", [](nlohmann::json& f) { f["maps"][3]["thresholds"][1]["tn"] = f["maps"][3]["thresholds"][1]["tn"].get<int>() + 1; }},
+      {"auc", [](nlohmann::json& f) { f["maps"][4]["auc"]["anchored"] = 5.0; }},
+      {"resolution", [](nlohmann::json& f) { f["map"]["resolution"] = -0.1; }},
+      {"map-removed", [](nlohmann::json& f) { f["maps"].erase(2); }},
+      {"map-twice", [](nlohmann::json& f) { f["maps"].push_back(f["maps"][0]); }},
+      {"seconds", [](nlohmann::json& f) { f["seconds"] = -1.0; }},
+      {"map-seconds", [](nlohmann::json& f) { f["maps"][1]["seconds"] = -2.0; }},
+      {"incomplete", [](nlohmann::json& f) { f["complete"] = false; }},
+  };
+  std::vector<Damaged> out;
+  for (const auto& [name, edit] : edits) {
+    nlohmann::json e = j;
+    edit(e);
+    out.push_back({"JSON " + name, dir / ("edited-" + name + ".json")});
+    std::ofstream(out.back().file) << e.dump(1) << '\n';
+  }
+  return out;
+}
+
+// Every command that reads results, run on `file` (`good` where a second file is needed): the command line of each.
+std::vector<std::string> readersOf(const fs::path& file, const fs::path& good, const fs::path& dir) {
+  const std::string f = test::shellQuoted(file), out = (dir / "reader-out").string();
+  return {"compare " + f,
+          "merge " + f + " --out " + out + ".db",
+          "results export " + f + " --csv " + out + ".csv",
+          "plot params " + f + " --out " + out + ".png --json " + out + ".plot.json --python /bin/true",
+          "results diff " + test::shellQuoted(good) + " " + f};
+}
+
+}  // namespace
+
+TEST_CASE("every damaged or edited results file results check refuses, every reader of results refuses too") {
+  const auto dir = test::scratch("store-corpus");
+  const auto data = smallScene(dir);
+  (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "r.db"));
+  (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "r.json"));
+  const ResultsFile whole = readResults(dir / "r.json");
+  const auto best = std::max_element(whole.maps.begin(), whole.maps.end(), [](const MapResult& a, const MapResult& b) {
+    return a.area.anchored < b.area.anchored;
+  });
+  const fs::path corpus = dir / "corpus";
+  fs::create_directories(corpus);
+  std::vector<Damaged> files = editedStores(dir / "r.db", corpus, best->map_index);
+  for (auto& d : damagedCopies(dir / "r.db", corpus, 8, 12, 11)) files.push_back(d);
+  for (auto& d : damagedCopies(dir / "r.json", corpus, 6, 6, 12)) files.push_back(d);
+  for (auto& d : editedJson(dir / "r.json", corpus)) files.push_back(d);
+  // The readers accept both good files: a refusal below is the file's, not the command line's.
+  for (const fs::path& good : {dir / "r.db", dir / "r.json"})
+    for (const std::string& reader : readersOf(good, dir / "r.json", dir)) {
+      for (const char* ext : {".json", ".db", ".csv", ".plot.json", ".png"}) fs::remove(dir / ("reader-out" + std::string(ext)));
+      const auto r = test::runCli(reader);
+      INFO(reader << "\n" << r.output);
+      CHECK(r.exit_code == 0);
+    }
+  std::size_t refused = 0;
+  for (const Damaged& d : files) {
+    const auto check = test::runCli("results check " + test::shellQuoted(d.file));
+    if (check.exit_code == 0) continue;  // a flip in unused bytes: a file as good as the original
+    ++refused;
+    INFO(d.what << ": " << d.file.filename() << "\nresults check: " << check.output);
+    CHECK(check.exit_code == 2);
+    for (const std::string& reader : readersOf(d.file, dir / "r.json", corpus)) {
+      const auto r = test::runCli(reader);
+      INFO(reader << "\n" << r.output);
+      CHECK(r.exit_code == 2);
+      CHECK_THAT(r.output, Contains(d.file.filename().string()));
+      for (const fs::path& left : test::filesUnder(corpus)) CHECK_THAT(left.string(), !Contains("reader-out"));
+    }
+  }
+  WARN(refused << " of " << files.size() << " damaged files refused by results check and by every reader");
+  CHECK(refused >= 50);
 }
