@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <csignal>
 #include <functional>
+#include <set>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -430,4 +431,146 @@ TEST_CASE("every damaged or edited results file results check refuses, every rea
   }
   WARN(refused << " of " << files.size() << " damaged files refused by results check and by every reader");
   CHECK(refused >= 50);
+}
+
+namespace {
+
+// The sweep command of the tests below, into `out` (a name in `dir`), --force optional.
+std::string sweepInto(const fs::path& data, const fs::path& out, const std::string& more = "") {
+  return "sweep --dataset " + test::shellQuoted(data) + " --grid octomap-opt --quiet --out " + test::shellQuoted(out) +
+         more;
+}
+
+}  // namespace
+
+TEST_CASE("a user's file, a symbolic link or a foreign database at a sweep's partial name is never touched") {
+  // Old binary: a user's r.json.partial.jsonl was overwritten and then deleted, a symbolic link there written
+  // through, and a user's non-SQLite file (or a SQLite file without tables) at r.db.partial deleted.
+  const auto dir = test::scratch("store-partial-owner");
+  const auto data = smallScene(dir);
+  editStore(dir / "theirs.sqlite", "CREATE TABLE notes(text TEXT); INSERT INTO notes VALUES('keep me')");
+  editStore(dir / "empty.sqlite", "PRAGMA user_version = 7");  // SQLite, no table
+  std::ofstream(dir / "notes.txt") << "my notes, not occsweep's\n";
+  const std::vector<std::pair<std::string, fs::path>> users = {
+      {"text", dir / "notes.txt"}, {"database", dir / "theirs.sqlite"}, {"database without tables", dir / "empty.sqlite"}};
+  for (const std::string out : {"r.json", "r.db"}) {
+    const fs::path partial = dir / (out + (out == "r.json" ? ".partial.jsonl" : ".partial"));
+    for (const auto& [what, file] : users)
+      for (const bool link : {false, true})
+        for (const std::string force : {"", " --force"}) {
+          INFO(out << ": a " << (link ? "symbolic link to a " : "") << what << force);
+          fs::remove(partial);
+          if (link) fs::create_symlink(file, partial);
+          else fs::copy_file(file, partial);
+          const std::string before = test::bytesOf(file);
+          const auto r = test::runCli(sweepInto(data, dir / out, force));
+          INFO(r.output);
+          CHECK(r.exit_code == 2);
+          CHECK_THAT(r.output, Contains(partial.filename().string()) && Contains("never"));
+          CHECK(fs::is_symlink(fs::symlink_status(partial)) == link);
+          CHECK(test::bytesOf(partial) == before);
+          CHECK(test::bytesOf(file) == before);
+          CHECK_FALSE(fs::exists(dir / out));
+        }
+    // The same sweep's complete output is there: the partial name is not occsweep's, so it stays too.
+    fs::remove(partial);
+    REQUIRE(test::runCli(sweepInto(data, dir / out)).exit_code == 0);
+    fs::copy_file(dir / "notes.txt", partial);
+    const auto again = test::runCli(sweepInto(data, dir / out));
+    CHECK(again.exit_code == 0);
+    CHECK(test::bytesOf(partial) == test::bytesOf(dir / "notes.txt"));
+    fs::remove(partial);
+    fs::remove(dir / out);
+  }
+}
+
+namespace {
+
+// `occsweep ARGS` started in the background (its output into `log`), without waiting: its process id.
+pid_t startCli(const std::string& args, const fs::path& log, const fs::path& cwd = ".") {
+  const std::string line = "cd " + test::shellQuoted(cwd) + " && exec " + test::shellQuoted(test::cliUnderTest()) + " " + args + " > " +
+                           test::shellQuoted(log) + " 2>&1";
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
+    std::_Exit(127);
+  }
+  return child;
+}
+
+// The exit code of a started command; -signal when a signal ended it.
+int exitOf(pid_t child) {
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+// Every name in `dir` but `keep`: what a command left beside its target.
+std::vector<std::string> besides(const fs::path& dir, const std::set<std::string>& keep) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (!keep.count(e.path().filename().string())) out.push_back(e.path().filename().string());
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("two sweeps into one store: one writes it, the other stops with another occsweep is writing it") {
+  // Old binary: both ran into SQLite's internals ("already exists", "database is locked"), often both failing.
+  const auto dir = test::scratch("store-two-writers");
+  const auto data = smallScene(dir);
+  // The direct engine on one thread: about 0.5 s of mapping, longer than the seeded gap between the two starts.
+  const std::string sweep = sweepInto(data, dir / "r.db", " --engine direct --threads 1");
+  SplitMix64 rng(21);
+  for (int race = 0; race < 20; ++race) {
+    INFO("race " << race);
+    fs::remove(dir / "r.db");
+    const pid_t first = startCli(sweep, dir / "first.log");
+    std::this_thread::sleep_for(std::chrono::milliseconds(rng.next() % 120));
+    const pid_t second = startCli(sweep, dir / "second.log");
+    const int a = exitOf(first), b = exitOf(second);
+    const std::string loser = test::bytesOf(dir / (a == 0 ? "second.log" : "first.log"));
+    INFO("first: " << a << " " << test::bytesOf(dir / "first.log") << "second: " << b << " " << test::bytesOf(dir / "second.log"));
+    CHECK(std::min(a, b) == 0);
+    CHECK(std::max(a, b) == 2);
+    CHECK_THAT(loser, Contains("another occsweep is writing") && Contains("r.db.partial"));
+    CHECK(checkError(dir / "r.db") == "passed");
+    CHECK(besides(dir, {"scene3", "r.db", "first.log", "second.log"}).empty());
+  }
+}
+
+TEST_CASE("merge and results export into a store killed at random moments leave nothing beside the target") {
+  // Old binary: a SIGINT or SIGTERM during a transaction left .M.db.tmp-PID-journal behind for good.
+  const auto dir = test::scratch("store-killed-writers");
+  const auto data = smallScene(dir);
+  for (std::uint64_t i = 0; i < 2; ++i)
+    (void)sweepToFile(quietSweep(data, "reduction", dir / ("s" + std::to_string(i) + ".db"), i, 2));
+  (void)sweepToFile(quietSweep(data, "reduction", dir / "whole.db"));
+  const std::set<std::string> inputs = {"scene3", "s0.db", "s1.db", "whole.db", "log"};
+  const std::vector<std::string> commands = {"merge s0.db s1.db --out m.db", "results export whole.db --store m.db"};
+  SplitMix64 rng(22);
+  for (const std::string& command : commands) {
+    const auto started = std::chrono::steady_clock::now();
+    REQUIRE(exitOf(startCli(command, dir / "log", dir)) == 0);  // how long it takes: the kills fall within
+    const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - started);
+    fs::remove(dir / "m.db");
+    for (int kill = 0; kill < 20; ++kill) {
+      INFO(command << ", kill " << kill);
+      const pid_t child = startCli(command, dir / "log", dir);
+      std::this_thread::sleep_for(std::chrono::milliseconds(rng.next() % std::uint64_t(took.count() + 1)));
+      ::kill(child, kill % 2 ? SIGTERM : SIGINT);
+      const int code = exitOf(child);
+      INFO("exit " << code << ": " << test::bytesOf(dir / "log"));
+      std::set<std::string> keep = inputs;
+      if (code == 0) keep.insert("m.db");
+      const std::vector<std::string> left = besides(dir, keep);
+      std::string names;
+      for (const std::string& name : left) names += " " + name;
+      INFO("left beside it:" << names);
+      CHECK(left.empty());
+      if (fs::exists(dir / "m.db")) CHECK(checkError(dir / "m.db") == "passed");
+      for (const std::string& name : left) fs::remove(dir / name);  // each kill counted on its own
+      fs::remove(dir / "m.db");
+    }
+  }
 }
