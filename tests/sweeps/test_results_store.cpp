@@ -574,3 +574,21 @@ TEST_CASE("merge and results export into a store killed at random moments leave 
     }
   }
 }
+
+TEST_CASE("a grid of no combination is refused before anything is written") {
+  // Old binary: exit 0 and a results file (JSON or store) that results check refuses (grid.combinations 0).
+  const auto dir = test::scratch("store-empty-grid");
+  const auto data = smallScene(dir);
+  // p_m <= 0.2 < p_min: OctoMap's relation p_m >= p_min (docs/grids.md) leaves no combination.
+  std::ofstream(dir / "empty.json") << R"({"name": "empty", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
+    "p_min": {"value": 0.3}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.12}, "p_m": {"min": 0.02, "max": 0.2, "step": 0.12},
+    "p_t": {"step": 0.12}}})";
+  for (const std::string out : {"e.json", "e.db"}) {
+    const auto r = test::runCli("sweep --dataset " + test::shellQuoted(data) + " --grid " +
+                                test::shellQuoted(dir / "empty.json") + " --quiet --out " + test::shellQuoted(dir / out));
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output, Contains("empty.json") && Contains("no combination"));
+    CHECK(besides(dir, {"scene3", "empty.json"}).empty());
+  }
+}
