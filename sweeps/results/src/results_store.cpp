@@ -234,7 +234,7 @@ ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& hea
   // Journal off would lose the crash safety of a batch; WAL needs a second file beside it. The default rollback
   // journal is kept, with synchronous NORMAL: a kill loses at most the open transaction. A temporary renamed into
   // place when complete keeps its journal in memory: a kill removes the temporary, and no journal file is left
-  // beside it (docs/robustness.md, "Results stores").
+  // beside it (docs/robustness.md, "Outputs, temporaries and --force").
   if (use == StoreUse::Temporary) c->exec("PRAGMA journal_mode = MEMORY");
   // application_id marks the file as occsweep's within the schema's transaction: only a file carrying it is ever
   // resumed, replaced or removed (docs/results-format.md, "Results store").
