@@ -207,21 +207,6 @@ bool isOccsweepStore(const fs::path& file) {
          kStoreApplicationId;
 }
 
-bool hasTables(const fs::path& file) {
-  if (!isResultsStore(file)) return false;
-  sqlite3* db = nullptr;
-  bool tables = true;  // unreadable: assume it holds something (never replaced)
-  if (openDatabase(file, SQLITE_OPEN_READONLY, &db) == SQLITE_OK) {
-    sqlite3_stmt* s = nullptr;
-    if (sqlite3_prepare_v2(db, "SELECT count(*) FROM sqlite_master", -1, &s, nullptr) == SQLITE_OK &&
-        sqlite3_step(s) == SQLITE_ROW)
-      tables = sqlite3_column_int64(s, 0) > 0;
-    sqlite3_finalize(s);
-  }
-  sqlite3_close(db);
-  return tables;
-}
-
 ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& header, StoreUse use) {
   auto c = std::make_unique<Connection>(file);
   std::error_code ec;

@@ -30,8 +30,6 @@ using MapVisitor = std::function<void(MapResult&&)>;
 inline constexpr std::uint32_t kStoreApplicationId = 0x4F435357;
 /// True when `file` is a regular file (not a symbolic link) with SQLite's header and occsweep's application_id.
 [[nodiscard]] bool isOccsweepStore(const std::filesystem::path& file);
-/// True when `file` is a SQLite database holding at least one table (false for one whose creation was cut short).
-[[nodiscard]] bool hasTables(const std::filesystem::path& file);
 
 /// How a new store is written: Durable keeps a rollback journal beside it (a partial store a kill must leave
 /// consistent); Temporary keeps it in memory (a temporary renamed into place when complete, removed on a kill).
