@@ -49,6 +49,18 @@ std::optional<ResultsHeader> logHeader(const fs::path& partial) {
   }
 }
 
+// The header of occsweep's partial log at `partial`. occsweep writes it before the log appears under its name
+// (PartialLock::publish): a file without one is not occsweep's, and is never replaced (docs/robustness.md, "Outputs,
+// temporaries and --force").
+ResultsHeader ownLogHeader(const fs::path& partial) {
+  std::optional<ResultsHeader> header = logHeader(partial);
+  if (!header)
+    throw std::runtime_error(partial.string() + ": not a partial log of occsweep's (its first line is not a sweep's "
+                             "header); occsweep never replaces or removes it (even with --force): remove it, or choose "
+                             "another --out");
+  return std::move(*header);
+}
+
 }  // namespace
 
 PartialLock::~PartialLock() {
@@ -119,14 +131,7 @@ std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const Re
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(partial, ec))) return done;
   lock = PartialLock::existing(partial);
-  // occsweep writes the header line before the log appears under its name (PartialLock::publish): a file without
-  // one is not occsweep's, and is never replaced (docs/robustness.md, "Outputs, temporaries and --force").
-  const std::optional<ResultsHeader> old_header = logHeader(partial);
-  if (!old_header)
-    throw std::runtime_error(partial.string() + ": not a partial log of occsweep's (its first line is not a sweep's "
-                             "header); occsweep never replaces or removes it (even with --force): remove it, or choose "
-                             "another --out");
-  const ResultsHeader& old = *old_header;
+  const ResultsHeader old = ownLogHeader(partial);
   std::ifstream in(partial);
   std::string line;
   std::getline(in, line);
