@@ -12,6 +12,8 @@
 #include <thread>
 
 #include <sqlite3.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -590,5 +592,38 @@ TEST_CASE("a grid of no combination is refused before anything is written") {
     CHECK(r.exit_code == 2);
     CHECK_THAT(r.output, Contains("empty.json") && Contains("no combination"));
     CHECK(besides(dir, {"scene3", "empty.json"}).empty());
+  }
+}
+
+TEST_CASE("a partial output locked by another process stops the sweep, and resumes once it is released") {
+  // Old binary: no lock; two sweeps into one output wrote one partial output at once.
+  const auto dir = test::scratch("store-partial-locked");
+  const auto data = smallScene(dir);
+  for (const std::string out : {"r.json", "r.db"}) {
+    INFO(out);
+    const bool store = out == "r.db";
+    const fs::path partial = dir / (out + (store ? ".partial" : ".partial.jsonl"));
+    REQUIRE(test::runCli(sweepInto(data, dir / out)).exit_code == 0);
+    if (store) {
+      fs::rename(dir / out, partial);  // occsweep's own store of this work: what a sweep resumes
+    } else {
+      std::ofstream(partial) << toJson(readResultsHeader(dir / out).header).dump() << '\n';  // a log with no map yet
+      fs::remove(dir / out);
+    }
+    const int fd = ::open(partial.c_str(), O_RDONLY);
+    REQUIRE(fd >= 0);
+    REQUIRE(::flock(fd, LOCK_EX | LOCK_NB) == 0);  // as a running sweep holds it
+    const auto refused = test::runCli(sweepInto(data, dir / out, " --force"));
+    INFO(refused.output);
+    CHECK(refused.exit_code == 2);
+    CHECK_THAT(refused.output, Contains("another occsweep is writing") && Contains(partial.filename().string()));
+    CHECK(fs::exists(partial));
+    CHECK_FALSE(fs::exists(dir / out));
+    ::close(fd);
+    const auto resumed = test::runCli(sweepInto(data, dir / out));
+    INFO(resumed.output);
+    CHECK(resumed.exit_code == 0);
+    CHECK(checkError(dir / out) == "passed");
+    CHECK_FALSE(fs::exists(partial));
   }
 }
