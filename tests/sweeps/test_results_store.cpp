@@ -3,12 +3,17 @@
 // replaced.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <csignal>
+#include <functional>
+#include <set>
 #include <fstream>
 #include <sstream>
 #include <thread>
 
 #include <sqlite3.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -207,6 +212,20 @@ TEST_CASE("a store edited by hand fails results check with the row named") {
                             "AND (SELECT last_id FROM maps WHERE map_index = 5); DELETE FROM maps WHERE map_index = 5");
     CHECK_THAT(checkError(dir / "r.db"), Contains("map 5: missing"));
   }
+  SECTION("a second region row") {
+    // A new store's schema refuses it (the combinations view would list every threshold twice)...
+    sqlite3* db = nullptr;
+    REQUIRE(sqlite3_open((dir / "r.db").c_str(), &db) == SQLITE_OK);
+    CHECK(sqlite3_exec(db, "INSERT INTO region(region, truth) SELECT region, truth FROM region", nullptr, nullptr,
+                       nullptr) == SQLITE_CONSTRAINT);
+    sqlite3_close(db);
+    CHECK(checkError(dir / "r.db") == "passed");
+    // ...and an older store's region without the constraint is refused by results check.
+    editStore(dir / "r.db", "CREATE TABLE r2(region INTEGER NOT NULL, truth INTEGER NOT NULL);"
+                            "INSERT INTO r2 SELECT region, truth FROM region; INSERT INTO r2 SELECT region, truth FROM region;"
+                            "DROP VIEW combinations; DROP TABLE region; ALTER TABLE r2 RENAME TO region");
+    CHECK_THAT(checkError(dir / "r.db"), Contains("r.db") && Contains("region: holds more than one row"));
+  }
   SECTION("completeness") {
     editStore(dir / "r.db", "UPDATE meta SET value = '0' WHERE key = 'complete'");
     CHECK_THAT(checkError(dir / "r.db"), Contains("incomplete"));
@@ -254,4 +273,357 @@ TEST_CASE("another program's SQLite database at --out is never replaced, even wi
                      (dir / "own.db").string())
             .exit_code == 0);
   CHECK(readResultsHeader(dir / "own.db").header.grid_name == "octomap-opt");
+}
+
+namespace {
+
+// One damaged or hand-edited results file of the corpus below: a name (in the failure message) and its path.
+struct Damaged {
+  std::string what;
+  fs::path file;
+};
+
+// `base` copied to `dir/name` and changed by `edit` (SQL run on a store, as a user's sqlite3 shell would).
+fs::path copyOf(const fs::path& base, const fs::path& dir, const std::string& name) {
+  const fs::path out = dir / name;
+  fs::copy_file(base, out, fs::copy_options::overwrite_existing);
+  return out;
+}
+
+// The region table of an older store, without the constraint that keeps it at one row: two rows.
+const char* kSecondRegionRow =
+    "CREATE TABLE r2(region INTEGER NOT NULL, truth INTEGER NOT NULL); INSERT INTO r2 SELECT region, truth FROM region;"
+    "INSERT INTO r2 SELECT region, truth FROM region; DROP VIEW combinations; DROP TABLE region;"
+    "ALTER TABLE r2 RENAME TO region; CREATE VIEW combinations AS SELECT t.id AS id, m.map_index AS map_index,"
+    " t.p_t_micro / 1e6 AS p_t, t.tp AS tp, t.fp AS fp, r.truth - t.tp AS fn, r.region - r.truth - t.fp AS tn"
+    " FROM maps m JOIN thresholds t ON t.id BETWEEN m.first_id AND m.last_id, region r";
+
+// Hand edits of a store: each one a claim results check refuses (an AUC, a count, a row, a table, the header).
+std::vector<Damaged> editedStores(const fs::path& base, const fs::path& dir, std::uint64_t best) {
+  const std::string b = std::to_string(best);
+  const std::string best_rows = "DELETE FROM thresholds WHERE id BETWEEN (SELECT first_id FROM maps WHERE map_index = " +
+                                b + ") AND (SELECT last_id FROM maps WHERE map_index = " + b + "); ";
+  const std::vector<std::pair<std::string, std::string>> edits = {
+      {"auc-5", "UPDATE maps SET auc_anchored = 5.0 WHERE map_index = " + b},
+      {"auc-inf", "UPDATE maps SET auc_anchored = 1e999 WHERE map_index = " + b},
+      {"auc-negative", "UPDATE maps SET auc_anchored = -0.5 WHERE map_index = 1"},
+      {"auc-observed", "UPDATE maps SET auc_observed = 0.123 WHERE map_index = 2"},
+      {"best-map-deleted", best_rows + "DELETE FROM maps WHERE map_index = " + b},
+      {"map-row-deleted", "DELETE FROM maps WHERE map_index = 5"},
+      {"tp-plus-one", "UPDATE thresholds SET tp = tp + 1 WHERE id = 7"},
+      {"fp-negative", "UPDATE thresholds SET fp = -3 WHERE id = 7"},
+      {"tp-text", "UPDATE thresholds SET tp = 'x' WHERE id = 7"},
+      {"p-t-moved", "UPDATE thresholds SET p_t_micro = p_t_micro + 1 WHERE id = 3"},
+      {"region-two-rows", kSecondRegionRow},
+      {"region-below-truth", "PRAGMA ignore_check_constraints = ON; UPDATE region SET region = truth - 1"},
+      {"truth-plus-one", "UPDATE region SET truth = truth + 1"},
+      {"region-negative", "PRAGMA ignore_check_constraints = ON; UPDATE region SET region = -5, truth = -9"},
+      {"thresholds-dropped", "DROP TABLE thresholds"},
+      {"region-dropped", "DROP TABLE region"},
+      {"maps-dropped", "DROP VIEW combinations; DROP TABLE maps"},
+      {"header-deleted", "DELETE FROM meta WHERE key = 'header'"},
+      {"seconds-nan", "UPDATE meta SET value = 'nan' WHERE key = 'seconds'"},
+      {"resolution-negative", "UPDATE meta SET value = json_set(value, '$.map.resolution', -0.1) WHERE key = 'header'"},
+      {"map-seconds-negative", "UPDATE maps SET seconds = -1 WHERE map_index = 2"},
+      {"incomplete", "UPDATE meta SET value = '0' WHERE key = 'complete'"},
+      {"parameter-edited", "UPDATE maps SET p_m = p_m + 0.01 WHERE map_index = 1"},
+  };
+  std::vector<Damaged> out;
+  for (const auto& [name, sql] : edits) {
+    out.push_back({"store " + name, copyOf(base, dir, name + ".db")});
+    editStore(out.back().file, sql);
+  }
+  return out;
+}
+
+// Truncations and seeded single-bit flips of `base` (a store or a JSON file).
+std::vector<Damaged> damagedCopies(const fs::path& base, const fs::path& dir, std::size_t cuts, std::size_t flips,
+                                   std::uint64_t seed) {
+  const std::string bytes = test::bytesOf(base), ext = base.extension().string();
+  std::vector<Damaged> out;
+  for (std::size_t i = 1; i <= cuts; ++i) {
+    const std::size_t size = bytes.size() * i / (cuts + 1);
+    out.push_back({"cut to " + std::to_string(size) + " bytes", dir / ("cut" + std::to_string(size) + ext)});
+    std::ofstream(out.back().file, std::ios::binary) << bytes.substr(0, size);
+  }
+  SplitMix64 rng(seed);
+  for (std::size_t i = 0; i < flips; ++i) {
+    std::string flipped = bytes;
+    const std::size_t at = std::size_t(rng.next() % bytes.size());
+    flipped[at] = char(flipped[at] ^ (1 << (rng.next() % 8)));
+    out.push_back({"bit flip at " + std::to_string(at), dir / ("flip" + std::to_string(i) + ext)});
+    std::ofstream(out.back().file, std::ios::binary) << flipped;
+  }
+  return out;
+}
+
+// Hand edits of a JSON results file, each through nlohmann so the file stays JSON.
+std::vector<Damaged> editedJson(const fs::path& base, const fs::path& dir) {
+  const nlohmann::json j = nlohmann::json::parse(test::bytesOf(base));
+  const std::vector<std::pair<std::string, std::function<void(nlohmann::json&)>>> edits = {
+      {"tp", [](nlohmann::json& f) { f["maps"][3]["thresholds"][1]["tp"] = f["maps"][3]["thresholds"][1]["tp"].get<int>() + 1; }},
+      {"tn", [](nlohmann::json& f) { f["maps"][3]["thresholds"][1]["tn"] = f["maps"][3]["thresholds"][1]["tn"].get<int>() + 1; }},
+      {"auc", [](nlohmann::json& f) { f["maps"][4]["auc"]["anchored"] = 5.0; }},
+      {"resolution", [](nlohmann::json& f) { f["map"]["resolution"] = -0.1; }},
+      {"map-removed", [](nlohmann::json& f) { f["maps"].erase(2); }},
+      {"map-twice", [](nlohmann::json& f) { f["maps"].push_back(f["maps"][0]); }},
+      {"seconds", [](nlohmann::json& f) { f["seconds"] = -1.0; }},
+      {"map-seconds", [](nlohmann::json& f) { f["maps"][1]["seconds"] = -2.0; }},
+      {"incomplete", [](nlohmann::json& f) { f["complete"] = false; }},
+  };
+  std::vector<Damaged> out;
+  for (const auto& [name, edit] : edits) {
+    nlohmann::json e = j;
+    edit(e);
+    out.push_back({"JSON " + name, dir / ("edited-" + name + ".json")});
+    std::ofstream(out.back().file) << e.dump(1) << '\n';
+  }
+  return out;
+}
+
+// Every command that reads results, run on `file` (`good` where a second file is needed): the command line of each.
+std::vector<std::string> readersOf(const fs::path& file, const fs::path& good, const fs::path& dir) {
+  const std::string f = test::shellQuoted(file), out = (dir / "reader-out").string();
+  return {"compare " + f,
+          "merge " + f + " --out " + out + ".db",
+          "results export " + f + " --csv " + out + ".csv",
+          "plot params " + f + " --out " + out + ".png --json " + out + ".plot.json --python /bin/true",
+          "results diff " + test::shellQuoted(good) + " " + f};
+}
+
+}  // namespace
+
+TEST_CASE("every damaged or edited results file results check refuses, every reader of results refuses too") {
+  const auto dir = test::scratch("store-corpus");
+  const auto data = smallScene(dir);
+  (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "r.db"));
+  (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "r.json"));
+  const ResultsFile whole = readResults(dir / "r.json");
+  const auto best = std::max_element(whole.maps.begin(), whole.maps.end(), [](const MapResult& a, const MapResult& b) {
+    return a.area.anchored < b.area.anchored;
+  });
+  const fs::path corpus = dir / "corpus";
+  fs::create_directories(corpus);
+  std::vector<Damaged> files = editedStores(dir / "r.db", corpus, best->map_index);
+  for (auto& d : damagedCopies(dir / "r.db", corpus, 8, 12, 11)) files.push_back(d);
+  for (auto& d : damagedCopies(dir / "r.json", corpus, 6, 6, 12)) files.push_back(d);
+  for (auto& d : editedJson(dir / "r.json", corpus)) files.push_back(d);
+  // The readers accept both good files: a refusal below is the file's, not the command line's.
+  for (const fs::path& good : {dir / "r.db", dir / "r.json"})
+    for (const std::string& reader : readersOf(good, dir / "r.json", dir)) {
+      for (const char* ext : {".json", ".db", ".csv", ".plot.json", ".png"}) fs::remove(dir / ("reader-out" + std::string(ext)));
+      const auto r = test::runCli(reader);
+      INFO(reader << "\n" << r.output);
+      CHECK(r.exit_code == 0);
+    }
+  std::size_t refused = 0;
+  for (const Damaged& d : files) {
+    const auto check = test::runCli("results check " + test::shellQuoted(d.file));
+    if (check.exit_code == 0) continue;  // a flip in unused bytes: a file as good as the original
+    ++refused;
+    INFO(d.what << ": " << d.file.filename() << "\nresults check: " << check.output);
+    CHECK(check.exit_code == 2);
+    for (const std::string& reader : readersOf(d.file, dir / "r.json", corpus)) {
+      const auto r = test::runCli(reader);
+      INFO(reader << "\n" << r.output);
+      CHECK(r.exit_code == 2);
+      CHECK_THAT(r.output, Contains(d.file.filename().string()));
+      for (const fs::path& left : test::filesUnder(corpus)) CHECK_THAT(left.string(), !Contains("reader-out"));
+    }
+  }
+  WARN(refused << " of " << files.size() << " damaged files refused by results check and by every reader");
+  CHECK(refused >= 50);
+}
+
+namespace {
+
+// The sweep command of the tests below, into `out` (a name in `dir`), --force optional.
+std::string sweepInto(const fs::path& data, const fs::path& out, const std::string& more = "") {
+  return "sweep --dataset " + test::shellQuoted(data) + " --grid octomap-opt --quiet --out " + test::shellQuoted(out) +
+         more;
+}
+
+}  // namespace
+
+TEST_CASE("a user's file, a symbolic link or a foreign database at a sweep's partial name is never touched") {
+  // Old binary: a user's r.json.partial.jsonl was overwritten and then deleted, a symbolic link there written
+  // through, and a user's non-SQLite file (or a SQLite file without tables) at r.db.partial deleted.
+  const auto dir = test::scratch("store-partial-owner");
+  const auto data = smallScene(dir);
+  editStore(dir / "theirs.sqlite", "CREATE TABLE notes(text TEXT); INSERT INTO notes VALUES('keep me')");
+  editStore(dir / "empty.sqlite", "PRAGMA user_version = 7");  // SQLite, no table
+  std::ofstream(dir / "notes.txt") << "my notes, not occsweep's\n";
+  const std::vector<std::pair<std::string, fs::path>> users = {
+      {"text", dir / "notes.txt"}, {"database", dir / "theirs.sqlite"}, {"database without tables", dir / "empty.sqlite"}};
+  for (const std::string out : {"r.json", "r.db"}) {
+    const fs::path partial = dir / (out + (out == "r.json" ? ".partial.jsonl" : ".partial"));
+    for (const auto& [what, file] : users)
+      for (const bool link : {false, true})
+        for (const std::string force : {"", " --force"}) {
+          INFO(out << ": a " << (link ? "symbolic link to a " : "") << what << force);
+          fs::remove(partial);
+          if (link) fs::create_symlink(file, partial);
+          else fs::copy_file(file, partial);
+          const std::string before = test::bytesOf(file);
+          const auto r = test::runCli(sweepInto(data, dir / out, force));
+          INFO(r.output);
+          CHECK(r.exit_code == 2);
+          CHECK_THAT(r.output, Contains(partial.filename().string()) && Contains("never"));
+          CHECK(fs::is_symlink(fs::symlink_status(partial)) == link);
+          CHECK(test::bytesOf(partial) == before);
+          CHECK(test::bytesOf(file) == before);
+          CHECK_FALSE(fs::exists(dir / out));
+        }
+    // The same sweep's complete output is there: the partial name is not occsweep's, so it stays too.
+    fs::remove(partial);
+    REQUIRE(test::runCli(sweepInto(data, dir / out)).exit_code == 0);
+    fs::copy_file(dir / "notes.txt", partial);
+    const auto again = test::runCli(sweepInto(data, dir / out));
+    CHECK(again.exit_code == 0);
+    CHECK(test::bytesOf(partial) == test::bytesOf(dir / "notes.txt"));
+    fs::remove(partial);
+    fs::remove(dir / out);
+  }
+}
+
+namespace {
+
+// `occsweep ARGS` started in the background (its output into `log`), without waiting: its process id.
+pid_t startCli(const std::string& args, const fs::path& log, const fs::path& cwd = ".") {
+  const std::string line = "cd " + test::shellQuoted(cwd) + " && exec " + test::shellQuoted(test::cliUnderTest()) + " " + args + " > " +
+                           test::shellQuoted(log) + " 2>&1";
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
+    std::_Exit(127);
+  }
+  return child;
+}
+
+// The exit code of a started command; -signal when a signal ended it.
+int exitOf(pid_t child) {
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+// Every name in `dir` but `keep`: what a command left beside its target.
+std::vector<std::string> besides(const fs::path& dir, const std::set<std::string>& keep) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (!keep.count(e.path().filename().string())) out.push_back(e.path().filename().string());
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("two sweeps into one store: one writes it, the other stops with another occsweep is writing it") {
+  // Old binary: both ran into SQLite's internals ("already exists", "database is locked"), often both failing.
+  const auto dir = test::scratch("store-two-writers");
+  const auto data = smallScene(dir);
+  // The direct engine on one thread: about 0.5 s of mapping, longer than the seeded gap between the two starts.
+  const std::string sweep = sweepInto(data, dir / "r.db", " --engine direct --threads 1");
+  SplitMix64 rng(21);
+  for (int race = 0; race < 20; ++race) {
+    INFO("race " << race);
+    fs::remove(dir / "r.db");
+    const pid_t first = startCli(sweep, dir / "first.log");
+    std::this_thread::sleep_for(std::chrono::milliseconds(rng.next() % 120));
+    const pid_t second = startCli(sweep, dir / "second.log");
+    const int a = exitOf(first), b = exitOf(second);
+    const std::string loser = test::bytesOf(dir / (a == 0 ? "second.log" : "first.log"));
+    INFO("first: " << a << " " << test::bytesOf(dir / "first.log") << "second: " << b << " " << test::bytesOf(dir / "second.log"));
+    CHECK(std::min(a, b) == 0);
+    CHECK(std::max(a, b) == 2);
+    CHECK_THAT(loser, Contains("another occsweep is writing") && Contains("r.db.partial"));
+    CHECK(checkError(dir / "r.db") == "passed");
+    CHECK(besides(dir, {"scene3", "r.db", "first.log", "second.log"}).empty());
+  }
+}
+
+TEST_CASE("merge and results export into a store killed at random moments leave nothing beside the target") {
+  // Old binary: a SIGINT or SIGTERM during a transaction left .M.db.tmp-PID-journal behind for good.
+  const auto dir = test::scratch("store-killed-writers");
+  const auto data = smallScene(dir);
+  for (std::uint64_t i = 0; i < 2; ++i)
+    (void)sweepToFile(quietSweep(data, "reduction", dir / ("s" + std::to_string(i) + ".db"), i, 2));
+  (void)sweepToFile(quietSweep(data, "reduction", dir / "whole.db"));
+  const std::set<std::string> inputs = {"scene3", "s0.db", "s1.db", "whole.db", "log"};
+  const std::vector<std::string> commands = {"merge s0.db s1.db --out m.db", "results export whole.db --store m.db"};
+  SplitMix64 rng(22);
+  for (const std::string& command : commands) {
+    const auto started = std::chrono::steady_clock::now();
+    REQUIRE(exitOf(startCli(command, dir / "log", dir)) == 0);  // how long it takes: the kills fall within
+    const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - started);
+    fs::remove(dir / "m.db");
+    for (int kill = 0; kill < 20; ++kill) {
+      INFO(command << ", kill " << kill);
+      const pid_t child = startCli(command, dir / "log", dir);
+      std::this_thread::sleep_for(std::chrono::milliseconds(rng.next() % std::uint64_t(took.count() + 1)));
+      ::kill(child, kill % 2 ? SIGTERM : SIGINT);
+      const int code = exitOf(child);
+      INFO("exit " << code << ": " << test::bytesOf(dir / "log"));
+      std::set<std::string> keep = inputs;
+      if (code == 0) keep.insert("m.db");
+      const std::vector<std::string> left = besides(dir, keep);
+      std::string names;
+      for (const std::string& name : left) names += " " + name;
+      INFO("left beside it:" << names);
+      CHECK(left.empty());
+      if (fs::exists(dir / "m.db")) CHECK(checkError(dir / "m.db") == "passed");
+      for (const std::string& name : left) fs::remove(dir / name);  // each kill counted on its own
+      fs::remove(dir / "m.db");
+    }
+  }
+}
+
+TEST_CASE("a grid of no combination is refused before anything is written") {
+  // Old binary: exit 0 and a results file (JSON or store) that results check refuses (grid.combinations 0).
+  const auto dir = test::scratch("store-empty-grid");
+  const auto data = smallScene(dir);
+  // p_m <= 0.2 < p_min: OctoMap's relation p_m >= p_min (docs/grids.md) leaves no combination.
+  std::ofstream(dir / "empty.json") << R"({"name": "empty", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
+    "p_min": {"value": 0.3}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.12}, "p_m": {"min": 0.02, "max": 0.2, "step": 0.12},
+    "p_t": {"step": 0.12}}})";
+  for (const std::string out : {"e.json", "e.db"}) {
+    const auto r = test::runCli("sweep --dataset " + test::shellQuoted(data) + " --grid " +
+                                test::shellQuoted(dir / "empty.json") + " --quiet --out " + test::shellQuoted(dir / out));
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output, Contains("empty.json") && Contains("no combination"));
+    CHECK(besides(dir, {"scene3", "empty.json"}).empty());
+  }
+}
+
+TEST_CASE("a partial output locked by another process stops the sweep, and resumes once it is released") {
+  // Old binary: no lock; two sweeps into one output wrote one partial output at once.
+  const auto dir = test::scratch("store-partial-locked");
+  const auto data = smallScene(dir);
+  for (const std::string out : {"r.json", "r.db"}) {
+    INFO(out);
+    const bool store = out == "r.db";
+    const fs::path partial = dir / (out + (store ? ".partial" : ".partial.jsonl"));
+    REQUIRE(test::runCli(sweepInto(data, dir / out)).exit_code == 0);
+    if (store) {
+      fs::rename(dir / out, partial);  // occsweep's own store of this work: what a sweep resumes
+    } else {
+      std::ofstream(partial) << toJson(readResultsHeader(dir / out).header).dump() << '\n';  // a log with no map yet
+      fs::remove(dir / out);
+    }
+    const int fd = ::open(partial.c_str(), O_RDONLY);
+    REQUIRE(fd >= 0);
+    REQUIRE(::flock(fd, LOCK_EX | LOCK_NB) == 0);  // as a running sweep holds it
+    const auto refused = test::runCli(sweepInto(data, dir / out, " --force"));
+    INFO(refused.output);
+    CHECK(refused.exit_code == 2);
+    CHECK_THAT(refused.output, Contains("another occsweep is writing") && Contains(partial.filename().string()));
+    CHECK(fs::exists(partial));
+    CHECK_FALSE(fs::exists(dir / out));
+    ::close(fd);
+    const auto resumed = test::runCli(sweepInto(data, dir / out));
+    INFO(resumed.output);
+    CHECK(resumed.exit_code == 0);
+    CHECK(checkError(dir / out) == "passed");
+    CHECK_FALSE(fs::exists(partial));
+  }
 }

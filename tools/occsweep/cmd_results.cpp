@@ -27,6 +27,9 @@ void printDifferences(const std::vector<ResultsDifference>& rows) {
 
 // Exit 0 when nothing differs, 1 with the table of what does; unreadable input throws (exit 2, the file named).
 int runDiff(const std::string& golden_file, const std::string& new_file, double auc_tolerance, CountsCheck counts) {
+  // What `results check` refuses is never compared: a damaged file is exit 2, not a table of differences.
+  (void)checkResultsFile(golden_file, "");
+  (void)checkResultsFile(new_file, "");
   const ResultsFile golden = readResults(golden_file);
   const ResultsFile candidate = readResults(new_file);
   const ResultsDiff diff = diffResults(golden, candidate, auc_tolerance, counts);
@@ -69,13 +72,14 @@ int runExport(const std::string& source, const ExportTarget& to) {
   if (!to.store.empty()) {
     if (!isStorePath(to.store)) throw std::invalid_argument("--store " + to.store + ": a results store's name ends in .db or .sqlite");
     checkOutputTarget(to.store, to.force, resultsOutput());
+    (void)checkResultsFile(source, "");  // what `results check` refuses is never exported
     writeResultsStore(readResults(source), to.store);
     std::cout << "wrote " << to.store << '\n';
     return 0;
   }
   const std::string& target = to.csv.empty() ? to.json : to.csv;
   checkOutputTarget(target, to.force, to.csv.empty() ? resultsOutput() : csvExport());
-  (void)readResultsHeader(source);  // an unreadable source fails before anything is written
+  (void)checkResultsFile(source, "");  // what `results check` refuses fails before anything is written
   OutputFile out(target);
   if (to.csv.empty()) exportJson(source, out.stream());
   else exportCsv(source, out.stream());

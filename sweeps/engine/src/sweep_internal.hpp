@@ -4,25 +4,59 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
 #include <vector>
 #include <mutex>
 #include <string>
+#include <utility>
 
 #include "occsweep/sweeps/results.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 
 namespace occsweep::sweep_detail {
 
+/// An exclusive lock (flock) on a sweep's partial output, held while the sweep writes it: a second sweep into the
+/// same --out stops with "another occsweep is writing FILE" (docs/results-format.md, "Results store").
+class PartialLock {
+ public:
+  PartialLock() = default;
+  ~PartialLock();
+  PartialLock(PartialLock&& o) noexcept : fd_(std::exchange(o.fd_, -1)) {}
+  PartialLock& operator=(PartialLock&& o) noexcept;
+  /// Locks the existing regular `file`, never following a symbolic link. Throws when another process holds it.
+  [[nodiscard]] static PartialLock existing(const std::filesystem::path& file);
+  /// A new partial output: `make` writes it at a temporary beside `file`, which is locked, then put at `file`,
+  /// replacing the one there when `replace` (occsweep's own, locked by the caller), else only if there is none
+  /// (another sweep made one meanwhile: thrown as above). Nothing is left at the temporary on an error.
+  [[nodiscard]] static PartialLock publish(const std::filesystem::path& file, bool replace,
+                                           const std::function<void(const std::filesystem::path&)>& make);
+  [[nodiscard]] bool held() const { return fd_ >= 0; }
+
+ private:
+  explicit PartialLock(int fd) : fd_(fd) {}
+  int fd_ = -1;
+};
+
+/// Throws naming `file` when it is a symbolic link or not a regular file: what occsweep never writes through,
+/// replaces or removes at a partial output's name, even with --force.
+void requireOwnablePartial(const std::filesystem::path& file);
+
 /// Finished maps of an interrupted run: OUT.partial.jsonl, a header line then one map per line. A line cut by a
 /// kill is ignored (its map is simply done again). With `twin` (the observable-truth results of the same maps,
-/// SweepConfig::observable_out), only lines carrying the twin's counts count, which go into `*twin`.
+/// SweepConfig::observable_out), only lines carrying the twin's counts count, which go into `*twin`. The log is
+/// locked into `lock`; a file there whose first line is not occsweep's header is refused (never replaced), one of
+/// other work too unless `force` (then `lock` is held and nothing is returned: the log is started anew).
 [[nodiscard]] std::map<std::uint64_t, MapResult> loadPartial(const std::filesystem::path& partial,
                                                              const ResultsHeader& header, bool force,
                                                              std::map<std::uint64_t, std::string>& engine_of,
-                                                             std::map<std::uint64_t, MapResult>* twin);
+                                                             std::map<std::uint64_t, MapResult>* twin,
+                                                             PartialLock& lock);
+
+/// True when `partial` is a regular file whose first line is occsweep's header of the same work as `header`.
+[[nodiscard]] bool isOwnPartialLog(const std::filesystem::path& partial, const ResultsHeader& header);
 
 /// A partial-log line's field holding the twin's thresholds and AUC.
 inline constexpr const char* kTwinField = "observable";
@@ -34,7 +68,8 @@ class PartialLog {
  public:
   /// Continues the log of `maps_done` finished maps, or (none) starts it anew with `header`'s line. Throws
   /// OutputError when it cannot be written.
-  PartialLog(std::filesystem::path file, const ResultsHeader& header, std::size_t maps_done);
+  /// `lock` holds the existing log (loadPartial), which is replaced when no map of it is done.
+  PartialLog(std::filesystem::path file, const ResultsHeader& header, std::size_t maps_done, PartialLock lock);
   ~PartialLog();
   PartialLog(const PartialLog&) = delete;
   PartialLog& operator=(const PartialLog&) = delete;
@@ -51,6 +86,7 @@ class PartialLog {
   void removeUnlessResumable() noexcept;
 
   std::filesystem::path file_;
+  PartialLock lock_;
   std::ofstream out_;
   std::mutex mutex_;
   std::size_t maps_;

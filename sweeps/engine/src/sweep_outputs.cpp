@@ -63,7 +63,9 @@ std::optional<ResultsFile> checkOutputs(const SweepConfig& c, const ResultsHeade
   std::error_code ec;
   std::optional<ResultsFile> old = completeSameWork(c, h, &readResults);
   if (old && (!hasTwin(c) || completeResultsOf(c.observable_out, twinHeader(h)))) {
-    fs::remove(c.out.string() + ".partial.jsonl", ec);  // superseded: a kill came between the rename and this
+    // Superseded (a kill came between the rename and the removal): removed only when it is occsweep's log.
+    const fs::path partial = c.out.string() + ".partial.jsonl";
+    if (isOwnPartialLog(partial, h)) fs::remove(partial, ec);
     return old;
   }
   if (hasTwin(c) && fs::exists(fs::symlink_status(c.observable_out, ec)))
@@ -136,7 +138,8 @@ class JsonOutput final : public OutputBase {
       : OutputBase(c, h, std::move(engine), ".partial.jsonl") {
     existing_ = checkOutputs(c, h);
     if (existing_) return;
-    finished_.done = loadPartial(partial_, h, c.force, finished_.engine_of, hasTwin(c) ? &finished_.twin_done : nullptr);
+    finished_.done =
+        loadPartial(partial_, h, c.force, finished_.engine_of, hasTwin(c) ? &finished_.twin_done : nullptr, lock_);
   }
   std::vector<std::uint64_t> finished() const override {
     std::vector<std::uint64_t> done;
@@ -145,7 +148,7 @@ class JsonOutput final : public OutputBase {
   }
   void begin(std::size_t todo) override {
     if (c_.out.has_parent_path()) fs::create_directories(c_.out.parent_path());
-    log_.emplace(partial_, h_, finished_.done.size());
+    log_.emplace(partial_, h_, finished_.done.size(), std::move(lock_));
     counted_.maps.resize(todo);
     counted_.twin.resize(hasTwin(c_) ? todo : 0);
   }
@@ -173,40 +176,52 @@ class JsonOutput final : public OutputBase {
  private:
   FinishedMaps finished_;
   CountedMaps counted_;
+  PartialLock lock_;  // the log found, until the PartialLog takes it
   std::optional<PartialLog> log_;
 };
 
 // The same sweep's complete store at `out` is left as it is (its header returned).
 std::optional<ResultsFile> completeStore(const SweepConfig& c, const ResultsHeader& h) {
   std::optional<ResultsFile> old = completeSameWork(c, h, &readResultsHeader);
+  const fs::path partial = c.out.string() + ".partial";
   std::error_code ec;
-  if (old) fs::remove(c.out.string() + ".partial", ec);  // superseded: a kill came between the rename and this
+  // Superseded (a kill came between the rename and the removal): removed only when occsweep's and not being written.
+  if (old && isOccsweepStore(partial)) {
+    try {
+      const PartialLock lock = PartialLock::existing(partial);
+      fs::remove(partial, ec);
+    } catch (const std::exception&) {
+    }
+  }
   return old;
 }
 
-// OUT.partial of the same work, resumed; of other work, refused unless --force (then removed, to be started anew).
-// It is opened for writing first: SQLite rolls back the batch a kill left open. A file there that is not an
-// occsweep store is never replaced, except an empty one or one without tables (a kill during create(), which is one
-// transaction).
-std::optional<ResultsStore> resumableStore(const fs::path& partial, const ResultsHeader& h, bool force) {
+// OUT.partial of the same work, resumed (locked in `lock`); of other work, refused unless --force (then `replace`:
+// started anew when the counting begins). Only a store carrying occsweep's application_id is resumed or replaced:
+// anything else there (a user's file, a symbolic link, another program's database) is refused, even with --force
+// (docs/results-format.md, "Results store"). It is opened for writing: SQLite rolls back the batch a kill left open.
+std::optional<ResultsStore> resumableStore(const fs::path& partial, const ResultsHeader& h, bool force,
+                                           PartialLock& lock, bool& replace) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(partial, ec))) return std::nullopt;
-  requireRegularFile(partial);
+  requireOwnablePartial(partial);
+  if (!isOccsweepStore(partial))
+    throw std::runtime_error(partial.string() + ": not a partial results store of occsweep's (no occsweep "
+                             "application_id); occsweep never replaces or removes it (even with --force): remove it, "
+                             "or choose another --out");
+  lock = PartialLock::existing(partial);
   std::optional<ResultsStore> old;
+  std::string why;
   try {
     old.emplace(ResultsStore::open(partial, true));
+    if (sameWork(old->header(), h, true, &why)) return old;
   } catch (const std::exception& e) {
-    if (fs::file_size(partial, ec) != 0 && hasTables(partial))
-      throw std::runtime_error(partial.string() + ": not an occsweep results store (" + e.what() +
-                               "); remove it, or choose another --out");
+    if (!force) throw std::runtime_error(std::string(e.what()) + "; --force starts it anew, or choose another --out");
   }
-  std::string why;
-  if (old && sameWork(old->header(), h, true, &why)) return old;
-  if (old && !force)
+  if (!force)
     throw std::runtime_error(partial.string() + ": an interrupted sweep of other work (" + why +
                              "); --force replaces it, or choose another --out");
-  old.reset();
-  fs::remove(partial);
+  replace = true;
   return std::nullopt;
 }
 
@@ -248,7 +263,7 @@ class StoreOutput final : public OutputBase {
     if (hasTwin(c)) throw std::invalid_argument("sweep: observable_out is written as JSON only (a results store has no twin)");
     existing_ = completeStore(c, h);
     if (existing_) return;
-    store_ = resumableStore(partial_, h, c.force);
+    store_ = resumableStore(partial_, h, c.force, lock_, replace_);
   }
   ~StoreOutput() override {
     if (!store_ || renamed_) return;
@@ -266,7 +281,11 @@ class StoreOutput final : public OutputBase {
   std::vector<std::uint64_t> finished() const override { return store_ ? store_->mapIndices() : std::vector<std::uint64_t>{}; }
   void begin(std::size_t) override {
     if (c_.out.has_parent_path()) fs::create_directories(c_.out.parent_path());
-    if (!store_) store_.emplace(ResultsStore::create(partial_, h_));
+    if (!store_) {
+      // Created beside it, locked, then put in place: a second sweep into the same --out finds it locked.
+      lock_ = PartialLock::publish(partial_, replace_, [&](const fs::path& t) { (void)ResultsStore::create(t, h_); });
+      store_.emplace(ResultsStore::open(partial_, true));
+    }
     writer_.emplace(*store_, engine_);
   }
   void add(std::vector<MapResult>&& maps, std::vector<MapResult>&&, const std::vector<std::size_t>&) override {
@@ -288,9 +307,10 @@ class StoreOutput final : public OutputBase {
   }
 
  private:
+  PartialLock lock_;  // before store_: released after the store is closed
   std::optional<ResultsStore> store_;
   std::optional<StoreWriter> writer_;
-  bool renamed_ = false;
+  bool replace_ = false, renamed_ = false;
 };
 
 }  // namespace

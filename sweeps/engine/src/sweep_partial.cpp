@@ -1,6 +1,13 @@
-// The partial log of a sweep: what a killed sweep resumes from.
+// The partial log of a sweep: what a killed sweep resumes from; and the lock every partial output is held by.
 #include <cerrno>
+#include <cstring>
+#include <fcntl.h>
 #include <fstream>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <optional>
 
 #include "occsweep/eval/bounded_read.hpp"
 #include "sweep_internal.hpp"
@@ -9,23 +16,134 @@ namespace occsweep::sweep_detail {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const ResultsHeader& header, bool force,
-                                               std::map<std::uint64_t, std::string>& engine_of,
-                                               std::map<std::uint64_t, MapResult>* twin) {
-  std::map<std::uint64_t, MapResult> done;
-  if (fs::exists(fs::symlink_status(partial))) requireRegularFile(partial);  // a FIFO would block the sweep
+namespace {
+
+[[noreturn]] void anotherWriter(const fs::path& file) {
+  throw std::runtime_error("another occsweep is writing " + file.string() +
+                           " (a sweep into the same --out is running: wait for it to finish, or choose another --out)");
+}
+
+// Opens and locks `file` without following a symbolic link; -1 when it is not there.
+int lockedDescriptor(const fs::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    if (errno == ENOENT) return -1;
+    throw std::runtime_error(file.string() + ": cannot open (" + std::strerror(errno) + ")");
+  }
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd);
+    anotherWriter(file);
+  }
+  return fd;
+}
+
+// The header line of a partial log (nothing when the file has none that parses).
+std::optional<ResultsHeader> logHeader(const fs::path& partial) {
   std::ifstream in(partial);
   std::string line;
-  if (!std::getline(in, line)) return done;
-  ResultsHeader old;
+  if (!std::getline(in, line)) return std::nullopt;
   try {
-    old = parseHeader(json::parse(line), partial.string());
+    return parseHeader(json::parse(line), partial.string());
   } catch (const std::exception&) {
-    return done;  // header cut short: nothing finished yet
+    return std::nullopt;
   }
+}
+
+// The header of occsweep's partial log at `partial`. occsweep writes it before the log appears under its name
+// (PartialLock::publish): a file without one is not occsweep's, and is never replaced (docs/robustness.md, "Outputs,
+// temporaries and --force").
+ResultsHeader ownLogHeader(const fs::path& partial) {
+  std::optional<ResultsHeader> header = logHeader(partial);
+  if (!header)
+    throw std::runtime_error(partial.string() + ": not a partial log of occsweep's (its first line is not a sweep's "
+                             "header); occsweep never replaces or removes it (even with --force): remove it, or choose "
+                             "another --out");
+  return std::move(*header);
+}
+
+}  // namespace
+
+PartialLock::~PartialLock() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+PartialLock& PartialLock::operator=(PartialLock&& o) noexcept {
+  if (this != &o) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = std::exchange(o.fd_, -1);
+  }
+  return *this;
+}
+
+PartialLock PartialLock::existing(const fs::path& file) {
+  requireOwnablePartial(file);
+  PartialLock lock(lockedDescriptor(file));
+  struct stat held {}, now {};
+  // The writer that held it may have renamed it into place meanwhile: the lock is then on another file.
+  if (!lock.held() || ::fstat(lock.fd_, &held) != 0 || ::lstat(file.c_str(), &now) != 0 || held.st_ino != now.st_ino ||
+      held.st_dev != now.st_dev)
+    anotherWriter(file);
+  return lock;
+}
+
+PartialLock PartialLock::publish(const fs::path& file, bool replace, const std::function<void(const fs::path&)>& make) {
+  // Claimed as OutputFile claims its temporaries (a random name recorded in the ledger, docs/robustness.md,
+  // "Ownership"): what a killed run leaves here, the next removes; nothing of a user's is ever at that name.
+  removeStaleTemporaries(file);
+  const TemporaryClaim claim = claimTemporary(file);
+  const fs::path& temporary = claim.path;
+  struct Release {
+    const TemporaryClaim& claim;
+    ~Release() { releaseTemporary(claim); }
+  } release{claim};
+  std::error_code ec;
+  try {
+    make(temporary);
+    PartialLock lock(lockedDescriptor(temporary));
+    // Locked before it appears under its name: a second sweep finds it locked. link() never replaces a file.
+    if (replace) fs::rename(temporary, file);
+    else if (::link(temporary.c_str(), file.c_str()) != 0) {
+      if (errno == EEXIST) anotherWriter(file);
+      throw std::runtime_error(file.string() + ": cannot create (" + std::strerror(errno) + ")");
+    }
+    fs::remove(temporary, ec);
+    return lock;
+  } catch (...) {
+    fs::remove(temporary, ec);
+    throw;
+  }
+}
+
+void requireOwnablePartial(const fs::path& file) {
+  std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(file, ec)))
+    throw std::runtime_error(file.string() + ": a symbolic link where the sweep keeps its partial output; occsweep "
+                             "never writes through, replaces or removes it (even with --force): remove it, or choose "
+                             "another --out");
+  requireRegularFile(file);  // a FIFO would block the sweep
+}
+
+bool isOwnPartialLog(const fs::path& partial, const ResultsHeader& header) {
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(partial, ec))) return false;
+  const std::optional<ResultsHeader> old = logHeader(partial);
+  return old && sameWork(*old, header, true, nullptr);
+}
+
+std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const ResultsHeader& header, bool force,
+                                               std::map<std::uint64_t, std::string>& engine_of,
+                                               std::map<std::uint64_t, MapResult>* twin, PartialLock& lock) {
+  std::map<std::uint64_t, MapResult> done;
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(partial, ec))) return done;
+  lock = PartialLock::existing(partial);
+  const ResultsHeader old = ownLogHeader(partial);
+  std::ifstream in(partial);
+  std::string line;
+  std::getline(in, line);
   std::string why;
   if (!sameWork(old, header, true, &why)) {
-    if (force) return done;  // replaced: the log is truncated below
+    if (force) return done;  // occsweep's of other work: replaced when the log starts
     throw std::runtime_error(partial.string() + ": an interrupted sweep of other work (" + why +
                              "); --force replaces it, or choose another --out");
   }
@@ -48,13 +166,17 @@ std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const Re
   return done;
 }
 
-PartialLog::PartialLog(fs::path file, const ResultsHeader& header, std::size_t maps_done)
-    : file_(std::move(file)), out_(file_, std::ios::app), maps_(maps_done) {
+PartialLog::PartialLog(fs::path file, const ResultsHeader& header, std::size_t maps_done, PartialLock lock)
+    : file_(std::move(file)), lock_(std::move(lock)), maps_(maps_done) {
   if (maps_done == 0) {
-    out_.close();
-    out_.open(file_, std::ios::trunc);
-    out_ << toJson(header).dump() << '\n' << std::flush;
+    // The header is written before the log appears under its name: a log without it is never occsweep's.
+    lock_ = PartialLock::publish(file_, lock_.held(), [&](const fs::path& temporary) {
+      std::ofstream first(temporary, std::ios::trunc);
+      first << toJson(header).dump() << '\n' << std::flush;
+      if (!first) throw OutputError(writeFailure(file_, errno));
+    });
   }
+  out_.open(file_, std::ios::app);
   if (!out_) {
     OutputError error = writeFailed();
     removeUnlessResumable();  // the destructor does not run for a constructor that throws

@@ -138,6 +138,10 @@ GridSweep openGrid(const SweepConfig& c, const Dataset& data, const SweepEngine&
   g.config = &c;
   g.grid = loadGrid(resolveGridPath(c.grid));
   g.e = enumerateGrid(g.grid);
+  // A results file of no combination is one `results check` refuses: refused here, before anything is written.
+  if (g.e.combinations == 0)
+    throw std::invalid_argument(c.grid + ": grid " + g.grid.name + " has no combination (the relations between its "
+                                "parameters leave none, docs/grids.md): nothing to sweep");
   g.items = selectWork(g.grid, g.e, c.selection);
   g.header = sweepHeader(c, g.grid, g.e, data, engine);
   return g;

@@ -45,6 +45,7 @@ MergeHeaders mergeHeaders(const std::vector<std::filesystem::path>& files) {
   std::set<std::string> engines;  // provenance: every engine of every shard
   ResultsFile out;
   for (const auto& file : files) {
+    (void)checkResultsFile(file, "");  // what `results check` refuses is never merged (docs/results-format.md)
     heads.push_back(readResultsHeader(file));
     if (!heads.back().complete)
       throw std::runtime_error(file.string() + ": incomplete results (the sweep did not finish)");
@@ -149,7 +150,7 @@ std::uint64_t mergeResultsInto(const std::vector<std::filesystem::path>& files, 
   OutputFile file(out);  // its empty temporary becomes the store: removed on an error or an interrupt
   std::uint64_t maps = 0;
   {
-    ResultsStore store = ResultsStore::create(file.temporary(), merged.header);
+    ResultsStore store = ResultsStore::create(file.temporary(), merged.header, StoreUse::Temporary);
     std::vector<MapResult> batch;
     mergeMaps(files, heads, [&](MapResult&& m) {
       batch.push_back(std::move(m));

@@ -305,6 +305,7 @@ ReplaceableOutput resultsOutput() {
   const ReplaceableOutput json_results = jsonOutput("results file", kFormat);
   return {json_results.name, [json_results](const std::filesystem::path& file) {
             if (!isResultsStore(file)) return json_results.is_own(file);
+            if (!isOccsweepStore(file)) return false;  // no occsweep application_id: never replaced
             try {
               (void)ResultsStore::open(file);
               return true;

@@ -1,6 +1,7 @@
 // The results store on SQLite (docs/results-format.md, "Results store"). Schema, version 1:
 //   meta(key, value)        format, version, header (the JSON header of a results file), complete, seconds
-//   region(region, truth)   one row: TP+FP+FN+TN and TP+FN, the same for every combination of the file
+//   region(region, truth)   one row: TP+FP+FN+TN and TP+FN, the same for every combination of the file (stores
+//                           created now also have a column `one`, unique and 1: a second row is refused)
 //   maps(map_index, first_id, last_id, <one column per parameter>, auc_anchored, auc_observed, auc_points,
 //        seconds, engine)
 //   thresholds(id, p_t_micro, tp, fp)   FN and TN follow from region (why: 100 MB for 3.2 M combinations)
@@ -28,7 +29,10 @@ namespace {
 
 constexpr const char* kStoreFormat = "occsweep-results-store";
 constexpr int kStoreVersion = 1;
+constexpr std::streamoff kApplicationIdOffset = 68;  // SQLite's file header: 4 bytes, big-endian
 constexpr std::size_t kMapColumns = 3;  // map_index, first_id, last_id: then the parameters
+// Every table a store has (docs/results-format.md, "Results store"): a store missing one is refused by name.
+constexpr const char* kTables[] = {"meta", "region", "maps", "thresholds"};
 
 // How long a statement waits for another connection's lock before it fails (docs/results-format.md, "Reading a
 // store while a sweep writes it"): a reader's transaction blocks the sweep's commit, and a commit blocks readers,
@@ -114,6 +118,14 @@ std::string column(const std::string& name) {
 
 Fixed fixedOf(double v) { return std::llround(v * double(kFixedScale)); }
 
+// What a map row must hold whatever the detail read: an AUC is a share of the unit square (or null: undefined),
+// a time finite and >= 0. A Summary read (compare) prints them as stored.
+void requireStoredNumbers(const MapResult& m, const fs::path& file, const std::string& where) {
+  for (const double auc : {m.area.anchored, m.area.observed})
+    if (!std::isnan(auc) && !(auc >= 0 && auc <= 1)) fail(file, where + ": auc must be in [0, 1] or null");
+  if (!std::isfinite(m.seconds) || m.seconds < 0) fail(file, where + ": seconds must be a finite number >= 0");
+}
+
 }  // namespace
 
 struct ResultsStore::Connection {
@@ -145,10 +157,24 @@ struct ResultsStore::Connection {
     if (!s.step()) fail(file, "meta." + key + ": is missing");
     return s.text(0);
   }
+  // The one region row (none before the first map): TP+FP+FN+TN and TP+FN of every combination. A second row
+  // would make the `combinations` view list every threshold twice; older stores have no constraint against it.
   void readRegion() {
-    Statement s(db, "SELECT region, truth FROM region", file);
+    Statement s(db, "SELECT region, truth, typeof(region) = 'integer' AND typeof(truth) = 'integer' FROM region", file);
     has_region = s.step();
-    if (has_region) region = std::uint64_t(s.integer(0)), truth = std::uint64_t(s.integer(1));
+    if (!has_region) return;
+    const std::int64_t r = s.integer(0), t = s.integer(1);
+    if (!s.integer(2) || t < 0 || r < t || std::uint64_t(r) > kMaxRegionVoxels)
+      fail(file, "region: region and truth must be integers with 0 <= truth <= region <= 2^48");
+    region = std::uint64_t(r), truth = std::uint64_t(t);
+    if (s.step()) fail(file, "region: holds more than one row (a store has exactly one region)");
+  }
+  void requireTables() {
+    for (const char* table : kTables) {
+      Statement s(db, "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?", file);
+      s.bind(1, std::string(table));
+      if (!s.step() || s.integer(0) != 1) fail(file, std::string(table) + ": table is missing (not a whole results store)");
+    }
   }
 };
 
@@ -170,22 +196,18 @@ bool isResultsStore(const fs::path& file) {
   return in.read(head, sizeof head) && std::memcmp(head, "SQLite format 3", 16) == 0;
 }
 
-bool hasTables(const fs::path& file) {
-  if (!isResultsStore(file)) return false;
-  sqlite3* db = nullptr;
-  bool tables = true;  // unreadable: assume it holds something (never replaced)
-  if (openDatabase(file, SQLITE_OPEN_READONLY, &db) == SQLITE_OK) {
-    sqlite3_stmt* s = nullptr;
-    if (sqlite3_prepare_v2(db, "SELECT count(*) FROM sqlite_master", -1, &s, nullptr) == SQLITE_OK &&
-        sqlite3_step(s) == SQLITE_ROW)
-      tables = sqlite3_column_int64(s, 0) > 0;
-    sqlite3_finalize(s);
-  }
-  sqlite3_close(db);
-  return tables;
+bool isOccsweepStore(const fs::path& file) {
+  std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(file, ec)) || !isResultsStore(file)) return false;
+  std::ifstream in(file, std::ios::binary);
+  unsigned char id[4] = {};
+  in.seekg(kApplicationIdOffset);
+  if (!in.read(reinterpret_cast<char*>(id), 4)) return false;
+  return (std::uint32_t(id[0]) << 24 | std::uint32_t(id[1]) << 16 | std::uint32_t(id[2]) << 8 | id[3]) ==
+         kStoreApplicationId;
 }
 
-ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& header) {
+ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& header, StoreUse use) {
   auto c = std::make_unique<Connection>(file);
   std::error_code ec;
   if (fs::exists(fs::symlink_status(file)) && fs::file_size(file, ec) != 0) fail(file, "results store: already exists");
@@ -195,10 +217,16 @@ ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& hea
   for (std::size_t i = 0; i < header.parameters.names.size(); ++i)
     params += ", " + column(header.parameters.names[i]) + (header.parameters.integer[i] ? " INTEGER" : " REAL");
   // Journal off would lose the crash safety of a batch; WAL needs a second file beside it. The default rollback
-  // journal is kept, with synchronous NORMAL: a kill loses at most the open transaction.
-  c->exec("PRAGMA synchronous = NORMAL; BEGIN;"
+  // journal is kept, with synchronous NORMAL: a kill loses at most the open transaction. A temporary renamed into
+  // place when complete keeps its journal in memory: a kill removes the temporary, and no journal file is left
+  // beside it (docs/robustness.md, "Outputs, temporaries and --force").
+  if (use == StoreUse::Temporary) c->exec("PRAGMA journal_mode = MEMORY");
+  // application_id marks the file as occsweep's within the schema's transaction: only a file carrying it is ever
+  // resumed, replaced or removed (docs/results-format.md, "Results store").
+  c->exec("PRAGMA synchronous = NORMAL; BEGIN; PRAGMA application_id = " + std::to_string(kStoreApplicationId) + ";"
           "CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL) WITHOUT ROWID;"
-          "CREATE TABLE region(region INTEGER NOT NULL, truth INTEGER NOT NULL);"
+          "CREATE TABLE region(region INTEGER NOT NULL, truth INTEGER NOT NULL CHECK(truth >= 0 AND truth <= region),"
+          " one INTEGER NOT NULL DEFAULT 1 UNIQUE CHECK(one = 1));"
           "CREATE TABLE maps(map_index INTEGER PRIMARY KEY, first_id INTEGER NOT NULL, last_id INTEGER NOT NULL" +
           params +
           ", auc_anchored REAL, auc_observed REAL, auc_points INTEGER NOT NULL, seconds REAL NOT NULL,"
@@ -224,6 +252,7 @@ ResultsStore ResultsStore::open(const fs::path& file, bool writable) {
   const int flags = writable ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
   if (openDatabase(file, flags, &c->db) != SQLITE_OK)
     fail(file, std::string("cannot open: ") + (c->db ? sqlite3_errmsg(c->db) : "out of memory"));
+  c->requireTables();
   if (c->meta("format") != kStoreFormat) fail(file, std::string("meta.format: must be \"") + kStoreFormat + "\"");
   if (c->meta("version") != std::to_string(kStoreVersion)) fail(file, "meta.version: unsupported store version");
   json header;
@@ -239,6 +268,7 @@ ResultsStore ResultsStore::open(const fs::path& file, bool writable) {
   } catch (const std::exception&) {
     fail(file, "meta.seconds: must be a number");
   }
+  if (!std::isfinite(c->seconds) || c->seconds < 0) fail(file, "meta.seconds: must be a finite number >= 0");
   if (c->header.parameters.names.empty()) {
     // A method this program has not registered: its parameters are the maps table's columns (in order).
     Statement s(c->db, "SELECT name, type FROM pragma_table_info('maps') ORDER BY cid", file);
@@ -250,6 +280,13 @@ ResultsStore ResultsStore::open(const fs::path& file, bool writable) {
   }
   c->readRegion();
   return ResultsStore(std::move(c));
+}
+
+void ResultsStore::verifyIntegrity() const {
+  // quick_check reads every page: a truncated or bit-flipped file is refused before its rows are believed.
+  Statement s(c_->db, "PRAGMA quick_check", c_->file);
+  while (s.step())
+    if (s.text(0) != "ok") fail(c_->file, "damaged SQLite file (PRAGMA quick_check: " + s.text(0) + ")");
 }
 
 const ResultsHeader& ResultsStore::header() const { return c_->header; }
@@ -279,7 +316,7 @@ void ResultsStore::append(const std::vector<MapResult>& maps, const std::string&
         const ConfusionCounts& n = t.counts;
         const std::uint64_t region = n.tp + n.fp + n.fn + n.tn, truth = n.tp + n.fn;
         if (!c.has_region) {
-          Statement(c.db, "INSERT INTO region VALUES(?, ?)", c.file).bind(1, std::int64_t(region)).bind(2, std::int64_t(truth)).run();
+          Statement(c.db, "INSERT INTO region(region, truth) VALUES(?, ?)", c.file).bind(1, std::int64_t(region)).bind(2, std::int64_t(truth)).run();
           c.region = region, c.truth = truth, c.has_region = true;
         }
         if (region != c.region || truth != c.truth)
@@ -343,7 +380,9 @@ void ResultsStore::forEachMap(MapDetail detail, const MapVisitor& visit) const {
                      " needs " + std::to_string(int(kMapColumns) + n_params + 5));
   std::unique_ptr<Statement> thresholds;
   if (detail == MapDetail::Full)
-    thresholds = std::make_unique<Statement>(c.db, "SELECT id, p_t_micro, tp, fp FROM thresholds ORDER BY id", c.file);
+    thresholds = std::make_unique<Statement>(c.db, "SELECT id, p_t_micro, tp, fp, typeof(p_t_micro) = 'integer' AND "
+                                                   "typeof(tp) = 'integer' AND typeof(fp) = 'integer' FROM thresholds "
+                                                   "ORDER BY id", c.file);
   bool threshold_ready = thresholds && thresholds->step();
   while (maps.step()) {
     MapResult m;
@@ -358,10 +397,12 @@ void ResultsStore::forEachMap(MapDetail detail, const MapVisitor& visit) const {
     const int a = int(kMapColumns) + n_params;
     m.area = {maps.real(a), maps.real(a + 1), int(maps.integer(a + 2))};
     m.seconds = maps.real(a + 3);
+    requireStoredNumbers(m, c.file, where);
     if (thresholds) {
       for (; threshold_ready && std::uint64_t(thresholds->integer(0)) <= last; threshold_ready = thresholds->step()) {
         const std::uint64_t id = std::uint64_t(thresholds->integer(0));
         if (id < first) fail(c.file, "thresholds row " + std::to_string(id) + ": belongs to no map");
+        if (!thresholds->integer(4)) fail(c.file, "thresholds row " + std::to_string(id) + ": p_t_micro, tp and fp must be integers");
         const std::uint64_t tp = std::uint64_t(thresholds->integer(2)), fp = std::uint64_t(thresholds->integer(3));
         if (tp > c.truth || fp > c.region - c.truth)
           fail(c.file, "thresholds row " + std::to_string(id) + ": TP or FP larger than the region allows");
@@ -424,7 +465,7 @@ ResultsFile readResultsAt(const fs::path& file, MapDetail detail) {
 void writeResultsStore(const ResultsFile& f, const fs::path& file) {
   OutputFile out(file);  // its empty temporary becomes the store: removed on an error or an interrupt
   {
-    ResultsStore store = ResultsStore::create(out.temporary(), f.header);
+    ResultsStore store = ResultsStore::create(out.temporary(), f.header, StoreUse::Temporary);
     constexpr std::size_t kBatch = 4096;
     std::vector<MapResult> batch;
     for (const MapResult& m : f.maps) {

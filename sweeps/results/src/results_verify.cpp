@@ -104,6 +104,7 @@ struct Claims {
                                      ": every map at most once, in increasing order (duplicated map?)");
     last_map = m.map_index;
     if (m.map_index >= h.grid_combinations) fail(where + ".map_index", "is beyond the grid's combinations");
+    if (!std::isfinite(m.seconds) || m.seconds < 0) fail(where + ".seconds", "must be a finite number >= 0");
     params(m, where);
     for (std::size_t t = 0; t < m.thresholds.size(); ++t) {
       const ThresholdResult& r = m.thresholds[t];
@@ -285,8 +286,11 @@ void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const s
 ResultsCheck checkResultsFile(const std::filesystem::path& file, const std::filesystem::path& dataset) {
   const std::string name = file.string();
   ResultsCheck out;
+  if (isResultsStore(file)) ResultsStore::open(file).verifyIntegrity();
   const ResultsFile head = readResultsHeader(file);
   if (!head.complete) throw std::runtime_error(name + ": incomplete results");
+  if (!std::isfinite(head.seconds) || head.seconds < 0)
+    throw std::runtime_error(name + ": seconds: must be a finite number >= 0");
   out.header = head.header;
   ClaimsChecker claims(head.header, true, name);
   GridChecker grid(head.header, true, name);

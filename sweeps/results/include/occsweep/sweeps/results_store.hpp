@@ -25,14 +25,22 @@ using MapVisitor = std::function<void(MapResult&&)>;
 [[nodiscard]] bool isStorePath(const std::filesystem::path& file);
 /// True when `file` begins with SQLite's 16-byte header: a store, whatever its name.
 [[nodiscard]] bool isResultsStore(const std::filesystem::path& file);
-/// True when `file` is a SQLite database holding at least one table (false for one whose creation was cut short).
-[[nodiscard]] bool hasTables(const std::filesystem::path& file);
+/// SQLite's application_id of every store occsweep creates ("OCSW"): what marks a file at a partial store's name
+/// as occsweep's, to resume, replace or remove (docs/results-format.md, "Results store").
+inline constexpr std::uint32_t kStoreApplicationId = 0x4F435357;
+/// True when `file` is a regular file (not a symbolic link) with SQLite's header and occsweep's application_id.
+[[nodiscard]] bool isOccsweepStore(const std::filesystem::path& file);
+
+/// How a new store is written: Durable keeps a rollback journal beside it (a partial store a kill must leave
+/// consistent); Temporary keeps it in memory (a temporary renamed into place when complete, removed on a kill).
+enum class StoreUse { Durable, Temporary };
 
 /// One store, open. Errors are std::runtime_error naming the file (and the table and field where one is wrong).
 class ResultsStore {
  public:
   /// A new store at `file`, which must not exist, holding `header`; incomplete until finish().
-  [[nodiscard]] static ResultsStore create(const std::filesystem::path& file, const ResultsHeader& header);
+  [[nodiscard]] static ResultsStore create(const std::filesystem::path& file, const ResultsHeader& header,
+                                           StoreUse use = StoreUse::Durable);
   /// An existing store, checked to be an occsweep results store of a version this program reads.
   [[nodiscard]] static ResultsStore open(const std::filesystem::path& file, bool writable = false);
 
@@ -40,6 +48,8 @@ class ResultsStore {
   ResultsStore& operator=(ResultsStore&&) noexcept;
   ~ResultsStore();
 
+  /// PRAGMA quick_check: every page readable and consistent (a truncated or bit-flipped file throws).
+  void verifyIntegrity() const;
   [[nodiscard]] const ResultsHeader& header() const;
   [[nodiscard]] bool complete() const;
   [[nodiscard]] double seconds() const;
