@@ -436,6 +436,14 @@ void OutputFolder::commit() {
 
 // ---- one-call writers ----
 
+void renameIntoPlace(const fs::path& from, const fs::path& target) {
+  const fs::path t = outputTarget(target);
+  const TargetState checked = checkedState(t);
+  std::unique_lock lock(registryMutex());
+  placeOutput(from, t, checked, false);
+  recordCommitted(t);
+}
+
 void writeFileAtomically(const fs::path& target, std::string_view bytes) {
   OutputFile out(target);
   out.stream().write(bytes.data(), std::streamsize(bytes.size()));

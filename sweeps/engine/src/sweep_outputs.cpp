@@ -299,7 +299,7 @@ class StoreOutput final : public OutputBase {
     setEngines(f.header, {engines.begin(), engines.end()});
     store_->finish(f.header, seconds);
     store_.reset();  // closed before the rename
-    fs::rename(partial_, c_.out);
+    renameIntoPlace(partial_, c_.out);  // never over a file created at --out meanwhile (docs/robustness.md)
     renamed_ = true;
     f.complete = true;
     f.seconds = seconds;

@@ -103,6 +103,10 @@ class OutputFolder {
   bool committed_ = false;
 };
 
+/// Renames a finished file `from` (a sweep's partial store) to `target` under OutputFile::commit's rule: only over
+/// what checkOutputTarget accepted; an output created or changed meanwhile is kept (OutputError).
+void renameIntoPlace(const std::filesystem::path& from, const std::filesystem::path& target);
+
 /// `bytes` as `target`, atomically (OutputFile).
 void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes);
 /// `j` as `file`, one space of indent and a final newline, atomically: every JSON output of occsweep.
