@@ -1,5 +1,6 @@
 // occsweep import depth|graph|cloud|truth FILES... --out DIR: real recordings into the data-set format.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <iostream>
 #include <optional>
@@ -35,10 +36,21 @@ struct ImportOptions {
 
 std::vector<fs::path> paths(const std::vector<std::string>& files) { return {files.begin(), files.end()}; }
 
+std::array<double, 3> shiftOf(const ImportOptions& o) {
+  if (o.shift.empty()) return {0, 0, 0};
+  for (double v : o.shift)
+    if (!std::isfinite(v)) throw std::invalid_argument("--shift: must be 3 finite numbers");
+  return {o.shift[0], o.shift[1], o.shift[2]};
+}
+
 // Far-away (georeferenced) coordinates: moved by --shift, or a warning with the shift to pass, since map and
 // sweep refuse coordinates outside OctoMap's key range (docs/robustness.md, "Numbers that must not be wrong").
-void shiftOrWarn(Dataset& d, const ImportOptions& o) {
-  if (!o.shift.empty()) applyShift(d, {o.shift[0], o.shift[1], o.shift[2]});
+// `placed`: the reader already added the shift before rounding to float32 (import cloud; docs/import.md).
+void shiftOrWarn(Dataset& d, const ImportOptions& o, bool placed = false) {
+  if (!o.shift.empty()) {
+    if (placed) recordShift(d, shiftOf(o));
+    else applyShift(d, shiftOf(o));
+  }
   const KeyRange range = keyRange(0.1);
   const AxisBox b = boundingBox(d.scans);
   for (std::size_t a = 0; a < 3; ++a)
@@ -209,8 +221,9 @@ int runImportCloud(const ImportOptions& o) {
   cc.origin = {o.origin[0], o.origin[1], o.origin[2]};
   cc.skip_empty = o.skip_empty;
   cc.view = coneOfFlags(o);
+  cc.shift = shiftOf(o);
   Dataset d = importClouds(paths(o.files), cc);
-  shiftOrWarn(d, o);
+  shiftOrWarn(d, o, true);
   filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
 }

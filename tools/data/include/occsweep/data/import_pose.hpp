@@ -16,6 +16,8 @@ struct RigidPose {
   std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  ///< row-major 3x3
   std::array<double, 3> translation{0, 0, 0};
 
+  /// R p + t in double; apply rounds it to float32.
+  [[nodiscard]] std::array<double, 3> applyExact(double x, double y, double z) const;
   [[nodiscard]] octomap::point3d apply(double x, double y, double z) const;
   [[nodiscard]] octomap::point3d origin() const;
 };
