@@ -18,9 +18,11 @@ struct SweptSet {
   std::vector<std::string> generated;  ///< outputs of its data set's generation (or select) tasks
 };
 
+// A data-set or set name made one harmless path component (brokenPathComponentRule): it names output folders.
 std::string fileKey(std::string text) {
   for (char& c : text)
-    if (c == '/' || c == ' ' || c == ':') c = '_';
+    if (c == '/' || c == '\\' || c == ' ' || c == ':' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '_';
+  if (!text.empty() && text.front() == '.') text.front() = '_';
   return text;
 }
 
