@@ -504,3 +504,24 @@ TEST_CASE("worker threads are bounded on every command that takes them: a refusa
   CHECK(one.exit_code == 0);
   CHECK(occsweep::test::bytesOf(dir / "at.ot") == occsweep::test::bytesOf(dir / "one.ot"));
 }
+
+TEST_CASE("cluster plan --pcs-count past its limit is refused by the flag, in bounded memory, writing nothing") {
+  // Old binary: --pcs-count 100000000 expanded every id into one argv string and plan.json, 1.75 GB and more (under
+  // this test's 1 GB cap: out of memory, blaming a raised flag). docs/cluster.md, "Options".
+  const fs::path dir = occsweep::test::processScratch("limits_pcs_count");
+  const Run r = runOccsweep("cluster plan --out " + (dir / "p").string() + " --pcs-count 100000000", 1024);
+  checkRefused(r, {"--pcs-count 100000000 is more than the limit of 100000"});
+  CHECK_FALSE(fs::exists(dir / "p"));
+  // Within the limit but in one block, {pcs} would not fit one command-line argument: refused, asking for --blocks.
+  const Run one = runOccsweep("cluster plan --out " + (dir / "p").string() + " --pcs-count 100000 --blocks 1 "
+                              "--unranked", 1024);
+  checkRefused(one, {"--pcs-count 100000 in --blocks 1", "131071 bytes", "raise --blocks"});
+  CHECK_FALSE(fs::exists(dir / "p"));
+  // At the limit, in enough blocks, the plan is written (each generation task gets its block's ids).
+  const Run at = runOccsweep("cluster plan --out " + (dir / "p").string() + " --datasets one --pcs-count 100000 "
+                             "--blocks 16 --sets pcs-0000 --group-set pcs-0000", 1024);
+  INFO(at.output);
+  CHECK(at.exit_code == 0);
+  checkPeak(at);
+  CHECK(fs::exists(dir / "p" / "plan.json"));
+}

@@ -56,6 +56,11 @@ ClusterTask generationTask(const PlanConfig& c, std::size_t i, const std::string
   for (auto id = ids.begin; id < ids.end; ++id) {
     if (!pcs.empty()) pcs += ',';
     pcs += std::to_string(id);
+    if (pcs.size() > kMaxPcsArgumentBytes && c.generate.find("{pcs}") != std::string::npos)
+      throw std::invalid_argument("--pcs-count " + std::to_string(c.pcs_count) + " in --blocks " +
+                                  std::to_string(c.blocks) + ": one block's {pcs} ids pass " +
+                                  std::to_string(kMaxPcsArgumentBytes) + " bytes, the longest argument a command "
+                                  "line may hold; raise --blocks");
   }
   std::map<std::string, std::string> v = {
       {"dataset", c.datasets[i]}, {"index", std::to_string(i)}, {"seed", std::to_string(i + 1)},
@@ -85,6 +90,10 @@ void checkPlanConfig(const PlanConfig& c) {
   if (c.datasets.empty()) throw std::invalid_argument("no data sets: give --datasets");
   if (c.grids.empty()) throw std::invalid_argument("no grids: give --grids");
   if (c.blocks == 0) throw std::invalid_argument("--blocks must be at least 1");
+  if (c.pcs_count > kMaxPcsCount)
+    throw std::invalid_argument("--pcs-count " + std::to_string(c.pcs_count) + " is more than the limit of " +
+                                std::to_string(kMaxPcsCount) + " point cloud parameter ids (each id is written into "
+                                "a generation task's command line and plan.json; docs/cluster.md)");
   if (c.sets.empty()) throw std::invalid_argument("--sets must name at least one point cloud set");
   if (c.experiment == "reproduce" && c.blocks > 1 && !c.ranked)
     throw std::invalid_argument("--blocks > 1 needs the select stage to gather the blocks' sets (drop --unranked)");

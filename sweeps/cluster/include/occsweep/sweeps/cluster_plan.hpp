@@ -63,6 +63,13 @@ struct PlanGrid {
   bool grouped = false;
 };
 
+/// The most point cloud parameter ids `--pcs-count` may ask for (the paper's grid has 1,600): every id is written
+/// into a generation task's command line and plan.json, so the plan grows with it (docs/cluster.md, "Options").
+inline constexpr std::uint64_t kMaxPcsCount = 100'000;
+/// The longest {pcs} one generation task may get: Linux's limit on one command-line argument (MAX_ARG_STRLEN,
+/// 32 pages), past which the task could not even start.
+inline constexpr std::size_t kMaxPcsArgumentBytes = 131'072 - 1;
+
 /// What `cluster plan` was asked for; applyPlanDefaults fills what the experiment decides (docs/cluster.md). Generation templates
 /// take {dataset} {index} {seed} {block} {blocks} {block_dir} {pcs} {cpus} {scale} {out}.
 struct PlanConfig {
