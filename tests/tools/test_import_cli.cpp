@@ -259,3 +259,16 @@ TEST_CASE("import cloud --shift: every stored coordinate is float(double(x) + sh
   CHECK(p.y() == float(4000000.02 - 4000000));
   CHECK(p.z() == float(10.03 - 10));
 }
+
+// docs/import.md: the region a far-away import reports is its real size, and the reason map and sweep refuse it is
+// the key range, not the region-voxel limit (a 1,000-voxel region was reported "more than the limit of 67108864").
+TEST_CASE("import reports a far-away region's own voxel count and the key range, not the voxel limit") {
+  const fs::path dir = test::scratch("import_far_region");
+  std::ofstream(dir / "far.xyz") << "5000 0 0\n5001 1 1\n";
+  const auto r = test::runCli("import cloud " + (dir / "far.xyz").string() + " --origin 5000 0 0 --out " +
+                              (dir / "far").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("1000 voxels at 0.1 m, outside OctoMap's key range [-3276.8, 3276.8)") != std::string::npos);
+  CHECK(r.output.find("more than the limit") == std::string::npos);
+}

@@ -2,6 +2,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <algorithm>
+#include <iomanip>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -73,13 +75,28 @@ constexpr const char* kPointsBox = "no truth: the bounding box of every point an
 
 // Which region the data set got and what it costs at the default resolution, so that a region of billions of
 // voxels is seen at import, not when a sweep runs out of memory on it.
+// Voxels whose centres lie in the region, wherever it lies: regionVoxelCount saturates outside OctoMap's key range,
+// which is a different reason for map and sweep to refuse it than its size.
+double extentVoxels(const AxisBox& r, double resolution) {
+  double n = 1;
+  for (std::size_t a = 0; a < 3; ++a)
+    n *= std::max(0.0, std::floor(r.max[a] / resolution - 0.5) - std::ceil(r.min[a] / resolution - 0.5) + 1);
+  return n;
+}
+
 void printRegion(const AxisBox& r, const std::string& origin) {
   const double resolution = KnnParams{}.resolution;
   const std::uint64_t voxels = regionVoxelCount(r, resolution);
   std::cout << "region (" << origin << "): [" << r.min[0] << ", " << r.max[0] << "] x [" << r.min[1] << ", "
             << r.max[1] << "] x [" << r.min[2] << ", " << r.max[2] << "] m, ";
-  if (voxels == UINT64_MAX) std::cout << "outside OctoMap's key range at " << resolution << " m\n";
-  else std::cout << voxels << " voxels at " << resolution << " m\n";
+  if (voxels == UINT64_MAX) {
+    std::cout << std::fixed << std::setprecision(0) << extentVoxels(r, resolution) << std::defaultfloat
+              << std::setprecision(6) << " voxels at " << resolution << " m, outside OctoMap's key range "
+              << keyRange(resolution).text() << ": map and sweep refuse it there (import with --shift; "
+                                                "docs/import.md)\n";
+    return;
+  }
+  std::cout << voxels << " voxels at " << resolution << " m\n";
   if (voxels > limits().region_voxels)
     std::cout << "note: more than the limit of " << limits().region_voxels
               << " region voxels: map and sweep refuse it at this resolution (give --region, or "

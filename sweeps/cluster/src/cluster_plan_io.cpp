@@ -182,7 +182,13 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool f
   } catch (...) {
     std::error_code ec;
     if (new_folder) fs::remove_all(dir, ec);  // a failed write (a full disk) leaves no half plan folder it made
-    throw;
+    try {
+      throw;
+    } catch (const fs::filesystem_error& e) {  // the plan folder named, not the library's "filesystem error"
+      throw std::runtime_error(dir.string() + ": cannot create the plan folder: " + e.code().message() +
+                               (e.code() == std::errc::not_a_directory ? " (a file is in the way; choose another --out)"
+                                                                        : ""));
+    }
   }
 }
 

@@ -149,7 +149,7 @@ GridSpec parseGrid(const json& j, const std::string& file) {
 
 GridSpec loadGrid(const std::filesystem::path& file) {
   const std::string bytes = readFileBytes(file);  // refuses folders and FIFOs by name
-  GridSpec g = parseGrid(parseJsonText(bytes, file), file.string());
+  GridSpec g = parseGrid(parseJsonTextUniqueKeys(bytes, file), file.string());
   Fnv1a h;
   h.feed(bytes);
   g.file_hash = h.hex();
