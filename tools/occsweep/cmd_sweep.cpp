@@ -20,10 +20,12 @@ namespace {
 /// has 112,500. docs/robustness.md, "Limits and non-regular files".
 constexpr std::uint64_t kMaxJsonCombinations = 200'000;
 
-/// The combinations a sweep writes: the grid's (Eq. 15, not enumerated), or its selection's when that is smaller.
+/// The combinations a sweep writes: the grid's (Eq. 15, not enumerated), or its selection's when that is smaller;
+/// 0 for a grid past --max-combinations, which the sweep refuses by that limit's own message.
 std::uint64_t sweptCombinations(const SweepConfig& c) {
   const GridSpec grid = loadGrid(resolveGridPath(c.grid));
   const std::uint64_t all = combinationCount(grid);
+  if (all > limits().combinations) return 0;
   if (all <= kMaxJsonCombinations || c.selection == SweepSelection{}) return all;
   std::uint64_t selected = 0;
   for (const SweepItem& item : selectWork(grid, enumerateGrid(grid), c.selection)) selected += item.thresholds.size();
