@@ -272,3 +272,53 @@ TEST_CASE("import reports a far-away region's own voxel count and the key range,
   CHECK(r.output.find("1000 voxels at 0.1 m, outside OctoMap's key range [-3276.8, 3276.8)") != std::string::npos);
   CHECK(r.output.find("more than the limit") == std::string::npos);
 }
+
+// The same for depth images: back-projected in double, moved by a far-away pose and --shift, rounded once.
+TEST_CASE("import depth --shift: every stored coordinate is float(pose(x) + shift), rounded once") {
+  const fs::path dir = test::scratch("import_depth_shift_exact");
+  constexpr int kW = 6, kH = 5, kFrames = 12;
+  const double fx = 5, fy = 6, cx = 2.5, cy = 2, scale = 1000;
+  std::string images, poses;
+  std::vector<std::vector<std::array<double, 3>>> expected;
+  std::array<double, 3> shift{};
+  for (int f = 0; f < kFrames; ++f) {
+    SplitMix64 rng(std::uint64_t(f) * 104729 + 3);
+    const auto t = farAway(rng);
+    if (f == 0) shift = {-std::floor(t[0]), -std::floor(t[1]), -std::floor(t[2])};
+    std::string body;
+    std::vector<std::array<double, 3>> want;
+    for (int v = 0; v < kH; ++v)
+      for (int u = 0; u < kW; ++u) {
+        const auto raw = std::uint16_t(500 + rng.next() % 20000);
+        body += char(raw >> 8), body += char(raw & 0xff);  // PGM: 16-bit big-endian
+        const double z = raw / scale, x = (double(u) - cx) * z / fx, y = (double(v) - cy) * z / fy;
+        want.push_back({(x + t[0]) + shift[0], (y + t[1]) + shift[1], (z + t[2]) + shift[2]});  // identity rotation
+      }
+    fs::path image = dir / "d";
+    image += std::to_string(f);
+    image += ".pgm";
+    std::ofstream(image, std::ios::binary) << "P5\n" << kW << ' ' << kH << "\n65535\n" << body;
+    images.append(" ").append(image.string());
+    char line[128];
+    std::snprintf(line, sizeof line, "%.17g %.17g %.17g 0 0 0 1\n", t[0], t[1], t[2]);
+    poses += line;
+    expected.push_back(want);
+  }
+  std::ofstream(dir / "poses.txt") << poses;
+  char shift_text[128];
+  std::snprintf(shift_text, sizeof shift_text, " --shift %.17g %.17g %.17g", shift[0], shift[1], shift[2]);
+  const auto r = test::runCli("import depth" + images + " --poses " + (dir / "poses.txt").string() +
+                              " --fx 5 --fy 6 --cx 2.5 --cy 2" + shift_text + " --out " + (dir / "ds").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const Dataset d = readDataset(dir / "ds");
+  REQUIRE(d.scans.size() == expected.size());
+  std::size_t wrong = 0;
+  for (std::size_t s = 0; s < expected.size(); ++s) {
+    REQUIRE(d.scans[s].points.size() == expected[s].size());
+    for (std::size_t i = 0; i < expected[s].size(); ++i)
+      for (std::size_t a = 0; a < 3; ++a)
+        if (d.scans[s].points[i](unsigned(a)) != float(expected[s][i][a])) ++wrong;
+  }
+  CHECK(wrong == 0);
+}

@@ -47,7 +47,7 @@ std::array<double, 3> shiftOf(const ImportOptions& o) {
 
 // Far-away (georeferenced) coordinates: moved by --shift, or a warning with the shift to pass, since map and
 // sweep refuse coordinates outside OctoMap's key range (docs/robustness.md, "Numbers that must not be wrong").
-// `placed`: the reader already added the shift before rounding to float32 (import cloud; docs/import.md).
+// `placed`: the reader already added the shift before rounding to float32 (import cloud, depth; docs/import.md).
 void shiftOrWarn(Dataset& d, const ImportOptions& o, bool placed = false) {
   if (!o.shift.empty()) {
     if (placed) recordShift(d, shiftOf(o));
@@ -217,8 +217,9 @@ int runImportDepth(const ImportOptions& o) {
   DepthImportConfig c = o.depth;
   c.pose_format = poseFormatNamed(o.pose_format);
   c.skip_empty = o.skip_empty;
+  c.shift = shiftOf(o);
   Dataset d = importDepthSequence(paths(o.files), o.poses, c);
-  shiftOrWarn(d, o);
+  shiftOrWarn(d, o, true);
   filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
 }

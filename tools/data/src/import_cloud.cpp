@@ -27,11 +27,6 @@ std::string afterWhat(const CloudImportConfig& c) {
 
 }  // namespace
 
-octomap::point3d CloudPlacement::place(double x, double y, double z) const {
-  const auto p = pose.applyExact(x, y, z);
-  return octomap::point3d(float(p[0] + shift[0]), float(p[1] + shift[1]), float(p[2] + shift[2]));
-}
-
 std::vector<octomap::point3d> decodeXyz(std::string_view bytes, const fs::path& file, const CloudPlacement& at) {
   TextLines lines(bytes, file);
   std::vector<std::string_view> tok;

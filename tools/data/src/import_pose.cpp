@@ -102,6 +102,11 @@ octomap::point3d RigidPose::apply(double x, double y, double z) const {
   return octomap::point3d(float(p[0]), float(p[1]), float(p[2]));
 }
 
+octomap::point3d CloudPlacement::place(double x, double y, double z) const {
+  const auto p = pose.applyExact(x, y, z);
+  return octomap::point3d(float(p[0] + shift[0]), float(p[1] + shift[1]), float(p[2] + shift[2]));
+}
+
 octomap::point3d RigidPose::origin() const {
   return octomap::point3d(float(translation[0]), float(translation[1]), float(translation[2]));
 }

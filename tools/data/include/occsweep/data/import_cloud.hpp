@@ -13,16 +13,6 @@
 
 namespace occsweep {
 
-/// Where a reader puts a point it read: pose(x y z) + shift, in double, then rounded to float32 once, so that a
-/// far-away (georeferenced) coordinate keeps the digits that --shift brings into range (docs/import.md,
-/// "Far-away (georeferenced) clouds"). The default is the identity: the file's own coordinates.
-struct CloudPlacement {
-  RigidPose pose;
-  std::array<double, 3> shift{0, 0, 0};
-  [[nodiscard]] octomap::point3d place(double x, double y, double z) const;
-  [[nodiscard]] octomap::point3d placeOrigin() const { return place(0, 0, 0); }
-};
-
 /// A PLY file's vertices and, when it has a face element, its faces fan-triangulated.
 struct PlyData {
   std::vector<octomap::point3d> vertices;

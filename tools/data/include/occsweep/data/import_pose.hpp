@@ -22,6 +22,16 @@ struct RigidPose {
   [[nodiscard]] octomap::point3d origin() const;
 };
 
+/// Where a reader puts a point it read: pose(x y z) + shift, in double, then rounded to float32 once, so that a
+/// far-away (georeferenced) coordinate keeps the digits that --shift brings into range (docs/import.md,
+/// "Far-away (georeferenced) clouds"). The default is the identity: the file's own coordinates.
+struct CloudPlacement {
+  RigidPose pose;
+  std::array<double, 3> shift{0, 0, 0};
+  [[nodiscard]] octomap::point3d place(double x, double y, double z) const;
+  [[nodiscard]] octomap::point3d placeOrigin() const { return place(0, 0, 0); }
+};
+
 enum class PoseFormat {
   Quaternion,  ///< one pose a line: tx ty tz qx qy qz qw (slambook order, w last)
   Matrix,      ///< 16 numbers a pose, row-major 4x4, over any number of lines; last row 0 0 0 1
