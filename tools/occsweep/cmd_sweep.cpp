@@ -14,12 +14,6 @@
 namespace occsweep::cli {
 namespace {
 
-/// The most combinations a JSON results file may take: it is built in memory while the sweep runs and read back
-/// whole by every reader (about 1.9 KB a combination writing, 1.4 KB reading: 200,000 is about 380 MB), whereas a
-/// store (--out NAME.db) is written batch by batch for grids of any size. The paper's largest grid (reduction)
-/// has 112,500. docs/robustness.md, "Limits and non-regular files".
-constexpr std::uint64_t kMaxJsonCombinations = 200'000;
-
 /// The combinations a sweep writes: the grid's (Eq. 15, not enumerated), or its selection's when that is smaller;
 /// 0 for a grid past --max-combinations, which the sweep refuses by that limit's own message.
 std::uint64_t sweptCombinations(const SweepConfig& c) {

@@ -165,6 +165,15 @@ struct LoadedGrid {
   std::string name, arg;
 };
 
+/// The plan's sweep shards and merges are JSON results files, which `sweep` refuses past kMaxJsonCombinations; the
+/// merge of an ungrouped grid holds all of it: refused now, not hours later on the cluster.
+void refuseLargeJsonGrid(const PlanGrid& g, const GridEnumeration& e) {
+  if (g.grouped || e.combinations <= kMaxJsonCombinations) return;
+  throw std::invalid_argument("grid " + g.name + ": " + std::to_string(e.combinations) + " combinations, more than " +
+                              "the " + std::to_string(kMaxJsonCombinations) + " a JSON results file holds (the " +
+                              "plan's shards and merges are JSON): sweep it with `occsweep sweep --out NAME.db`");
+}
+
 /// Grids are loaded now so that a wrong name or too many shards fail at planning, not on the cluster.
 std::vector<LoadedGrid> loadPlanGrids(const PlanConfig& c) {
   std::set<std::string> seen;
@@ -173,10 +182,12 @@ std::vector<LoadedGrid> loadPlanGrids(const PlanConfig& c) {
     if (g.shards == 0) throw std::invalid_argument("grid " + g.name + ": shards must be at least 1");
     const GridSpec spec = loadGrid(resolveGridPath(g.name));
     if (!seen.insert(spec.name).second) throw std::invalid_argument("grid " + spec.name + " given twice");
-    const auto maps = enumerateGrid(spec).maps.size();
+    const GridEnumeration e = enumerateGrid(spec);
+    const auto maps = e.maps.size();
     if (!g.grouped && g.shards > maps)
       throw std::invalid_argument("grid " + g.name + ": " + std::to_string(g.shards) + " shards but only " +
                                   std::to_string(maps) + " maps (a shard is a block of whole maps)");
+    refuseLargeJsonGrid(g, e);
     // A grid file named relative to here would not be found by the tasks, which run in the plan folder.
     const std::string arg = std::filesystem::is_regular_file(g.name)
                                 ? std::filesystem::absolute(g.name).lexically_normal().string()
