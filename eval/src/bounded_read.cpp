@@ -25,7 +25,8 @@ nlohmann::json parseJsonTextUniqueKeys(std::string_view text, const std::filesys
   std::string last_key;
   const json::parser_callback_t check = [&](int, json::parse_event_t event, json& parsed) {
     if (event == json::parse_event_t::object_start) {
-      const std::string path = objects.empty() ? "" : objects.back().first + (objects.back().first.empty() ? "" : ".") + last_key;
+      std::string path = objects.empty() ? "" : objects.back().first;
+      if (!objects.empty()) path += (path.empty() ? "" : ".") + last_key;
       objects.emplace_back(path, std::set<std::string>{});
     } else if (event == json::parse_event_t::object_end) {
       objects.pop_back();

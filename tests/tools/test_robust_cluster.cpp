@@ -346,15 +346,16 @@ TEST_CASE("cluster plan --force replaces only occsweep's own plan, a user's plan
 TEST_CASE("cluster plan refuses an ungrouped grid past a JSON results file's combinations, whatever its shards") {
   const fs::path dir = test::scratch("robust-cluster-json-grid");
   makeScene(dir / "A", 1);
-  std::ofstream(dir / "fine.json") << R"({"name": "fine-pt", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
-    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.86, "step": 0.12}, "p_m": {"value": 0.2},
+  std::ofstream(dir / "fine.json") << R"({"name": "fine-pt", "method": "octomap", "parameters": {
+    "p_max": {"value": 0.98}, "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.86, "step": 0.12}, "p_m": {"value": 0.2},
     "p_t": {"step": 0.000016}}})";
   for (const char* shards : {"1", "4"}) {
-    const auto r = test::runIn(dir, std::string("cluster plan --out p --experiment sweep --datasets A --grids fine.json:") +
-                                        shards);
+    const auto r =
+        test::runIn(dir, std::string("cluster plan --out p --experiment sweep --datasets A --grids fine.json:") + shards);
     INFO(r.output);
     CHECK(r.exit_code == 2);
-    CHECK_THAT(r.output, Contains("grid fine.json: 240004 combinations, more than the 200000 a JSON results file holds"));
+    CHECK_THAT(r.output,
+               Contains("grid fine.json: 240004 combinations, more than the 200000 a JSON results file holds"));
     CHECK_FALSE(fs::exists(dir / "p"));
   }
 }

@@ -550,13 +550,12 @@ TEST_CASE("sweep refuses a JSON --out past 200,000 combinations at its start, po
   CHECK(leftovers(dir).empty());
   // The selection counts, not the whole grid: a quarter of 4 maps x 60,001 thresholds fits in JSON.
   writeFinePtGrid(dir / "four.json", 4, "0.000016");
-  const Run quarter = runOccsweep("sweep --quiet --dataset " + scene().string() + " --grid " +
-                                  (dir / "four.json").string() + " --shard 0/4 --out " + (dir / "q.json").string(), 1024);
+  const std::string four = "sweep --quiet --dataset " + scene().string() + " --grid " + (dir / "four.json").string();
+  const Run quarter = runOccsweep(four + " --shard 0/4 --out " + (dir / "q.json").string(), 1024);
   INFO(quarter.output);
   CHECK(quarter.exit_code == 0);
   CHECK(fs::exists(dir / "q.json"));
-  const Run whole = runOccsweep("sweep --quiet --dataset " + scene().string() + " --grid " +
-                                (dir / "four.json").string() + " --out " + (dir / "w.json").string(), 1024);
+  const Run whole = runOccsweep(four + " --out " + (dir / "w.json").string(), 1024);
   checkRefused(whole, {"writes 240004", "use --out NAME.db"});
   CHECK_FALSE(fs::exists(dir / "w.json"));
 }

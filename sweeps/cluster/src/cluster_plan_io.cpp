@@ -84,7 +84,8 @@ ClusterPlan parsePlan(const json& j, const std::string& file) {
       if (t.argv.empty()) throw std::runtime_error(file + ": " + where + "argv: empty");
       t.inputs = field<std::vector<std::string>>(tj, "inputs", file, where);
       t.output = field<std::string>(tj, "output", file, where);
-      if (const auto broken = brokenPlanOutputRule(t.output)) throw std::runtime_error(file + ": " + where + "output: " + *broken);
+      if (const auto broken = brokenPlanOutputRule(t.output))
+        throw std::runtime_error(file + ": " + where + "output: " + *broken);
       try {
         t.kind = kindFromName(field<std::string>(tj, "kind", file, where));
       } catch (const std::invalid_argument& e) {
@@ -150,6 +151,24 @@ std::optional<std::string> brokenPlanOutputRule(const std::string& output) {
   return std::nullopt;
 }
 
+namespace {
+
+// --force replaces occsweep's own earlier plan only, as everywhere (docs/cluster.md); a user's plan.json stays.
+void refuseOtherPlan(const std::filesystem::path& dir, const json& plan, bool force) {
+  namespace fs = std::filesystem;
+  const fs::path manifest = dir / "plan.json";
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(manifest, ec))) return;
+  if (const auto why = notOurPlan(manifest))
+    throw std::runtime_error(manifest.string() + ": " + *why + ": refused, with or without --force (nothing "
+                             "changed); choose another --out");
+  if (!force && planJson(readPlan(dir)) != plan)
+    throw std::runtime_error(manifest.string() + ": a different plan is already there (--force replaces it, or "
+                             "choose another --out)");
+}
+
+}  // namespace
+
 void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool force) {
   namespace fs = std::filesystem;
   const fs::path manifest = dir / "plan.json";
@@ -159,16 +178,7 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool f
       if (const auto broken = brokenPlanOutputRule(t.output))
         throw std::invalid_argument("task " + st.name + "[" + std::to_string(t.index) + "] output " + t.output + ": " +
                                     *broken);
-  // --force replaces occsweep's own earlier plan only, as everywhere (docs/cluster.md); a user's plan.json stays.
-  std::error_code ec;
-  if (fs::exists(fs::symlink_status(manifest, ec))) {
-    if (const auto why = notOurPlan(manifest))
-      throw std::runtime_error(manifest.string() + ": " + *why + ": refused, with or without --force (nothing "
-                               "changed); choose another --out");
-    if (!force && planJson(readPlan(dir)) != j)
-      throw std::runtime_error(manifest.string() + ": a different plan is already there (--force replaces it, or "
-                               "choose another --out)");
-  }
+  refuseOtherPlan(dir, j, force);
   const bool new_folder = !fs::exists(dir);
   try {
     fs::create_directories(dir / "slurm");
@@ -179,16 +189,16 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool f
       fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
     }
     writeJsonAtomically(j, manifest);  // last: a plan folder with plan.json is complete
+  } catch (const fs::filesystem_error& e) {  // the plan folder named, not the library's "filesystem error"
+    std::error_code ec;
+    if (new_folder) fs::remove_all(dir, ec);
+    throw std::runtime_error(dir.string() + ": cannot create the plan folder: " + e.code().message() +
+                             (e.code() == std::errc::not_a_directory ? " (a file is in the way; choose another --out)"
+                                                                      : ""));
   } catch (...) {
     std::error_code ec;
     if (new_folder) fs::remove_all(dir, ec);  // a failed write (a full disk) leaves no half plan folder it made
-    try {
-      throw;
-    } catch (const fs::filesystem_error& e) {  // the plan folder named, not the library's "filesystem error"
-      throw std::runtime_error(dir.string() + ": cannot create the plan folder: " + e.code().message() +
-                               (e.code() == std::errc::not_a_directory ? " (a file is in the way; choose another --out)"
-                                                                        : ""));
-    }
+    throw;
   }
 }
 
