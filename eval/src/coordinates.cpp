@@ -193,6 +193,10 @@ void applyShift(Dataset& d, const std::array<double, 3>& s) {
   }
   shiftTruth(d.truth, s, "--shift " + shiftText(s));
   moveBox(d.region, s);
+  recordShift(d, s);
+}
+
+void recordShift(Dataset& d, const std::array<double, 3>& s) {
   const auto before = recordedShift(d);
   d.source["shift"] = {before[0] + s[0], before[1] + s[1], before[2] + s[2]};
 }

@@ -193,7 +193,16 @@ TEST_CASE("run-local gives the unsharded sweep's numbers and status and resubmis
   CHECK(status[1][5].state == TaskState::Failed);
   CHECK(status[1][8].state == TaskState::Invalid);
   CHECK(tasksToRun(p, status)[1] == std::vector<std::uint64_t>{5, 8});
-  // run-local repairs exactly that, and the numbers are the same again.
+  // run-local removes only outputs that pass their own check (docs/cluster.md, "Outputs stay in the plan folder"):
+  // the half file and the other grid's shard are not this task's, so their tasks fail and the files stay as they
+  // are; once the user removes them, run-local repairs exactly that, and the numbers are the same again.
+  const std::string half = test::bytesOf(plan_dir / sweep[5].output), other = test::bytesOf(plan_dir / sweep[8].output);
+  CHECK(runLocal(p, plan_dir, 2) == 2);
+  CHECK(test::bytesOf(plan_dir / sweep[5].output) == half);
+  CHECK(test::bytesOf(plan_dir / sweep[8].output) == other);
+  CHECK(planStatus(p, plan_dir, {}, {})[1][1].state == TaskState::Done);
+  fs::remove(plan_dir / sweep[5].output);
+  fs::remove(plan_dir / sweep[8].output);
   REQUIRE(runLocal(p, plan_dir, 2) == 0);
   for (const auto& row : planStatus(p, plan_dir, {}, {}))
     for (const auto& t : row) CHECK(t.state == TaskState::Done);

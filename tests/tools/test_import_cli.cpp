@@ -159,3 +159,166 @@ TEST_CASE("import --voxel-filter: each scan is the voxel filter of the unfiltere
     CHECK_FALSE(fs::exists(out));
   }
 }
+
+namespace {
+
+// A georeferenced coordinate (UTM-like: hundreds of km east, thousands north, a height) with centimetre digits.
+std::array<double, 3> farAway(SplitMix64& rng) {
+  return {std::round((1e5 + rng.uniform() * 8e5) * 100) / 100, std::round((1e6 + rng.uniform() * 8e6) * 100) / 100,
+          std::round((-100 + rng.uniform() * 3000) * 100) / 100};
+}
+
+template <typename T>
+void putLittle(std::ofstream& out, T v) {
+  out.write(reinterpret_cast<const char*>(&v), sizeof v);  // the test machines are little-endian (x86-64, arm64)
+}
+
+void writeCloud(const fs::path& file, const std::vector<std::array<double, 3>>& pts) {
+  std::ofstream out(file, std::ios::binary);
+  const std::string ext = file.extension().string();
+  if (ext == ".ply")
+    out << "ply\nformat binary_little_endian 1.0\nelement vertex " << pts.size()
+        << "\nproperty double x\nproperty double y\nproperty double z\nend_header\n";
+  if (ext == ".pcd")
+    out << "VERSION .7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " << pts.size()
+        << "\nHEIGHT 1\nPOINTS " << pts.size() << "\nDATA binary\n";
+  char line[128];
+  for (const auto& p : pts)
+    if (ext == ".xyz") {
+      std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+      out << line;
+    } else {
+      for (double v : p) putLittle(out, v);
+    }
+}
+
+}  // namespace
+
+// docs/import.md, "Far-away (georeferenced) clouds": the shift (and the pose) are added in double before the one
+// rounding to float32, so that the centimetres of a UTM coordinate survive. Oracle: float(double(x) + shift), per
+// seed, for text, double PLY and double PCD, and for a pose whose translation is the far-away part.
+TEST_CASE("import cloud --shift: every stored coordinate is float(double(x) + shift), in every reader") {
+  const fs::path dir = test::scratch("import_shift_exact");
+  constexpr int kSeeds = 24, kPoints = 40;
+  for (const std::string ext : {".xyz", ".ply", ".pcd", "-posed.xyz"}) {
+    INFO("format " << ext);
+    const bool posed = ext == "-posed.xyz";
+    std::vector<std::vector<std::array<double, 3>>> expected;
+    std::string files, poses;
+    std::array<double, 3> shift{};
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+      SplitMix64 rng(std::uint64_t(seed) * 7919);
+      const auto base = farAway(rng);
+      if (seed == 1) shift = {-std::floor(base[0]), -std::floor(base[1]), -std::floor(base[2])};
+      std::vector<std::array<double, 3>> in, want;
+      for (int i = 0; i < kPoints; ++i) {
+        std::array<double, 3> p{}, w{};
+        for (std::size_t a = 0; a < 3; ++a) {
+          const double local = std::round((rng.uniform() - 0.5) * 100 * 100) / 100;  // within 50 m, centimetres
+          p[a] = posed ? local : base[a] + local;
+          w[a] = (posed ? (local + base[a]) : p[a]) + shift[a];  // identity rotation: R p + t = p + t exactly
+        }
+        in.push_back(p);
+        want.push_back(w);
+      }
+      fs::path file = dir / "c";
+      file += std::to_string(seed);
+      file += posed ? std::string(".xyz") : ext;
+      writeCloud(file, in);
+      files.append(" ").append(file.string());
+      char line[128];
+      std::snprintf(line, sizeof line, "%.17g %.17g %.17g 0 0 0 1\n", base[0], base[1], base[2]);
+      poses += line;
+      expected.push_back(want);
+    }
+    std::ofstream(dir / "poses.txt") << poses;
+    char shift_text[128];
+    std::snprintf(shift_text, sizeof shift_text, " --shift %.17g %.17g %.17g", shift[0], shift[1], shift[2]);
+    const fs::path out = dir / ("ds" + ext);
+    const auto r = test::runCli("import cloud" + files + shift_text +
+                                (posed ? " --poses " + (dir / "poses.txt").string() : std::string()) + " --out " +
+                                out.string());
+    REQUIRE(r.exit_code == 0);
+    const Dataset d = readDataset(out);
+    REQUIRE(d.scans.size() == expected.size());
+    std::size_t wrong = 0;
+    for (std::size_t s = 0; s < expected.size(); ++s) {
+      REQUIRE(d.scans[s].points.size() == expected[s].size());
+      for (std::size_t i = 0; i < expected[s].size(); ++i)
+        for (std::size_t a = 0; a < 3; ++a)
+          if (d.scans[s].points[i](unsigned(a)) != float(expected[s][i][a])) ++wrong;
+    }
+    CHECK(wrong == 0);
+  }
+  // The issue's own example: 500000.01 4000000.02 10.03 shifted by -500000 -4000000 -10 is 0.01 0.02 0.03.
+  std::ofstream(dir / "one.xyz") << "500000.01 4000000.02 10.03\n";
+  REQUIRE(test::runCli("import cloud " + (dir / "one.xyz").string() + " --shift -500000 -4000000 -10 --out " +
+                       (dir / "one").string()).exit_code == 0);
+  const auto p = readDataset(dir / "one").scans.at(0).points.at(0);
+  CHECK(p.x() == float(500000.01 - 500000));
+  CHECK(p.y() == float(4000000.02 - 4000000));
+  CHECK(p.z() == float(10.03 - 10));
+}
+
+// docs/import.md: the region a far-away import reports is its real size, and the reason map and sweep refuse it is
+// the key range, not the region-voxel limit (a 1,000-voxel region was reported "more than the limit of 67108864").
+TEST_CASE("import reports a far-away region's own voxel count and the key range, not the voxel limit") {
+  const fs::path dir = test::scratch("import_far_region");
+  std::ofstream(dir / "far.xyz") << "5000 0 0\n5001 1 1\n";
+  const auto r = test::runCli("import cloud " + (dir / "far.xyz").string() + " --origin 5000 0 0 --out " +
+                              (dir / "far").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("1000 voxels at 0.1 m, outside OctoMap's key range [-3276.8, 3276.8)") != std::string::npos);
+  CHECK(r.output.find("more than the limit") == std::string::npos);
+}
+
+// The same for depth images: back-projected in double, moved by a far-away pose and --shift, rounded once.
+TEST_CASE("import depth --shift: every stored coordinate is float(pose(x) + shift), rounded once") {
+  const fs::path dir = test::scratch("import_depth_shift_exact");
+  constexpr int kW = 6, kH = 5, kFrames = 12;
+  const double fx = 5, fy = 6, cx = 2.5, cy = 2, scale = 1000;
+  std::string images, poses;
+  std::vector<std::vector<std::array<double, 3>>> expected;
+  std::array<double, 3> shift{};
+  for (int f = 0; f < kFrames; ++f) {
+    SplitMix64 rng(std::uint64_t(f) * 104729 + 3);
+    const auto t = farAway(rng);
+    if (f == 0) shift = {-std::floor(t[0]), -std::floor(t[1]), -std::floor(t[2])};
+    std::string body;
+    std::vector<std::array<double, 3>> want;
+    for (int v = 0; v < kH; ++v)
+      for (int u = 0; u < kW; ++u) {
+        const auto raw = std::uint16_t(500 + rng.next() % 20000);
+        body += char(raw >> 8), body += char(raw & 0xff);  // PGM: 16-bit big-endian
+        const double z = raw / scale, x = (double(u) - cx) * z / fx, y = (double(v) - cy) * z / fy;
+        want.push_back({(x + t[0]) + shift[0], (y + t[1]) + shift[1], (z + t[2]) + shift[2]});  // identity rotation
+      }
+    fs::path image = dir / "d";
+    image += std::to_string(f);
+    image += ".pgm";
+    std::ofstream(image, std::ios::binary) << "P5\n" << kW << ' ' << kH << "\n65535\n" << body;
+    images.append(" ").append(image.string());
+    char line[128];
+    std::snprintf(line, sizeof line, "%.17g %.17g %.17g 0 0 0 1\n", t[0], t[1], t[2]);
+    poses += line;
+    expected.push_back(want);
+  }
+  std::ofstream(dir / "poses.txt") << poses;
+  char shift_text[128];
+  std::snprintf(shift_text, sizeof shift_text, " --shift %.17g %.17g %.17g", shift[0], shift[1], shift[2]);
+  const auto r = test::runCli("import depth" + images + " --poses " + (dir / "poses.txt").string() +
+                              " --fx 5 --fy 6 --cx 2.5 --cy 2" + shift_text + " --out " + (dir / "ds").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const Dataset d = readDataset(dir / "ds");
+  REQUIRE(d.scans.size() == expected.size());
+  std::size_t wrong = 0;
+  for (std::size_t s = 0; s < expected.size(); ++s) {
+    REQUIRE(d.scans[s].points.size() == expected[s].size());
+    for (std::size_t i = 0; i < expected[s].size(); ++i)
+      for (std::size_t a = 0; a < 3; ++a)
+        if (d.scans[s].points[i](unsigned(a)) != float(expected[s][i][a])) ++wrong;
+  }
+  CHECK(wrong == 0);
+}

@@ -312,3 +312,41 @@ TEST_CASE("progress into a log is whole lines, and mapdiff prints its JSON alone
   CHECK_THAT(r.output, Contains("junk.ot: magic: not an OctoMap .ot file"));
   CHECK_THAT(r.output, !Contains("\nERROR: "));
 }
+
+// docs/grids.md: JSON keeps only the last of two equal keys, so a grid that gives one twice lost the first
+// silently; it is refused, naming the file and the key.
+TEST_CASE("a grid file that gives a key twice is refused, naming the file and the key") {
+  const fs::path dir = test::scratch("robust-cli-duplicate-key");
+  std::ofstream(dir / "dup.json") << R"({"name": "dup", "method": "octomap", "parameters": {
+    "p_max": {"value": 0.97}, "p_min": {"value": 0.12}, "p_h": {"min": 0.6, "max": 0.9, "step": 0.3},
+    "p_h": {"value": 0.7}, "p_m": {"min": 0.2, "max": 0.4, "step": 0.2}, "p_t": {"step": 0.3}}})";
+  std::ofstream(dir / "dup-top.json") << R"({"name": "a", "name": "b", "method": "octomap", "parameters": {
+    "p_max": {"value": 0.97}, "p_min": {"value": 0.12}, "p_h": {"value": 0.7}, "p_m": {"value": 0.2},
+    "p_t": {"step": 0.3}}})";
+  for (const auto& [file, key] : {std::pair{"dup.json", "parameters.p_h"}, {"dup-top.json", "name"}}) {
+    const auto r = test::runCli("grid count " + (dir / file).string());
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output, Contains((dir / file).string() + ": " + key + ": key given twice"));
+  }
+}
+
+// docs/robustness.md, "Messages, formats and the cluster": no message is a library's raw text ("stoull",
+// "filesystem error: ..."); each names the flag or the path and the rule.
+TEST_CASE("cluster plan names the flag or the folder where a library's raw error text was printed") {
+  const fs::path dir = test::scratch("robust-cli-raw-errors");
+  auto r = test::runCli("cluster plan --out " + (dir / "p").string() + " --grids octomap-opt:99999999999999999999999");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("--grids 'octomap-opt:99999999999999999999999': shards must be a whole number from 1 "
+                                "to 18446744073709551615"));
+  CHECK_FALSE(fs::exists(dir / "p"));
+  std::ofstream(dir / "a-file") << "mine\n";
+  r = test::runCli("cluster plan --out " + (dir / "a-file" / "p").string() + " --experiment sweep --datasets " +
+                   (dir / "ds").string() + " --grids octomap-opt:1");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains((dir / "a-file" / "p").string() + ": cannot create the plan folder: Not a directory"));
+  CHECK(r.output.find("filesystem error") == std::string::npos);
+  CHECK(test::bytesOf(dir / "a-file") == "mine\n");
+}

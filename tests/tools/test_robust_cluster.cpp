@@ -252,3 +252,110 @@ TEST_CASE("run-local killed 24 times at random moments: no task survives, no out
   }
   CHECK(kills >= 24);
 }
+
+namespace {
+
+/// The small grid under another `name` (as given, a JSON string's contents).
+void writeGridNamed(const fs::path& file, const std::string& name) {
+  fs::create_directories(file.parent_path());
+  std::ofstream(file) << R"({"name": ")" << name << R"(", "method": "octomap", "parameters": {
+    "p_max": {"value": 0.97}, "p_min": {"value": 0.12}, "p_h": {"min": 0.6, "max": 0.9, "step": 0.3},
+    "p_m": {"min": 0.2, "max": 0.4, "step": 0.2}, "p_t": {"step": 0.3}}})";
+}
+
+}  // namespace
+
+// docs/cluster.md, "Outputs stay in the plan folder": a grid's name joins output paths, so a name that is not one
+// safe path component is refused at planning, naming the grid file and the field; a hand-edited plan.json whose
+// output leaves the folder is refused by run-local. Oracle: the user's victim.json beside the plan folder is
+// byte-identical afterwards (an older build put the merged results there, deleting it first).
+TEST_CASE("a grid named ../../../victim or a plan output outside the plan folder never touches a user's file") {
+  const fs::path dir = test::scratch("robust-cluster-escape");
+  makeScene(dir / "A", 1);
+  const std::string victim = "{\"mine\": \"not occsweep's\"}\n";
+  std::ofstream(dir / "victim.json") << victim;
+  writeSmallGrid(dir / "grids" / "small.json");
+  for (const std::string name : {"../../../victim", "a/b", ".hidden", "..", "tab\\there"}) {
+    INFO("grid name " << name);
+    writeGridNamed(dir / "grids" / "evil.json", name);
+    auto r = test::runIn(dir, "cluster plan --out p --experiment sweep --datasets A --grids "
+                              "grids/small.json:1,grids/evil.json:1");
+    INFO(r.output);
+    // Twice: the second run finds merged/A made by the first, through which ../../../victim.json resolves.
+    for (int run = 0; run < 2 && r.exit_code == 0; ++run) (void)test::runIn(dir, "cluster run-local p -j 2");
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output, Contains("evil.json: name: must be a single path component"));
+    CHECK_FALSE(fs::exists(dir / "p" / "plan.json"));
+    CHECK(test::bytesOf(dir / "victim.json") == victim);
+    fs::remove_all(dir / "p");
+  }
+  // A plan made well, then edited by hand so that the merge writes ../victim.json: refused, nothing run.
+  auto r = test::runIn(dir, "cluster plan --out p --experiment sweep --datasets A --grids grids/small.json:1");
+  REQUIRE(r.exit_code == 0);
+  std::string plan = test::bytesOf(dir / "p" / "plan.json");
+  const std::string merged = "\"merged/A/small-octomap.json\"";
+  REQUIRE(plan.find(merged) != std::string::npos);
+  for (auto at = plan.find(merged); at != std::string::npos; at = plan.find(merged))  // argv, output, inputs
+    plan.replace(at, merged.size(), "\"merged/../../victim.json\"");
+  std::ofstream(dir / "p" / "plan.json", std::ios::trunc) << plan;
+  r = test::runIn(dir, "cluster run-local p -j 2");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("plan.json: stages[merge].tasks[].output: must be a relative path inside the plan"));
+  CHECK_FALSE(fs::exists(dir / "p" / "sweeps"));
+  CHECK(test::bytesOf(dir / "victim.json") == victim);
+}
+
+// docs/cluster.md: `cluster plan --force` is every command's --force: it replaces occsweep's own earlier plan
+// (proven by plan.json's own "format" field) and nothing else; a user's plan.json is refused with or without it,
+// byte-identical afterwards, and no plan file is written beside it. --replace is no flag.
+TEST_CASE("cluster plan --force replaces only occsweep's own plan, a user's plan.json stays byte-identical") {
+  const fs::path dir = test::scratch("robust-cluster-force");
+  makeScene(dir / "A", 1);
+  writeSmallGrid(dir / "grids" / "small.json");
+  const std::string plan = "cluster plan --out p --experiment sweep --datasets A --grids grids/small.json:";
+  fs::create_directories(dir / "p");
+  const std::string mine = "{\"my\": \"own plan, not occsweep's\"}\n";
+  std::ofstream(dir / "p" / "plan.json") << mine;
+  for (const char* flag : {"", " --force", " --replace"}) {
+    INFO("flag '" << flag << "'");
+    const auto r = test::runIn(dir, plan + "2" + flag);
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(test::bytesOf(dir / "p" / "plan.json") == mine);
+    CHECK(test::listing(dir / "p") == std::vector<std::string>{"plan.json"});
+    if (std::string(flag) != " --replace") CHECK_THAT(r.output, Contains("not an occsweep plan"));
+  }
+  // occsweep's own plan: the same plan again is fine, a different one needs --force, which replaces it.
+  fs::remove(dir / "p" / "plan.json");
+  REQUIRE(test::runIn(dir, plan + "2").exit_code == 0);
+  REQUIRE(test::runIn(dir, plan + "2").exit_code == 0);
+  const std::string two = test::bytesOf(dir / "p" / "plan.json");
+  auto r = test::runIn(dir, plan + "1");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("a different plan is already there (--force replaces it"));
+  CHECK(test::bytesOf(dir / "p" / "plan.json") == two);
+  r = test::runIn(dir, plan + "1 --force");
+  CHECK(r.exit_code == 0);
+  CHECK(readPlan(dir / "p").stages.at(0).tasks.size() == 1);
+}
+
+// docs/cluster.md, "Options": the plan's shards and merges are JSON results files, which `sweep` refuses past
+// 200,000 combinations; an ungrouped grid past that is refused at planning (an older build planned it, and every
+// task would have failed, or run out of memory, on the cluster).
+TEST_CASE("cluster plan refuses an ungrouped grid past a JSON results file's combinations, whatever its shards") {
+  const fs::path dir = test::scratch("robust-cluster-json-grid");
+  makeScene(dir / "A", 1);
+  std::ofstream(dir / "fine.json") << R"({"name": "fine-pt", "method": "octomap", "parameters": {
+    "p_max": {"value": 0.98}, "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.86, "step": 0.12}, "p_m": {"value": 0.2},
+    "p_t": {"step": 0.000016}}})";
+  for (const char* shards : {"1", "4"}) {
+    const auto r =
+        test::runIn(dir, std::string("cluster plan --out p --experiment sweep --datasets A --grids fine.json:") + shards);
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output,
+               Contains("grid fine.json: 240004 combinations, more than the 200000 a JSON results file holds"));
+    CHECK_FALSE(fs::exists(dir / "p"));
+  }
+}

@@ -504,3 +504,81 @@ TEST_CASE("worker threads are bounded on every command that takes them: a refusa
   CHECK(one.exit_code == 0);
   CHECK(occsweep::test::bytesOf(dir / "at.ot") == occsweep::test::bytesOf(dir / "one.ot"));
 }
+
+TEST_CASE("cluster plan --pcs-count past its limit is refused by the flag, in bounded memory, writing nothing") {
+  // Old binary: --pcs-count 100000000 expanded every id into one argv string and plan.json, 1.75 GB and more (under
+  // this test's 1 GB cap: out of memory, blaming a raised flag). docs/cluster.md, "Options".
+  const fs::path dir = occsweep::test::processScratch("limits_pcs_count");
+  const Run r = runOccsweep("cluster plan --out " + (dir / "p").string() + " --pcs-count 100000000", 1024);
+  checkRefused(r, {"--pcs-count 100000000 is more than the limit of 100000"});
+  CHECK_FALSE(fs::exists(dir / "p"));
+  // Within the limit but in one block, {pcs} would not fit one command-line argument: refused, asking for --blocks.
+  const Run one = runOccsweep("cluster plan --out " + (dir / "p").string() + " --pcs-count 100000 --blocks 1 "
+                              "--unranked", 1024);
+  checkRefused(one, {"--pcs-count 100000 in --blocks 1", "131071 bytes", "raise --blocks"});
+  CHECK_FALSE(fs::exists(dir / "p"));
+  // At the limit, in enough blocks, the plan is written (each generation task gets its block's ids).
+  const Run at = runOccsweep("cluster plan --out " + (dir / "p").string() + " --datasets one --pcs-count 100000 "
+                             "--blocks 16 --sets pcs-0000 --group-set pcs-0000", 1024);
+  INFO(at.output);
+  CHECK(at.exit_code == 0);
+  checkPeak(at);
+  CHECK(fs::exists(dir / "p" / "plan.json"));
+}
+
+namespace {
+
+/// An OctoMap grid of `maps` maps (p_h values) whose p_t runs by `p_t_step`: combinations = maps x thresholds.
+void writeFinePtGrid(const fs::path& file, int maps, const char* p_t_step) {
+  std::ofstream(file) << R"({"name": "fine-pt", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
+    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": )" << 0.5 + 0.12 * (maps - 1) << R"(, "step": 0.12},
+    "p_m": {"value": 0.2}, "p_t": {"step": )" << p_t_step << "}}}";
+}
+
+}  // namespace
+
+TEST_CASE("sweep refuses a JSON --out past 200,000 combinations at its start, pointing at --out NAME.db") {
+  // Old binary: this 200-byte grid of 1,920,002 combinations (2 maps, p_t by 0.000001; under the 2 M default limit)
+  // took 3.57 GB to sweep into JSON (under this test's 1 GB cap: out of memory, blaming a flag nobody raised).
+  const fs::path dir = occsweep::test::processScratch("limits_json_out");
+  writeFinePtGrid(dir / "fine.json", 2, "0.000001");
+  const std::string sweep = "sweep --quiet --dataset " + scene().string() + " --grid " + (dir / "fine.json").string();
+  const Run r = runOccsweep(sweep + " --out " + (dir / "fine-results.json").string(), 1024);
+  checkRefused(r, {"--out " + (dir / "fine-results.json").string(), "at most 200000 combinations", "writes 1920002",
+                   "use --out NAME.db"});
+  CHECK_FALSE(fs::exists(dir / "fine-results.json"));
+  CHECK(leftovers(dir).empty());
+  // The selection counts, not the whole grid: a quarter of 4 maps x 60,001 thresholds fits in JSON.
+  writeFinePtGrid(dir / "four.json", 4, "0.000016");
+  const std::string four = "sweep --quiet --dataset " + scene().string() + " --grid " + (dir / "four.json").string();
+  const Run quarter = runOccsweep(four + " --shard 0/4 --out " + (dir / "q.json").string(), 1024);
+  INFO(quarter.output);
+  CHECK(quarter.exit_code == 0);
+  CHECK(fs::exists(dir / "q.json"));
+  const Run whole = runOccsweep(four + " --out " + (dir / "w.json").string(), 1024);
+  checkRefused(whole, {"writes 240004", "use --out NAME.db"});
+  CHECK_FALSE(fs::exists(dir / "w.json"));
+}
+
+TEST_CASE("out of memory names the command's inputs and blames a limit flag only when one was raised") {
+  // Old binary: "lower the one whose flag you raised" with no flag raised, and "on these inputs" naming none.
+  if (kSanitized) {
+    WARN("skipped under sanitizers: they cannot run under an address-space cap");
+    return;
+  }
+  const fs::path dir = occsweep::test::processScratch("limits_oom_message");
+  // 1,939,402 maps-and-thresholds (under the default 2 M): counting them needs more than a 100 MB address space.
+  std::ofstream(dir / "many.json") << R"({"name": "many", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
+    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.00005},
+    "p_m": {"min": 0.02, "max": 0.38, "step": 0.0036}, "p_t": {"step": 0.96}}})";
+  const std::string grid = (dir / "many.json").string();
+  Run r = runOccsweep("grid count " + grid, 100);
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("out of memory while running `occsweep grid` on " + grid) != std::string::npos);
+  CHECK(r.output.find("no limit was raised") != std::string::npos);
+  CHECK(r.output.find("you raised") == std::string::npos);
+  r = runOccsweep("grid count --max-combinations 3000000 " + grid, 100);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("lower the limit you raised (--max-combinations)") != std::string::npos);
+}

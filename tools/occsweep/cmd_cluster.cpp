@@ -59,7 +59,7 @@ struct PlanOptions {
   PlanConfig config;
   std::string dir, kind = "exists";
   std::vector<std::string> grids, sweep_args;
-  bool replace = false;
+  bool force = false;
   CLI::Option *datasets = nullptr, *blocks = nullptr, *unranked = nullptr, *sets = nullptr, *group_set = nullptr;
 };
 
@@ -119,7 +119,7 @@ int runPlan(const PlanOptions& o) {
   c.sweep = sharedSweepSettings(o.sweep_args);
   c.generate_kind = kindFromName(o.kind);
   const ClusterPlan p = buildPlan(c);
-  writePlan(p, o.dir, o.replace);
+  writePlan(p, o.dir, o.force);
   std::size_t total = 0;
   for (const auto& s : p.stages) {
     std::cout << "stage " << s.name << ": " << s.tasks.size() << " tasks"
@@ -139,7 +139,7 @@ Subcommand addPlan(CLI::App& app) {
   plan->add_option("--out", o->dir, "Plan folder (tasks run there; outputs go under it)")->required();
   addPlanDataOptions(*plan, *o);
   addPlanRunOptions(*plan, *o);
-  plan->add_flag("--replace", o->replace, "Overwrite a different plan.json in --out");
+  plan->add_flag("--force", o->force, "Replace occsweep's own different plan.json in --out (nothing else)");
   return {plan, [o] { return runPlan(*o); }};
 }
 

@@ -1,6 +1,9 @@
 // occsweep import depth|graph|cloud|truth FILES... --out DIR: real recordings into the data-set format.
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <algorithm>
+#include <iomanip>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -35,10 +38,21 @@ struct ImportOptions {
 
 std::vector<fs::path> paths(const std::vector<std::string>& files) { return {files.begin(), files.end()}; }
 
+std::array<double, 3> shiftOf(const ImportOptions& o) {
+  if (o.shift.empty()) return {0, 0, 0};
+  for (double v : o.shift)
+    if (!std::isfinite(v)) throw std::invalid_argument("--shift: must be 3 finite numbers");
+  return {o.shift[0], o.shift[1], o.shift[2]};
+}
+
 // Far-away (georeferenced) coordinates: moved by --shift, or a warning with the shift to pass, since map and
 // sweep refuse coordinates outside OctoMap's key range (docs/robustness.md, "Numbers that must not be wrong").
-void shiftOrWarn(Dataset& d, const ImportOptions& o) {
-  if (!o.shift.empty()) applyShift(d, {o.shift[0], o.shift[1], o.shift[2]});
+// `placed`: the reader already added the shift before rounding to float32 (import cloud, depth; docs/import.md).
+void shiftOrWarn(Dataset& d, const ImportOptions& o, bool placed = false) {
+  if (!o.shift.empty()) {
+    if (placed) recordShift(d, shiftOf(o));
+    else applyShift(d, shiftOf(o));
+  }
   const KeyRange range = keyRange(0.1);
   const AxisBox b = boundingBox(d.scans);
   for (std::size_t a = 0; a < 3; ++a)
@@ -61,13 +75,28 @@ constexpr const char* kPointsBox = "no truth: the bounding box of every point an
 
 // Which region the data set got and what it costs at the default resolution, so that a region of billions of
 // voxels is seen at import, not when a sweep runs out of memory on it.
+// Voxels whose centres lie in the region, wherever it lies: regionVoxelCount saturates outside OctoMap's key range,
+// which is a different reason for map and sweep to refuse it than its size.
+double extentVoxels(const AxisBox& r, double resolution) {
+  double n = 1;
+  for (std::size_t a = 0; a < 3; ++a)
+    n *= std::max(0.0, std::floor(r.max[a] / resolution - 0.5) - std::ceil(r.min[a] / resolution - 0.5) + 1);
+  return n;
+}
+
 void printRegion(const AxisBox& r, const std::string& origin) {
   const double resolution = KnnParams{}.resolution;
   const std::uint64_t voxels = regionVoxelCount(r, resolution);
   std::cout << "region (" << origin << "): [" << r.min[0] << ", " << r.max[0] << "] x [" << r.min[1] << ", "
             << r.max[1] << "] x [" << r.min[2] << ", " << r.max[2] << "] m, ";
-  if (voxels == UINT64_MAX) std::cout << "outside OctoMap's key range at " << resolution << " m\n";
-  else std::cout << voxels << " voxels at " << resolution << " m\n";
+  if (voxels == UINT64_MAX) {
+    std::cout << std::fixed << std::setprecision(0) << extentVoxels(r, resolution) << std::defaultfloat
+              << std::setprecision(6) << " voxels at " << resolution << " m, outside OctoMap's key range "
+              << keyRange(resolution).text() << ": map and sweep refuse it there (import with --shift; "
+                                                "docs/import.md)\n";
+    return;
+  }
+  std::cout << voxels << " voxels at " << resolution << " m\n";
   if (voxels > limits().region_voxels)
     std::cout << "note: more than the limit of " << limits().region_voxels
               << " region voxels: map and sweep refuse it at this resolution (give --region, or "
@@ -188,8 +217,9 @@ int runImportDepth(const ImportOptions& o) {
   DepthImportConfig c = o.depth;
   c.pose_format = poseFormatNamed(o.pose_format);
   c.skip_empty = o.skip_empty;
+  c.shift = shiftOf(o);
   Dataset d = importDepthSequence(paths(o.files), o.poses, c);
-  shiftOrWarn(d, o);
+  shiftOrWarn(d, o, true);
   filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
 }
@@ -209,8 +239,9 @@ int runImportCloud(const ImportOptions& o) {
   cc.origin = {o.origin[0], o.origin[1], o.origin[2]};
   cc.skip_empty = o.skip_empty;
   cc.view = coneOfFlags(o);
+  cc.shift = shiftOf(o);
   Dataset d = importClouds(paths(o.files), cc);
-  shiftOrWarn(d, o);
+  shiftOrWarn(d, o, true);
   filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
 }

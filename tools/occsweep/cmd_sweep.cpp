@@ -1,13 +1,41 @@
 // occsweep sweep: every combination of a grid on one data set, as a results file (docs/definitions.md, Results files);
 // several grids at once share the data set's read and recording (sweepGrids).
+#include <cstdint>
 #include <iostream>
+#include <stdexcept>
 
 #include "command_registry.hpp"
 #include "limit_options.hpp"
 #include "task_options.hpp"
+#include "occsweep/sweeps/results_store.hpp"
+#include "occsweep/sweeps/selection.hpp"
+#include "occsweep/sweeps/sweep.hpp"
 
 namespace occsweep::cli {
 namespace {
+
+/// The combinations a sweep writes: the grid's (Eq. 15, not enumerated), or its selection's when that is smaller;
+/// 0 for a grid past --max-combinations, which the sweep refuses by that limit's own message.
+std::uint64_t sweptCombinations(const SweepConfig& c) {
+  const GridSpec grid = loadGrid(resolveGridPath(c.grid));
+  const std::uint64_t all = combinationCount(grid);
+  if (all > limits().combinations) return 0;
+  if (all <= kMaxJsonCombinations || c.selection == SweepSelection{}) return all;
+  std::uint64_t selected = 0;
+  for (const SweepItem& item : selectWork(grid, enumerateGrid(grid), c.selection)) selected += item.thresholds.size();
+  return selected;
+}
+
+/// Before anything is read or written: a JSON --out past kMaxJsonCombinations is refused, pointing at a store.
+void refuseLargeJson(const SweepConfig& c) {
+  if (isStorePath(c.out)) return;
+  const std::uint64_t n = sweptCombinations(c);
+  if (n > kMaxJsonCombinations)
+    throw std::invalid_argument("--out " + c.out.string() + ": a JSON results file holds at most " +
+                                std::to_string(kMaxJsonCombinations) + " combinations and this sweep of " +
+                                c.grid + " writes " + std::to_string(n) + "; use --out NAME.db (a results store, "
+                                "written batch by batch; docs/results-format.md)");
+}
 
 const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one map per combination but p_t",
                              [](CLI::App& app) {
@@ -17,6 +45,7 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
   addLimitOptions(app, {Limit::WindowVoxels, Limit::Combinations, Limit::RegionVoxels, Limit::Points});
   return [o] {
     const std::vector<SweepConfig> configs = sweepConfigsOf(*o);
+    for (const SweepConfig& c : configs) refuseLargeJson(c);
     const std::vector<SweepSummary> written = sweepGrids(configs);
     for (std::size_t i = 0; i < written.size(); ++i)
       std::cout << "wrote " << configs[i].out.string() << ": " << written[i].maps << " maps, " << written[i].combinations

@@ -38,9 +38,8 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
       return e.get_exit_code() == 0 ? sub->exit(e) : reportParseError(app, e, argc, argv);
     } catch (const std::bad_alloc&) {  // never an abort; the limits should have refused the input first
-      std::cerr << "occsweep " << sub->get_name() << ": error: out of memory while running `occsweep "
-                << sub->get_name() << "` on these inputs; the limits of docs/robustness.md bound most inputs, "
-                   "lower the one whose flag you raised, or use a smaller input\n";
+      std::cerr << "occsweep " << sub->get_name() << ": error: " << outOfMemoryMessage(sub->get_name(), argc, argv)
+                << '\n';
       return 2;
     } catch (const std::exception& e) {
       std::cerr << "occsweep " << sub->get_name() << ": error: " << e.what() << '\n';

@@ -2,6 +2,7 @@
 #include "usage_errors.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <numeric>
 #include <cctype>
@@ -133,6 +134,21 @@ int reportParseError(CLI::App& app, const CLI::ParseError& error, int argc, char
   std::cerr << d.path << ": error: " << (d.message.empty() ? reworded(*d.command, error) : d.message) << '\n'
             << "Run '" << d.path << " --help' for the options.\n";
   return 2;
+}
+
+std::string outOfMemoryMessage(const std::string& command, int argc, char** argv) {
+  std::string inputs, raised;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    std::error_code ec;
+    if (a.rfind("--max-", 0) == 0) raised += (raised.empty() ? "" : ", ") + a.substr(0, a.find('='));
+    else if (a.rfind("-", 0) != 0 && std::filesystem::exists(a, ec)) inputs += (inputs.empty() ? "" : ", ") + a;
+  }
+  std::string m = "out of memory while running `occsweep " + command + "`" +
+                  (inputs.empty() ? std::string() : " on " + inputs) + ": ";
+  if (!raised.empty()) return m + "lower the limit you raised (" + raised + "), or use a smaller input";
+  return m + "no limit was raised, so the input needs more memory than this machine gives within the default "
+             "limits of docs/robustness.md; use a smaller input (for sweeps and results, a store: --out NAME.db)";
 }
 
 }  // namespace occsweep::cli

@@ -13,4 +13,9 @@ namespace occsweep::cli {
 /// Prints the error of a failed parse of `argv` by `app` and returns the exit code: 0 for --help/--version, else 2.
 int reportParseError(CLI::App& app, const CLI::ParseError& error, int argc, char** argv);
 
+/// What `occsweep COMMAND` says when it runs out of memory: the inputs it was given (the arguments that name a file
+/// or folder), and the limit flags (--max-*) raised on this command line, or that none was, so that the advice
+/// never blames a flag the user did not give (docs/robustness.md, "Limits and non-regular files").
+[[nodiscard]] std::string outOfMemoryMessage(const std::string& command, int argc, char** argv);
+
 }  // namespace occsweep::cli

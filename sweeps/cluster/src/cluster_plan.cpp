@@ -18,9 +18,11 @@ struct SweptSet {
   std::vector<std::string> generated;  ///< outputs of its data set's generation (or select) tasks
 };
 
+// A data-set or set name made one harmless path component (brokenPathComponentRule): it names output folders.
 std::string fileKey(std::string text) {
   for (char& c : text)
-    if (c == '/' || c == ' ' || c == ':') c = '_';
+    if (c == '/' || c == '\\' || c == ' ' || c == ':' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '_';
+  if (!text.empty() && text.front() == '.') text.front() = '_';
   return text;
 }
 
@@ -54,6 +56,11 @@ ClusterTask generationTask(const PlanConfig& c, std::size_t i, const std::string
   for (auto id = ids.begin; id < ids.end; ++id) {
     if (!pcs.empty()) pcs += ',';
     pcs += std::to_string(id);
+    if (pcs.size() > kMaxPcsArgumentBytes && c.generate.find("{pcs}") != std::string::npos)
+      throw std::invalid_argument("--pcs-count " + std::to_string(c.pcs_count) + " in --blocks " +
+                                  std::to_string(c.blocks) + ": one block's {pcs} ids pass " +
+                                  std::to_string(kMaxPcsArgumentBytes) + " bytes, the longest argument a command "
+                                  "line may hold; raise --blocks");
   }
   std::map<std::string, std::string> v = {
       {"dataset", c.datasets[i]}, {"index", std::to_string(i)}, {"seed", std::to_string(i + 1)},
@@ -83,6 +90,10 @@ void checkPlanConfig(const PlanConfig& c) {
   if (c.datasets.empty()) throw std::invalid_argument("no data sets: give --datasets");
   if (c.grids.empty()) throw std::invalid_argument("no grids: give --grids");
   if (c.blocks == 0) throw std::invalid_argument("--blocks must be at least 1");
+  if (c.pcs_count > kMaxPcsCount)
+    throw std::invalid_argument("--pcs-count " + std::to_string(c.pcs_count) + " is more than the limit of " +
+                                std::to_string(kMaxPcsCount) + " point cloud parameter ids (each id is written into "
+                                "a generation task's command line and plan.json; docs/cluster.md)");
   if (c.sets.empty()) throw std::invalid_argument("--sets must name at least one point cloud set");
   if (c.experiment == "reproduce" && c.blocks > 1 && !c.ranked)
     throw std::invalid_argument("--blocks > 1 needs the select stage to gather the blocks' sets (drop --unranked)");
@@ -154,6 +165,15 @@ struct LoadedGrid {
   std::string name, arg;
 };
 
+/// The plan's sweep shards and merges are JSON results files, which `sweep` refuses past kMaxJsonCombinations; the
+/// merge of an ungrouped grid holds all of it: refused now, not hours later on the cluster.
+void refuseLargeJsonGrid(const PlanGrid& g, const GridEnumeration& e) {
+  if (g.grouped || e.combinations <= kMaxJsonCombinations) return;
+  throw std::invalid_argument("grid " + g.name + ": " + std::to_string(e.combinations) + " combinations, more than " +
+                              "the " + std::to_string(kMaxJsonCombinations) + " a JSON results file holds (the " +
+                              "plan's shards and merges are JSON): sweep it with `occsweep sweep --out NAME.db`");
+}
+
 /// Grids are loaded now so that a wrong name or too many shards fail at planning, not on the cluster.
 std::vector<LoadedGrid> loadPlanGrids(const PlanConfig& c) {
   std::set<std::string> seen;
@@ -162,10 +182,12 @@ std::vector<LoadedGrid> loadPlanGrids(const PlanConfig& c) {
     if (g.shards == 0) throw std::invalid_argument("grid " + g.name + ": shards must be at least 1");
     const GridSpec spec = loadGrid(resolveGridPath(g.name));
     if (!seen.insert(spec.name).second) throw std::invalid_argument("grid " + spec.name + " given twice");
-    const auto maps = enumerateGrid(spec).maps.size();
+    const GridEnumeration e = enumerateGrid(spec);
+    const auto maps = e.maps.size();
     if (!g.grouped && g.shards > maps)
       throw std::invalid_argument("grid " + g.name + ": " + std::to_string(g.shards) + " shards but only " +
                                   std::to_string(maps) + " maps (a shard is a block of whole maps)");
+    refuseLargeJsonGrid(g, e);
     // A grid file named relative to here would not be found by the tasks, which run in the plan folder.
     const std::string arg = std::filesystem::is_regular_file(g.name)
                                 ? std::filesystem::absolute(g.name).lexically_normal().string()

@@ -1,5 +1,6 @@
 // The plan's files: DIR/plan.json (the manifest of every shard) and one sbatch script per stage.
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -47,6 +48,17 @@ T field(const json& j, const std::string& key, const std::string& file, const st
   }
 }
 
+/// Whether plan.json at `manifest` is occsweep's own plan, proven by its own `format` field; what it is otherwise.
+std::optional<std::string> notOurPlan(const std::filesystem::path& manifest) {
+  try {
+    const json j = readJsonFile(manifest);
+    if (j.is_object() && j.contains("format") && j.at("format") == kPlanFormat) return std::nullopt;
+    return "not an occsweep plan (no \"format\": \"" + std::string(kPlanFormat) + "\")";
+  } catch (const std::exception& e) {
+    return std::string("not an occsweep plan (") + e.what() + ")";
+  }
+}
+
 ClusterPlan parsePlan(const json& j, const std::string& file) {
   if (field<std::string>(j, "format", file, "") != kPlanFormat)
     throw std::runtime_error(file + ": format: expected \"" + std::string(kPlanFormat) + "\"");
@@ -72,6 +84,8 @@ ClusterPlan parsePlan(const json& j, const std::string& file) {
       if (t.argv.empty()) throw std::runtime_error(file + ": " + where + "argv: empty");
       t.inputs = field<std::vector<std::string>>(tj, "inputs", file, where);
       t.output = field<std::string>(tj, "output", file, where);
+      if (const auto broken = brokenPlanOutputRule(t.output))
+        throw std::runtime_error(file + ": " + where + "output: " + *broken);
       try {
         t.kind = kindFromName(field<std::string>(tj, "kind", file, where));
       } catch (const std::invalid_argument& e) {
@@ -127,15 +141,44 @@ std::string sbatchScript(const ClusterPlan& plan, const ClusterStage& stage) {
   return s.str();
 }
 
-void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool replace) {
+std::optional<std::string> brokenPlanOutputRule(const std::string& output) {
+  const std::filesystem::path p(output);
+  bool up = false;
+  for (const auto& part : p) up = up || part == "..";
+  if (output.empty() || p.is_absolute() || up)
+    return "must be a relative path inside the plan folder (not absolute, no '..'): run-local and resubmit "
+           "write and remove it";
+  return std::nullopt;
+}
+
+namespace {
+
+// --force replaces occsweep's own earlier plan only, as everywhere (docs/cluster.md); a user's plan.json stays.
+void refuseOtherPlan(const std::filesystem::path& dir, const json& plan, bool force) {
+  namespace fs = std::filesystem;
+  const fs::path manifest = dir / "plan.json";
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(manifest, ec))) return;
+  if (const auto why = notOurPlan(manifest))
+    throw std::runtime_error(manifest.string() + ": " + *why + ": refused, with or without --force (nothing "
+                             "changed); choose another --out");
+  if (!force && planJson(readPlan(dir)) != plan)
+    throw std::runtime_error(manifest.string() + ": a different plan is already there (--force replaces it, or "
+                             "choose another --out)");
+}
+
+}  // namespace
+
+void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool force) {
   namespace fs = std::filesystem;
   const fs::path manifest = dir / "plan.json";
   const json j = planJson(plan);
-  if (fs::exists(manifest) && !replace) {
-    const ClusterPlan old = readPlan(dir);
-    if (planJson(old) != j)
-      throw std::runtime_error(manifest.string() + ": a different plan is already there (use --replace, or another --out)");
-  }
+  for (const auto& st : plan.stages)
+    for (const auto& t : st.tasks)
+      if (const auto broken = brokenPlanOutputRule(t.output))
+        throw std::invalid_argument("task " + st.name + "[" + std::to_string(t.index) + "] output " + t.output + ": " +
+                                    *broken);
+  refuseOtherPlan(dir, j, force);
   const bool new_folder = !fs::exists(dir);
   try {
     fs::create_directories(dir / "slurm");
@@ -146,6 +189,12 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool r
       fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
     }
     writeJsonAtomically(j, manifest);  // last: a plan folder with plan.json is complete
+  } catch (const fs::filesystem_error& e) {  // the plan folder named, not the library's "filesystem error"
+    std::error_code ec;
+    if (new_folder) fs::remove_all(dir, ec);
+    throw std::runtime_error(dir.string() + ": cannot create the plan folder: " + e.code().message() +
+                             (e.code() == std::errc::not_a_directory ? " (a file is in the way; choose another --out)"
+                                                                      : ""));
   } catch (...) {
     std::error_code ec;
     if (new_folder) fs::remove_all(dir, ec);  // a failed write (a full disk) leaves no half plan folder it made

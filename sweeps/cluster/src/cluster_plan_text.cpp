@@ -1,4 +1,5 @@
 // Small parsers of the plan options: grid specs, command templates, output kinds.
+#include <charconv>
 #include <stdexcept>
 
 #include "occsweep/sweeps/cluster_plan.hpp"
@@ -27,9 +28,9 @@ PlanGrid parsePlanGrid(const std::string& text) {
   }
   if (!parts.empty()) {
     const std::string& n = parts[0];
-    if (n.empty() || n.find_first_not_of("0123456789") != std::string::npos) throw bad("shards must be a number");
-    g.shards = std::stoull(n);
-    if (g.shards == 0) throw bad("shards must be at least 1");
+    const auto [end, error] = std::from_chars(n.data(), n.data() + n.size(), g.shards);
+    if (n.empty() || error != std::errc() || end != n.data() + n.size() || g.shards == 0)
+      throw bad("shards must be a whole number from 1 to " + std::to_string(UINT64_MAX));
   }
   return g;
 }

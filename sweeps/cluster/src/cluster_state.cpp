@@ -73,6 +73,25 @@ std::string checkOutput(const ClusterTask& task, const fs::path& dir) {
   return "";
 }
 
+namespace {
+bool insideFolder(const fs::path& file, const fs::path& dir) {
+  std::error_code ec;
+  const fs::path f = fs::weakly_canonical(file, ec);
+  if (ec) return false;
+  const fs::path d = fs::weakly_canonical(dir, ec);
+  if (ec) return false;
+  const fs::path rel = f.lexically_relative(d);
+  return !rel.empty() && *rel.begin() != ".." && *rel.begin() != ".";
+}
+}  // namespace
+
+void removeOwnOutput(const ClusterTask& task, const fs::path& dir) {
+  const fs::path file = dir / task.output;
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec) || !insideFolder(file, dir) || !checkOutput(task, dir).empty()) return;
+  fs::remove(file, ec);
+}
+
 bool outputStale(const ClusterTask& task, const fs::path& dir) {
   std::error_code ec;
   const auto out_time = fs::last_write_time(dir / task.output, ec);

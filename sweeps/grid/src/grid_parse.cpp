@@ -8,6 +8,7 @@
 
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/fnv1a.hpp"
+#include "occsweep/eval/path_component.hpp"
 #include "occsweep/sweeps/grid.hpp"
 
 namespace occsweep {
@@ -119,6 +120,7 @@ GridSpec parseGrid(const json& j, const std::string& file) {
   if (!j.contains("name") || !j.at("name").is_string() || j.at("name").get<std::string>().empty())
     r.fail("name", "must be a non-empty string");
   g.name = j.at("name").get<std::string>();
+  if (const auto broken = brokenPathComponentRule(g.name)) r.fail("name", *broken);
   const MappingMethod& method = gridMethod(r, j);
   g.method = method.name();
   g.layout = layoutOf(g.method);
@@ -147,7 +149,7 @@ GridSpec parseGrid(const json& j, const std::string& file) {
 
 GridSpec loadGrid(const std::filesystem::path& file) {
   const std::string bytes = readFileBytes(file);  // refuses folders and FIFOs by name
-  GridSpec g = parseGrid(parseJsonText(bytes, file), file.string());
+  GridSpec g = parseGrid(parseJsonTextUniqueKeys(bytes, file), file.string());
   Fnv1a h;
   h.feed(bytes);
   g.file_hash = h.hex();

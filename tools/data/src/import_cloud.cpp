@@ -18,28 +18,37 @@ std::string lowerExtension(const fs::path& file) {
   return ext;
 }
 
+// What a coordinate that overflows float32 went through, for the error (docs/import.md, "Float overflow").
+std::string afterWhat(const CloudImportConfig& c) {
+  std::string what = c.pose_file ? "after the pose of " + c.pose_file->string() : "";
+  if (c.shift != std::array<double, 3>{0, 0, 0}) what += std::string(what.empty() ? "after" : " and") + " --shift";
+  return what;
+}
+
 }  // namespace
 
-std::vector<octomap::point3d> decodeXyz(std::string_view bytes, const fs::path& file) {
+std::vector<octomap::point3d> decodeXyz(std::string_view bytes, const fs::path& file, const CloudPlacement& at) {
   TextLines lines(bytes, file);
   std::vector<std::string_view> tok;
   std::vector<octomap::point3d> pts;
   while (lines.nextData(tok)) {
     if (tok.size() < 3) lines.fail("has " + std::to_string(tok.size()) + " values, expected x y z");
-    pts.emplace_back(float(lines.number(tok[0], 0, "x")), float(lines.number(tok[1], 1, "y")),
-                     float(lines.number(tok[2], 2, "z")));
+    const double x = lines.number(tok[0], 0, "x"), y = lines.number(tok[1], 1, "y"), z = lines.number(tok[2], 2, "z");
+    pts.push_back(at.place(x, y, z));
   }
   return pts;
 }
 
-std::vector<octomap::point3d> decodeCloud(std::string_view bytes, const fs::path& file) {
+std::vector<octomap::point3d> decodeCloud(std::string_view bytes, const fs::path& file, const CloudPlacement& at) {
   const std::string ext = lowerExtension(file);
-  if (ext == ".ply") return decodePly(bytes, file).vertices;
-  if (ext == ".pcd") return decodePcd(bytes, file);
-  return decodeXyz(bytes, file);
+  if (ext == ".ply") return decodePly(bytes, file, at).vertices;
+  if (ext == ".pcd") return decodePcd(bytes, file, nullptr, at);
+  return decodeXyz(bytes, file, at);
 }
 
-std::vector<octomap::point3d> readCloud(const fs::path& file) { return decodeCloud(readFileBytes(file), file); }
+std::vector<octomap::point3d> readCloud(const fs::path& file, const CloudPlacement& at) {
+  return decodeCloud(readFileBytes(file), file, at);
+}
 
 SensorView cloudView(const ConeView& cone, const RigidPose& pose) {
   if (const auto broken = brokenViewRule(cone))
@@ -68,21 +77,16 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
   ProgressLine progress("point cloud");
   for (std::size_t i = 0; i < clouds.size(); ++i) {
     progress.show(i + 1, clouds.size());
-    const auto local = readCloud(clouds[i]);
-    files.push_back(clouds[i].filename().string());
+    CloudPlacement at{c.pose_file ? poses[i] : RigidPose{}, c.shift};
     Scan scan;
-    if (c.pose_file) {
-      scan.origin = poses[i].origin();
-      scan.points.reserve(local.size());
-      for (const auto& p : local) scan.points.push_back(poses[i].apply(p.x(), p.y(), p.z()));
-    } else {
-      scan.origin = octomap::point3d(float(c.origin[0]), float(c.origin[1]), float(c.origin[2]));
-      scan.points = local;
-    }
+    scan.points = readCloud(clouds[i], at);
+    if (!c.pose_file) at.pose.translation = c.origin;  // points in the world frame, the sensor at --origin
+    scan.origin = at.placeOrigin();
+    files.push_back(clouds[i].filename().string());
     if (c.view) scan.view = cloudView(*c.view, c.pose_file ? poses[i] : RigidPose{});
     if (scan.points.empty() && c.skip_empty) continue;
     requireNonEmpty(scan, clouds[i].string(), "");
-    requireFiniteScan(scan, clouds[i].string(), "", c.pose_file ? "after the pose of " + c.pose_file->string() : "");
+    requireFiniteScan(scan, clouds[i].string(), "", afterWhat(c));
     countPoints(total_points, scan, clouds[i].string());
     scans.push_back(std::move(scan));
   }

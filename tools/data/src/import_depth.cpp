@@ -36,8 +36,9 @@ PinholeView cameraView(const DepthImage& image, const RigidPose& pose, const Dep
 }
 
 Scan depthToScan(const DepthImage& image, const RigidPose& pose, const DepthImportConfig& c) {
+  const CloudPlacement at{pose, c.shift};
   Scan scan;
-  scan.origin = pose.origin();
+  scan.origin = at.placeOrigin();
   scan.view = cameraView(image, pose, c);
   const auto stride = std::size_t(c.stride);
   for (std::size_t v = 0; v < std::size_t(image.height); v += stride)
@@ -46,7 +47,7 @@ Scan depthToScan(const DepthImage& image, const RigidPose& pose, const DepthImpo
       if (raw == 0) continue;  // no measurement
       const double z = raw / c.depth_scale;
       if (c.max_depth > 0 && z >= c.max_depth) continue;
-      scan.points.push_back(pose.apply((double(u) - c.cx) * z / c.fx, (double(v) - c.cy) * z / c.fy, z));
+      scan.points.push_back(at.place((double(u) - c.cx) * z / c.fx, (double(v) - c.cy) * z / c.fy, z));
     }
   return scan;
 }
@@ -70,7 +71,7 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const fs::path&
     if (scan.points.empty() && c.skip_empty) continue;
     requireNonEmpty(scan, images[i].string(), "");
     requireFiniteScan(scan, images[i].string(), "",
-                      "check --depth-scale, --fx, --fy and the pose in " + pose_file.string());
+                      "check --depth-scale, --fx, --fy, --shift and the pose in " + pose_file.string());
     countPoints(total_points, scan, images[i].string());
     scans.push_back(std::move(scan));
   }

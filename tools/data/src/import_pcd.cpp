@@ -106,7 +106,7 @@ bool keepPoint(const double v[3], std::size_t index, std::size_t* skipped, const
 }  // namespace
 
 std::vector<octomap::point3d> decodePcd(std::string_view bytes, const std::filesystem::path& file,
-                                        std::size_t* skipped_nan) {
+                                        std::size_t* skipped_nan, const CloudPlacement& at) {
   const PcdHeader h = parsePcdHeader(bytes, file);
   const std::uint64_t left = bytes.size() - std::min(bytes.size(), h.body);
   std::vector<octomap::point3d> pts;
@@ -122,7 +122,7 @@ std::vector<octomap::point3d> decodePcd(std::string_view bytes, const std::files
         const Field& f = h.fields[std::size_t(h.xyz[a])];
         v[a] = decodeScalar(p + h.offset[a], f.size, f.kind, false);
       }
-      if (keepPoint(v, i, skipped_nan, file)) pts.emplace_back(float(v[0]), float(v[1]), float(v[2]));
+      if (keepPoint(v, i, skipped_nan, file)) pts.push_back(at.place(v[0], v[1], v[2]));
     }
     return pts;
   }
@@ -141,7 +141,7 @@ std::vector<octomap::point3d> decodePcd(std::string_view bytes, const std::files
       v[a] = (t == "nan" || t == "NaN" || t == "NAN") ? std::numeric_limits<double>::quiet_NaN()
                                                       : lines.number(t, h.offset[a], "xyz"[a] + std::string());
     }
-    if (keepPoint(v, i, skipped_nan, file)) pts.emplace_back(float(v[0]), float(v[1]), float(v[2]));
+    if (keepPoint(v, i, skipped_nan, file)) pts.push_back(at.place(v[0], v[1], v[2]));
   }
   if (lines.nextData(tok)) lines.fail("more points than POINTS says: wrong count");
   return pts;

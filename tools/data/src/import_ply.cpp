@@ -167,7 +167,7 @@ class Body {
 
 }  // namespace
 
-PlyData decodePly(std::string_view bytes, const std::filesystem::path& file) {
+PlyData decodePly(std::string_view bytes, const std::filesystem::path& file, const CloudPlacement& at) {
   const PlyHeader h = parsePlyHeader(bytes, file);
   Body body(bytes, h, file);
   PlyData out;
@@ -215,8 +215,8 @@ PlyData decodePly(std::string_view bytes, const std::filesystem::path& file) {
       if (!vertex) continue;
       for (int a = 0; a < 3; ++a)
         if (!std::isfinite(values[std::size_t(xyz[a])])) body.fail("coordinate is NaN or infinite");
-      out.vertices.emplace_back(float(values[std::size_t(xyz[0])]), float(values[std::size_t(xyz[1])]),
-                                float(values[std::size_t(xyz[2])]));
+      out.vertices.push_back(
+          at.place(values[std::size_t(xyz[0])], values[std::size_t(xyz[1])], values[std::size_t(xyz[2])]));
     }
   }
   body.finish();

@@ -91,11 +91,20 @@ std::vector<RigidPose> matrixPoses(TextLines& lines, const std::filesystem::path
 
 }  // namespace
 
-octomap::point3d RigidPose::apply(double x, double y, double z) const {
+std::array<double, 3> RigidPose::applyExact(double x, double y, double z) const {
   const auto& r = rotation;
-  return octomap::point3d(float(r[0] * x + r[1] * y + r[2] * z + translation[0]),
-                          float(r[3] * x + r[4] * y + r[5] * z + translation[1]),
-                          float(r[6] * x + r[7] * y + r[8] * z + translation[2]));
+  return {r[0] * x + r[1] * y + r[2] * z + translation[0], r[3] * x + r[4] * y + r[5] * z + translation[1],
+          r[6] * x + r[7] * y + r[8] * z + translation[2]};
+}
+
+octomap::point3d RigidPose::apply(double x, double y, double z) const {
+  const auto p = applyExact(x, y, z);
+  return octomap::point3d(float(p[0]), float(p[1]), float(p[2]));
+}
+
+octomap::point3d CloudPlacement::place(double x, double y, double z) const {
+  const auto p = pose.applyExact(x, y, z);
+  return octomap::point3d(float(p[0] + shift[0]), float(p[1] + shift[1]), float(p[2] + shift[2]));
 }
 
 octomap::point3d RigidPose::origin() const {

@@ -33,6 +33,9 @@ void requireRegularFile(const std::filesystem::path& file);
 [[nodiscard]] nlohmann::json readJsonFile(const std::filesystem::path& file);
 /// `text` (the bytes of `file`) parsed as JSON, with readJsonFile's error.
 [[nodiscard]] nlohmann::json parseJsonText(std::string_view text, const std::filesystem::path& file);
+/// parseJsonText, and a key given twice in one object is refused (DataError naming the file and the key's path):
+/// JSON parsers keep only the last, so a hand-written file (a grid) would silently lose the first.
+[[nodiscard]] nlohmann::json parseJsonTextUniqueKeys(std::string_view text, const std::filesystem::path& file);
 
 /// Sequential binary reader over a byte buffer; never reads past the end.
 class ByteReader {

@@ -44,6 +44,10 @@ void requireInKeyRange(const Dataset& dataset, const std::filesystem::path& dir,
 /// an earlier shift). Throws std::invalid_argument naming --shift when a shifted coordinate overflows float32.
 void applyShift(Dataset& dataset, const std::array<double, 3>& shift);
 
+/// Records `shift` as source.shift (added to an earlier shift) for scans that their reader already placed with it
+/// (import cloud rounds pose + shift to float32 once, docs/import.md); applyShift ends with it.
+void recordShift(Dataset& dataset, const std::array<double, 3>& shift);
+
 /// A data set's recorded shift (source.shift), zero when there is none.
 [[nodiscard]] std::array<double, 3> recordedShift(const Dataset& dataset);
 

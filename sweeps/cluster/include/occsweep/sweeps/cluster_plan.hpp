@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <map>
 #include <string>
 #include <vector>
@@ -62,6 +63,13 @@ struct PlanGrid {
   bool grouped = false;
 };
 
+/// The most point cloud parameter ids `--pcs-count` may ask for (the paper's grid has 1,600): every id is written
+/// into a generation task's command line and plan.json, so the plan grows with it (docs/cluster.md, "Options").
+inline constexpr std::uint64_t kMaxPcsCount = 100'000;
+/// The longest {pcs} one generation task may get: Linux's limit on one command-line argument (MAX_ARG_STRLEN,
+/// 32 pages), past which the task could not even start.
+inline constexpr std::size_t kMaxPcsArgumentBytes = 131'072 - 1;
+
 /// What `cluster plan` was asked for; applyPlanDefaults fills what the experiment decides (docs/cluster.md). Generation templates
 /// take {dataset} {index} {seed} {block} {blocks} {block_dir} {pcs} {cpus} {scale} {out}.
 struct PlanConfig {
@@ -108,9 +116,15 @@ void applyPlanDefaults(PlanConfig& c, const PlanChoices& given);
 /// inconsistent configuration (no data sets, zero shards, a grid name given twice).
 [[nodiscard]] ClusterPlan buildPlan(const PlanConfig& config);
 
-/// Writes DIR/plan.json (the manifest) and DIR/slurm/<stage>.sbatch, each file atomically. Refuses a DIR that
-/// already holds a different plan.json unless `replace`.
-void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool replace);
+/// The rule a task's output path breaks, or none: it must be relative and inside the plan folder (no `..`), since
+/// run-local and resubmit write and remove it (docs/cluster.md, "Outputs stay in the plan folder").
+[[nodiscard]] std::optional<std::string> brokenPlanOutputRule(const std::string& output);
+
+/// Writes DIR/plan.json (the manifest) and DIR/slurm/<stage>.sbatch, each file atomically. A plan.json already in
+/// DIR that is not occsweep's own plan (its `format` field) is refused, even with `force`, changing nothing; a
+/// different occsweep plan is replaced only with `force` (the --force of every command). std::invalid_argument
+/// for a task output that breaks brokenPlanOutputRule.
+void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool force);
 /// Reads DIR/plan.json; std::runtime_error naming the file and field for anything malformed.
 [[nodiscard]] ClusterPlan readPlan(const std::filesystem::path& dir);
 

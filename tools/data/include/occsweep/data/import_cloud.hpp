@@ -21,25 +21,31 @@ struct PlyData {
 
 /// DataError for a wrong magic, an unknown format or type, counts the bytes cannot hold, a truncated body, NaN or
 /// infinite coordinates, face indices out of range, faces of fewer than 3 vertices, or trailing data.
-[[nodiscard]] PlyData decodePly(std::string_view bytes, const std::filesystem::path& file);
+[[nodiscard]] PlyData decodePly(std::string_view bytes, const std::filesystem::path& file,
+                                const CloudPlacement& at = {});
 
 /// PCD v0.7 ascii or binary (binary_compressed is refused). Points whose x, y and z are all NaN are PCL's "no
 /// return" in organised clouds: skipped and counted in `skipped_nan`; any other NaN or infinity is an error.
 [[nodiscard]] std::vector<octomap::point3d> decodePcd(std::string_view bytes, const std::filesystem::path& file,
-                                                      std::size_t* skipped_nan = nullptr);
+                                                      std::size_t* skipped_nan = nullptr,
+                                                      const CloudPlacement& at = {});
 
 /// One point a line, `x y z` then optional extra columns (ignored); `#` comments and blank lines skipped.
-[[nodiscard]] std::vector<octomap::point3d> decodeXyz(std::string_view bytes, const std::filesystem::path& file);
+[[nodiscard]] std::vector<octomap::point3d> decodeXyz(std::string_view bytes, const std::filesystem::path& file,
+                                                      const CloudPlacement& at = {});
 
 /// By extension: .ply, .pcd, anything else is `x y z` text.
-[[nodiscard]] std::vector<octomap::point3d> decodeCloud(std::string_view bytes, const std::filesystem::path& file);
-[[nodiscard]] std::vector<octomap::point3d> readCloud(const std::filesystem::path& file);
+[[nodiscard]] std::vector<octomap::point3d> decodeCloud(std::string_view bytes, const std::filesystem::path& file,
+                                                        const CloudPlacement& at = {});
+[[nodiscard]] std::vector<octomap::point3d> readCloud(const std::filesystem::path& file, const CloudPlacement& at = {});
 
 struct CloudImportConfig {
   std::optional<std::filesystem::path> pose_file;  ///< one pose a cloud, sensor -> world; none: world frame
   PoseFormat pose_format = PoseFormat::Quaternion;
   std::array<double, 3> origin{0, 0, 0};           ///< sensor origin of every cloud when there is no pose file
   bool skip_empty = false;
+  /// --shift: added to every point and origin after the pose, before the one rounding to float32 (CloudPlacement).
+  std::array<double, 3> shift{0, 0, 0};
   /// What the sensor sees (docs/import.md, "Sensor views"): a cone whose axis is in the sensor frame (each pose
   /// turns it) or, without a pose file, in the world frame; a half-angle of 180 degrees is every direction. None:
   /// the data set records no view.

@@ -2,6 +2,8 @@
 // frame, turned into scans in the world frame.
 #pragma once
 
+#include <array>
+
 #include "occsweep/core/limits.hpp"
 #include <cstdint>
 #include <filesystem>
@@ -40,6 +42,8 @@ struct DepthImportConfig {
   int stride = 1;               ///< use every stride-th pixel in u and v, to keep clouds small
   PoseFormat pose_format = PoseFormat::Quaternion;
   bool skip_empty = false;      ///< drop frames without a valid pixel instead of refusing them
+  /// --shift: added to every point and origin after the pose, before the one rounding to float32 (CloudPlacement).
+  std::array<double, 3> shift{0, 0, 0};
 };
 
 /// Throws std::invalid_argument naming the field that breaks a rule (scale > 0, fx, fy != 0, stride >= 1...).

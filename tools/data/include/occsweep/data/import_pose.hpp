@@ -16,8 +16,20 @@ struct RigidPose {
   std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  ///< row-major 3x3
   std::array<double, 3> translation{0, 0, 0};
 
+  /// R p + t in double; apply rounds it to float32.
+  [[nodiscard]] std::array<double, 3> applyExact(double x, double y, double z) const;
   [[nodiscard]] octomap::point3d apply(double x, double y, double z) const;
   [[nodiscard]] octomap::point3d origin() const;
+};
+
+/// Where a reader puts a point it read: pose(x y z) + shift, in double, then rounded to float32 once, so that a
+/// far-away (georeferenced) coordinate keeps the digits that --shift brings into range (docs/import.md,
+/// "Far-away (georeferenced) clouds"). The default is the identity: the file's own coordinates.
+struct CloudPlacement {
+  RigidPose pose;
+  std::array<double, 3> shift{0, 0, 0};
+  [[nodiscard]] octomap::point3d place(double x, double y, double z) const;
+  [[nodiscard]] octomap::point3d placeOrigin() const { return place(0, 0, 0); }
 };
 
 enum class PoseFormat {
