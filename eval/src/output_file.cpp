@@ -288,6 +288,15 @@ fs::path blockingEntry(const fs::path& output) {
 
 }  // namespace
 
+void requireCompanionName(const fs::path& target, const std::string& suffix) {
+  constexpr std::size_t kNameMax = 255;  // NAME_MAX of Linux file systems
+  const std::string name = outputTarget(target).filename().string();
+  if (name.size() + suffix.size() <= kNameMax) return;
+  throw OutputError(target.string() + ": a name of " + std::to_string(name.size()) + " bytes leaves no room for its " +
+                    "companion NAME" + suffix + " (a file name has at most 255 bytes): choose a name of at most " +
+                    std::to_string(kNameMax - suffix.size()) + " bytes");
+}
+
 bool outputsCollide(const fs::path& a, const fs::path& b) {
   const OutputReadings ra = outputReadings(a), rb = outputReadings(b);
   for (const auto& [x, y] : {std::pair{ra.lexical, rb.lexical}, {ra.resolved, rb.resolved}})
@@ -311,13 +320,10 @@ void requireSeparateOutputs(const std::vector<std::pair<std::string, fs::path>>&
 void removeStaleTemporaries(const fs::path& target) {
   const fs::path t = outputTarget(target);
   const fs::path dir = t.has_parent_path() ? t.parent_path() : fs::path(".");
-  std::string prefix = ".";  // appended piece by piece: "." + std::string trips GCC 12's -Wrestrict false positive
-  prefix += t.filename().string();
-  prefix += ".tmp-";
   std::error_code ec;
   std::vector<fs::path> candidates;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-    if (it->path().filename().string().starts_with(prefix)) candidates.push_back(it->path());
+    if (it->path().filename().string().starts_with(".")) candidates.push_back(it->path());
   for (const auto& p : candidates) removeStaleTemporary(p, t);  // only what the ledger proves (ownership.hpp)
 }
 

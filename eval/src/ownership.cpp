@@ -48,9 +48,17 @@ struct TemporaryName {
   std::string token;
 };
 
+// The part of an output's name its temporaries carry: the whole name, or as much of it as keeps the temporary
+// within the file system's 255 bytes (NAME_MAX) beside a 9-digit PID and the token, so that a legal 255-byte
+// output name still has a legal temporary.
+std::string temporaryStem(const std::string& output_name) {
+  constexpr std::size_t kNameMax = 255, kRest = 1 + 5 + 9 + 1 + kTokenDigits;  // "." ".tmp-" PID "-" TOKEN
+  return output_name.size() + kRest <= kNameMax ? output_name : output_name.substr(0, kNameMax - kRest);
+}
+
 TemporaryName parseTemporary(const std::string& component, const std::string& output_name) {
   std::string prefix = ".";  // piece by piece: "." + std::string trips GCC 12's -Wrestrict false positive
-  prefix += output_name;
+  prefix += temporaryStem(output_name);
   prefix += kTemporaryMark;
   if (!component.starts_with(prefix)) return {};
   const std::string rest = component.substr(prefix.size());
@@ -92,7 +100,7 @@ TemporaryClaim claimTemporary(const fs::path& target) {
   TemporaryClaim c;
   c.token = randomToken();
   std::string name = ".";  // appended piece by piece: "." + std::string trips GCC 12's -Wrestrict false positive
-  name += target.filename().string();
+  name += temporaryStem(target.filename().string());
   name += kTemporaryMark;
   name += std::to_string(::getpid());
   name += '-';

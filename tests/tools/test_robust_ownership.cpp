@@ -345,3 +345,22 @@ TEST_CASE("cluster select refuses its own folder of links once it holds a link i
   fs::remove(dir / "sel/my-link");  // the guard: its own folder alone is replaced
   CHECK(runIn(dir, "cluster select ds/ranking.json --out sel").exit_code == 0);
 }
+
+TEST_CASE("a legal 255-byte output name is written, and one without room for its companion file is refused naming "
+          "the longest that fits", "[ownership]") {
+  const fs::path in = inputs("ownership/long_inputs");
+  const fs::path dir = scratch("ownership/long_names");
+  const std::string json_name = std::string(250, 'n') + ".json", folder_name(255, 'd');
+  const std::string compared = std::string(1, 'c').append(json_name, 1), swept = std::string(1, 's').append(json_name, 1);
+  CHECK(runIn(dir, "merge " + shellQuoted(in / "oct.json") + " --out " + json_name).exit_code == 0);
+  CHECK(runIn(dir, "compare " + shellQuoted(in / "oct.json") + " --json " + compared).exit_code == 0);
+  CHECK(runIn(dir, "scene --scans 2 --width 8 --height 6 --out " + folder_name).exit_code == 0);
+  CHECK(entriesOf(dir) == std::set<std::string>{json_name, compared, folder_name});
+  const CommandResult sweep = runIn(dir, "sweep --dataset " + shellQuoted(in / "scene") + " --grid " +
+                                             shellQuoted(in / "tiny.json") + " --quiet --out " + swept);
+  INFO(sweep.output);
+  CHECK(sweep.exit_code == 2);
+  CHECK(mentions(sweep, "leaves no room for its companion NAME.partial.jsonl (a file name has at most 255 bytes): "
+                        "choose a name of at most 241 bytes"));
+  CHECK(entriesOf(dir).size() == 3);
+}

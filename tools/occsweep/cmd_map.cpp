@@ -123,6 +123,7 @@ void checkMapRequest(const MapOptions& o, const KnnParams& k, const OctoMapParam
     throw std::invalid_argument("--out " + o.out + ": must end in .ot (the map is written as OctoMap .ot, "
                                 "log-odds kept)");
   if (o.method == "octomap") validate(om); else validate(k);
+  requireCompanionName(o.out, ".json");
   checkOutputTarget(o.out, o.force, mapOutput());
   // occsweep's own settings without their map are what a kill between the two renames leaves (the .ot.json is
   // renamed first): a leftover of occsweep's, replaced like a stale temporary (docs/robustness.md).

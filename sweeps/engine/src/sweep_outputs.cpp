@@ -45,6 +45,7 @@ ResultsHeader twinHeader(ResultsHeader h) {
 // even then (docs/robustness.md, "Outputs, temporaries and --force").
 std::optional<ResultsFile> completeSameWork(const SweepConfig& c, const ResultsHeader& h,
                                             ResultsFile (*read)(const fs::path&)) {
+  requireCompanionName(c.out, isStorePath(c.out) ? ".partial" : ".partial.jsonl");
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(c.out, ec))) return std::nullopt;
   checkOutputTarget(c.out, true, resultsOutput());

@@ -43,6 +43,10 @@ struct ReplaceableOutput {
 /// state is remembered: a later commit to it replaces that state only (nothing created or changed meanwhile).
 void checkOutputTarget(const std::filesystem::path& target, bool force, const ReplaceableOutput& kind);
 
+/// Refuses (OutputError) a `target` whose companion file `target + suffix` (a sweep's partial log, a map's
+/// .ot.json) would pass the 255 bytes a file name may have, naming the longest name that fits.
+void requireCompanionName(const std::filesystem::path& target, const std::string& suffix);
+
 /// Two outputs that cannot both be written: one file, or one under the other, read as the writer reads them
 /// (absolute, `..` taken lexically, a trailing '/' dropped) or as the system resolves symbolic links.
 [[nodiscard]] bool outputsCollide(const std::filesystem::path& a, const std::filesystem::path& b);

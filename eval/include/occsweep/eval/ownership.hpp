@@ -13,7 +13,8 @@ namespace occsweep {
 /// when none is set. One file per live temporary, named by its token.
 [[nodiscard]] std::filesystem::path ownershipLedger();
 
-/// A temporary this process may create: `.NAME.tmp-PID-TOKEN` beside `target`, TOKEN 128 random bits in hex.
+/// A temporary this process may create: `.NAME.tmp-PID-TOKEN` beside `target`, TOKEN 128 random bits in hex, NAME
+/// cut where the whole would pass the 255 bytes a file name may have.
 struct TemporaryClaim {
   std::filesystem::path path;
   std::string token;
