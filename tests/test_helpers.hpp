@@ -2,6 +2,8 @@
 #pragma once
 
 #include <algorithm>
+#include <csignal>
+#include <pthread.h>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -92,6 +94,28 @@ inline CommandResult runShell(const std::string& cmd) {
 /// Runs the occsweep binary with arguments (a shell string), stdout and stderr together.
 inline CommandResult runCli(const std::string& args) {
   return runShell(shellQuoted(cliUnderTest()) + " " + args + " 2>&1");
+}
+
+/// Starts `/bin/sh -c line` as a child and returns its PID, for tests that signal it. SIGINT and SIGTERM are
+/// blocked across fork and reset to their default in the child before they are unblocked: a signal that arrives
+/// before exec ends the child instead of running Catch's handler there, which deadlocks on malloc's lock after a
+/// fork of a threaded process.
+inline pid_t startShell(const std::string& line) {
+  sigset_t stop, previous;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
+  ::pthread_sigmask(SIG_BLOCK, &stop, &previous);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::signal(SIGINT, SIG_DFL);
+    ::signal(SIGTERM, SIG_DFL);
+    ::sigprocmask(SIG_SETMASK, &previous, nullptr);
+    ::execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  return child;
 }
 
 /// runCli in folder `cwd`, with `prefix` first (e.g. "ulimit -f 4;").

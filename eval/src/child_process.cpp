@@ -44,20 +44,23 @@ int exitCode(int status) {
 int runChild(const std::vector<std::string>& argv) {
   auto args = cArgv(argv);  // built before fork: the child only makes system calls
   const pid_t parent = ::getpid();
-  // Stop signals blocked across fork and registration: the interrupt handler then knows every child it must end.
+  // Stop signals blocked across fork in this thread: the child resets its handlers before it may receive one.
   sigset_t stop_signals, previous;
   sigemptyset(&stop_signals);
   for (int sig : {SIGTERM, SIGINT, SIGHUP}) sigaddset(&stop_signals, sig);
   ::pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
-  const pid_t pid = interruptSignalReceived() != 0 ? -1 : ::fork();
+  const pid_t pid = forkRegisteredChild();
   if (pid == 0) execChild(args.data(), parent, previous);
-  if (pid > 0) registerChildProcess(pid);
   ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
   if (pid < 0) return 127;
+  // Waited for without reaping, forgotten, then reaped: the interrupt handler never kills a PID reused meanwhile.
+  siginfo_t info{};
+  while (::waitid(P_PID, id_t(pid), &info, WEXITED | WNOWAIT) < 0 && errno == EINTR) {
+  }
+  unregisterChildProcess(pid);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
-  unregisterChildProcess(pid);
   return exitCode(status);
 }
 

@@ -4,11 +4,13 @@
 #include "occsweep/eval/ownership.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <set>
@@ -60,18 +62,25 @@ std::set<pid_t>& children() {
 
 int interrupt_pipe[2] = {-1, -1};
 
-volatile std::sig_atomic_t g_interrupt_signal = 0;
+std::atomic<int> g_interrupt_signal{0};  // lock-free: written in the handler, read by other threads
+static_assert(std::atomic<int>::is_always_lock_free);
 
-// Async-signal-safe: a flag and write(2). The cleaning happens in an ordinary thread (cleanOnInterrupt).
+// Async-signal-safe: a flag and write(2), errno kept for the interrupted code. The cleaning happens in an ordinary
+// thread (cleanOnInterrupt).
 extern "C" void forwardSignal(int sig) {
-  g_interrupt_signal = sig;
+  const int saved_errno = errno;
+  g_interrupt_signal.store(sig);
   const unsigned char byte = static_cast<unsigned char>(sig);
   [[maybe_unused]] const ssize_t n = ::write(interrupt_pipe[1], &byte, 1);
+  errno = saved_errno;
 }
 
 void cleanOnInterrupt() {
   unsigned char sig = 0;
-  while (::read(interrupt_pipe[0], &sig, 1) != 1) {
+  for (;;) {
+    const ssize_t n = ::read(interrupt_pipe[0], &sig, 1);
+    if (n == 1) break;
+    if (n == 0 || errno != EINTR) return;  // the pipe is gone: no signal can be forwarded any more
   }
   // The lock is held until _exit: a commit (which takes it too) cannot rename a temporary into place after, or
   // while, its files are removed here (a SIGTERM'd `scene` once renamed a folder holding only manifest.json).
@@ -84,6 +93,7 @@ void cleanOnInterrupt() {
   for (const auto& [path, claim] : registry()) {
     std::error_code ec;
     fs::remove_all(path, ec);
+    fs::remove(path.string() + "-journal", ec);  // SQLite's rollback journal of a temporary store
     releaseTemporary(claim);
   }
   ::_exit(128 + sig);
@@ -130,6 +140,9 @@ struct TargetState {
   ino_t inode = 0;
   off_t size = 0;
   timespec modified{};
+  /// The kind's own check, kept when --force accepted the entry: run again on a folder swapped out at commit, whose
+  /// deeper entries its top's time does not show.
+  std::function<bool(const fs::path&)> is_own;
 };
 
 namespace {
@@ -137,7 +150,7 @@ namespace {
 TargetState stateOf(const fs::path& p) {
   struct stat st {};
   if (::lstat(p.c_str(), &st) != 0) return {};
-  return {true, isEmptyFolder(p), st.st_dev, st.st_ino, st.st_size, st.st_mtim};
+  return {true, isEmptyFolder(p), st.st_dev, st.st_ino, st.st_size, st.st_mtim, {}};
 }
 
 bool sameEntry(const TargetState& a, const TargetState& b) {
@@ -195,12 +208,18 @@ void placeOutput(const fs::path& temporary, const fs::path& target, const Target
       if (::rename(temporary.c_str(), target.c_str()) != 0) fail(target, errno);
       return;
     }
-    // Swapped in one step: no moment without either the old or the new folder; the old one, now under the
-    // registered temporary name, is then removed (checkOutputTarget found every entry in it to be occsweep's).
+    // Swapped in one step: no moment without either the old or the new folder. The old one, now under the
+    // registered temporary name, is removed only if every entry in it is still occsweep's; else swapped back.
     if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) == 0) {
+      if (checked.is_own && !checked.is_own(temporary)) {
+        ::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE);
+        appeared(target, "was changed");
+      }
       fs::remove_all(temporary, ec);
       return;
     }
+    if (errno != EINVAL && errno != ENOSYS) fail(target, errno);
+    if (checked.is_own && !checked.is_own(target)) appeared(target, "was changed");
     fs::remove_all(target, ec);  // no RENAME_EXCHANGE on this file system
   } else if (now.empty_folder) {
     fs::remove(target, ec);  // an empty folder holds nothing of the user's
@@ -241,18 +260,18 @@ void checkOutputTarget(const fs::path& target, bool force, const ReplaceableOutp
   if (!there.empty() && mismatch == there.end())
     throw OutputError(target.string() + ": is the current folder or holds it: choose a new folder for the " +
                       kind.name);
-  const TargetState state = stateOf(t);
-  {
-    std::lock_guard lock(registryMutex());
-    checkedTargets()[targetKey(t)] = state;  // the state a commit may replace (placeOutput)
+  TargetState state = stateOf(t);
+  if (state.exists && !state.empty_folder) {
+    if (!force)
+      throw OutputError(target.string() + ": exists: occsweep replaces nothing unless asked (--force replaces " +
+                        "occsweep's own previous " + kind.name + "; or choose another path)");
+    if (!kind.is_own(t))
+      throw OutputError(target.string() + ": exists and is not occsweep's " + kind.name +
+                        ": refused even with --force (nothing was changed)");
+    state.is_own = kind.is_own;
   }
-  if (!state.exists || state.empty_folder) return;
-  if (!force)
-    throw OutputError(target.string() + ": exists: occsweep replaces nothing unless asked (--force replaces " +
-                      "occsweep's own previous " + kind.name + "; or choose another path)");
-  if (!kind.is_own(t))
-    throw OutputError(target.string() + ": exists and is not occsweep's " + kind.name +
-                      ": refused even with --force (nothing was changed)");
+  std::lock_guard lock(registryMutex());
+  checkedTargets()[targetKey(t)] = state;  // the state a commit may replace (placeOutput)
 }
 
 namespace {
@@ -289,12 +308,11 @@ fs::path blockingEntry(const fs::path& output) {
 }  // namespace
 
 void requireCompanionName(const fs::path& target, const std::string& suffix) {
-  constexpr std::size_t kNameMax = 255;  // NAME_MAX of Linux file systems
   const std::string name = outputTarget(target).filename().string();
-  if (name.size() + suffix.size() <= kNameMax) return;
+  if (name.size() + suffix.size() <= kFileNameMax) return;
   throw OutputError(target.string() + ": a name of " + std::to_string(name.size()) + " bytes leaves no room for its " +
                     "companion NAME" + suffix + " (a file name has at most 255 bytes): choose a name of at most " +
-                    std::to_string(kNameMax - suffix.size()) + " bytes");
+                    std::to_string(kFileNameMax - suffix.size()) + " bytes");
 }
 
 bool outputsCollide(const fs::path& a, const fs::path& b) {
@@ -440,6 +458,22 @@ void OutputFolder::commit() {
   committed_ = true;
 }
 
+// ---- ClaimedTemporary ----
+
+ClaimedTemporary::ClaimedTemporary(const fs::path& target) {
+  const fs::path t = outputTarget(target);
+  removeStaleTemporaries(t);
+  claim_ = claimTemporary(t);
+  registerTemporary(claim_);
+}
+
+ClaimedTemporary::~ClaimedTemporary() {
+  std::error_code ec;
+  fs::remove_all(claim_.path, ec);
+  fs::remove(claim_.path.string() + "-journal", ec);
+  unregisterTemporary(claim_);
+}
+
 // ---- one-call writers ----
 
 void renameIntoPlace(const fs::path& from, const fs::path& target) {
@@ -474,11 +508,16 @@ void writeFileChecked(const fs::path& file, std::string_view bytes) {
   if (::close(fd) != 0) fail(file, errno);
 }
 
-int interruptSignalReceived() { return g_interrupt_signal; }
+int interruptSignalReceived() { return g_interrupt_signal.load(); }
 
-void registerChildProcess(pid_t pid) {
+pid_t forkRegisteredChild() {
+  // Under the registry's lock, which the interrupt cleaner takes first: it either sees the child, or has begun
+  // and this process is about to exit (no child is started then).
   std::lock_guard lock(registryMutex());
-  children().insert(pid);
+  if (interruptSignalReceived() != 0) return -1;
+  const pid_t pid = ::fork();
+  if (pid > 0) children().insert(pid);
+  return pid;
 }
 
 void unregisterChildProcess(pid_t pid) {

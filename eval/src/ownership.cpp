@@ -42,6 +42,32 @@ std::string processIdentity(long pid) {
   return std::to_string(pid) + " " + field;
 }
 
+std::string firstLine(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+// Where PIDs mean something: the host, its boot (/proc/sys/kernel/random/boot_id) and the PID namespace. A ledger
+// in a home folder shared by cluster nodes or containers holds records of processes this one cannot see.
+struct Machine {
+  std::string host, boot, pid_namespace;
+};
+
+const Machine& thisMachine() {
+  static const Machine here = [] {
+    char host[256] = {};
+    ::gethostname(host, sizeof host - 1);
+    std::error_code ec;
+    const fs::path ns = fs::read_symlink("/proc/self/ns/pid", ec);
+    return Machine{host, firstLine("/proc/sys/kernel/random/boot_id"), ns.string()};
+  }();
+  return here;
+}
+
+std::string machineLine(const Machine& m) { return m.host + " " + m.boot + " " + m.pid_namespace; }
+
 // `.NAME.tmp-PID-TOKEN` parsed: the PID and TOKEN, or pid -1.
 struct TemporaryName {
   long pid = -1;
@@ -52,8 +78,8 @@ struct TemporaryName {
 // within the file system's 255 bytes (NAME_MAX) beside a 9-digit PID and the token, so that a legal 255-byte
 // output name still has a legal temporary.
 std::string temporaryStem(const std::string& output_name) {
-  constexpr std::size_t kNameMax = 255, kRest = 1 + 5 + 9 + 1 + kTokenDigits;  // "." ".tmp-" PID "-" TOKEN
-  return output_name.size() + kRest <= kNameMax ? output_name : output_name.substr(0, kNameMax - kRest);
+  constexpr std::size_t kRest = 1 + 5 + 9 + 1 + kTokenDigits;  // "." ".tmp-" PID "-" TOKEN
+  return output_name.size() + kRest <= kFileNameMax ? output_name : output_name.substr(0, kFileNameMax - kRest);
 }
 
 TemporaryName parseTemporary(const std::string& component, const std::string& output_name) {
@@ -69,19 +95,48 @@ TemporaryName parseTemporary(const std::string& component, const std::string& ou
   return {std::stol(rest.substr(0, dash)), rest.substr(dash + 1)};
 }
 
-// A record: the process identity on the first line, the temporary's absolute path on the second.
+// A record: the process identity on the first line, the temporary's absolute path on the second, the machine
+// (machineLine) on the third.
 struct LedgerRecord {
   std::string process;
   fs::path path;
+  std::string machine;
 };
 
 std::optional<LedgerRecord> readRecord(const fs::path& ledger, const std::string& token) {
   std::ifstream in(ledger / token);
   LedgerRecord r;
   std::string path;
-  if (!std::getline(in, r.process) || !std::getline(in, path)) return std::nullopt;
+  if (!std::getline(in, r.process) || !std::getline(in, path) || !std::getline(in, r.machine)) return std::nullopt;
   r.path = path;
   return r;
+}
+
+// The process that made a record is gone: same host, and another boot, or the same boot and PID namespace and no
+// process of that PID and start time (a PID reused since has another start time). A record of another host or
+// PID namespace proves nothing either way: false.
+bool recordedProcessGone(const LedgerRecord& r) {
+  const Machine& here = thisMachine();
+  std::istringstream fields(r.machine);
+  Machine there;
+  fields >> there.host >> there.boot >> there.pid_namespace;
+  if (there.host != here.host) return false;
+  if (there.boot != here.boot) return true;
+  if (there.pid_namespace != here.pid_namespace) return false;
+  std::istringstream process(r.process);
+  long pid = 0;
+  return process >> pid && processIdentity(pid) != r.process;
+}
+
+// Drops records whose process is gone and whose temporary no longer exists (removed by hand, or its folder
+// deleted): what a kill leaves in the ledger when nothing writes that target again.
+void pruneLedger(const fs::path& ledger) {
+  std::error_code ec;
+  for (fs::directory_iterator it(ledger, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::optional<LedgerRecord> r = readRecord(ledger, it->path().filename().string());
+    std::error_code missing;
+    if (r && recordedProcessGone(*r) && !fs::exists(fs::symlink_status(r->path, missing))) fs::remove(it->path(), missing);
+  }
 }
 
 // The token of `entry` when it is a recorded temporary of `target` whose process is gone.
@@ -110,8 +165,9 @@ TemporaryClaim claimTemporary(const fs::path& target) {
   std::error_code ec;
   if (ledger.empty() || (fs::create_directories(ledger, ec), ec)) return c;
   const fs::path absolute = fs::absolute(c.path, ec).lexically_normal();
+  pruneLedger(ledger);
   std::ofstream out(ledger / c.token, std::ios::trunc);
-  out << processIdentity(::getpid()) << '\n' << absolute.string() << '\n';
+  out << processIdentity(::getpid()) << '\n' << absolute.string() << '\n' << machineLine(thisMachine()) << '\n';
   out.flush();
   c.recorded = bool(out);
   return c;
@@ -152,8 +208,8 @@ std::optional<std::string> staleRecord(const fs::path& entry, const fs::path& ta
   std::error_code ec;
   if (!record || record->path != fs::absolute(entry, ec).lexically_normal()) return std::nullopt;  // not made here
   if (!record->process.starts_with(std::to_string(t.pid) + " ")) return std::nullopt;
-  if (processIdentity(t.pid) == record->process) return std::nullopt;  // its process still runs
-  return t.token;  // its process is gone (or the PID is another process's now)
+  if (!recordedProcessGone(*record)) return std::nullopt;  // it still runs, or runs where this process cannot see
+  return t.token;
 }
 }  // namespace
 

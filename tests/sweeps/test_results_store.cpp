@@ -492,12 +492,7 @@ namespace {
 pid_t startCli(const std::string& args, const fs::path& log, const fs::path& cwd = ".") {
   const std::string line = "cd " + test::shellQuoted(cwd) + " && exec " + test::shellQuoted(test::cliUnderTest()) + " " + args + " > " +
                            test::shellQuoted(log) + " 2>&1";
-  const pid_t child = ::fork();
-  if (child == 0) {
-    ::execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
-    std::_Exit(127);
-  }
-  return child;
+  return test::startShell(line);
 }
 
 // The exit code of a started command; -signal when a signal ended it.

@@ -250,7 +250,7 @@ TEST_CASE("import cloud --shift: every stored coordinate is float(double(x) + sh
     }
     CHECK(wrong == 0);
   }
-  // The issue's own example: 500000.01 4000000.02 10.03 shifted by -500000 -4000000 -10 is 0.01 0.02 0.03.
+  // docs/import.md's example: 500000.01 4000000.02 10.03 shifted by -500000 -4000000 -10 is 0.01 0.02 0.03.
   std::ofstream(dir / "one.xyz") << "500000.01 4000000.02 10.03\n";
   REQUIRE(test::runCli("import cloud " + (dir / "one.xyz").string() + " --shift -500000 -4000000 -10 --out " +
                        (dir / "one").string()).exit_code == 0);

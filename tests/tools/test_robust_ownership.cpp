@@ -129,7 +129,7 @@ bool running(long pid) {
 
 TEST_CASE("entries named like temporaries but recorded by no occsweep run survive every writing command",
           "[ownership]") {
-  // The audit's reproduction first: a backup named like the old `.old-N` temporaries, and a folder tree.
+  // A backup named like the `.old-N` temporaries of older versions, and a folder tree (docs/robustness.md).
   const fs::path in = inputs("ownership/inputs");
   const fs::path dir = scratch("ownership/names");
   writeBytes(dir / "r.json.old-2023", "backup\n");
@@ -164,32 +164,59 @@ TEST_CASE("entries named like temporaries but recorded by no occsweep run surviv
   }
 }
 
+// A run killed while writing `target` in `dir`: a child claims a temporary there, in the ledger of `state`, makes a
+// folder at it and dies without cleaning up. Returns the temporary.
+fs::path killedRunsTemporary(const fs::path& dir, const std::string& target, const fs::path& state) {
+  int pipe_fds[2];
+  REQUIRE(::pipe(pipe_fds) == 0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::setenv("OCCSWEEP_STATE_DIR", state.c_str(), 1);  // in the child only: the test process stays as it was
+    const TemporaryClaim c = claimTemporary(dir / target);
+    fs::create_directories(c.path / "scans");
+    std::ofstream(c.path / "manifest.json") << "{";
+    const std::string name = c.path.filename().string();
+    [[maybe_unused]] const ssize_t n = ::write(pipe_fds[1], name.data(), name.size());
+    ::_exit(c.recorded ? 0 : 1);
+  }
+  ::close(pipe_fds[1]);
+  char buf[512];
+  const ssize_t n = ::read(pipe_fds[0], buf, sizeof buf);
+  ::close(pipe_fds[0]);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  REQUIRE(WEXITSTATUS(status) == 0);
+  REQUIRE(n > 0);
+  return dir / std::string(buf, std::size_t(n));
+}
+
 TEST_CASE("a temporary that a killed run recorded is removed by the next run writing that target, with its record",
           "[ownership]") {
   const fs::path dir = scratch("ownership/recorded");
-  const fs::path ledger_dir = dir / "state";
-  ::setenv("OCCSWEEP_STATE_DIR", ledger_dir.c_str(), 1);
-  // A run killed while writing `w`: a child claims a temporary, makes a folder there, and dies without cleaning up.
-  const pid_t child = ::fork();
-  if (child == 0) {
-    const TemporaryClaim c = claimTemporary(dir / "w");
-    fs::create_directories(c.path / "scans");
-    std::ofstream(c.path / "manifest.json") << "{";
-    ::_exit(c.recorded ? 0 : 1);
-  }
-  int status = 0;
-  ::waitpid(child, &status, 0);
-  ::unsetenv("OCCSWEEP_STATE_DIR");
-  REQUIRE(WEXITSTATUS(status) == 0);
-  const fs::path ledger = ledger_dir / "temporaries";
+  const fs::path state = dir / "state", ledger = state / "temporaries";
+  const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(state);
+  const fs::path left = killedRunsTemporary(dir / "a", "w", state);
   REQUIRE(entriesOf(ledger).size() == 1);
-  REQUIRE(leftovers(dir).size() == 1);
-  const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(ledger_dir);
-  const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out w", env);
-  INFO(r.output);
-  REQUIRE(r.exit_code == 0);
-  CHECK(leftovers(dir).empty());
-  CHECK(entriesOf(ledger).empty());
+  // A copy of it elsewhere, under the same name: its record names the other path, so it is not occsweep's.
+  fs::create_directories(dir / "b");
+  fs::copy(left, dir / "b" / left.filename(), fs::copy_options::recursive);
+  const CommandResult b = runIn(dir / "b", std::string(kTinyScene) + " --out w", env);
+  INFO(b.output);
+  REQUIRE(b.exit_code == 0);
+  CHECK(fs::exists(dir / "b" / left.filename() / "manifest.json"));
+  // The live temporary of a running process (this test's own claim) is not removed either.
+  ::setenv("OCCSWEEP_STATE_DIR", state.c_str(), 1);
+  const TemporaryClaim live = claimTemporary(dir / "a" / "v");
+  ::unsetenv("OCCSWEEP_STATE_DIR");
+  fs::create_directories(live.path);
+  REQUIRE(runIn(dir / "a", std::string(kTinyScene) + " --out v", env).exit_code == 0);
+  CHECK(fs::exists(live.path));
+  // The killed run's temporary, at its recorded path, goes with its record.
+  const CommandResult a = runIn(dir / "a", std::string(kTinyScene) + " --out w", env);
+  INFO(a.output);
+  REQUIRE(a.exit_code == 0);
+  CHECK(!fs::exists(left));
+  CHECK(entriesOf(ledger) == std::set<std::string>{live.token});
 }
 
 TEST_CASE("an output created or changed while occsweep writes it is kept, and the commit fails naming it",
@@ -288,18 +315,18 @@ TEST_CASE("plot killed at 20 seeded moments: its figure script ends with it and 
   fs::permissions(dir / "py.sh", fs::perms::owner_all);
   const std::string args = shellQuoted(cliUnderTest()) + " plot improvement " + shellQuoted(in / "oct.json") + " " +
                            shellQuoted(in / "knn.json") + " --python ./py.sh --out fig.png";
+  // One run uninterrupted, timed: the kills are spread over its length, however fast this machine is.
+  const auto start = std::chrono::steady_clock::now();
+  REQUIRE(runShell("cd " + shellQuoted(dir) + " && " + args).exit_code == 0);
+  const long run_ms = long(std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() -
+                                                                                start).count());
   int killed_while_drawing = 0;
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     SplitMix64 rng(seed);
     fs::remove(dir / "fig.png");
     fs::remove(dir / "pids");
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-      if (::chdir(dir.c_str()) != 0) ::_exit(126);
-      ::execl("/bin/sh", "sh", "-c", ("exec " + args + " >/dev/null 2>&1").c_str(), nullptr);
-      ::_exit(127);
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(200 + rng.next() % 1800));
+    const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + args + " >/dev/null 2>&1");
+    std::this_thread::sleep_for(std::chrono::milliseconds(std::uint64_t(run_ms) * (5 + rng.next() % 90) / 100));
     const int sig = seed % 2 ? SIGTERM : SIGINT;
     ::kill(pid, sig);
     int status = 0;
@@ -363,4 +390,31 @@ TEST_CASE("a legal 255-byte output name is written, and one without room for its
   CHECK(mentions(sweep, "leaves no room for its companion NAME.partial.jsonl (a file name has at most 255 bytes): "
                         "choose a name of at most 241 bytes"));
   CHECK(entriesOf(dir).size() == 3);
+}
+
+TEST_CASE("a sweep keeps a file created at its --out while it runs, JSON and store, exit 2", "[ownership]") {
+  const fs::path dir = scratch("ownership/sweep_meanwhile");
+  REQUIRE(runIn(dir, "scene --scans 16 --width 64 --height 48 --out big").exit_code == 0);
+  for (const std::string out : {"r.json", "r.db"}) {
+    INFO(out);
+    const fs::path partial = dir / (out + (out == "r.db" ? ".partial" : ".partial.jsonl"));
+    const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) +
+                                 " sweep --dataset big --grid octomap-opt --engine direct --threads 1 --quiet --out " + out +
+                                 " > log 2>&1");
+    // Paused once it is under way (its partial output exists), the user's file written, then resumed.
+    for (int i = 0; i < 2000 && !fs::exists(partial); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ::kill(pid, SIGSTOP);
+    const bool under_way = fs::exists(partial) && !fs::exists(dir / out);
+    writeBytes(dir / out, "the user's file\n");
+    ::kill(pid, SIGCONT);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    REQUIRE(under_way);
+    INFO(fileBytes(dir / "log"));
+    CHECK(WEXITSTATUS(status) == 2);
+    CHECK(fileBytes(dir / "log").find(out + ": was created while occsweep was writing it") != std::string::npos);
+    CHECK(fileBytes(dir / out) == "the user's file\n");
+    fs::remove(dir / out);
+    fs::remove(partial);
+  }
 }

@@ -77,8 +77,8 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   figure.finish();
   const int code = runChild({python, script, data_file.temporary().string(), figure.temporary().string()});
   if (code != 0) throw std::runtime_error("plot: " + python + " " + script + " failed (exit code " + std::to_string(code) + ")");
+  if (!o.json.empty()) data_file.commit();  // first: a refused --json leaves no figure without its data
   figure.commit();
-  if (!o.json.empty()) data_file.commit();
   std::cout << "wrote " << o.out << (o.json.empty() ? "" : " and " + o.json) << '\n';
   return 0;
 }

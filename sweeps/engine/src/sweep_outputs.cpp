@@ -46,9 +46,9 @@ ResultsHeader twinHeader(ResultsHeader h) {
 std::optional<ResultsFile> completeSameWork(const SweepConfig& c, const ResultsHeader& h,
                                             ResultsFile (*read)(const fs::path&)) {
   requireCompanionName(c.out, isStorePath(c.out) ? ".partial" : ".partial.jsonl");
+  checkOutputTarget(c.out, true, resultsOutput());  // also when absent: then nothing may replace what appears
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(c.out, ec))) return std::nullopt;
-  checkOutputTarget(c.out, true, resultsOutput());
   ResultsFile old = read(c.out);
   std::string why;
   if (!sameWork(old.header, h, true, &why) && !c.force)
@@ -69,8 +69,7 @@ std::optional<ResultsFile> checkOutputs(const SweepConfig& c, const ResultsHeade
     if (isOwnPartialLog(partial, h)) fs::remove(partial, ec);
     return old;
   }
-  if (hasTwin(c) && fs::exists(fs::symlink_status(c.observable_out, ec)))
-    checkOutputTarget(c.observable_out, true, resultsOutput());
+  if (hasTwin(c)) checkOutputTarget(c.observable_out, true, resultsOutput());
   return std::nullopt;
 }
 

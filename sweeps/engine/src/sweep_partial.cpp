@@ -87,15 +87,10 @@ PartialLock PartialLock::existing(const fs::path& file) {
 }
 
 PartialLock PartialLock::publish(const fs::path& file, bool replace, const std::function<void(const fs::path&)>& make) {
-  // Claimed as OutputFile claims its temporaries (a random name recorded in the ledger, docs/robustness.md,
-  // "Ownership"): what a killed run leaves here, the next removes; nothing of a user's is ever at that name.
-  removeStaleTemporaries(file);
-  const TemporaryClaim claim = claimTemporary(file);
-  const fs::path& temporary = claim.path;
-  struct Release {
-    const TemporaryClaim& claim;
-    ~Release() { releaseTemporary(claim); }
-  } release{claim};
+  // Claimed and registered as OutputFile's temporaries are (docs/robustness.md, "Ownership"): an interrupt removes
+  // it, what a kill leaves the next run removes, and nothing of a user's is ever at that name.
+  const ClaimedTemporary claimed(file);
+  const fs::path& temporary = claimed.path();
   std::error_code ec;
   try {
     make(temporary);

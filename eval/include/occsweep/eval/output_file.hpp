@@ -111,6 +111,21 @@ class OutputFolder {
 /// what checkOutputTarget accepted; an output created or changed meanwhile is kept (OutputError).
 void renameIntoPlace(const std::filesystem::path& from, const std::filesystem::path& target);
 
+/// A temporary name claimed beside `target` (ownership.hpp) and registered: removed with what it holds (and an
+/// SQLite `-journal` beside it) on SIGINT, SIGTERM or SIGHUP, or when destroyed. For writers that make the file
+/// themselves and then link or rename it into place (a sweep's partial output).
+class ClaimedTemporary {
+ public:
+  explicit ClaimedTemporary(const std::filesystem::path& target);
+  ~ClaimedTemporary();
+  ClaimedTemporary(const ClaimedTemporary&) = delete;
+  ClaimedTemporary& operator=(const ClaimedTemporary&) = delete;
+  [[nodiscard]] const std::filesystem::path& path() const { return claim_.path; }
+
+ private:
+  TemporaryClaim claim_;
+};
+
 /// `bytes` as `target`, atomically (OutputFile).
 void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes);
 /// `j` as `file`, one space of indent and a final newline, atomically: every JSON output of occsweep.
@@ -128,8 +143,10 @@ void removeTemporariesOnInterrupt();
 /// in place, so that no child is started that the exit would leave behind (cluster run-local).
 [[nodiscard]] int interruptSignalReceived();
 
-/// A child the interrupt handler kills (SIGKILL) and waits for before it removes temporaries (runChild).
-void registerChildProcess(pid_t pid);
+/// fork(2) for runChild: the child is registered, in one step under the registry's lock, as one the interrupt
+/// handler kills (SIGKILL) and waits for before it removes temporaries. -1 once an interrupt arrived.
+[[nodiscard]] pid_t forkRegisteredChild();
+/// Forgets a registered child: called after it ended and before it is reaped (its PID is not reused meanwhile).
 void unregisterChildProcess(pid_t pid);
 
 }  // namespace occsweep

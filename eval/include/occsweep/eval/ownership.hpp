@@ -4,10 +4,14 @@
 // temporary's absolute path, before creating it.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 
 namespace occsweep {
+
+/// The longest file name (one path component) Linux file systems take: NAME_MAX.
+inline constexpr std::size_t kFileNameMax = 255;
 
 /// The ledger folder: $OCCSWEEP_STATE_DIR, else $XDG_STATE_HOME/occsweep, else $HOME/.local/state/occsweep; empty
 /// when none is set. One file per live temporary, named by its token.
@@ -30,8 +34,9 @@ void releaseTemporary(const TemporaryClaim& claim);
 /// The name a user knows for a temporary's component (`.NAME.tmp-PID-TOKEN` is `NAME`); other names unchanged.
 [[nodiscard]] std::string outputNameOf(const std::string& component);
 
-/// True when `entry`, beside output `target`, is a temporary of `target` that occsweep recorded and whose process
-/// is gone (or is this process, which has not registered it: a PID reused after a kill). Only then may it go.
+/// True when `entry`, beside output `target`, is a temporary of `target` that occsweep recorded at that path and
+/// whose process is gone: on this host, another boot, or this boot and PID namespace and no process of its PID
+/// and start time. A record of another host or PID namespace (a shared home folder) never proves it gone.
 [[nodiscard]] bool isStaleTemporaryOf(const std::filesystem::path& entry, const std::filesystem::path& target);
 
 /// Removes `entry` (a file, or a folder with what it holds) and its record when isStaleTemporaryOf; true if it did.
