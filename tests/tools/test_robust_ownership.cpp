@@ -418,3 +418,29 @@ TEST_CASE("a sweep keeps a file created at its --out while it runs, JSON and sto
     fs::remove(partial);
   }
 }
+
+TEST_CASE("a sweep removes its partial output only while it is the file it made, never one put at its name",
+          "[ownership]") {
+  const fs::path dir = scratch("ownership/partial_swapped");
+  REQUIRE(runIn(dir, "scene --scans 16 --width 64 --height 48 --out big").exit_code == 0);
+  for (const std::string out : {"r.json", "r.db"}) {
+    INFO(out);
+    const fs::path partial = dir / (out + (out == "r.db" ? ".partial" : ".partial.jsonl"));
+    const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) +
+                                 " sweep --dataset big --grid octomap-opt --engine direct --threads 1 --quiet --out " +
+                                 out + " > log 2>&1");
+    for (int i = 0; i < 2000 && !fs::exists(partial); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ::kill(pid, SIGSTOP);
+    const bool under_way = fs::exists(partial) && !fs::exists(dir / out);
+    fs::rename(partial, dir / "moved");  // the user moves it away and keeps a file of their own at its name
+    writeBytes(partial, "the user's notes\n");
+    ::kill(pid, SIGCONT);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    REQUIRE(under_way);
+    INFO(fileBytes(dir / "log"));
+    CHECK(fileBytes(partial) == "the user's notes\n");
+    for (const char* name : {"moved", "r.json", "r.db"}) fs::remove(dir / name);
+    fs::remove(partial);
+  }
+}

@@ -34,6 +34,9 @@ class PartialLock {
   [[nodiscard]] static PartialLock publish(const std::filesystem::path& file, bool replace,
                                            const std::function<void(const std::filesystem::path&)>& make);
   [[nodiscard]] bool held() const { return fd_ >= 0; }
+  /// Removes `file` only when it is still the file this lock holds (device and inode): a file someone put at that
+  /// name meanwhile stays (docs/robustness.md, "Ownership").
+  void removeHeldFile(const std::filesystem::path& file) const noexcept;
 
  private:
   explicit PartialLock(int fd) : fd_(fd) {}

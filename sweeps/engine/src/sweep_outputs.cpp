@@ -272,8 +272,7 @@ class StoreOutput final : public OutputBase {
     } catch (const std::exception&) {
     }
     store_.reset();
-    std::error_code ec;
-    fs::remove(partial_, ec);
+    lock_.removeHeldFile(partial_);  // only the store this sweep made, never a file put at its name meanwhile
   }
   StoreOutput(const StoreOutput&) = delete;
   StoreOutput& operator=(const StoreOutput&) = delete;

@@ -188,9 +188,15 @@ void PartialLog::append(const json& line) {
   ++maps_;
 }
 
+void PartialLock::removeHeldFile(const fs::path& file) const noexcept {
+  struct stat held {}, now {};
+  if (fd_ < 0 || ::fstat(fd_, &held) != 0 || ::lstat(file.c_str(), &now) != 0) return;
+  if (held.st_dev == now.st_dev && held.st_ino == now.st_ino) ::unlink(file.c_str());
+}
+
 void PartialLog::remove() {
   out_.close();
-  fs::remove(file_);
+  lock_.removeHeldFile(file_);
 }
 
 OutputError PartialLog::writeFailed() {
@@ -199,8 +205,7 @@ OutputError PartialLog::writeFailed() {
 }
 
 void PartialLog::removeUnlessResumable() noexcept {
-  std::error_code ec;
-  if (maps_ == 0 || write_failed_) fs::remove(file_, ec);
+  if (maps_ == 0 || write_failed_) lock_.removeHeldFile(file_);
 }
 
 bool completeResultsOf(const fs::path& file, const ResultsHeader& header) {
