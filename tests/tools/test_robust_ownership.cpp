@@ -402,7 +402,7 @@ TEST_CASE("a sweep keeps a file created at its --out while it runs, JSON and sto
                                  " sweep --dataset big --grid octomap-opt --engine direct --threads 1 --quiet --out " + out +
                                  " > log 2>&1");
     // Paused once it is under way (its partial output exists), the user's file written, then resumed.
-    for (int i = 0; i < 2000 && !fs::exists(partial); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    for (int i = 0; i < 30000 && !fs::exists(partial); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
     ::kill(pid, SIGSTOP);
     const bool under_way = fs::exists(partial) && !fs::exists(dir / out);
     writeBytes(dir / out, "the user's file\n");
@@ -429,7 +429,7 @@ TEST_CASE("a sweep removes its partial output only while it is the file it made,
     const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) +
                                  " sweep --dataset big --grid octomap-opt --engine direct --threads 1 --quiet --out " +
                                  out + " > log 2>&1");
-    for (int i = 0; i < 2000 && !fs::exists(partial); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    for (int i = 0; i < 30000 && !fs::exists(partial); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
     ::kill(pid, SIGSTOP);
     const bool under_way = fs::exists(partial) && !fs::exists(dir / out);
     fs::rename(partial, dir / "moved");  // the user moves it away and keeps a file of their own at its name
