@@ -44,6 +44,13 @@ inline std::vector<std::string> leftovers(const std::filesystem::path& dir) {
   return found;
 }
 
+/// The tiny OctoMap grid the output tests sweep: three p_h by three p_m values, swept in milliseconds.
+inline void writeTinyGrid(const std::filesystem::path& file) {
+  std::ofstream(file) << R"({"name": "tiny", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
+    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.24},
+    "p_m": {"min": 0.02, "max": 0.38, "step": 0.18}, "p_t": {"step": 0.12}}})";
+}
+
 /// A tiny scene: four scans of 16 x 12 rays (milliseconds).
 inline const char* kTinyScene = "scene --scans 4 --width 16 --height 12";
 

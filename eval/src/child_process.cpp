@@ -12,13 +12,6 @@
 namespace occsweep {
 namespace {
 
-std::vector<char*> cArgv(const std::vector<std::string>& argv) {
-  std::vector<char*> out;
-  for (const auto& a : argv) out.push_back(const_cast<char*>(a.c_str()));
-  out.push_back(nullptr);
-  return out;
-}
-
 // In the child, between fork and exec: only system calls.
 [[noreturn]] void execChild(char* const* args, pid_t parent, const sigset_t& previous_mask) {
   // SIGTERM when the parent dies, however it dies; it may have died before the prctl.
@@ -33,16 +26,23 @@ std::vector<char*> cArgv(const std::vector<std::string>& argv) {
   ::_exit(127);
 }
 
-int exitCode(int status) {
+}  // namespace
+
+std::vector<char*> execArgv(const std::vector<std::string>& argv) {
+  std::vector<char*> out;
+  for (const auto& a : argv) out.push_back(const_cast<char*>(a.c_str()));
+  out.push_back(nullptr);
+  return out;
+}
+
+int exitCodeOf(int status) {
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return -1;
 }
 
-}  // namespace
-
 int runChild(const std::vector<std::string>& argv) {
-  auto args = cArgv(argv);  // built before fork: the child only makes system calls
+  auto args = execArgv(argv);  // built before fork: the child only makes system calls
   const pid_t parent = ::getpid();
   // Stop signals blocked across fork in this thread: the child resets its handlers before it may receive one.
   sigset_t stop_signals, previous;
@@ -61,7 +61,7 @@ int runChild(const std::vector<std::string>& argv) {
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
-  return exitCode(status);
+  return exitCodeOf(status);
 }
 
 }  // namespace occsweep

@@ -192,6 +192,20 @@ void writeCloud(const fs::path& file, const std::vector<std::array<double, 3>>& 
     }
 }
 
+// `x y z 0 0 0 1`: a pose line of the default format (translation, then the identity quaternion), every digit kept.
+std::string identityPoseLine(const std::array<double, 3>& t) {
+  char line[128];
+  std::snprintf(line, sizeof line, "%.17g %.17g %.17g 0 0 0 1\n", t[0], t[1], t[2]);
+  return line;
+}
+
+// ` --shift X Y Z`, every digit kept.
+std::string shiftFlag(const std::array<double, 3>& shift) {
+  char text[128];
+  std::snprintf(text, sizeof text, " --shift %.17g %.17g %.17g", shift[0], shift[1], shift[2]);
+  return text;
+}
+
 }  // namespace
 
 // docs/import.md, "Far-away (georeferenced) clouds": the shift (and the pose) are added in double before the one
@@ -226,14 +240,11 @@ TEST_CASE("import cloud --shift: every stored coordinate is float(double(x) + sh
       file += posed ? std::string(".xyz") : ext;
       writeCloud(file, in);
       files.append(" ").append(file.string());
-      char line[128];
-      std::snprintf(line, sizeof line, "%.17g %.17g %.17g 0 0 0 1\n", base[0], base[1], base[2]);
-      poses += line;
+      poses += identityPoseLine(base);
       expected.push_back(want);
     }
     std::ofstream(dir / "poses.txt") << poses;
-    char shift_text[128];
-    std::snprintf(shift_text, sizeof shift_text, " --shift %.17g %.17g %.17g", shift[0], shift[1], shift[2]);
+    const std::string shift_text = shiftFlag(shift);
     const fs::path out = dir / ("ds" + ext);
     const auto r = test::runCli("import cloud" + files + shift_text +
                                 (posed ? " --poses " + (dir / "poses.txt").string() : std::string()) + " --out " +
@@ -299,14 +310,11 @@ TEST_CASE("import depth --shift: every stored coordinate is float(pose(x) + shif
     image += ".pgm";
     std::ofstream(image, std::ios::binary) << "P5\n" << kW << ' ' << kH << "\n65535\n" << body;
     images.append(" ").append(image.string());
-    char line[128];
-    std::snprintf(line, sizeof line, "%.17g %.17g %.17g 0 0 0 1\n", t[0], t[1], t[2]);
-    poses += line;
+    poses += identityPoseLine(t);
     expected.push_back(want);
   }
   std::ofstream(dir / "poses.txt") << poses;
-  char shift_text[128];
-  std::snprintf(shift_text, sizeof shift_text, " --shift %.17g %.17g %.17g", shift[0], shift[1], shift[2]);
+  const std::string shift_text = shiftFlag(shift);
   const auto r = test::runCli("import depth" + images + " --poses " + (dir / "poses.txt").string() +
                               " --fx 5 --fy 6 --cx 2.5 --cy 2" + shift_text + " --out " + (dir / "ds").string());
   INFO(r.output);

@@ -33,12 +33,6 @@ struct SmallDisk {
   }
 };
 
-void writeTinyGrid(const fs::path& file) {
-  std::ofstream(file) << R"({"name": "tiny", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
-    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.24},
-    "p_m": {"min": 0.02, "max": 0.38, "step": 0.18}, "p_t": {"step": 0.12}}})";
-}
-
 }  // namespace
 
 TEST_CASE("every command writing to a full disk says no space left, names the file and leaves nothing", "[disk]") {

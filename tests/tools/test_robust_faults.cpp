@@ -81,12 +81,6 @@ nlohmann::json settings(const fs::path& file) {
   return j;
 }
 
-void writeTinyGrid(const fs::path& file) {
-  std::ofstream(file) << R"({"name": "tiny", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
-    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.24},
-    "p_m": {"min": 0.02, "max": 0.38, "step": 0.18}, "p_t": {"step": 0.12}}})";
-}
-
 /// A folder output (scene, import): after each kill the target is absent or whole; the re-run leaves it whole.
 void faultTestFolder(const std::string& name, const std::vector<std::string>& args, std::uint64_t seed,
                      const std::function<void(const fs::path&)>& prepare) {

@@ -29,12 +29,6 @@ void writeCloud(const fs::path& file) {
   for (int i = 0; i < 50; ++i) out << 1 + 0.01 * i << ' ' << 0.5 << ' ' << 0.02 * i << '\n';
 }
 
-void writeTinyGrid(const fs::path& file) {
-  std::ofstream(file) << R"({"name": "tiny", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
-    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.24},
-    "p_m": {"min": 0.02, "max": 0.38, "step": 0.18}, "p_t": {"step": 0.12}}})";
-}
-
 // The scratch folder with a tiny scene `scene` and a tiny grid `tiny.json` (made with the binary under test).
 fs::path withScene(const std::string& name) {
   const fs::path dir = scratch(name);

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <csignal>
+#include <functional>
 #include <set>
 #include <sys/wait.h>
 #include <thread>
@@ -21,12 +22,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const char* kPython = "/usr/bin/python3";
-
-void writeTinyGrid(const fs::path& file) {
-  std::ofstream(file) << R"({"name": "tiny", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
-    "p_min": {"value": 0.02}, "p_h": {"min": 0.5, "max": 0.98, "step": 0.24},
-    "p_m": {"min": 0.02, "max": 0.38, "step": 0.18}, "p_t": {"step": 0.12}}})";
-}
 
 // The inputs every writing command below reads: a tiny scene, a tiny grid, two results files, a cloud.
 fs::path inputs(const std::string& name) {
@@ -392,30 +387,46 @@ TEST_CASE("a legal 255-byte output name is written, and one without room for its
   CHECK(entriesOf(dir).size() == 3);
 }
 
+namespace {
+
+// The partial output a sweep into `out` keeps while it runs.
+fs::path partialOf(const fs::path& dir, const std::string& out) {
+  return dir / (out + (out == "r.db" ? ".partial" : ".partial.jsonl"));
+}
+
+// Sweeps octomap-opt (direct engine: seconds) on `dir`/big into `out`, pauses it (SIGSTOP) once it is under way (its
+// partial output exists, its output not yet), runs `meanwhile`, resumes it and returns its exit code.
+int sweepPausedOnceUnderWay(const fs::path& dir, const std::string& out, const std::function<void()>& meanwhile) {
+  const fs::path partial = partialOf(dir, out);
+  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) +
+                               " sweep --dataset big --grid octomap-opt --engine direct --threads 1 --quiet --out " +
+                               out + " > log 2>&1");
+  for (int i = 0; i < 30000 && !fs::exists(partial); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ::kill(pid, SIGSTOP);
+  const bool under_way = fs::exists(partial) && !fs::exists(dir / out);
+  meanwhile();
+  ::kill(pid, SIGCONT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  REQUIRE(under_way);
+  INFO(fileBytes(dir / "log"));
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace
+
 TEST_CASE("a sweep keeps a file created at its --out while it runs, JSON and store, exit 2", "[ownership]") {
   const fs::path dir = scratch("ownership/sweep_meanwhile");
   REQUIRE(runIn(dir, "scene --scans 16 --width 64 --height 48 --out big").exit_code == 0);
   for (const std::string out : {"r.json", "r.db"}) {
     INFO(out);
-    const fs::path partial = dir / (out + (out == "r.db" ? ".partial" : ".partial.jsonl"));
-    const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) +
-                                 " sweep --dataset big --grid octomap-opt --engine direct --threads 1 --quiet --out " + out +
-                                 " > log 2>&1");
-    // Paused once it is under way (its partial output exists), the user's file written, then resumed.
-    for (int i = 0; i < 30000 && !fs::exists(partial); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    ::kill(pid, SIGSTOP);
-    const bool under_way = fs::exists(partial) && !fs::exists(dir / out);
-    writeBytes(dir / out, "the user's file\n");
-    ::kill(pid, SIGCONT);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    REQUIRE(under_way);
+    const int code = sweepPausedOnceUnderWay(dir, out, [&] { writeBytes(dir / out, "the user's file\n"); });
     INFO(fileBytes(dir / "log"));
-    CHECK(WEXITSTATUS(status) == 2);
+    CHECK(code == 2);
     CHECK(fileBytes(dir / "log").find(out + ": was created while occsweep was writing it") != std::string::npos);
     CHECK(fileBytes(dir / out) == "the user's file\n");
     fs::remove(dir / out);
-    fs::remove(partial);
+    fs::remove(partialOf(dir, out));
   }
 }
 
@@ -425,20 +436,11 @@ TEST_CASE("a sweep removes its partial output only while it is the file it made,
   REQUIRE(runIn(dir, "scene --scans 16 --width 64 --height 48 --out big").exit_code == 0);
   for (const std::string out : {"r.json", "r.db"}) {
     INFO(out);
-    const fs::path partial = dir / (out + (out == "r.db" ? ".partial" : ".partial.jsonl"));
-    const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) +
-                                 " sweep --dataset big --grid octomap-opt --engine direct --threads 1 --quiet --out " +
-                                 out + " > log 2>&1");
-    for (int i = 0; i < 30000 && !fs::exists(partial); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    ::kill(pid, SIGSTOP);
-    const bool under_way = fs::exists(partial) && !fs::exists(dir / out);
-    fs::rename(partial, dir / "moved");  // the user moves it away and keeps a file of their own at its name
-    writeBytes(partial, "the user's notes\n");
-    ::kill(pid, SIGCONT);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    REQUIRE(under_way);
-    INFO(fileBytes(dir / "log"));
+    const fs::path partial = partialOf(dir, out);
+    (void)sweepPausedOnceUnderWay(dir, out, [&] {
+      fs::rename(partial, dir / "moved");  // the user moves it away and keeps a file of their own at its name
+      writeBytes(partial, "the user's notes\n");
+    });
     CHECK(fileBytes(partial) == "the user's notes\n");
     for (const char* name : {"moved", "r.json", "r.db"}) fs::remove(dir / name);
     fs::remove(partial);

@@ -10,19 +10,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "occsweep/eval/child_process.hpp"
 #include "occsweep/sweeps/cluster_state.hpp"
 
 extern char** environ;
 
 namespace occsweep {
 namespace {
-
-std::vector<char*> cArgv(const std::vector<std::string>& argv) {
-  std::vector<char*> out;
-  for (const auto& a : argv) out.push_back(const_cast<char*>(a.c_str()));
-  out.push_back(nullptr);
-  return out;
-}
 
 int waitForExit(pid_t pid) {
   int status = 0;
@@ -32,12 +26,6 @@ int waitForExit(pid_t pid) {
 }
 
 }  // namespace
-
-int exitCodeOf(int status) {
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return -1;
-}
 
 ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet) {
   int fds[2];
@@ -49,7 +37,7 @@ ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet) {
   posix_spawn_file_actions_addclose(&actions, fds[1]);
   if (quiet) posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
   pid_t pid = 0;
-  auto args = cArgv(argv);
+  auto args = execArgv(argv);
   const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   ::close(fds[1]);
@@ -72,7 +60,7 @@ ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet) {
 
 pid_t spawnLogged(const std::vector<std::string>& argv, const std::filesystem::path& cwd,
                   const std::filesystem::path& log) {
-  auto args = cArgv(argv);  // built before fork: the child only makes system calls
+  auto args = execArgv(argv);  // built before fork: the child only makes system calls
   const pid_t parent = ::getpid();
   // The stop signals are blocked across fork: the child inherits run-local's handler, which, run in the child,
   // would only pass the signal on and leave the task running (a survivor, docs/cluster.md "Stopping run-local").

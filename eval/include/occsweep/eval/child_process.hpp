@@ -14,4 +14,11 @@ namespace occsweep {
 /// SIGINT: a Ctrl-C reaches occsweep, which ends it, instead of a Python traceback.
 [[nodiscard]] int runChild(const std::vector<std::string>& argv);
 
+/// argv as exec wants it: pointers into `argv`'s strings, then nullptr. Built before fork (the child of a threaded
+/// process may only make system calls).
+[[nodiscard]] std::vector<char*> execArgv(const std::vector<std::string>& argv);
+
+/// A finished child's exit code from its wait status: its own, 128 + signal when a signal ended it, else -1.
+[[nodiscard]] int exitCodeOf(int wait_status);
+
 }  // namespace occsweep

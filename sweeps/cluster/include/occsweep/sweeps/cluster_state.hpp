@@ -7,6 +7,7 @@
 #include <sys/types.h>
 #include <vector>
 
+#include "occsweep/eval/child_process.hpp"  // exitCodeOf, for the callers of spawnLogged
 #include "occsweep/sweeps/cluster_plan.hpp"
 
 namespace occsweep {
@@ -24,8 +25,6 @@ struct ProcessOutput {
 /// outlive it (docs/cluster.md); an argv[0] that cannot be started is exit code 127 with the reason in the log.
 [[nodiscard]] pid_t spawnLogged(const std::vector<std::string>& argv, const std::filesystem::path& cwd,
                                 const std::filesystem::path& log);
-/// Exit code of a finished child as runCapture reports it.
-[[nodiscard]] int exitCodeOf(int wait_status);
 
 // ---- run-local's running tasks ----
 /// DIR/running/<stage>-<task>.pid: the pid of the process run-local started for the task, while it runs.
