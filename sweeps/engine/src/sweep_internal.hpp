@@ -37,6 +37,11 @@ class PartialLock {
   /// Removes `file` only when it is still the file this lock holds (device and inode): a file someone put at that
   /// name meanwhile stays (docs/robustness.md, "Ownership").
   void removeHeldFile(const std::filesystem::path& file) const noexcept;
+  /// True when `file` is still the file this lock holds (device and inode).
+  [[nodiscard]] bool holdsFile(const std::filesystem::path& file) const noexcept;
+  /// A path that opens the file this lock holds, whatever now stands at its name (/proc/self/fd): what the sweep
+  /// writes goes into its own file even after a user moved it and put another at its name.
+  [[nodiscard]] std::filesystem::path heldFilePath() const;
 
  private:
   explicit PartialLock(int fd) : fd_(fd) {}

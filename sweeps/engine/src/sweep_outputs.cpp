@@ -264,6 +264,7 @@ class StoreOutput final : public OutputBase {
     existing_ = completeStore(c, h);
     if (existing_) return;
     store_ = resumableStore(partial_, h, c.force, lock_, replace_);
+    if (store_) requireHeldPartial();
   }
   ~StoreOutput() override {
     if (!store_ || renamed_) return;
@@ -284,6 +285,7 @@ class StoreOutput final : public OutputBase {
       // Created beside it, locked, then put in place: a second sweep into the same --out finds it locked.
       lock_ = PartialLock::publish(partial_, replace_, [&](const fs::path& t) { (void)ResultsStore::create(t, h_); });
       store_.emplace(ResultsStore::open(partial_, true));
+      requireHeldPartial();  // opened by name (SQLite names its journal after it): the file this sweep made
     }
     writer_.emplace(*store_, engine_);
   }
@@ -298,6 +300,7 @@ class StoreOutput final : public OutputBase {
     setEngines(f.header, {engines.begin(), engines.end()});
     store_->finish(f.header, seconds);
     store_.reset();  // closed before the rename
+    requireHeldPartial();
     renameIntoPlace(partial_, c_.out);  // never over a file created at --out meanwhile (docs/robustness.md)
     renamed_ = true;
     f.complete = true;
@@ -306,6 +309,12 @@ class StoreOutput final : public OutputBase {
   }
 
  private:
+  // SQLite refuses to write a store moved away meanwhile; the name is checked again before the rename.
+  void requireHeldPartial() const {
+    if (!lock_.holdsFile(partial_))
+      throw std::runtime_error(partial_.string() + ": was moved or replaced while occsweep was writing it; what "
+                               "stands at its name now is left as it is");
+  }
   PartialLock lock_;  // before store_: released after the store is closed
   std::optional<ResultsStore> store_;
   std::optional<StoreWriter> writer_;

@@ -52,8 +52,8 @@ std::optional<ResultsHeader> logHeader(const fs::path& partial) {
 // The header of occsweep's partial log at `partial`. occsweep writes it before the log appears under its name
 // (PartialLock::publish): a file without one is not occsweep's, and is never replaced (docs/robustness.md, "Outputs,
 // temporaries and --force").
-ResultsHeader ownLogHeader(const fs::path& partial) {
-  std::optional<ResultsHeader> header = logHeader(partial);
+ResultsHeader ownLogHeader(const fs::path& partial, const PartialLock& lock) {
+  std::optional<ResultsHeader> header = logHeader(lock.heldFilePath());
   if (!header)
     throw std::runtime_error(partial.string() + ": not a partial log of occsweep's (its first line is not a sweep's "
                              "header); occsweep never replaces or removes it (even with --force): remove it, or choose "
@@ -132,8 +132,8 @@ std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const Re
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(partial, ec))) return done;
   lock = PartialLock::existing(partial);
-  const ResultsHeader old = ownLogHeader(partial);
-  std::ifstream in(partial);
+  const ResultsHeader old = ownLogHeader(partial, lock);
+  std::ifstream in(lock.heldFilePath());  // the file locked, whatever is put at its name meanwhile
   std::string line;
   std::getline(in, line);
   std::string why;
@@ -171,7 +171,7 @@ PartialLog::PartialLog(fs::path file, const ResultsHeader& header, std::size_t m
       if (!first) throw OutputError(writeFailure(file_, errno));
     });
   }
-  out_.open(file_, std::ios::app);
+  out_.open(lock_.heldFilePath(), std::ios::app);  // never by name: a file put there meanwhile is a user's
   if (!out_) {
     OutputError error = writeFailed();
     removeUnlessResumable();  // the destructor does not run for a constructor that throws
@@ -188,10 +188,19 @@ void PartialLog::append(const json& line) {
   ++maps_;
 }
 
-void PartialLock::removeHeldFile(const fs::path& file) const noexcept {
+bool PartialLock::holdsFile(const fs::path& file) const noexcept {
   struct stat held {}, now {};
-  if (fd_ < 0 || ::fstat(fd_, &held) != 0 || ::lstat(file.c_str(), &now) != 0) return;
-  if (held.st_dev == now.st_dev && held.st_ino == now.st_ino) ::unlink(file.c_str());
+  if (fd_ < 0 || ::fstat(fd_, &held) != 0 || ::lstat(file.c_str(), &now) != 0) return false;
+  return held.st_dev == now.st_dev && held.st_ino == now.st_ino;
+}
+
+void PartialLock::removeHeldFile(const fs::path& file) const noexcept {
+  if (holdsFile(file)) ::unlink(file.c_str());
+}
+
+fs::path PartialLock::heldFilePath() const {
+  if (fd_ < 0) throw std::logic_error("PartialLock::heldFilePath: no file held");
+  return fs::path("/proc/self/fd") / std::to_string(fd_);
 }
 
 void PartialLog::remove() {

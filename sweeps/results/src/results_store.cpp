@@ -48,6 +48,9 @@ std::string errorText(sqlite3* db) {
   std::string why = sqlite3_errmsg(db);
   if (sqlite3_errcode(db) == SQLITE_BUSY)
     why += " (another program held a lock on it for more than " + std::to_string(kBusyTimeoutMs / 1000) + " s)";
+  if (sqlite3_extended_errcode(db) == SQLITE_READONLY_DBMOVED)
+    why = "it was moved, renamed or deleted while occsweep was writing it (what stands at its name now is left as "
+          "it is)";
   return why;
 }
 
