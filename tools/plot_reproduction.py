@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """Figures of `occsweep reproduce`: Fig. 3-7 of Miao et al. (Sensors 2022) from the step files.
 
-usage: plot_reproduction.py OUT [STEP...]
-       (reads OUT/{fits,nca,comparison,curves,runtime}.json and OUT/maps/*.ply, writes OUT/fig3_distribution_fits.png
-        ... OUT/fig7_runtime.png; with STEPs, as `reproduce --steps`, only their figures; real-stereo has none)
+usage: plot_reproduction.py OUT [--into DIR] [STEP...]
+       (reads OUT/{fits,nca,comparison,curves,runtime}.json and OUT/maps/*.ply, writes fig3_distribution_fits.png
+        ... fig7_runtime.png into DIR, default OUT; with STEPs, as `reproduce --steps`, only their figures; real-stereo
+        has none. `occsweep reproduce` passes a temporary folder of its own as DIR and moves each figure into OUT
+        itself, replacing only figures whose Software text chunk is "occsweep reproduce": docs/robustness.md)
 Every number drawn comes from those files; nothing is typed in here except the paper's 0.1 line of Fig. 4.
 """
 import json
@@ -26,12 +28,14 @@ def load(out, name):
         sys.exit(f"plot_reproduction.py: {path}: {e}")
 
 
+INTO = None  # where the figures go (--into), default the folder they are read from
+
+
 def save(fig, out, name):
-    path = os.path.join(out, name)
-    tmp = path + f".tmp-{os.getpid()}.png"
-    fig.savefig(tmp, dpi=110, bbox_inches="tight")
+    # The Software chunk is the figure's proof of being occsweep's: a re-run replaces it, never a user's PNG.
+    fig.savefig(os.path.join(INTO or out, name), format="png", dpi=110, bbox_inches="tight",
+                metadata={"Software": "occsweep reproduce"})
     plt.close(fig)
-    os.replace(tmp, path)  # a killed run never leaves half a PNG
 
 
 def fig3(out):
@@ -182,10 +186,14 @@ TABLE_ONLY = {"real-stereo"}
 
 
 def main():
-    if len(sys.argv) < 2 or any(step not in FIGURES and step not in TABLE_ONLY for step in sys.argv[2:]):
+    global INTO
+    args = sys.argv[2:]
+    if len(args) >= 2 and args[0] == "--into":
+        INTO, args = args[1], args[2:]
+    if len(sys.argv) < 2 or any(step not in FIGURES and step not in TABLE_ONLY for step in args):
         sys.exit(__doc__)
     out = sys.argv[1]
-    for step in sys.argv[2:] or FIGURES:
+    for step in args or FIGURES:
         if step in FIGURES:
             FIGURES[step](out)
 

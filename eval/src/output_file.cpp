@@ -260,6 +260,11 @@ void checkOutputTarget(const fs::path& target, bool force, const ReplaceableOutp
   if (!there.empty() && mismatch == there.end())
     throw OutputError(target.string() + ": is the current folder or holds it: choose a new folder for the " +
                       kind.name);
+  // A link is the user's entry whatever it points to: replacing it would drop their link, writing through it would
+  // write elsewhere (docs/robustness.md, "Ownership").
+  if (fs::is_symlink(fs::symlink_status(t, ec)))
+    throw OutputError(target.string() + ": is a symbolic link: occsweep never writes through or replaces one, even "
+                      "with --force (nothing was changed); give the path it points to, or choose another path");
   TargetState state = stateOf(t);
   if (state.exists && !state.empty_folder) {
     if (!force)

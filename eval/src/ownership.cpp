@@ -195,6 +195,9 @@ bool removeStaleTemporary(const fs::path& entry, const fs::path& target) {
   if (!token) return false;
   std::error_code ec;
   fs::remove_all(entry, ec);  // a folder temporary is occsweep's as a whole: only occsweep wrote into it
+  // SQLite's rollback journal of a store being created there, named after it: what a kill during the creation left.
+  std::error_code journal_ec;
+  fs::remove(entry.string() + "-journal", journal_ec);
   if (!ec) fs::remove(ownershipLedger() / *token, ec);
   return true;
 }

@@ -227,3 +227,23 @@ TEST_CASE("cluster commands refuse a folder without a plan and a failing task ma
   CHECK_THAT(r.output, Contains("failed"));
   CHECK_FALSE(fs::exists(dir / "p" / "merged"));
 }
+
+TEST_CASE("a task's output is removed before it runs again only when its kind's check proves it occsweep's") {
+  // Old code: an output of kind `exists` (a generation task's ranking.json) was removed by its name alone.
+  const auto dir = test::scratch("cluster-remove-own");
+  std::ofstream(dir / "mine.json") << "{\"my\": \"file\"}\n";
+  ClusterTask exists;
+  exists.output = "mine.json";  // OutputKind::Exists, the default
+  removeOwnOutput(exists, dir);
+  CHECK(test::bytesOf(dir / "mine.json") == "{\"my\": \"file\"}\n");
+  // A comparison task's output that is occsweep's comparison goes; a user's file under that name stays.
+  ClusterTask report;
+  report.output = "comparison.json";
+  report.kind = OutputKind::Comparison;
+  std::ofstream(dir / "comparison.json") << "{\"format\": \"occsweep-comparison\", \"rows\": []}\n";
+  removeOwnOutput(report, dir);
+  CHECK_FALSE(fs::exists(dir / "comparison.json"));
+  std::ofstream(dir / "comparison.json") << "{\"my\": \"comparison\"}\n";
+  removeOwnOutput(report, dir);
+  CHECK(fs::exists(dir / "comparison.json"));
+}

@@ -51,6 +51,8 @@ TEST_CASE("paper ranks scale the 1st, 800th and 1,600th of 1,600 down") {
 
 TEST_CASE("reproduce on two ci data sets writes every step, consistent with compare and direct builds") {
   const auto dir = test::scratch("reproduce");
+  // compare's own files go beside the reproduction: its folder holds only what reproduce writes, or a re-run refuses it
+  const auto checks = test::scratch("reproduce-checks");
   const bool figures = haveMatplotlib();
   const auto r = test::runCli("reproduce --scale ci --datasets building-voronoi-I,parking-voronoi-O --nca-samples 200 "
                               "--runtime-repeats 1 --quiet --out " + dir.string() + (figures ? "" : " --no-figures"));
@@ -86,9 +88,9 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
     const auto sweeps = dir / "sweeps" / row.at("dataset").get<std::string>();
     const std::string set = row.at("point_cloud_set");
     const auto c = test::runCli("compare " + (sweeps / (set + "-octomap-opt.json")).string() + " " +
-                                (sweeps / (set + "-knn-opt.json")).string() + " --force --json " + (dir / "c.json").string());
+                                (sweeps / (set + "-knn-opt.json")).string() + " --force --json " + (checks / "c.json").string());
     REQUIRE(c.exit_code == 0);
-    const json expected = readJsonFile(dir / "c.json").at("rows").at(0);
+    const json expected = readJsonFile(checks / "c.json").at("rows").at(0);
     CHECK(row.at("octomap").at("auc") == expected.at("octomap").at("auc"));
     CHECK(row.at("knn").at("auc") == expected.at("knn").at("auc"));
     const double om = row.at("octomap").at("auc"), knn = row.at("knn").at("auc");
@@ -106,9 +108,9 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
       INFO(method);
       const auto file = sweeps / (set + "-" + b.at("grid").get<std::string>() + ".json");
       const auto cb = test::runCli("compare " + (sweeps / (set + "-octomap-opt.json")).string() + " " + file.string() +
-                                   " --force --json " + (dir / "cb.json").string());
+                                   " --force --json " + (checks / "cb.json").string());
       REQUIRE(cb.exit_code == 0);
-      const json other = readJsonFile(dir / "cb.json").at("rows").at(0).at("others").at(method);
+      const json other = readJsonFile(checks / "cb.json").at("rows").at(0).at("others").at(method);
       CHECK(b.at("full").at("best").at("auc") == other.at("auc"));
       CHECK(b.at("full").at("improvement_over_octomap_percent") == other.at("improvement_percent"));
       const double base = other.at("auc");

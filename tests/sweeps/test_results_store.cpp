@@ -223,7 +223,11 @@ TEST_CASE("a store edited by hand fails results check with the row named") {
     // ...and an older store's region without the constraint is refused by results check.
     editStore(dir / "r.db", "CREATE TABLE r2(region INTEGER NOT NULL, truth INTEGER NOT NULL);"
                             "INSERT INTO r2 SELECT region, truth FROM region; INSERT INTO r2 SELECT region, truth FROM region;"
-                            "DROP VIEW combinations; DROP TABLE region; ALTER TABLE r2 RENAME TO region");
+                            "DROP VIEW combinations; DROP TABLE region; ALTER TABLE r2 RENAME TO region;"
+                            "CREATE VIEW combinations AS SELECT t.id AS id, m.map_index AS map_index,"
+                            " t.p_t_micro / 1e6 AS p_t, t.tp AS tp, t.fp AS fp, r.truth - t.tp AS fn,"
+                            " r.region - r.truth - t.fp AS tn"
+                            " FROM maps m JOIN thresholds t ON t.id BETWEEN m.first_id AND m.last_id, region r");
     CHECK_THAT(checkError(dir / "r.db"), Contains("r.db") && Contains("region: holds more than one row"));
   }
   SECTION("completeness") {
@@ -281,6 +285,7 @@ namespace {
 struct Damaged {
   std::string what;
   fs::path file;
+  bool hand_edit = false;  ///< a claim changed on purpose: results check must refuse it (a flip may hit unused bytes)
 };
 
 // `base` copied to `dir/name` and changed by `edit` (SQL run on a store, as a user's sqlite3 shell would).
@@ -327,10 +332,19 @@ std::vector<Damaged> editedStores(const fs::path& base, const fs::path& dir, std
       {"map-seconds-negative", "UPDATE maps SET seconds = -1 WHERE map_index = 2"},
       {"incomplete", "UPDATE meta SET value = '0' WHERE key = 'complete'"},
       {"parameter-edited", "UPDATE maps SET p_m = p_m + 0.01 WHERE map_index = 1"},
+      {"auc-points", "UPDATE maps SET auc_points = auc_points + 1 WHERE map_index = 2"},
+      {"view-dropped", "DROP VIEW combinations"},
+      {"view-redefined", "DROP VIEW combinations; CREATE VIEW combinations AS SELECT id, 0 AS map_index FROM thresholds"},
+      {"extra-table", "CREATE TABLE notes(x)"},
+      {"extra-trigger", "CREATE TRIGGER t AFTER INSERT ON maps BEGIN DELETE FROM thresholds; END"},
+      {"map-engine-unknown", "UPDATE maps SET engine = 'fast' WHERE map_index = 1"},
+      {"header-engine-unknown",
+       "UPDATE meta SET value = json_set(value, '$.map.engine', 'fast', '$.map.engines', json_array('fast')) "
+       "WHERE key = 'header'"},
   };
   std::vector<Damaged> out;
   for (const auto& [name, sql] : edits) {
-    out.push_back({"store " + name, copyOf(base, dir, name + ".db")});
+    out.push_back({"store " + name, copyOf(base, dir, name + ".db"), true});
     editStore(out.back().file, sql);
   }
   return out;
@@ -370,12 +384,15 @@ std::vector<Damaged> editedJson(const fs::path& base, const fs::path& dir) {
       {"seconds", [](nlohmann::json& f) { f["seconds"] = -1.0; }},
       {"map-seconds", [](nlohmann::json& f) { f["maps"][1]["seconds"] = -2.0; }},
       {"incomplete", [](nlohmann::json& f) { f["complete"] = false; }},
+      {"auc-points", [](nlohmann::json& f) { f["maps"][2]["auc"]["points"] = f["maps"][2]["auc"]["points"].get<int>() + 1; }},
+      {"engine-unknown", [](nlohmann::json& f) { f["map"]["engine"] = "fast", f["map"]["engines"] = {"fast"}; }},
+      {"engine-mismatch", [](nlohmann::json& f) { f["map"]["engine"] = "mixed"; }},
   };
   std::vector<Damaged> out;
   for (const auto& [name, edit] : edits) {
     nlohmann::json e = j;
     edit(e);
-    out.push_back({"JSON " + name, dir / ("edited-" + name + ".json")});
+    out.push_back({"JSON " + name, dir / ("edited-" + name + ".json"), true});
     std::ofstream(out.back().file) << e.dump(1) << '\n';
   }
   return out;
@@ -419,7 +436,11 @@ TEST_CASE("every damaged or edited results file results check refuses, every rea
   std::size_t refused = 0;
   for (const Damaged& d : files) {
     const auto check = test::runCli("results check " + test::shellQuoted(d.file));
-    if (check.exit_code == 0) continue;  // a flip in unused bytes: a file as good as the original
+    if (check.exit_code == 0) {
+      INFO(d.what << ": results check accepted a hand edit");
+      CHECK_FALSE(d.hand_edit);
+      continue;  // a flip in unused bytes: a file as good as the original
+    }
     ++refused;
     INFO(d.what << ": " << d.file.filename() << "\nresults check: " << check.output);
     CHECK(check.exit_code == 2);

@@ -271,6 +271,36 @@ TEST_CASE("import cloud --shift: every stored coordinate is float(double(x) + sh
   CHECK(p.z() == float(10.03 - 10));
 }
 
+// The truth of a shifted data set is shifted the same way: in double, then rounded once (docs/import.md). Old binary:
+// the truth's points were rounded to float32 before the shift (500000.01 became 0, not 0.01).
+TEST_CASE("import truth onto a shifted data set: every truth coordinate is float(double(x) + shift)") {
+  const fs::path dir = test::scratch("import_truth_shift_exact");
+  std::ofstream(dir / "one.xyz") << "500000.01 4000000.02 10.03\n500001 4000001 11\n";
+  REQUIRE(test::runCli("import cloud " + (dir / "one.xyz").string() + " --shift -500000 -4000000 -10 --out " +
+                       (dir / "ds").string()).exit_code == 0);
+  std::vector<std::array<double, 3>> truth;
+  SplitMix64 rng(31);
+  for (int i = 0; i < 60; ++i)
+    truth.push_back({500000 + std::round(rng.uniform() * 10000) / 100, 4000000 + std::round(rng.uniform() * 10000) / 100,
+                     10 + std::round(rng.uniform() * 300) / 100});
+  for (const std::string ext : {".ply", ".pcd"}) {
+    INFO(ext);
+    writeCloud(dir / ("truth" + ext), truth);
+    const auto r = test::runCli("import truth " + (dir / ("truth" + ext)).string() + " --dataset " + (dir / "ds").string() +
+                                " --out " + (dir / ("with" + ext)).string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    const Dataset d = readDataset(dir / ("with" + ext));
+    REQUIRE(d.truth.points.size() == truth.size());
+    std::size_t wrong = 0;
+    const std::array<double, 3> shift{-500000, -4000000, -10};
+    for (std::size_t i = 0; i < truth.size(); ++i)
+      for (std::size_t a = 0; a < 3; ++a)
+        if (d.truth.points[i](unsigned(a)) != float(truth[i][a] + shift[a])) ++wrong;
+    CHECK(wrong == 0);
+  }
+}
+
 // docs/import.md: the region a far-away import reports is its real size, and the reason map and sweep refuse it is
 // the key range, not the region-voxel limit (a 1,000-voxel region was reported "more than the limit of 67108864").
 TEST_CASE("import reports a far-away region's own voxel count and the key range, not the voxel limit") {

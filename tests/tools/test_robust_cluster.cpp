@@ -343,6 +343,44 @@ TEST_CASE("cluster plan --force replaces only occsweep's own plan, a user's plan
 // docs/cluster.md, "Options": the plan's shards and merges are JSON results files, which `sweep` refuses past
 // 200,000 combinations; an ungrouped grid past that is refused at planning (an older build planned it, and every
 // task would have failed, or run out of memory, on the cluster).
+TEST_CASE("cluster plan never replaces a Slurm script it did not write: a user's file, or its own edited by hand") {
+  // Old binary: both were overwritten, exit 0 (only plan.json was checked).
+  const fs::path dir = test::scratch("robust-cluster-scripts");
+  makeScene(dir / "A", 1);
+  writeSmallGrid(dir / "grids" / "small.json");
+  const std::string plan = "cluster plan --experiment sweep --datasets A --grids grids/small.json:";
+  REQUIRE(test::runIn(dir, plan + "2 --out probe").exit_code == 0);
+  const std::string stage = readPlan(dir / "probe").stages.at(0).name;
+  const std::string script = "slurm/" + stage + ".sbatch";
+  // A folder of the user's that already holds a script by that name.
+  fs::create_directories(dir / "p" / "slurm");
+  const std::string mine = "#!/bin/bash\n# my own job script\n";
+  std::ofstream(dir / "p" / script) << mine;
+  for (const char* flag : {"", " --force"}) {
+    INFO("flag '" << flag << "'");
+    const auto r = test::runIn(dir, plan + "2 --out p" + flag);
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output, Contains(script) && Contains("not the script occsweep wrote for the plan there"));
+    CHECK(test::bytesOf(dir / "p" / script) == mine);
+    CHECK(test::listing(dir / "p") == std::vector<std::string>{"slurm", script});  // no plan.json, no logs/
+  }
+  // occsweep's own plan whose script the user edited: a new plan with --force keeps the edit and the old plan.
+  REQUIRE(test::runIn(dir, plan + "2 --out q").exit_code == 0);
+  const std::string written = test::bytesOf(dir / "q" / script), two = test::bytesOf(dir / "q" / "plan.json");
+  std::ofstream(dir / "q" / script, std::ios::app) << "module load gcc\n";
+  const auto r = test::runIn(dir, plan + "1 --out q --force");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains(script));
+  CHECK(test::bytesOf(dir / "q" / script) == written + "module load gcc\n");
+  CHECK(test::bytesOf(dir / "q" / "plan.json") == two);
+  // Its own script as written is replaced, as --force says.
+  std::ofstream(dir / "q" / script) << written;
+  CHECK(test::runIn(dir, plan + "1 --out q --force").exit_code == 0);
+  CHECK(readPlan(dir / "q").stages.at(0).tasks.size() == 1);
+}
+
 TEST_CASE("cluster plan refuses an ungrouped grid past a JSON results file's combinations, whatever its shards") {
   const fs::path dir = test::scratch("robust-cluster-json-grid");
   makeScene(dir / "A", 1);

@@ -560,6 +560,28 @@ TEST_CASE("sweep refuses a JSON --out past 200,000 combinations at its start, po
   CHECK_FALSE(fs::exists(dir / "w.json"));
 }
 
+TEST_CASE("merge into JSON past 200,000 combinations is refused before any map is read, pointing at --out NAME.db") {
+  // Old binary: two store shards of 1,920,002 combinations merged into one JSON in memory (past this test's 1 GB cap:
+  // out of memory); the sweep's own limit did not hold for merge.
+  const fs::path dir = occsweep::test::processScratch("limits_merge_json");
+  writeFinePtGrid(dir / "fine.json", 2, "0.000001");
+  const std::string sweep = "sweep --quiet --dataset " + scene().string() + " --grid " + (dir / "fine.json").string();
+  for (const char* shard : {"0", "1"})
+    REQUIRE(runOccsweep(sweep + " --shard " + shard + "/2 --out " + (dir / ("s" + std::string(shard) + ".db")).string(),
+                        1024).exit_code == 0);
+  const std::string shards = (dir / "s0.db").string() + " " + (dir / "s1.db").string();
+  const Run r = runOccsweep("merge " + shards + " --out " + (dir / "m.json").string(), 1024);
+  checkRefused(r, {"--out " + (dir / "m.json").string(), "at most 200000 combinations",
+                   "the merge of 2 files writes 1920002", "use --out NAME.db"});
+  CHECK_FALSE(fs::exists(dir / "m.json"));
+  CHECK(leftovers(dir).empty());
+  // Into a store the same merge is written batch by batch.
+  const Run store = runOccsweep("merge " + shards + " --out " + (dir / "m.db").string(), 1024);
+  INFO(store.output);
+  CHECK(store.exit_code == 0);
+  checkPeak(store);
+}
+
 TEST_CASE("out of memory names the command's inputs and blames a limit flag only when one was raised") {
   // Old binary: "lower the one whose flag you raised" with no flag raised, and "on these inputs" naming none.
   if (kSanitized) {

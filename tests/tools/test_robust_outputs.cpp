@@ -221,43 +221,51 @@ TEST_CASE("sweep refuses two grids into one file however it is spelt, before any
   CHECK(fs::exists(dir / "d" / "b.json"));
 }
 
-TEST_CASE("compare's CSV, Markdown and LaTeX keep a data set name of special characters intact", "[outputs]") {
+TEST_CASE("compare's CSV, Markdown and LaTeX show 24 names of random printable characters and line breaks as they are",
+          "[outputs]") {
   // Old binary: a `$` broke the LaTeX ("Missing $ inserted"), a `|` added a Markdown column, a carriage return went
-  // into the CSV unquoted.
+  // into the CSV unquoted; then `*`, `` ` ``, `<b>`, `&amp;` and `[l](u)` rendered as Markdown, `--`, `''`, `,,` and
+  // `<<` as LaTeX ligatures. The oracle (tests/reference/read_tables.py) reads each name back through Python's csv,
+  // markdown-it-py and pdflatex + pdftotext.
   const fs::path dir = withScene("robust_outputs/escaping");
-  const std::string name = "C&D_%$#{x}~^\\ a|b,\"q\"\rz";
-  nlohmann::json manifest = nlohmann::json::parse(fileBytes(dir / "scene" / "manifest.json"));
-  manifest["name"] = name;
-  std::ofstream(dir / "scene" / "manifest.json") << manifest.dump(2);
   REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json").exit_code == 0);
-  const CommandResult r = runIn(dir, "compare r.json --csv t.csv --markdown t.md --latex t.tex");
-  INFO(r.output);
-  REQUIRE(r.exit_code == 0);
-  // CSV: Python's csv module reads the name back whole.
-  std::ofstream(dir / "name.txt", std::ios::binary) << name;
-  std::ofstream(dir / "read.py") << "import csv\nrows = list(csv.DictReader(open('t.csv', newline='')))\n"
-                                    "want = open('name.txt', newline='').read()\n"
-                                    "print('same' if rows[0]['dataset'] == want else 'differs: %r' % rows[0]['dataset'])\n";
-  const CommandResult py = runShell("cd " + shellQuoted(dir) + " && /usr/bin/python3 read.py 2>&1");
-  INFO(py.output);
-  CHECK(py.output == "same\n");
-  // Markdown: every row of the per-set table has the header's number of unescaped '|'.
-  const std::string md = fileBytes(dir / "t.md");
-  auto cells = [](const std::string& line) {
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < line.size(); ++i) n += line[i] == '|' && (i == 0 || line[i - 1] != '\\');
-    return n;
-  };
-  std::istringstream lines(md);
-  std::string header, rule, row;
-  while (std::getline(lines, header) && header.rfind("| data set", 0) != 0) {}
-  std::getline(lines, rule), std::getline(lines, row);
-  CHECK(cells(row) == cells(header));
-  CHECK(row.find("a\\|b") != std::string::npos);
-  // LaTeX: the specials escaped, the name's text kept.
-  const std::string tex = fileBytes(dir / "t.tex");
-  CHECK(tex.find("C\\&D\\_\\%\\$\\#\\{x\\}\\textasciitilde{}\\textasciicircum{}\\textbackslash{} a|b") !=
-        std::string::npos);
+  const nlohmann::json swept = nlohmann::json::parse(fileBytes(dir / "r.json"));
+  std::vector<std::string> names = {"C&D_%$#{x}~^\\ a|b,\"q\"\rz", "*em* `code` <b>x</b> &amp; [l](u) ~~s~~",
+                                    "a--b---c ``q'' ,,d << e >> !`?`", "\\|\\\\|"};
+  SplitMix64 rng(29);
+  while (names.size() < 24) {
+    std::string name;
+    for (std::size_t n = 8 + rng.next() % 17; name.size() < n;) {
+      const std::uint64_t c = rng.next() % 96;  // the 95 printable ASCII characters and a line break
+      name += c == 95 ? '\n' : char(0x20 + c);
+    }
+    names.push_back(name);
+  }
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    nlohmann::json named = swept;  // the name as another program's results (or import --name) may carry it
+    named["dataset"]["name"] = names[i];
+    const std::string in = "n-" + std::to_string(i) + ".json", t = "t-" + std::to_string(i);
+    std::ofstream(dir / in) << named.dump();
+    const CommandResult r = runIn(dir, "compare " + in + " --csv " + t + ".csv --markdown " + t + ".md --latex " + t +
+                                           ".tex");
+    INFO(names[i] << "\n" << r.output);
+    REQUIRE(r.exit_code == 0);
+  }
+  std::ofstream(dir / "names.json") << nlohmann::json(names).dump();
+  const bool readers = runShell("command -v pdflatex && command -v pdftotext && /usr/bin/python3 -c 'import "
+                                "markdown_it'").exit_code == 0;
+  if (!readers) {
+    WARN("pdflatex, pdftotext or markdown-it-py missing (the test command installs them: tools/setup.sh): skipped");
+    return;
+  }
+  const CommandResult read = runShell("/usr/bin/python3 " +
+                                      shellQuoted(fs::path(OCCSWEEP_SOURCE_DIR) / "tests/reference/read_tables.py") +
+                                      " " + shellQuoted(dir) + " 2>&1");
+  INFO(read.output);
+  CHECK(read.exit_code == 0);
+  std::string all_same;
+  for (std::size_t i = 0; i < names.size(); ++i) all_same += "same\n";
+  CHECK(read.output == all_same);
 }
 
 TEST_CASE("cluster select replaces its own folder of links, never a user's folder", "[outputs]") {
@@ -290,4 +298,35 @@ TEST_CASE("reproduce --out refuses a folder holding a user's file before any wor
   CHECK(r.exit_code == 2);
   CHECK(mentions(r, "w: exists and is not occsweep's reproduction folder"));
   CHECK(snapshot(dir) == before);
+}
+
+TEST_CASE("reproduce --out refuses a folder whose report, step file or figure is not occsweep's, whatever its name",
+          "[outputs]") {
+  // Old binary: any *.json, *.md or *.png counted as the reproduction's own, and the run replaced a user's
+  // report.md, fits.json or fig5_improvement.png.
+  const fs::path dir = scratch("robust_outputs/reproduce_names");
+  if (runIn(dir, "reproduce --help").exit_code != 0) {
+    WARN("occsweep built without the stereo tools: no reproduce command, case skipped");
+    return;
+  }
+  const std::vector<std::pair<std::string, std::string>> users = {
+      {"report.md", "# My reproduction notes\n"},
+      {"notes.md", "# notes\n"},
+      {"fits.json", "{\"format\": \"my own fits\"}\n"},
+      {"results.json", "{}\n"},
+      {"fig5_improvement.png", "\x89PNG\r\n\x1a\n a user's figure"},
+      {".fits.json.tmp-1-0123456789abcdef0123456789abcdef", "not a temporary occsweep recorded"}};
+  for (const auto& [name, bytes] : users) {
+    INFO(name);
+    fs::remove_all(dir / "w");
+    fs::create_directories(dir / "w" / "data");
+    writeBytes(dir / "w" / name, bytes);
+    const auto before = snapshot(dir);
+    const CommandResult r =
+        runIn(dir, "reproduce --scale ci --no-figures --quiet --steps real-stereo --datasets parking-plain-I --out w");
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "w: exists and is not occsweep's reproduction folder"));
+    CHECK(snapshot(dir) == before);
+  }
 }

@@ -214,6 +214,26 @@ TEST_CASE("a temporary that a killed run recorded is removed by the next run wri
   CHECK(entriesOf(ledger) == std::set<std::string>{live.token});
 }
 
+TEST_CASE("SQLite's journal beside a recorded temporary a killed run left goes with it, and only then",
+          "[ownership]") {
+  // Old binary: a kill while a store was being created at its temporary left `.NAME.tmp-PID-TOKEN-journal` for good
+  // (the temporary itself was removed by the next run, its journal was not).
+  const fs::path dir = scratch("ownership/journal");
+  const fs::path state = dir / "state";
+  const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(state);
+  const fs::path left = killedRunsTemporary(dir / "a", "w", state);
+  writeBytes(left.string() + "-journal", "a rollback journal");
+  // The same name beside an unrecorded look-alike stays: only a proven temporary's journal goes.
+  const fs::path look_alike = dir / "a" / ".w.tmp-1-0123456789abcdef0123456789abcdef";
+  writeBytes(look_alike.string() + "-journal", "the user's");
+  const CommandResult a = runIn(dir / "a", std::string(kTinyScene) + " --out w", env);
+  INFO(a.output);
+  REQUIRE(a.exit_code == 0);
+  CHECK(!fs::exists(left));
+  CHECK(!fs::exists(left.string() + "-journal"));
+  CHECK(fileBytes(look_alike.string() + "-journal") == "the user's");
+}
+
 TEST_CASE("an output created or changed while occsweep writes it is kept, and the commit fails naming it",
           "[ownership]") {
   const fs::path dir = scratch("ownership/meanwhile");
@@ -444,5 +464,33 @@ TEST_CASE("a sweep removes its partial output only while it is the file it made,
     CHECK(fileBytes(partial) == "the user's notes\n");
     for (const char* name : {"moved", "r.json", "r.db"}) fs::remove(dir / name);
     fs::remove(partial);
+  }
+}
+
+TEST_CASE("a user's symbolic link at an output's name is never replaced, even with --force and pointing to occsweep's own output",
+          "[ownership]") {
+  // Old binary: `merge --force` and `compare --json --force` replaced the link with a file (the user's link gone),
+  // since the file it points to is occsweep's.
+  const fs::path dir = scratch("ownership/symlink_force");
+  REQUIRE(runIn(dir, "scene --scans 4 --width 32 --height 24 --out s").exit_code == 0);
+  writeTinyGrid(dir / "tiny.json");
+  REQUIRE(runIn(dir, "sweep --dataset s --grid tiny.json --quiet --out r.json").exit_code == 0);
+  REQUIRE(runIn(dir, "merge r.json --out own.json").exit_code == 0);
+  REQUIRE(runIn(dir, "compare r.json --json own-compare.json").exit_code == 0);
+  fs::create_symlink("own.json", dir / "link.json");
+  fs::create_symlink("own-compare.json", dir / "link-compare.json");
+  const std::string own = fileBytes(dir / "own.json"), own_compare = fileBytes(dir / "own-compare.json");
+  for (const std::string command : {"merge r.json --out link.json --force", "compare r.json --json link-compare.json --force",
+                                    "merge r.json --out link.json"}) {
+    INFO(command);
+    const CommandResult r = runIn(dir, command);
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "is a symbolic link: occsweep never writes through or replaces one"));
+    CHECK(fs::is_symlink(fs::symlink_status(dir / "link.json")));
+    CHECK(fs::read_symlink(dir / "link.json") == "own.json");
+    CHECK(fs::is_symlink(fs::symlink_status(dir / "link-compare.json")));
+    CHECK(fileBytes(dir / "own.json") == own);
+    CHECK(fileBytes(dir / "own-compare.json") == own_compare);
   }
 }

@@ -250,8 +250,7 @@ int runImportCloud(const ImportOptions& o) {
 TruthSources readTruthFiles(const std::vector<std::string>& files, const std::array<double, 3>& shift) {
   TruthSources truth;
   for (const auto& f : files) {
-    TruthSources t = readTruth(f);
-    shiftTruth(t, shift, f);
+    TruthSources t = readTruth(f, shift);  // shifted in double, rounded to float once (docs/import.md)
     truth.boxes.insert(truth.boxes.end(), t.boxes.begin(), t.boxes.end());
     truth.mesh.insert(truth.mesh.end(), t.mesh.begin(), t.mesh.end());
     truth.points.insert(truth.points.end(), t.points.begin(), t.points.end());

@@ -11,7 +11,9 @@
 #include "install_paths.hpp"
 #include "option_checks.hpp"
 #include "occsweep/eval/child_process.hpp"
+#include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/paper_datasets.hpp"
+#include "occsweep/eval/png_text.hpp"
 #include "occsweep/sweeps/reproduce.hpp"
 
 namespace occsweep::cli {
@@ -30,15 +32,28 @@ struct ReproduceOptions {
 
 /// The figures: plot_reproduction.py (installed beside the binary, install_paths.hpp) on the step files. Python and
 /// the script are looked up now, so that a run cannot fail at its end for want of them.
+// A figure the script drew, moved into OUT: over nothing, or over a figure of an earlier reproduction (its Software
+// chunk, kReproductionFigureMark); a user's PNG at that name stays and the run fails naming it.
+void placeFigure(const std::filesystem::path& drawn, const std::filesystem::path& out) {
+  const std::filesystem::path target = out / drawn.filename();
+  checkOutputTarget(target, true, {"reproduction figure", [](const std::filesystem::path& file) {
+                                     return pngText(file, "Software") == kReproductionFigureMark;
+                                   }});
+  renameIntoPlace(drawn, target);
+}
+
 auto figureDrawer(const std::string& configured_python) {
   const std::string python = findPython(configured_python, "reproduce");
   const std::string script = figureScript("plot_reproduction.py").string();
   return [python, script](const std::filesystem::path& out, const std::vector<std::string>& steps) {
-    std::vector<std::string> argv{python, script, out.string()};
+    const ClaimedTemporary drawn(out / "figures");  // the script draws here; removed whatever happens
+    std::filesystem::create_directory(drawn.path());
+    std::vector<std::string> argv{python, script, out.string(), "--into", drawn.path().string()};
     argv.insert(argv.end(), steps.begin(), steps.end());
     if (const int code = runChild(argv); code != 0)
       throw std::runtime_error("reproduce: " + python + " " + script + " failed (exit code " + std::to_string(code) +
                                ")");
+    for (const auto& figure : std::filesystem::directory_iterator(drawn.path())) placeFigure(figure.path(), out);
   };
 }
 

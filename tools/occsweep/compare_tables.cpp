@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <string_view>
 
 #include "occsweep/sweeps/results_verify.hpp"
 
@@ -114,11 +115,14 @@ Cells perSetCells(const ComparisonTables& t) {
   return c;
 }
 
-// A Markdown table cell: a '|' would end the cell and a line break the row (names come from users' files).
+// A Markdown table cell that CommonMark with GitHub's tables shows as the text itself (names come from users' files):
+// the characters that open something inside a cell backslash-escaped ('|' ends the cell; '*', '_', '~', '`', '<',
+// '&', '[', ']' start emphasis, strikethrough, code, HTML, entities and links; '\\' escapes), a line break as a space
+// (it would end the row). docs/statistics.md, "Tables".
 std::string markdownCell(const std::string& s) {
   std::string out;
   for (char ch : s) {
-    if (ch == '|' || ch == '\\') out += '\\';
+    if (std::string_view("|*_~`<>&[]\\").find(ch) != std::string_view::npos) out += '\\';
     out += (ch == '\n' || ch == '\r') ? ' ' : ch;
   }
   return out;
@@ -139,18 +143,28 @@ std::string markdown(const Cells& c) {
   return o.str();
 }
 
-// LaTeX's ten special characters in text mode (names come from users' files), and line breaks as spaces.
+// Text as LaTeX text mode shows it, character for character under T1 fonts (names come from users' files): the ten
+// specials escaped; '<', '>', '|' (other glyphs under OT1) by their text commands; a pair that would form a
+// ligature (--, ,,, '', ``, !`, ?`) broken by "{}"; line breaks as spaces. Quotes stay typographic (' shows as a
+// closing quote). docs/statistics.md, "In occsweep compare".
 std::string latexEscaped(const std::string& s) {
+  static constexpr std::string_view kLigaturePairs[] = {"--", ",,", "''", "``", "!`", "?`"};
   std::string out;
-  for (char ch : s) {
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const char ch = s[i];
     switch (ch) {
       case '_': case '%': case '&': case '#': case '$': case '{': case '}': out += '\\', out += ch; break;
       case '\\': out += "\\textbackslash{}"; break;
       case '^': out += "\\textasciicircum{}"; break;
       case '~': out += "\\textasciitilde{}"; break;
+      case '<': out += "\\textless{}"; break;
+      case '>': out += "\\textgreater{}"; break;
+      case '|': out += "\\textbar{}"; break;
       case '\n': case '\r': out += ' '; break;
       default: out += ch;
     }
+    for (std::string_view pair : kLigaturePairs)
+      if (i + 1 < s.size() && ch == pair[0] && s[i + 1] == pair[1]) out += "{}";
   }
   return out;
 }

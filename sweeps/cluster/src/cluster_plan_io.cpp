@@ -167,6 +167,35 @@ void refuseOtherPlan(const std::filesystem::path& dir, const json& plan, bool fo
                              "choose another --out)");
 }
 
+// The script occsweep wrote for `stage_name` in the plan at `dir` (nothing when no plan there has that stage).
+std::optional<std::string> ownScript(const std::filesystem::path& dir, const std::string& stage_name) {
+  std::error_code ec;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(dir / "plan.json", ec))) return std::nullopt;
+  const ClusterPlan old = readPlan(dir);
+  for (const ClusterStage& st : old.stages)
+    if (st.name == stage_name) return sbatchScript(old, st);
+  return std::nullopt;
+}
+
+// A stage's script is written where nothing stands, or over the very bytes occsweep wrote for the plan there: a
+// user's file, or occsweep's script edited by hand (a `module load` line), is never replaced, even with --force
+// (docs/cluster.md, "The plan").
+void refuseOtherScripts(const std::filesystem::path& dir, const ClusterPlan& plan) {
+  namespace fs = std::filesystem;
+  for (const ClusterStage& st : plan.stages) {
+    const fs::path script = dir / "slurm" / (st.name + ".sbatch");
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(script, ec))) continue;
+    const std::optional<std::string> own = ownScript(dir, st.name);
+    const bool same = own && fs::is_regular_file(fs::symlink_status(script, ec)) &&
+                      fs::file_size(script, ec) == own->size() && readFileBytes(script) == *own;
+    if (!same)
+      throw std::runtime_error(script.string() + ": not the script occsweep wrote for the plan there (a file of "
+                               "yours, or the plan's script edited by hand): never replaced, even with --force "
+                               "(nothing changed); move it away, or choose another --out");
+  }
+}
+
 }  // namespace
 
 void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool force) {
@@ -179,6 +208,7 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool f
         throw std::invalid_argument("task " + st.name + "[" + std::to_string(t.index) + "] output " + t.output + ": " +
                                     *broken);
   refuseOtherPlan(dir, j, force);
+  refuseOtherScripts(dir, plan);
   const bool new_folder = !fs::exists(dir);
   try {
     fs::create_directories(dir / "slurm");

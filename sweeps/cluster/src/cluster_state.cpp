@@ -88,6 +88,9 @@ bool insideFolder(const fs::path& file, const fs::path& dir) {
 void removeOwnOutput(const ClusterTask& task, const fs::path& dir) {
   const fs::path file = dir / task.output;
   std::error_code ec;
+  // An `exists` output has no check that proves it occsweep's (its name alone proves nothing): it stays, and the
+  // task's own command decides by its --force rule (docs/cluster.md, "Outputs stay in the plan folder").
+  if (task.kind == OutputKind::Exists) return;
   if (!fs::is_regular_file(file, ec) || !insideFolder(file, dir) || !checkOutput(task, dir).empty()) return;
   fs::remove(file, ec);
 }

@@ -283,7 +283,10 @@ class StoreOutput final : public OutputBase {
     if (c_.out.has_parent_path()) fs::create_directories(c_.out.parent_path());
     if (!store_) {
       // Created beside it, locked, then put in place: a second sweep into the same --out finds it locked.
-      lock_ = PartialLock::publish(partial_, replace_, [&](const fs::path& t) { (void)ResultsStore::create(t, h_); });
+      // Made at a temporary, so its journal is kept in memory: a kill during the creation leaves no `-journal`.
+      lock_ = PartialLock::publish(partial_, replace_, [&](const fs::path& t) {
+        (void)ResultsStore::create(t, h_, StoreUse::Temporary);
+      });
       store_.emplace(ResultsStore::open(partial_, true));
       requireHeldPartial();  // opened by name (SQLite names its journal after it): the file this sweep made
     }

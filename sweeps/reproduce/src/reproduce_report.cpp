@@ -128,7 +128,7 @@ std::string reproductionReport(const ReproduceConfig& c, const ReproductionResul
   std::ostringstream o;
   std::string steps;
   for (const auto& s : c.steps) steps += (steps.empty() ? "" : ",") + s;
-  o << "# Reproduction of Miao, Hunter, Georgilas (Sensors 2022), Section 4\n\n"
+  o << kReproductionReportMark << "\n# Reproduction of Miao, Hunter, Georgilas (Sensors 2022), Section 4\n\n"
     << "Written by `occsweep reproduce --scale " << c.scale
     << (c.steps == reproductionSteps() ? std::string() : " --steps " + steps)
     << "`; every number below comes from the JSON files beside this report (fits.json, nca.json, comparison.json, "

@@ -5,7 +5,10 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/eval/ownership.hpp"
+#include "occsweep/eval/png_text.hpp"
 #include "reproduce_internal.hpp"
 
 namespace occsweep {
@@ -49,17 +52,44 @@ void checkReproductionSteps(const std::vector<std::string>& steps) {
 
 namespace {
 
-// What a reproduction folder holds (data/, sweeps/, maps/, and *.json, *.md, *.png files at the top): a re-run
-// resumes in it; any other folder (a user's thesis.tex) is refused, so that no file of the user's is replaced.
+// The step files a reproduction writes, each proven occsweep's by its own "format" field.
+constexpr const char* kStepFiles[] = {"fits", "nca", "comparison", "curves", "runtime", "real-stereo", "run"};
+
+// An entry of a reproduction folder that is occsweep's (docs/robustness.md, "Ownership"): its data, sweeps and maps
+// folders; a step file whose "format" is its own; report.md under its first-line mark; a PNG carrying the figures'
+// Software mark; a temporary the ledger proves a killed run left. Names alone prove nothing: a user's notes.md or
+// results.json makes the folder a user's.
+bool isOwnReproductionEntry(const fs::directory_entry& entry) {
+  const std::string name = entry.path().filename().string();
+  std::error_code ec;
+  if (entry.is_directory(ec) && !entry.is_symlink(ec) && (name == "data" || name == "sweeps" || name == "maps"))
+    return true;
+  if (!entry.is_regular_file(ec) || entry.is_symlink(ec))
+    return isStaleTemporaryOf(entry.path(), entry.path().parent_path() / outputNameOf(name));
+  const fs::path stem = entry.path().stem();
+  try {
+    if (entry.path().extension() == ".json" && std::ranges::find(kStepFiles, stem.string()) != std::end(kStepFiles)) {
+      const json j = readJsonFile(entry.path());
+      return j.is_object() && j.value("format", "") == "occsweep-reproduce-" + stem.string();
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
+  if (name == "report.md") {
+    std::ifstream in(entry.path());
+    std::string first;
+    return std::getline(in, first) && first == kReproductionReportMark;
+  }
+  if (entry.path().extension() == ".png") return pngText(entry.path(), "Software") == kReproductionFigureMark;
+  return isStaleTemporaryOf(entry.path(), entry.path().parent_path() / outputNameOf(name));
+}
+
+// A folder a re-run resumes in: every entry occsweep's. Any other (a user's thesis.tex) makes it the user's, refused
+// with or without --force, so that no file of the user's is replaced.
 bool isReproductionFolder(const fs::path& dir) {
   std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const fs::path name = it->path().filename();
-    const bool own = it->is_directory() ? name == "data" || name == "sweeps" || name == "maps"
-                                        : name.extension() == ".json" || name.extension() == ".md" ||
-                                              name.extension() == ".png" || name.string().find(".tmp-") != std::string::npos;
-    if (!own) return false;
-  }
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (!isOwnReproductionEntry(*it)) return false;
   return !ec;
 }
 

@@ -139,8 +139,39 @@ ResultsFile mergeResults(const std::vector<std::filesystem::path>& files) {
   return out;
 }
 
+namespace {
+
+// The combinations the merged file holds: its grid's, or its Eq. 16 group's (every shard merged). Bounded like an
+// enumeration before the group's ids are listed.
+std::uint64_t mergedCombinations(const ResultsHeader& merged, const std::filesystem::path& first_file) {
+  try {
+    checkLimit("grid.combinations", merged.grid_combinations, limits().combinations, "--max-combinations");
+  } catch (const LimitError& e) {
+    throw std::runtime_error(first_file.string() + ": " + e.what());
+  }
+  if (!merged.selection.group) return merged.grid_combinations;
+  GridEnumeration shape;
+  shape.combinations = merged.grid_combinations;
+  return expectedIds(shape, merged.selection).size();
+}
+
+// A merge into JSON is built in memory: past kMaxJsonCombinations it is refused before any map is read.
+void refuseLargeJson(const MergeHeaders& heads, const std::vector<std::filesystem::path>& files,
+                     const std::filesystem::path& out) {
+  const std::uint64_t n = mergedCombinations(heads.merged.header, files.front());
+  if (n > kMaxJsonCombinations)
+    throw std::invalid_argument("--out " + out.string() + ": a JSON results file holds at most " +
+                                std::to_string(kMaxJsonCombinations) + " combinations and the merge of " +
+                                std::to_string(files.size()) + (files.size() == 1 ? " file" : " files") + " writes " +
+                                std::to_string(n) +
+                                "; use --out NAME.db (a results store, written batch by batch; docs/results-format.md)");
+}
+
+}  // namespace
+
 std::uint64_t mergeResultsInto(const std::vector<std::filesystem::path>& files, const std::filesystem::path& out) {
   if (!isStorePath(out)) {
+    refuseLargeJson(mergeHeaders(files), files, out);
     const ResultsFile merged = mergeResults(files);
     writeResults(merged, out);
     return merged.maps.size();

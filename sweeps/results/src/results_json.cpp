@@ -1,6 +1,7 @@
 // Results files to and from JSON, with checks that catch a file edited by hand.
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <unistd.h>
@@ -147,6 +148,19 @@ json toJson(const ResultsFile& f) {
   return j;
 }
 
+namespace {
+
+// The engines a results file may name (docs/results-format.md): each of `engines` "direct" or "replay", and
+// `engine` the one of them, or "mixed" for several.
+void requireKnownEngines(const ResultsHeader& h, const std::function<void(const std::string&)>& fail) {
+  for (const std::string& e : h.engines)
+    if (e != "direct" && e != "replay") fail("'" + e + "' is not an engine (direct or replay; edited by hand?)");
+  const std::string expected = h.engines.size() == 1 ? h.engines.front() : "mixed";
+  if (h.engine != expected) fail("'" + h.engine + "' does not match map.engines (it must be '" + expected + "')");
+}
+
+}  // namespace
+
 ResultsHeader parseHeader(const json& j, const std::string& file) {
   const Reader r{file};
   ResultsHeader h;
@@ -197,6 +211,7 @@ ResultsHeader parseHeader(const json& j, const std::string& file) {
       h.engines.push_back(e.get<std::string>());
     }
   }
+  requireKnownEngines(h, [&](const std::string& why) { r.fail("map.engine", why); });
   if (m.contains("truth")) {
     try {
       h.truth = parseTruthMode(m.at("truth").is_string() ? m.at("truth").get<std::string>() : "");
@@ -253,6 +268,9 @@ MapResult parseMapResult(const json& j, const ParameterLayout& parameters, const
   m.area = mapArea(m.thresholds);
   r.agrees(r.real(auc, "anchored", where + ".auc", true), m.area.anchored, where + ".auc.anchored");
   r.agrees(r.real(auc, "observed", where + ".auc", true), m.area.observed, where + ".auc.observed");
+  if (auc.contains("points") && r.count(auc, "points", where + ".auc") != std::uint64_t(m.area.points))
+    r.fail(where + ".auc.points", "is not the number of valid curve points of its thresholds (" +
+                                      std::to_string(m.area.points) + "; edited by hand?)");
   m.seconds = r.real(j, "seconds", where);
   return m;
 }

@@ -33,6 +33,11 @@ constexpr std::streamoff kApplicationIdOffset = 68;  // SQLite's file header: 4 
 constexpr std::size_t kMapColumns = 3;  // map_index, first_id, last_id: then the parameters
 // Every table a store has (docs/results-format.md, "Results store"): a store missing one is refused by name.
 constexpr const char* kTables[] = {"meta", "region", "maps", "thresholds"};
+// The view a user queries (docs/results-format.md, "Results store"): its SQL as every store since the first holds it.
+constexpr const char* kCombinationsView =
+    "CREATE VIEW combinations AS SELECT t.id AS id, m.map_index AS map_index, t.p_t_micro / 1e6 AS p_t,"
+    " t.tp AS tp, t.fp AS fp, r.truth - t.tp AS fn, r.region - r.truth - t.fp AS tn"
+    " FROM maps m JOIN thresholds t ON t.id BETWEEN m.first_id AND m.last_id, region r";
 
 // How long a statement waits for another connection's lock before it fails (docs/results-format.md, "Reading a
 // store while a sweep writes it"): a reader's transaction blocks the sweep's commit, and a commit blocks readers,
@@ -172,12 +177,22 @@ struct ResultsStore::Connection {
     region = std::uint64_t(r), truth = std::uint64_t(t);
     if (s.step()) fail(file, "region: holds more than one row (a store has exactly one region)");
   }
+  // The schema as occsweep writes it: its four tables, the `combinations` view with its own SQL, and no other table,
+  // view or trigger (each would change what a reader or a resumed sweep sees); an index a user adds for their own
+  // queries changes nothing and is allowed.
   void requireTables() {
     for (const char* table : kTables) {
       Statement s(db, "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?", file);
       s.bind(1, std::string(table));
       if (!s.step() || s.integer(0) != 1) fail(file, std::string(table) + ": table is missing (not a whole results store)");
     }
+    Statement view(db, "SELECT sql FROM sqlite_master WHERE type = 'view' AND name = 'combinations'", file);
+    if (!view.step() || view.text(0) != kCombinationsView)
+      fail(file, "combinations: the view is missing or not occsweep's (edited by hand?)");
+    Statement other(db, "SELECT type, name FROM sqlite_master WHERE name NOT IN ('meta', 'region', 'maps', "
+                        "'thresholds', 'combinations') AND type != 'index'", file);
+    if (other.step())
+      fail(file, other.text(0) + " " + other.text(1) + ": not part of a results store (added by hand?)");
   }
 };
 
@@ -235,10 +250,8 @@ ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& hea
           ", auc_anchored REAL, auc_observed REAL, auc_points INTEGER NOT NULL, seconds REAL NOT NULL,"
           " engine TEXT NOT NULL);"
           "CREATE TABLE thresholds(id INTEGER PRIMARY KEY, p_t_micro INTEGER NOT NULL, tp INTEGER NOT NULL,"
-          " fp INTEGER NOT NULL);"
-          "CREATE VIEW combinations AS SELECT t.id AS id, m.map_index AS map_index, t.p_t_micro / 1e6 AS p_t,"
-          " t.tp AS tp, t.fp AS fp, r.truth - t.tp AS fn, r.region - r.truth - t.fp AS tn"
-          " FROM maps m JOIN thresholds t ON t.id BETWEEN m.first_id AND m.last_id, region r;");
+          " fp INTEGER NOT NULL);" +
+          std::string(kCombinationsView) + ";");
   c->header = header;
   c->setMeta("format", kStoreFormat);
   c->setMeta("version", std::to_string(kStoreVersion));
@@ -416,7 +429,8 @@ void ResultsStore::forEachMap(MapDetail detail, const MapVisitor& visit) const {
       const auto agrees = [](double stored, double d) {
         return (std::isnan(stored) && std::isnan(d)) || std::abs(stored - d) <= 1e-12 * std::max(1.0, std::abs(d));
       };
-      if (!agrees(m.area.anchored, derived.anchored) || !agrees(m.area.observed, derived.observed))
+      if (!agrees(m.area.anchored, derived.anchored) || !agrees(m.area.observed, derived.observed) ||
+          m.area.points != derived.points)
         fail(c.file, where + ": auc does not match the counts it is derived from (edited by hand?)");
       m.area = derived;
     }

@@ -286,8 +286,14 @@ void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const s
 ResultsCheck checkResultsFile(const std::filesystem::path& file, const std::filesystem::path& dataset) {
   const std::string name = file.string();
   ResultsCheck out;
-  if (isResultsStore(file)) ResultsStore::open(file).verifyIntegrity();
+  const bool store = isResultsStore(file);
+  if (store) ResultsStore::open(file).verifyIntegrity();
   const ResultsFile head = readResultsHeader(file);
+  if (store)  // each map row's engine among those the header names
+    for (const std::string& e : ResultsStore::open(file).engineNames())
+      if (std::find(head.header.engines.begin(), head.header.engines.end(), e) == head.header.engines.end())
+        throw std::runtime_error(name + ": maps.engine: '" + e + "' is not among the engines map.engines names "
+                                 "(edited by hand?)");
   if (!head.complete) throw std::runtime_error(name + ": incomplete results");
   if (!std::isfinite(head.seconds) || head.seconds < 0)
     throw std::runtime_error(name + ": seconds: must be a finite number >= 0");

@@ -66,18 +66,27 @@ std::vector<AxisBox> decodeTruthBoxes(std::string_view text, const fs::path& fil
   return boxes;
 }
 
-TruthSources decodeTruth(std::string_view bytes, const fs::path& file) {
+TruthSources decodeTruth(std::string_view bytes, const fs::path& file, const std::array<double, 3>& shift) {
   std::string ext = file.extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  CloudPlacement at;  // the identity pose: truth is in the recording's frame, like the scans before the shift
+  at.shift = shift;
   TruthSources t;
   if (ext == ".json") {
     t.boxes = decodeTruthBoxes(bytes, file);
+    for (std::size_t i = 0; i < t.boxes.size(); ++i)
+      for (std::size_t a = 0; a < 3; ++a) {
+        AxisBox& box = t.boxes[i];
+        box.min[a] += shift[a], box.max[a] += shift[a];
+        if (!std::isfinite(box.min[a]) || !std::isfinite(box.max[a]))
+          throw DataError(file, "boxes[" + std::to_string(i) + "]", "is not finite after the data set's shift");
+      }
   } else if (ext == ".ply") {
-    PlyData ply = decodePly(bytes, file);
+    PlyData ply = decodePly(bytes, file, at);
     if (!ply.triangles.empty()) t.mesh = std::move(ply.triangles);
     else t.points = std::move(ply.vertices);
   } else if (ext == ".pcd") {
-    t.points = decodePcd(bytes, file);
+    t.points = decodePcd(bytes, file, nullptr, at);
   } else {
     throw DataError(file, "", "unknown ground-truth format: expected .ply (mesh or points), .pcd or .json (boxes)");
   }
@@ -89,6 +98,8 @@ TruthSources decodeTruth(std::string_view bytes, const fs::path& file) {
   return t;
 }
 
-TruthSources readTruth(const fs::path& file) { return decodeTruth(readFileBytes(file), file); }
+TruthSources readTruth(const fs::path& file, const std::array<double, 3>& shift) {
+  return decodeTruth(readFileBytes(file), file, shift);
+}
 
 }  // namespace occsweep

@@ -39,7 +39,8 @@ void releaseTemporary(const TemporaryClaim& claim);
 /// and start time. A record of another host or PID namespace (a shared home folder) never proves it gone.
 [[nodiscard]] bool isStaleTemporaryOf(const std::filesystem::path& entry, const std::filesystem::path& target);
 
-/// Removes `entry` (a file, or a folder with what it holds) and its record when isStaleTemporaryOf; true if it did.
+/// Removes `entry` (a file, or a folder with what it holds), SQLite's `entry-journal` beside it, and its record when
+/// isStaleTemporaryOf; true if it did.
 bool removeStaleTemporary(const std::filesystem::path& entry, const std::filesystem::path& target);
 
 }  // namespace occsweep

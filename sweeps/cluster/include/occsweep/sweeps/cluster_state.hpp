@@ -38,8 +38,9 @@ struct ProcessOutput {
 /// Empty when the task's output is valid, else why not ("missing", "incomplete results", ...).
 [[nodiscard]] std::string checkOutput(const ClusterTask& task, const std::filesystem::path& dir);
 /// Before a task runs again: removes its output when it is a file inside DIR (links resolved) that passes
-/// checkOutput, i.e. occsweep's own earlier output, so that it is not taken as done meanwhile. Anything else stays
-/// for the task's own --force rule to refuse (docs/cluster.md, "Outputs stay in the plan folder").
+/// checkOutput, i.e. occsweep's own earlier output, so that it is not taken as done meanwhile; never an `exists`
+/// output, which no check proves occsweep's. Anything else stays for the task's own --force rule to refuse
+/// (docs/cluster.md, "Outputs stay in the plan folder").
 void removeOwnOutput(const ClusterTask& task, const std::filesystem::path& dir);
 /// True when the output is older than one of its inputs (an input was redone after it).
 [[nodiscard]] bool outputStale(const ClusterTask& task, const std::filesystem::path& dir);

@@ -12,13 +12,6 @@
 
 namespace occsweep {
 
-/// The most combinations a JSON results file of a sweep may take: it is built in memory while the sweep runs and
-/// read back whole by every reader (about 1.9 KB a combination writing, 1.4 KB reading: 200,000 is about 380 MB),
-/// whereas a store (--out NAME.db) is written batch by batch for grids of any size. The paper's largest grid
-/// (reduction) has 112,500. `sweep` and `cluster plan` refuse more (docs/robustness.md, "Limits and non-regular
-/// files").
-inline constexpr std::uint64_t kMaxJsonCombinations = 200'000;
-
 struct SweepConfig {
   std::filesystem::path dataset;  ///< data-set folder
   std::string grid = "knn-opt";   ///< grid name (sweeps/grids/NAME.json) or path

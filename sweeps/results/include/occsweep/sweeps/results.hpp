@@ -22,6 +22,13 @@
 namespace occsweep {
 
 /// Everything about a results file except its numbers.
+/// The most combinations a JSON results file may take: it is built in memory while the sweep runs and
+/// read back whole by every reader (about 1.9 KB a combination writing, 1.4 KB reading: 200,000 is about 380 MB),
+/// whereas a store (--out NAME.db) is written batch by batch for grids of any size. The paper's largest grid
+/// (reduction) has 112,500. `sweep`, `merge` and `cluster plan` refuse more (docs/robustness.md, "Limits and non-regular
+/// files").
+inline constexpr std::uint64_t kMaxJsonCombinations = 200'000;
+
 struct ResultsHeader {
   std::string version, commit;                 ///< occsweep that wrote it
   std::string grid_name, grid_hash;            ///< grid file and FNV-1a of its bytes

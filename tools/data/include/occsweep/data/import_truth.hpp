@@ -1,6 +1,7 @@
 // Ground truth of a real recording (docs/import.md): a PLY mesh, a PLY or PCD point cloud, or a JSON list of boxes.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <string_view>
 
@@ -11,8 +12,11 @@ namespace occsweep {
 /// By extension: .ply with faces -> mesh, .ply without faces or .pcd -> points, .json -> boxes, given either as
 /// `[{"min": [x,y,z], "max": [x,y,z]}, ...]` or as `{"boxes": [...]}`. DataError for anything malformed, NaN or
 /// infinite values, min > max, or a source with nothing in it.
-[[nodiscard]] TruthSources decodeTruth(std::string_view bytes, const std::filesystem::path& file);
-[[nodiscard]] TruthSources readTruth(const std::filesystem::path& file);
+/// `shift` (a data set's --shift) is added to every coordinate in double, before the one rounding of a point or
+/// vertex to float32, as the scan readers do (docs/import.md, "Far-away (georeferenced) clouds").
+[[nodiscard]] TruthSources decodeTruth(std::string_view bytes, const std::filesystem::path& file,
+                                       const std::array<double, 3>& shift = {0, 0, 0});
+[[nodiscard]] TruthSources readTruth(const std::filesystem::path& file, const std::array<double, 3>& shift = {0, 0, 0});
 
 /// Margin around the truth's bounding box of the default evaluation region, metres (docs/robustness.md).
 inline constexpr double kTruthRegionMargin = 0.5;
