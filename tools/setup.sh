@@ -18,7 +18,7 @@ packages=(g++ cmake make git pkg-config liboctomap-dev libnanoflann-dev libeigen
 # (download included) on this project's machine kind. `run` never needs it: the filters are header-only, on nanoflann.
 # And pdflatex with booktabs, which test_compare_statistics compiles `compare --latex` with (docs/statistics.md): 17
 # packages, 48 MB, 26 s. With them the oracles of the table-escaping test (test_robust_outputs): pdftotext reads the
-# compiled names back, markdown-it-py is a CommonMark parser with GitHub's tables (docs/statistics.md, "Tables").
+# compiled names back, markdown-it-py is a CommonMark parser with GitHub's tables (docs/statistics.md, "In occsweep compare").
 test_packages=(libpcl-dev texlive-latex-base texlive-latex-recommended poppler-utils python3-markdown-it)
 if [[ "$mode" == test ]]; then packages+=("${test_packages[@]}"); fi
 missing=()

@@ -2,6 +2,8 @@
 #include "occsweep/eval/child_process.hpp"
 
 #include <cerrno>
+#include <cstring>
+#include <fcntl.h>
 #include <csignal>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -12,21 +14,57 @@
 namespace occsweep {
 namespace {
 
-// In the child, between fork and exec: only system calls.
-[[noreturn]] void execChild(char* const* args, pid_t parent, const sigset_t& previous_mask) {
+void writeError(const char* what, const char* detail) {
+  (void)!::write(STDERR_FILENO, what, std::strlen(what));
+  (void)!::write(STDERR_FILENO, detail, std::strlen(detail));
+  (void)!::write(STDERR_FILENO, "\n", 1);
+}
+
+// In the child, between fork and exec: only system calls (the parent may have threads). Paths are c_str()s taken
+// before the fork.
+[[noreturn]] void execChild(char* const* args, pid_t parent, const sigset_t& previous_mask, const char* cwd,
+                            const char* log, bool ignore_interrupt) {
   // SIGTERM when the parent dies, however it dies; it may have died before the prctl.
   if (::prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || ::getppid() != parent) ::_exit(143);
-  ::signal(SIGINT, SIG_IGN);  // occsweep ends it on a Ctrl-C (a Python child would print a traceback)
-  for (int sig : {SIGTERM, SIGHUP}) {
+  // The parent's handlers would run here and only pass a signal on: reset them (exec would anyway), keeping what
+  // is ignored (nohup). A stop signal that arrived since the fork then takes its default action when unblocked.
+  if (ignore_interrupt) ::signal(SIGINT, SIG_IGN);
+  for (int sig : {SIGTERM, SIGINT, SIGHUP}) {
     struct sigaction current {};
     if (::sigaction(sig, nullptr, &current) == 0 && current.sa_handler != SIG_IGN) ::signal(sig, SIG_DFL);
   }
   ::sigprocmask(SIG_SETMASK, &previous_mask, nullptr);
+  if (*log) {
+    const int out = ::open(log, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    const int in = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+    if (out < 0 || in < 0 || ::dup2(out, STDOUT_FILENO) < 0 || ::dup2(out, STDERR_FILENO) < 0 ||
+        ::dup2(in, STDIN_FILENO) < 0)
+      ::_exit(127);
+  }
+  if (*cwd && ::chdir(cwd) != 0) {
+    writeError("occsweep: cannot enter the folder to run in: ", std::strerror(errno));
+    ::_exit(127);
+  }
   ::execvp(args[0], args);
+  writeError("occsweep: cannot start the program: ", std::strerror(errno));
   ::_exit(127);
 }
 
 }  // namespace
+
+pid_t startChild(const std::vector<std::string>& argv, const ChildSetup& setup) {
+  auto args = execArgv(argv);  // built before fork: the child only makes system calls
+  const std::string cwd = setup.cwd.string(), log = setup.log.string();
+  const pid_t parent = ::getpid();
+  sigset_t stop_signals, previous;
+  sigemptyset(&stop_signals);
+  for (int sig : {SIGTERM, SIGINT, SIGHUP}) sigaddset(&stop_signals, sig);
+  ::pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
+  const pid_t pid = setup.registered ? forkRegisteredChild() : ::fork();
+  if (pid == 0) execChild(args.data(), parent, previous, cwd.c_str(), log.c_str(), setup.ignore_interrupt);
+  ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);  // a signal meanwhile runs the handler now
+  return pid < 0 ? -1 : pid;
+}
 
 std::vector<char*> execArgv(const std::vector<std::string>& argv) {
   std::vector<char*> out;
@@ -42,16 +80,9 @@ int exitCodeOf(int status) {
 }
 
 int runChild(const std::vector<std::string>& argv) {
-  auto args = execArgv(argv);  // built before fork: the child only makes system calls
-  const pid_t parent = ::getpid();
-  // Stop signals blocked across fork in this thread: the child resets its handlers before it may receive one.
-  sigset_t stop_signals, previous;
-  sigemptyset(&stop_signals);
-  for (int sig : {SIGTERM, SIGINT, SIGHUP}) sigaddset(&stop_signals, sig);
-  ::pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
-  const pid_t pid = forkRegisteredChild();
-  if (pid == 0) execChild(args.data(), parent, previous);
-  ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  ChildSetup setup;
+  setup.ignore_interrupt = true, setup.registered = true;
+  const pid_t pid = startChild(argv, setup);
   if (pid < 0) return 127;
   // Waited for without reaping, forgotten, then reaped: the interrupt handler never kills a PID reused meanwhile.
   siginfo_t info{};

@@ -1,6 +1,7 @@
 // Atomic outputs, refusal of existing ones, and removal of temporaries on errors, signals and after kills
 // (docs/robustness.md, "Outputs, temporaries and --force").
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/ownership.hpp"
 
 #include <algorithm>
@@ -177,7 +178,7 @@ TargetState checkedState(const fs::path& target) {
 }
 
 [[noreturn]] void appeared(const fs::path& target, const char* what) {
-  throw OutputError(userVisible(target) + ": " + what + " while occsweep was writing it: nothing was replaced " +
+  throw OutputConflict(userVisible(target) + ": " + what + " while occsweep was writing it: nothing was replaced " +
                     "(write to another path, or move it away and run again)");
 }
 
@@ -198,12 +199,18 @@ void renameNoReplace(const fs::path& from, const fs::path& to, bool folder) {
 // Puts `temporary` at `target` when the target is still as checked: absent stays absent, an empty folder is
 // replaced, an existing output (accepted by checkOutputTarget, or present when writing began) is still the same
 // entry. Called under registryMutex.
+// Throws OutputConflict when `target` is no longer as checked (created, or another entry than the one accepted).
+void requireAsChecked(const fs::path& target, const TargetState& checked, const TargetState& now) {
+  if (!now.exists || now.empty_folder) return;
+  if (!checked.exists || checked.empty_folder) appeared(target, "was created");
+  if (!sameEntry(checked, now)) appeared(target, "was changed");
+}
+
 void placeOutput(const fs::path& temporary, const fs::path& target, const TargetState& checked, bool folder) {
   const TargetState now = stateOf(target);
   std::error_code ec;
+  requireAsChecked(target, checked, now);
   if (now.exists && !now.empty_folder) {
-    if (!checked.exists || checked.empty_folder) appeared(target, "was created");
-    if (!sameEntry(checked, now)) appeared(target, "was changed");
     if (!folder) {
       if (::rename(temporary.c_str(), target.c_str()) != 0) fail(target, errno);
       return;
@@ -250,6 +257,19 @@ fs::path outputTarget(const fs::path& target) {
     if (!p.has_filename() && p != p.root_path()) p = p.parent_path();
   }
   return p;
+}
+
+ReplaceableOutput jsonOutput(const std::string& name, const std::string& format) {
+  return {name, [format](const fs::path& file) {
+            std::error_code ec;
+            if (!fs::is_regular_file(fs::symlink_status(file, ec))) return false;
+            try {
+              const nlohmann::json j = readJsonFile(file);
+              return j.is_object() && j.value("format", "") == format;
+            } catch (const std::exception&) {
+              return false;
+            }
+          }};
 }
 
 void checkOutputTarget(const fs::path& target, bool force, const ReplaceableOutput& kind) {
@@ -424,12 +444,17 @@ void OutputFile::finish() {
   if (::close(fd) != 0) fail(target_, errno);
 }
 
-void OutputFile::commit() {
-  finish();
-  std::unique_lock lock(registryMutex());  // no rename once an interrupt's cleaning has begun (cleanOnInterrupt)
-  placeOutput(temporary_, target_, *checked_, false);
-  recordCommitted(target_);
-  committed_ = true;
+void OutputFile::commit() { commitTogether({this}); }
+
+void OutputFile::commitTogether(const std::vector<OutputFile*>& files) {
+  for (OutputFile* f : files) f->finish();  // every write checked before any rename
+  std::unique_lock lock(registryMutex());    // no rename once an interrupt's cleaning has begun (cleanOnInterrupt)
+  for (OutputFile* f : files) requireAsChecked(f->target_, *f->checked_, stateOf(f->target_));
+  for (OutputFile* f : files) {
+    placeOutput(f->temporary_, f->target_, *f->checked_, false);
+    recordCommitted(f->target_);
+    f->committed_ = true;
+  }
 }
 
 // ---- OutputFolder ----

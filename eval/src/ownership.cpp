@@ -1,5 +1,6 @@
 // The ledger of temporaries (docs/robustness.md, "Ownership"): what proves a leftover temporary is occsweep's.
 #include "occsweep/eval/ownership.hpp"
+#include "occsweep/eval/process_stat.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -28,18 +29,11 @@ std::string randomToken() {
   return token;
 }
 
-// A process is named by its PID and its start time (clock ticks after boot, /proc/PID/stat field 22): a PID reused
-// after a kill has another start time. "" when there is no such process.
+// A process is named by its PID and its start time: a PID reused after a kill has another start time. "" when there
+// is no such process.
 std::string processIdentity(long pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-  std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::size_t comm_end = stat.rfind(')');
-  if (comm_end == std::string::npos) return "";
-  std::istringstream fields(stat.substr(comm_end + 2));
-  std::string field;
-  for (int i = 3; i <= 22 && fields >> field; ++i) {
-  }
-  return std::to_string(pid) + " " + field;
+  const std::optional<ProcessStat> stat = processStat(pid);
+  return stat ? std::to_string(pid) + " " + stat->start_time : "";
 }
 
 std::string firstLine(const fs::path& file) {

@@ -246,4 +246,24 @@ TEST_CASE("a task's output is removed before it runs again only when its kind's 
   std::ofstream(dir / "comparison.json") << "{\"my\": \"comparison\"}\n";
   removeOwnOutput(report, dir);
   CHECK(fs::exists(dir / "comparison.json"));
+  // A user's symbolic link at the output's name stays, even to occsweep's own comparison.
+  fs::remove(dir / "comparison.json");
+  std::ofstream(dir / "own.json") << "{\"format\": \"occsweep-comparison\", \"rows\": []}\n";
+  fs::create_symlink("own.json", dir / "comparison.json");
+  removeOwnOutput(report, dir);
+  CHECK(fs::is_symlink(fs::symlink_status(dir / "comparison.json")));
+}
+
+TEST_CASE("a task whose output leads out of the plan folder through a symbolic link is refused before it runs") {
+  // Old code: run-local ran the merge, whose --force then replaced a user's results in the linked folder.
+  const auto dir = test::scratch("cluster-output-inside");
+  fs::create_directories(dir / "plan" / "sweeps");
+  fs::create_directories(dir / "theirs");
+  fs::create_directory_symlink("../theirs", dir / "plan" / "merged");
+  ClusterTask inside, outside;
+  inside.output = "sweeps/a.json";
+  outside.output = "merged/a.json";
+  CHECK_NOTHROW(requireOutputInside(inside, dir / "plan"));
+  CHECK_THROWS_WITH(requireOutputInside(outside, dir / "plan"),
+                    Contains("merged/a.json") && Contains("leads out of the plan folder"));
 }

@@ -44,20 +44,30 @@ TEST_CASE("a resumed partial log appends to the file it locked, not to a user's 
   CHECK(bytesOf(dir / "moved") == header + "{\"map_index\":7}\n");
 }
 
-TEST_CASE("a new partial log is written into the file it published, whatever is put at its name afterwards",
+TEST_CASE("a --force sweep's new partial output takes the old one's place, never a user's file put there meanwhile",
           "[sweep][ownership]") {
-  const fs::path dir = scratch("sweep_partial/new");
-  const fs::path log_file = dir / "r.json.partial.jsonl";
-  {
-    PartialLog log(log_file, ResultsHeader{}, 0, PartialLock{});
-    const std::string published = bytesOf(log_file);
-    CHECK(published.find("\"grid\"") != std::string::npos);  // its header line, written before it appeared
-    fs::rename(log_file, dir / "moved");
-    writeText(log_file, "the user's notes\n");
-    log.append({{"map_index", 3}});
-    log.remove();
-    CHECK(bytesOf(dir / "moved") == published + "{\"map_index\":3}\n");
+  // Previous code: the new partial output was renamed over whatever stood at the name by then (the sweep locks the
+  // old one at its start, then prepares its data for minutes before it publishes the new one).
+  const fs::path dir = scratch("sweep_partial/force");
+  const fs::path partial = dir / "r.json.partial.jsonl";
+  auto header = [](const fs::path& temporary) { writeText(temporary, "{\"new header\":1}\n"); };
+  SECTION("the old partial output still there: replaced") {
+    writeText(partial, "{\"old header\":1}\n");
+    const PartialLock old = PartialLock::existing(partial);
+    const PartialLock now = PartialLock::publish(partial, &old, header);
+    CHECK(bytesOf(partial) == "{\"new header\":1}\n");
+    CHECK(now.holdsFile(partial));
+    CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 1);
   }
-  CHECK(bytesOf(log_file) == "the user's notes\n");
-  CHECK(fs::exists(dir / "moved"));
+  SECTION("a user's file at its name by then: kept, and the sweep stops naming it") {
+    writeText(partial, "{\"old header\":1}\n");
+    const PartialLock old = PartialLock::existing(partial);
+    fs::rename(partial, dir / "moved");
+    writeText(partial, "the user's notes\n");
+    CHECK_THROWS_WITH(PartialLock::publish(partial, &old, header),
+                      Catch::Contains("r.json.partial.jsonl: was replaced while occsweep was preparing the sweep"));
+    CHECK(bytesOf(partial) == "the user's notes\n");
+    CHECK(bytesOf(dir / "moved") == "{\"old header\":1}\n");
+    CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 2);
+  }
 }

@@ -379,6 +379,22 @@ TEST_CASE("cluster plan never replaces a Slurm script it did not write: a user's
   std::ofstream(dir / "q" / script) << written;
   CHECK(test::runIn(dir, plan + "1 --out q --force").exit_code == 0);
   CHECK(readPlan(dir / "q").stages.at(0).tasks.size() == 1);
+  // A symbolic link at plan.json, or a slurm/ folder linked to a user's folder: refused even with --force, both
+  // untouched (old binary: plan.json's link became a file, and the scripts went into the user's folder).
+  fs::create_directories(dir / "l");
+  fs::rename(dir / "q" / "plan.json", dir / "their-plan.json");
+  fs::create_symlink("../their-plan.json", dir / "q" / "plan.json");
+  fs::create_directories(dir / "theirs");
+  fs::create_directory_symlink("../theirs", dir / "l" / "slurm");
+  for (const char* out : {"q", "l"}) {
+    INFO(out);
+    const auto linked = test::runIn(dir, plan + "2 --force --out " + out);
+    INFO(linked.output);
+    CHECK(linked.exit_code == 2);
+    CHECK_THAT(linked.output, Contains("is a symbolic link: occsweep never writes through or replaces one"));
+  }
+  CHECK(fs::is_symlink(fs::symlink_status(dir / "q" / "plan.json")));
+  CHECK(fs::is_empty(dir / "theirs"));
 }
 
 TEST_CASE("cluster plan refuses an ungrouped grid past a JSON results file's combinations, whatever its shards") {

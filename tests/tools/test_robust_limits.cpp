@@ -560,7 +560,7 @@ TEST_CASE("sweep refuses a JSON --out past 200,000 combinations at its start, po
   CHECK_FALSE(fs::exists(dir / "w.json"));
 }
 
-TEST_CASE("merge into JSON past 200,000 combinations is refused before any map is read, pointing at --out NAME.db") {
+TEST_CASE("merge into JSON past 200,000 combinations is refused from the first header, pointing at --out NAME.db") {
   // Old binary: two store shards of 1,920,002 combinations merged into one JSON in memory (past this test's 1 GB cap:
   // out of memory); the sweep's own limit did not hold for merge.
   const fs::path dir = occsweep::test::processScratch("limits_merge_json");

@@ -252,15 +252,15 @@ TEST_CASE("compare's CSV, Markdown and LaTeX show 24 names of random printable c
     REQUIRE(r.exit_code == 0);
   }
   std::ofstream(dir / "names.json") << nlohmann::json(names).dump();
+  // The CSV is always read back (Python's csv); Markdown and LaTeX where their readers are installed.
   const bool readers = runShell("command -v pdflatex && command -v pdftotext && /usr/bin/python3 -c 'import "
                                 "markdown_it'").exit_code == 0;
-  if (!readers) {
-    WARN("pdflatex, pdftotext or markdown-it-py missing (the test command installs them: tools/setup.sh): skipped");
-    return;
-  }
+  if (!readers)
+    WARN("pdflatex, pdftotext or markdown-it-py missing (the test command installs them: tools/setup.sh): "
+         "the CSV alone is read back");
   const CommandResult read = runShell("/usr/bin/python3 " +
                                       shellQuoted(fs::path(OCCSWEEP_SOURCE_DIR) / "tests/reference/read_tables.py") +
-                                      " " + shellQuoted(dir) + " 2>&1");
+                                      " " + shellQuoted(dir) + (readers ? "" : " --csv-only") + " 2>&1");
   INFO(read.output);
   CHECK(read.exit_code == 0);
   std::string all_same;
@@ -326,7 +326,7 @@ TEST_CASE("reproduce --out refuses a folder whose report, step file or figure is
         runIn(dir, "reproduce --scale ci --no-figures --quiet --steps real-stereo --datasets parking-plain-I --out w");
     INFO(r.output);
     CHECK(r.exit_code == 2);
-    CHECK(mentions(r, "w: exists and is not occsweep's reproduction folder"));
+    CHECK(mentions(r, "w: exists and is not occsweep's reproduction folder (" + name + " is not one of its files"));
     CHECK(snapshot(dir) == before);
   }
 }

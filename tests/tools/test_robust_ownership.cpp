@@ -32,6 +32,7 @@ fs::path inputs(const std::string& name) {
   REQUIRE(runIn(dir, "sweep --dataset scene --grid knn-opt --quiet --out knn.json").exit_code == 0);
   std::ofstream cloud(dir / "a.xyz");
   for (int i = 0; i < 50; ++i) cloud << 1 + 0.01 * i << ' ' << 0.5 << ' ' << 0.02 * i << '\n';
+  std::ofstream(dir / "truth.json") << R"([{"min": [0, 0, 0], "max": [1, 1, 1]}])";
   return dir;
 }
 
@@ -71,6 +72,12 @@ std::vector<Writer> writers(const fs::path& in) {
       {"results export " + s + "oct.json --csv OUT", "e.csv", {"e.csv"}},
       {"results export " + s + "oct.json --store OUT", "e.db", {"e.db"}},
       {"plot improvement " + s + "oct.json " + s + "knn.json --python " + kPython + " --out OUT", "f.png", {"f.png"}},
+      {"sweep --dataset " + s + "scene --grid " + s + "tiny.json --quiet --out OUT", "r.db", {"r.db"}},
+      {"import truth " + s + "truth.json --dataset " + s + "scene --out OUT", "w", {"w"}},
+      {"results export " + s + "oct.json --json OUT", "e.json", {"e.json"}},
+      {"plot improvement " + s + "oct.json " + s + "knn.json --python " + kPython + " --out f.png --json OUT",
+       "d.json", {"d.json", "f.png"}},
+      {"cluster plan --experiment sweep --datasets " + s + "scene --grids " + s + "tiny.json:1 --out OUT", "p", {"p"}},
   };
 }
 
@@ -79,16 +86,18 @@ std::string withTarget(std::string args, const std::string& target) {
 }
 
 // A name of every pattern occsweep's temporaries ever had, for output `n`, with a PID that is dead, alive, this
-// process's or impossible, and a token nobody recorded.
+// process's or impossible, and a token nobody recorded; and the names of SQLite's journals beside them.
 std::string temporaryLookalike(const std::string& n, SplitMix64& rng) {
   const long pids[] = {deadPid(), 1, long(::getpid()), 999999999};
   const std::string pid = std::to_string(pids[rng.next() % 4]);
-  switch (rng.next() % 6) {
+  switch (rng.next() % 8) {
     case 0: return "." + n + ".tmp-" + pid;
     case 1: return "." + n + ".tmp-" + pid + "-" + hexToken(rng);
     case 2: return n + ".tmp-" + pid;
     case 3: return n + ".old-" + pid;
     case 4: return n + ".tmp-" + pid + ".png";
+    case 5: return "." + n + ".tmp-" + pid + "-" + hexToken(rng) + "-journal";  // SQLite's, beside a temporary
+    case 6: return n + "-journal";
     default: return n + ".old-" + std::to_string(2000 + rng.next() % 30);
   }
 }
@@ -262,6 +271,20 @@ TEST_CASE("an output created or changed while occsweep writes it is kept, and th
     CHECK_THROWS_WITH(writeFileAtomically(dir / "b.txt", "occsweep's\n"), Catch::Contains("b.txt: was changed"));
     CHECK(fileBytes(dir / "b.txt") == "the user's new\n");
   }
+  SECTION("outputs committed together: one taken meanwhile, none committed") {
+    // Old binary: map's .ot.json, compare's first tables and plot's --json were committed before the output whose
+    // name had been taken, and stayed.
+    checkOutputTarget(dir / "d.ot", false, kind);
+    checkOutputTarget(dir / "d.ot.json", false, kind);
+    OutputFile map(dir / "d.ot"), settings(dir / "d.ot.json");
+    map.stream() << "map";
+    settings.stream() << "settings";
+    writeBytes(dir / "d.ot", "the user's map\n");
+    CHECK_THROWS_WITH(OutputFile::commitTogether({&settings, &map}), Catch::Contains("d.ot: was created"));
+    CHECK(fileBytes(dir / "d.ot") == "the user's map\n");
+    CHECK_FALSE(fs::exists(dir / "d.ot.json"));
+    fs::remove(dir / "d.ot");
+  }
   SECTION("guards: an absent target stays writable, an accepted own output is replaced, a second commit too") {
     checkOutputTarget(dir / "c.txt", false, kind);
     writeFileAtomically(dir / "c.txt", "1\n");
@@ -279,12 +302,26 @@ TEST_CASE("plot keeps an output created while its script draws, exit 2", "[owner
                                << " \"$@\"\n";
   fs::permissions(dir / "py.sh", fs::perms::owner_all);
   const CommandResult r = runIn(dir, "plot improvement " + shellQuoted(in / "oct.json") + " " +
-                                         shellQuoted(in / "knn.json") + " --python ./py.sh --out fig.png");
+                                         shellQuoted(in / "knn.json") + " --python ./py.sh --out fig.png --json d.json");
   INFO(r.output);
   CHECK(r.exit_code == 2);
-  CHECK(mentions(r, "fig.png: was created while occsweep was writing it"));
+  CHECK(mentions(r, "fig.png: was created while occsweep was writing it"));  // and d.json not committed either
   CHECK(fileBytes(dir / "fig.png") == "user\n");
   CHECK(entriesOf(dir) == std::set<std::string>{"fig.png", "py.sh"});
+}
+
+TEST_CASE("plot whose script exits 0 without drawing writes nothing, exit 2", "[ownership]") {
+  // Old binary: exit 0 and an empty fig.png, which a later --force then refused as not occsweep's figure.
+  const fs::path in = inputs("ownership/plot_empty_inputs");
+  const fs::path dir = scratch("ownership/plot_empty");
+  std::ofstream(dir / "py.sh") << "#!/bin/sh\nexit 0\n";  // passes the matplotlib probe, draws nothing
+  fs::permissions(dir / "py.sh", fs::perms::owner_all);
+  const CommandResult r = runIn(dir, "plot improvement " + shellQuoted(in / "oct.json") + " " +
+                                         shellQuoted(in / "knn.json") + " --python ./py.sh --out fig.png --json d.json");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "exited 0 but drew no figure (nothing written)"));
+  CHECK(entriesOf(dir) == std::set<std::string>{"py.sh"});
 }
 
 TEST_CASE("plot --force replaces only a PNG whose Software chunk is occsweep's", "[ownership]") {
@@ -305,6 +342,19 @@ TEST_CASE("plot --force replaces only a PNG whose Software chunk is occsweep's",
   REQUIRE(runIn(dir, "plot improvement " + files + " --out own.png").exit_code == 0);
   CHECK(runIn(dir, "plot curves " + files + " --force --out own.png").exit_code == 0);
   CHECK(entriesOf(dir) == std::set<std::string>{"mine.png", "own.png"});
+  // occsweep's figure with the user's bytes after its end, or its last CRC cut off, is no longer a PNG occsweep
+  // wrote (old binary: both replaced, since the Software chunk alone was read).
+  const std::string own = fileBytes(dir / "own.png");
+  writeBytes(dir / "appended.png", own + "the user's notes");
+  writeBytes(dir / "cut.png", own.substr(0, own.size() - 4));
+  for (const std::string name : {"appended.png", "cut.png"}) {
+    const std::string before = fileBytes(dir / name);
+    const CommandResult r = runIn(dir, "plot curves " + files + " --force --out " + name);
+    INFO(name << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, name + ": exists and is not occsweep's figure"));
+    CHECK(fileBytes(dir / name) == before);
+  }
 }
 
 TEST_CASE("scene --force refuses a data set folder holding a file its manifest does not name", "[ownership]") {
@@ -445,8 +495,16 @@ TEST_CASE("a sweep keeps a file created at its --out while it runs, JSON and sto
     CHECK(code == 2);
     CHECK(fileBytes(dir / "log").find(out + ": was created while occsweep was writing it") != std::string::npos);
     CHECK(fileBytes(dir / out) == "the user's file\n");
-    fs::remove(dir / out);
-    fs::remove(partialOf(dir, out));
+    // Every map stays in the partial output (old binary: the JSON sweep's log was removed, its maps lost): once the
+    // user's file is moved away, the next run resumes from it.
+    CHECK(fs::exists(partialOf(dir, out)));
+    fs::rename(dir / out, dir / "users");
+    const CommandResult again = runIn(dir, "sweep --dataset big --grid octomap-opt --engine direct --threads 1 "
+                                           "--quiet --out " + out);
+    INFO(again.output);
+    CHECK(again.exit_code == 0);
+    CHECK_FALSE(fs::exists(partialOf(dir, out)));
+    for (const std::string& name : {out, std::string("users")}) fs::remove(dir / name);
   }
 }
 
@@ -457,11 +515,22 @@ TEST_CASE("a sweep removes its partial output only while it is the file it made,
   for (const std::string out : {"r.json", "r.db"}) {
     INFO(out);
     const fs::path partial = partialOf(dir, out);
-    (void)sweepPausedOnceUnderWay(dir, out, [&] {
+    const int code = sweepPausedOnceUnderWay(dir, out, [&] {
       fs::rename(partial, dir / "moved");  // the user moves it away and keeps a file of their own at its name
       writeBytes(partial, "the user's notes\n");
     });
+    INFO(fileBytes(dir / "log"));
     CHECK(fileBytes(partial) == "the user's notes\n");
+    if (out == "r.json") {  // the log goes on in the moved file, the results are written, the user's file stays
+      CHECK(code == 0);
+      CHECK(fs::exists(dir / "r.json"));
+    } else {  // SQLite will not write a store moved away: the sweep stops, naming it
+      CHECK(code == 2);
+      const std::string log = fileBytes(dir / "log");  // said by SQLite, or by the sweep before it opens the store
+      CHECK(log.find("r.db.partial: ") != std::string::npos);
+      CHECK(log.find(" while occsweep was writing it") != std::string::npos);
+      CHECK_FALSE(fs::exists(dir / "r.db"));
+    }
     for (const char* name : {"moved", "r.json", "r.db"}) fs::remove(dir / name);
     fs::remove(partial);
   }
@@ -492,5 +561,23 @@ TEST_CASE("a user's symbolic link at an output's name is never replaced, even wi
     CHECK(fs::is_symlink(fs::symlink_status(dir / "link-compare.json")));
     CHECK(fileBytes(dir / "own.json") == own);
     CHECK(fileBytes(dir / "own-compare.json") == own_compare);
+  }
+}
+
+TEST_CASE("merge --force never writes over one of the files it merges", "[ownership]") {
+  // Old binary: `merge s0.json s1.json --out s0.json --force` replaced the shard s0.json with the merge.
+  const fs::path dir = scratch("ownership/merge_into_input");
+  REQUIRE(runIn(dir, "scene --scans 4 --width 32 --height 24 --out s").exit_code == 0);
+  writeTinyGrid(dir / "tiny.json");
+  for (const char* shard : {"0", "1"})
+    REQUIRE(runIn(dir, "sweep --dataset s --grid tiny.json --quiet --shard " + std::string(shard) + "/2 --out s" + shard +
+                           ".json").exit_code == 0);
+  const std::string s0 = fileBytes(dir / "s0.json");
+  for (const std::string out : {"s0.json", "./s0.json"}) {
+    const CommandResult r = runIn(dir, "merge s0.json s1.json --force --out " + out);
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "is one of the files to merge"));
+    CHECK(fileBytes(dir / "s0.json") == s0);
   }
 }

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 
 #include "command_registry.hpp"
 #include "limit_options.hpp"
@@ -150,10 +151,22 @@ std::vector<MethodStatistics> statisticsOf(const std::vector<ComparisonRow>& row
   return compareStatistics(rows, in, statisticsOptions(o));
 }
 
-void writeTables(const CompareTask& o, const ComparisonTables& t) {
-  if (!o.csv.empty()) writeFileAtomically(o.csv, csvTable(t));
-  if (!o.markdown.empty()) writeFileAtomically(o.markdown, "<!-- occsweep compare --markdown -->\n" + markdownTables(t));
-  if (!o.latex.empty()) writeFileAtomically(o.latex, latexTables(t));  // its first line names occsweep compare
+// --json, --csv, --markdown and --latex, each written out, then committed together: a failed write or a file put at
+// any of their names meanwhile leaves none of them.
+void writeOutputs(const CompareTask& o, const nlohmann::json& comparison, const ComparisonTables& t) {
+  std::vector<std::unique_ptr<OutputFile>> files;
+  auto add = [&files](const std::string& path, const std::string& bytes) {
+    if (path.empty()) return;
+    files.push_back(std::make_unique<OutputFile>(path));
+    files.back()->stream() << bytes;
+  };
+  add(o.json, comparison.dump(1) + "\n");
+  add(o.csv, csvTable(t));
+  add(o.markdown, "<!-- occsweep compare --markdown -->\n" + markdownTables(t));
+  add(o.latex, latexTables(t));  // its first line names occsweep compare
+  std::vector<OutputFile*> all;
+  for (const auto& f : files) all.push_back(f.get());
+  OutputFile::commitTogether(all);
 }
 
 int runCompare(const CompareTask& o) {
@@ -178,12 +191,11 @@ int runCompare(const CompareTask& o) {
   for (const auto& s : statistics) methods.push_back(s.method);
   const ComparisonTables tables{rows, in, o.files, methods, statistics, o.baseline, {o.alpha, o.smallest_effect}};
   std::cout << statisticsText(tables);
-  if (!o.json.empty())
-    writeJsonAtomically({{"format", "occsweep-comparison"}, {"files", o.files}, {"allow_mixed", o.allow_mixed},
-                         {"mixed", mixed}, {"truth", truthModeName(truth)}, {"rows", j}, {"baseline", o.baseline},
-                         {"statistics", toJson(statistics, statisticsOptions(o))}},
-                        o.json);
-  writeTables(o, tables);
+  const nlohmann::json comparison = {{"format", "occsweep-comparison"}, {"files", o.files},
+                                     {"allow_mixed", o.allow_mixed}, {"mixed", mixed}, {"truth", truthModeName(truth)},
+                                     {"rows", j}, {"baseline", o.baseline},
+                                     {"statistics", toJson(statistics, statisticsOptions(o))}};
+  writeOutputs(o, comparison, tables);
   return 0;
 }
 

@@ -154,7 +154,10 @@ void generateDatasets(const DatasetOptions& o) {
               << m.naive.fdr() << "; render " << s.render_seconds << " s\n";
     summary.push_back(summaryRow(s));
   }
-  if (o.all) writeJsonAtomically(summary, std::filesystem::path(o.out) / "summary.json");
+  if (!o.all) return;
+  const std::filesystem::path file = std::filesystem::path(o.out) / "summary.json";
+  checkOutputTarget(file, true, jsonOutput("data-set summary", "occsweep-dataset-summary"));  // only occsweep's own
+  writeJsonAtomically({{"format", "occsweep-dataset-summary"}, {"datasets", summary}}, file);
 }
 #else
 void generateDatasets(const DatasetOptions&) {

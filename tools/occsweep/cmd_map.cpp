@@ -146,19 +146,14 @@ nlohmann::json mapSettings(const MapOptions& o, const KnnParams& k, const OctoMa
           {"dataset_hash", datasetContentHash(o.dataset)}, {"parameters", params}, {"build_seconds", seconds}};
 }
 
-// The map and its settings, both written out before either is renamed: a failed write (a full disk, `ulimit -f`)
-// leaves neither. On a failed stream, commit() throws its error by name and renames nothing.
+// The map and its settings, both written out and checked before either is renamed: a failed write (a full disk,
+// `ulimit -f`) or a file put at either name meanwhile leaves neither.
 void writeMapAndSettings(const octomap::OcTree& tree, const nlohmann::json& settings, const std::string& out) {
   OutputFile map_file(out);
   if (!tree.write(map_file.stream())) throw OutputError(out + ": liboctomap could not write the map");
   OutputFile settings_file(out + ".json");
   settings_file.stream() << settings.dump(1) << '\n';
-  map_file.stream().flush();
-  settings_file.stream().flush();
-  for (OutputFile* file : {&map_file, &settings_file})
-    if (!file->stream()) file->commit();
-  settings_file.commit();
-  map_file.commit();
+  OutputFile::commitTogether({&map_file, &settings_file});  // neither when either fails or was taken meanwhile
 }
 
 int runMap(const MapOptions& o) {

@@ -4,6 +4,7 @@
 #include "command_registry.hpp"
 #include "limit_options.hpp"
 #include "task_options.hpp"
+#include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
 namespace occsweep::cli {
@@ -15,6 +16,9 @@ const RegisterCommand kMerge{"merge", "Merge the shards of one sweep (refuses mi
   addMergeOptions(app, *t);  // task_options.cpp: also what `cluster plan` tasks are parsed with
   addLimitOptions(app, {Limit::Combinations});
   return [t] {
+    for (const std::string& in : t->files)  // --force would replace a shard before it is read
+      if (outputsCollide(in, t->out))
+        throw OutputError("--out " + t->out + ": is one of the files to merge (" + in + "); choose another --out");
     checkOutputTarget(t->out, t->force, resultsOutput());
     const std::uint64_t maps = mergeResultsInto({t->files.begin(), t->files.end()}, t->out);
     std::cout << "wrote " << t->out << ": " << maps << " maps from " << t->files.size() << " files\n";

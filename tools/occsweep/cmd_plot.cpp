@@ -59,8 +59,11 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   figure.finish();
   const int code = runChild({python, script, data_file.temporary().string(), figure.temporary().string()});
   if (code != 0) throw std::runtime_error("plot: " + python + " " + script + " failed (exit code " + std::to_string(code) + ")");
-  if (!o.json.empty()) data_file.commit();  // first: a refused --json leaves no figure without its data
-  figure.commit();
+  // A script that exits 0 without drawing (another Python, another script) leaves no empty figure behind.
+  if (pngText(figure.temporary(), "Software") != "occsweep plot")
+    throw std::runtime_error("plot: " + python + " " + script + " exited 0 but drew no figure (nothing written)");
+  if (o.json.empty()) figure.commit();
+  else OutputFile::commitTogether({&data_file, &figure});  // neither when the other's name was taken meanwhile
   std::cout << "wrote " << o.out << (o.json.empty() ? "" : " and " + o.json) << '\n';
   return 0;
 }

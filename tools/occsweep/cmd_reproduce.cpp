@@ -30,8 +30,6 @@ struct ReproduceOptions {
   bool no_figures = false, quiet = false, realistic = false;
 };
 
-/// The figures: plot_reproduction.py (installed beside the binary, install_paths.hpp) on the step files. Python and
-/// the script are looked up now, so that a run cannot fail at its end for want of them.
 // A figure the script drew, moved into OUT: over nothing, or over a figure of an earlier reproduction (its Software
 // chunk, kReproductionFigureMark); a user's PNG at that name stays and the run fails naming it.
 void placeFigure(const std::filesystem::path& drawn, const std::filesystem::path& out) {
@@ -42,6 +40,8 @@ void placeFigure(const std::filesystem::path& drawn, const std::filesystem::path
   renameIntoPlace(drawn, target);
 }
 
+/// The figures: plot_reproduction.py (installed beside the binary, install_paths.hpp) on the step files. Python and
+/// the script are looked up now, so that a run cannot fail at its end for want of them.
 auto figureDrawer(const std::string& configured_python) {
   const std::string python = findPython(configured_python, "reproduce");
   const std::string script = figureScript("plot_reproduction.py").string();

@@ -118,7 +118,7 @@ Cells perSetCells(const ComparisonTables& t) {
 // A Markdown table cell that CommonMark with GitHub's tables shows as the text itself (names come from users' files):
 // the characters that open something inside a cell backslash-escaped ('|' ends the cell; '*', '_', '~', '`', '<',
 // '&', '[', ']' start emphasis, strikethrough, code, HTML, entities and links; '\\' escapes), a line break as a space
-// (it would end the row). docs/statistics.md, "Tables".
+// (it would end the row). docs/statistics.md, "In occsweep compare".
 std::string markdownCell(const std::string& s) {
   std::string out;
   for (char ch : s) {
@@ -295,7 +295,8 @@ std::string markdownTables(const ComparisonTables& t) {
 }
 
 std::string latexTables(const ComparisonTables& t) {
-  std::string out = "% occsweep compare --latex: needs \\usepackage{booktabs}\n" +
+  std::string out = "% occsweep compare --latex: needs \\usepackage{booktabs}; with \\usepackage[T1]{fontenc} every "
+                    "character of a name shows as typed\n" +
                     latex(perSetCells(t), "Best AUC per set, and the improvement over " + t.baseline + " in percent");
   if (t.statistics.empty()) return out;
   const stats::VerdictRules& rules = t.rules;

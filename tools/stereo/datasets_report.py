@@ -12,7 +12,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 out, img = sys.argv[1], sys.argv[2]
-rows = json.load(open(os.path.join(out, "summary.json")))
+summary = json.load(open(os.path.join(out, "summary.json")))
+rows = summary["datasets"] if isinstance(summary, dict) else summary  # older occsweep wrote the list alone
 
 def fmt(v, d=3):
     return "n/a" if v is None else f"{v:.{d}f}"

@@ -204,6 +204,7 @@ class StageRun {
 /// Runs the tasks `ids` of one stage, `jobs` at a time; returns how many failed (none counted once stopped).
 std::size_t runStage(const ClusterStage& stage, const std::vector<std::uint64_t>& ids, const fs::path& dir, int jobs,
                      TaskStopper& stopper) {
+  for (auto t : ids) requireOutputInside(stage.tasks[t], dir);  // before any task starts
   for (auto t : ids) removeOwnOutput(stage.tasks[t], dir);  // rewritten outputs must not count as done meanwhile
   StageRun run(stage, ids.size(), dir, jobs, stopper);
   std::size_t next = 0;

@@ -177,6 +177,24 @@ std::optional<std::string> ownScript(const std::filesystem::path& dir, const std
   return std::nullopt;
 }
 
+// The plan's own files and folders are never reached through a symbolic link: a link is the user's entry, and
+// writing through one would put the plan's files elsewhere (docs/robustness.md, "Ownership").
+void refuseLinks(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  for (const fs::path& entry : {dir / "plan.json", dir / "slurm", dir / "logs"}) {
+    std::error_code ec;
+    if (fs::is_symlink(fs::symlink_status(entry, ec)))
+      throw std::runtime_error(entry.string() + ": is a symbolic link: occsweep never writes through or replaces "
+                               "one, even with --force (nothing changed); remove it, or choose another --out");
+  }
+  std::error_code ec;
+  if (fs::is_directory(fs::symlink_status(dir / "slurm", ec)))
+    for (const auto& script : fs::directory_iterator(dir / "slurm", ec))
+      if (script.is_symlink(ec))
+        throw std::runtime_error(script.path().string() + ": is a symbolic link: occsweep never writes through or "
+                                 "replaces one, even with --force (nothing changed); remove it, or choose another --out");
+}
+
 // A stage's script is written where nothing stands, or over the very bytes occsweep wrote for the plan there: a
 // user's file, or occsweep's script edited by hand (a `module load` line), is never replaced, even with --force
 // (docs/cluster.md, "The plan").
@@ -207,6 +225,7 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool f
       if (const auto broken = brokenPlanOutputRule(t.output))
         throw std::invalid_argument("task " + st.name + "[" + std::to_string(t.index) + "] output " + t.output + ": " +
                                     *broken);
+  refuseLinks(dir);
   refuseOtherPlan(dir, j, force);
   refuseOtherScripts(dir, plan);
   const bool new_folder = !fs::exists(dir);

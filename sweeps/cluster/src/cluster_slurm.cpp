@@ -104,6 +104,7 @@ SubmitReport submitPlan(const ClusterPlan& plan, const fs::path& dir, bool resub
     const ClusterStage& stage = plan.stages[s];
     if (torun[s].empty()) continue;
     // An output that is rewritten must not be taken as done meanwhile (a sweep keeps a complete file).
+    for (auto t : torun[s]) requireOutputInside(stage.tasks[t], dir);
     for (auto t : torun[s]) removeOwnOutput(stage.tasks[t], dir);
     std::vector<std::string> argv = {"sbatch", "--parsable", "--array=" + arrayRanges(torun[s]),
                                      "--chdir=" + fs::absolute(dir).string(),

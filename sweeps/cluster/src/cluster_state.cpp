@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/eval/process_stat.hpp"
 #include "occsweep/sweeps/cluster_state.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
@@ -18,11 +19,9 @@ fs::path runningMarker(const fs::path& dir, const std::string& stage, std::uint6
 pid_t liveLocalTask(const fs::path& dir, const std::string& stage, std::uint64_t task) {
   long pid = 0;
   if (!(std::ifstream(runningMarker(dir, stage, task)) >> pid) || pid <= 0) return 0;
-  // Alive and not a zombie: the state letter of /proc/PID/stat, after the ")" that ends the command name.
-  std::string stat;
-  std::getline(std::ifstream("/proc/" + std::to_string(pid) + "/stat"), stat);
-  const auto paren = stat.rfind(')');
-  if (paren == std::string::npos || paren + 2 >= stat.size() || stat[paren + 2] == 'Z') return 0;
+  // Alive and not a zombie.
+  const std::optional<ProcessStat> stat = processStat(pid);
+  if (!stat || stat->state == 'Z') return 0;
   // A pid reused by an unrelated process after a reboot or a long time: the task runs in the plan folder.
   std::error_code ec;
   const auto cwd = fs::read_symlink("/proc/" + std::to_string(pid) + "/cwd", ec);
@@ -85,13 +84,22 @@ bool insideFolder(const fs::path& file, const fs::path& dir) {
 }
 }  // namespace
 
+void requireOutputInside(const ClusterTask& task, const fs::path& dir) {
+  if (!insideFolder(dir / task.output, dir))
+    throw std::runtime_error((dir / task.output).string() + ": task " + std::to_string(task.index) +
+                             "'s output leads out of the plan folder (through a symbolic link on its way): a task "
+                             "writes only inside its plan folder (docs/cluster.md); remove the link");
+}
+
 void removeOwnOutput(const ClusterTask& task, const fs::path& dir) {
   const fs::path file = dir / task.output;
   std::error_code ec;
   // An `exists` output has no check that proves it occsweep's (its name alone proves nothing): it stays, and the
   // task's own command decides by its --force rule (docs/cluster.md, "Outputs stay in the plan folder").
   if (task.kind == OutputKind::Exists) return;
-  if (!fs::is_regular_file(file, ec) || !insideFolder(file, dir) || !checkOutput(task, dir).empty()) return;
+  // A symbolic link is the user's entry whatever it points to (docs/robustness.md, "Ownership").
+  if (!fs::is_regular_file(fs::symlink_status(file, ec)) || !insideFolder(file, dir) || !checkOutput(task, dir).empty())
+    return;
   fs::remove(file, ec);
 }
 

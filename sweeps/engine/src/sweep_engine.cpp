@@ -15,7 +15,7 @@ namespace {
 enum class EngineKind { Replay, Direct };
 
 constexpr EnumNames<EngineKind, 2> kEngineNames{
-    "engine", {{{EngineKind::Replay, "replay"}, {EngineKind::Direct, "direct"}}}};
+    "engine", {{{EngineKind::Replay, kReplayEngine}, {EngineKind::Direct, kDirectEngine}}}};  // results.hpp
 
 MethodValues valuesOf(const MapParams& m) {
   MethodValues v;

@@ -28,10 +28,11 @@ class PartialLock {
   PartialLock& operator=(PartialLock&& o) noexcept;
   /// Locks the existing regular `file`, never following a symbolic link. Throws when another process holds it.
   [[nodiscard]] static PartialLock existing(const std::filesystem::path& file);
-  /// A new partial output: `make` writes it at a temporary beside `file`, which is locked, then put at `file`,
-  /// replacing the one there when `replace` (occsweep's own, locked by the caller), else only if there is none
-  /// (another sweep made one meanwhile: thrown as above). Nothing is left at the temporary on an error.
-  [[nodiscard]] static PartialLock publish(const std::filesystem::path& file, bool replace,
+  /// A new partial output: `make` writes it at a temporary beside `file`, which is locked, then put at `file`:
+  /// in place of the one `replacing` holds (occsweep's own, locked by the caller; a file put at the name meanwhile
+  /// stays and this throws), or, without `replacing`, only if there is none (another sweep made one meanwhile:
+  /// thrown as above). Nothing is left at the temporary on an error.
+  [[nodiscard]] static PartialLock publish(const std::filesystem::path& file, const PartialLock* replacing,
                                            const std::function<void(const std::filesystem::path&)>& make);
   [[nodiscard]] bool held() const { return fd_ >= 0; }
   /// Removes `file` only when it is still the file this lock holds (device and inode): a file someone put at that

@@ -108,8 +108,10 @@ void writeSweepResults(const ResultsFile& f, FinishedMaps& finished, const Sweep
       writeResults(o, c.observable_out);
     }
     writeResults(f, c.out);
+  } catch (const OutputConflict&) {
+    throw;  // a file put at --out meanwhile: every map stays in the log, for a run once it is moved away
   } catch (const OutputError&) {
-    log.dropOnError();
+    log.dropOnError();  // a failed write (a full disk): the log goes rather than keep the disk full
     throw;
   }
   log.remove();
@@ -284,11 +286,17 @@ class StoreOutput final : public OutputBase {
     if (!store_) {
       // Created beside it, locked, then put in place: a second sweep into the same --out finds it locked.
       // Made at a temporary, so its journal is kept in memory: a kill during the creation leaves no `-journal`.
-      lock_ = PartialLock::publish(partial_, replace_, [&](const fs::path& t) {
+      lock_ = PartialLock::publish(partial_, replace_ ? &lock_ : nullptr, [&](const fs::path& t) {
         (void)ResultsStore::create(t, h_, StoreUse::Temporary);
       });
-      store_.emplace(ResultsStore::open(partial_, true));
-      requireHeldPartial();  // opened by name (SQLite names its journal after it): the file this sweep made
+      // Opened by name (SQLite names its journal after it): the file this sweep made, or the sweep stops.
+      try {
+        store_.emplace(ResultsStore::open(partial_, true));
+      } catch (const std::exception&) {
+        requireHeldPartial();  // a user's file put at its name meanwhile: said so, rather than "not a database"
+        throw;
+      }
+      requireHeldPartial();
     }
     writer_.emplace(*store_, engine_);
   }

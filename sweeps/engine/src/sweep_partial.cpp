@@ -1,5 +1,6 @@
 // The partial log of a sweep: what a killed sweep resumes from; and the lock every partial output is held by.
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
@@ -21,6 +22,11 @@ namespace {
 [[noreturn]] void anotherWriter(const fs::path& file) {
   throw std::runtime_error("another occsweep is writing " + file.string() +
                            " (a sweep into the same --out is running: wait for it to finish, or choose another --out)");
+}
+
+[[noreturn]] void partialReplacedMeanwhile(const fs::path& file) {
+  throw std::runtime_error(file.string() + ": was replaced while occsweep was preparing the sweep; what stands at "
+                           "its name now is left as it is (docs/robustness.md, \"Ownership\")");
 }
 
 // Opens and locks `file` without following a symbolic link; -1 when it is not there.
@@ -86,7 +92,30 @@ PartialLock PartialLock::existing(const fs::path& file) {
   return lock;
 }
 
-PartialLock PartialLock::publish(const fs::path& file, bool replace, const std::function<void(const fs::path&)>& make) {
+namespace {
+
+// Puts `temporary` at `file` in place of the partial output `replacing` holds, and removes that one. Exchanged
+// atomically, then checked: a file a user put at the name meanwhile (the sweep prepared its data for minutes) is
+// exchanged back and kept, and the sweep stops naming it.
+void replaceHeldPartial(const fs::path& temporary, const fs::path& file, const PartialLock& replacing) {
+  if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_EXCHANGE) != 0) {
+    if (errno != EINVAL && errno != ENOSYS)
+      throw std::runtime_error(file.string() + ": cannot replace (" + std::strerror(errno) + ")");
+    if (!replacing.holdsFile(file)) partialReplacedMeanwhile(file);  // no exchange on this file system
+    fs::rename(temporary, file);
+    return;
+  }
+  if (!replacing.holdsFile(temporary)) {
+    ::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_EXCHANGE);
+    partialReplacedMeanwhile(file);
+  }
+  replacing.removeHeldFile(temporary);  // the old partial output, now at the temporary's name
+}
+
+}  // namespace
+
+PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replacing,
+                                 const std::function<void(const fs::path&)>& make) {
   // Claimed and registered as OutputFile's temporaries are (docs/robustness.md, "Ownership"): an interrupt removes
   // it, what a kill leaves the next run removes, and nothing of a user's is ever at that name.
   const ClaimedTemporary claimed(file);
@@ -96,7 +125,7 @@ PartialLock PartialLock::publish(const fs::path& file, bool replace, const std::
     make(temporary);
     PartialLock lock(lockedDescriptor(temporary));
     // Locked before it appears under its name: a second sweep finds it locked. link() never replaces a file.
-    if (replace) fs::rename(temporary, file);
+    if (replacing) replaceHeldPartial(temporary, file, *replacing);
     else if (::link(temporary.c_str(), file.c_str()) != 0) {
       if (errno == EEXIST) anotherWriter(file);
       throw std::runtime_error(file.string() + ": cannot create (" + std::strerror(errno) + ")");
@@ -165,7 +194,7 @@ PartialLog::PartialLog(fs::path file, const ResultsHeader& header, std::size_t m
     : file_(std::move(file)), lock_(std::move(lock)), maps_(maps_done) {
   if (maps_done == 0) {
     // The header is written before the log appears under its name: a log without it is never occsweep's.
-    lock_ = PartialLock::publish(file_, lock_.held(), [&](const fs::path& temporary) {
+    lock_ = PartialLock::publish(file_, lock_.held() ? &lock_ : nullptr, [&](const fs::path& temporary) {
       std::ofstream first(temporary, std::ios::trunc);
       first << toJson(header).dump() << '\n' << std::flush;
       if (!first) throw OutputError(writeFailure(file_, errno));

@@ -52,6 +52,19 @@ std::pair<std::size_t, std::size_t> similarFdr(const std::vector<Point>& om, con
 
 // Classifies every region voxel of the map at p_t (as classify(): known and log-odds >= l(p_t) in float) and
 // writes the TP, FP and FN voxel centres as an ASCII PLY.
+// The third line of every classified map this step writes: what proves a PLY at that name occsweep's.
+constexpr const char* kMapComment = "comment occsweep reproduce: TP blue, FP red, FN yellow (paper Fig. 6)";
+
+ReplaceableOutput reproductionMapOutput() {
+  return {"reproduction map", [](const fs::path& file) {
+            std::ifstream in(file);
+            std::string line;
+            for (int i = 0; i < 3 && std::getline(in, line); ++i) {
+            }
+            return line == kMapComment;
+          }};
+}
+
 ConfusionCounts writeClassifiedPly(const octomap::OcTree& map, const GroundTruth& truth, double p_t,
                                    const fs::path& file) {
   const float threshold = logOdds(p_t);
@@ -65,9 +78,10 @@ ConfusionCounts writeClassifiedPly(const octomap::OcTree& map, const GroundTruth
     else ++c.tn;
   });
   {
+    checkOutputTarget(file, true, reproductionMapOutput());  // over an earlier run's map only, never a user's file
     OutputFile ply(file);
     std::ostream& out = ply.stream();
-    out << "ply\nformat ascii 1.0\ncomment occsweep reproduce: TP blue, FP red, FN yellow (paper Fig. 6)\n"
+    out << "ply\nformat ascii 1.0\n" << kMapComment << "\n"
         << "comment resolution " << truth.resolution << "\nelement vertex " << voxels.size()
         << "\nproperty float x\nproperty float y\nproperty float z\n"
         << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";

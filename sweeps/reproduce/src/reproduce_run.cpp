@@ -5,7 +5,6 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/ownership.hpp"
 #include "occsweep/eval/png_text.hpp"
@@ -52,45 +51,51 @@ void checkReproductionSteps(const std::vector<std::string>& steps) {
 
 namespace {
 
-// The step files a reproduction writes, each proven occsweep's by its own "format" field.
+// The step files a reproduction writes, each proven occsweep's by its own "format" field (occsweep-reproduce-NAME).
 constexpr const char* kStepFiles[] = {"fits", "nca", "comparison", "curves", "runtime", "real-stereo", "run"};
 
-// An entry of a reproduction folder that is occsweep's (docs/robustness.md, "Ownership"): its data, sweeps and maps
-// folders; a step file whose "format" is its own; report.md under its first-line mark; a PNG carrying the figures'
-// Software mark; a temporary the ledger proves a killed run left. Names alone prove nothing: a user's notes.md or
-// results.json makes the folder a user's.
+// An entry of a reproduction folder that is occsweep's (docs/robustness.md, "Ownership"): a step file whose
+// "format" is its own; report.md under its first-line mark; a PNG carrying the figures' Software mark; a temporary
+// the ledger proves a killed run left; the data, sweeps and maps folders, whose every file is proven again when a
+// run rewrites it (its kind's check: a data set's manifest, a results header, a map's PLY comment, a ranking's
+// format). Any other name, or content without its proof, makes the folder a user's.
 bool isOwnReproductionEntry(const fs::directory_entry& entry) {
   const std::string name = entry.path().filename().string();
   std::error_code ec;
-  if (entry.is_directory(ec) && !entry.is_symlink(ec) && (name == "data" || name == "sweeps" || name == "maps"))
-    return true;
-  if (!entry.is_regular_file(ec) || entry.is_symlink(ec))
-    return isStaleTemporaryOf(entry.path(), entry.path().parent_path() / outputNameOf(name));
+  if (entry.is_symlink(ec)) return false;
+  if (entry.is_directory(ec) && (name == "data" || name == "sweeps" || name == "maps")) return true;
   const fs::path stem = entry.path().stem();
-  try {
-    if (entry.path().extension() == ".json" && std::ranges::find(kStepFiles, stem.string()) != std::end(kStepFiles)) {
-      const json j = readJsonFile(entry.path());
-      return j.is_object() && j.value("format", "") == "occsweep-reproduce-" + stem.string();
+  if (entry.is_regular_file(ec)) {
+    if (entry.path().extension() == ".json" && std::ranges::find(kStepFiles, stem.string()) != std::end(kStepFiles))
+      return jsonOutput("", "occsweep-reproduce-" + stem.string()).is_own(entry.path());
+    if (name == "report.md") {
+      std::ifstream in(entry.path());
+      std::string first;
+      return std::getline(in, first) && first == kReproductionReportMark;
     }
-  } catch (const std::exception&) {
-    return false;
+    if (entry.path().extension() == ".png") return pngText(entry.path(), "Software") == kReproductionFigureMark;
   }
-  if (name == "report.md") {
-    std::ifstream in(entry.path());
-    std::string first;
-    return std::getline(in, first) && first == kReproductionReportMark;
-  }
-  if (entry.path().extension() == ".png") return pngText(entry.path(), "Software") == kReproductionFigureMark;
   return isStaleTemporaryOf(entry.path(), entry.path().parent_path() / outputNameOf(name));
 }
 
-// A folder a re-run resumes in: every entry occsweep's. Any other (a user's thesis.tex) makes it the user's, refused
-// with or without --force, so that no file of the user's is replaced.
-bool isReproductionFolder(const fs::path& dir) {
+// The first entry of `dir` that is not occsweep's; empty when every one is (a folder a re-run resumes in).
+fs::path foreignEntry(const fs::path& dir) {
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-    if (!isOwnReproductionEntry(*it)) return false;
-  return !ec;
+    if (!isOwnReproductionEntry(*it)) return it->path();
+  return ec ? dir : fs::path();
+}
+
+// --out: new, empty, or a reproduction folder. Any other (a user's thesis.tex beside it) is refused with or without
+// --force, naming the entry, so that no file of the user's is replaced.
+void checkReproductionFolder(const fs::path& out) {
+  std::error_code ec;
+  if (fs::is_directory(fs::symlink_status(out, ec)))
+    if (const fs::path foreign = foreignEntry(out); !foreign.empty())
+      throw OutputError(out.string() + ": exists and is not occsweep's reproduction folder (" +
+                        foreign.filename().string() + " is not one of its files: docs/robustness.md, \"Ownership\"); "
+                        "refused with or without --force (nothing was changed): choose another --out");
+  checkOutputTarget(out, true, {"reproduction folder", [](const fs::path& dir) { return foreignEntry(dir).empty(); }});
 }
 
 }  // namespace
@@ -98,7 +103,7 @@ bool isReproductionFolder(const fs::path& dir) {
 double runReproduction(const ReproduceConfig& c) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  checkOutputTarget(c.out, true, {"reproduction folder", isReproductionFolder});
+  checkReproductionFolder(c.out);
   // A run that fails before it finishes anything (a full disk) leaves no empty folder of its own behind; a folder
   // holding finished steps stays, for the next run to resume from (docs/robustness.md).
   struct RemoveIfEmptyOnFailure {

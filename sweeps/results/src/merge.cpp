@@ -155,10 +155,11 @@ std::uint64_t mergedCombinations(const ResultsHeader& merged, const std::filesys
   return expectedIds(shape, merged.selection).size();
 }
 
-// A merge into JSON is built in memory: past kMaxJsonCombinations it is refused before any map is read.
-void refuseLargeJson(const MergeHeaders& heads, const std::vector<std::filesystem::path>& files,
-                     const std::filesystem::path& out) {
-  const std::uint64_t n = mergedCombinations(heads.merged.header, files.front());
+// A merge into JSON is built in memory: past kMaxJsonCombinations it is refused from the first file's header (the
+// merged file holds its grid's or its Eq. 16 group's combinations), before any file is checked or read in full.
+void refuseLargeJson(const std::vector<std::filesystem::path>& files, const std::filesystem::path& out) {
+  if (files.empty()) return;  // mergeHeaders says so
+  const std::uint64_t n = mergedCombinations(readResultsHeader(files.front()).header, files.front());
   if (n > kMaxJsonCombinations)
     throw std::invalid_argument("--out " + out.string() + ": a JSON results file holds at most " +
                                 std::to_string(kMaxJsonCombinations) + " combinations and the merge of " +
@@ -171,7 +172,7 @@ void refuseLargeJson(const MergeHeaders& heads, const std::vector<std::filesyste
 
 std::uint64_t mergeResultsInto(const std::vector<std::filesystem::path>& files, const std::filesystem::path& out) {
   if (!isStorePath(out)) {
-    refuseLargeJson(mergeHeaders(files), files, out);
+    refuseLargeJson(files, out);
     const ResultsFile merged = mergeResults(files);
     writeResults(merged, out);
     return merged.maps.size();

@@ -154,7 +154,8 @@ namespace {
 // `engine` the one of them, or "mixed" for several.
 void requireKnownEngines(const ResultsHeader& h, const std::function<void(const std::string&)>& fail) {
   for (const std::string& e : h.engines)
-    if (e != "direct" && e != "replay") fail("'" + e + "' is not an engine (direct or replay; edited by hand?)");
+    if (e != kDirectEngine && e != kReplayEngine)
+      fail("'" + e + "' is not an engine (" + kDirectEngine + " or " + kReplayEngine + "; edited by hand?)");
   const std::string expected = h.engines.size() == 1 ? h.engines.front() : "mixed";
   if (h.engine != expected) fail("'" + h.engine + "' does not match map.engines (it must be '" + expected + "')");
 }
@@ -303,20 +304,6 @@ ResultsFile parseResults(const json& j, const std::string& file) {
 ResultsFile readResults(const std::filesystem::path& file) {
   if (isResultsStore(file)) return readResultsAt(file, MapDetail::Full);
   return parseResults(readJsonFile(file), file.string());
-}
-
-ReplaceableOutput jsonOutput(const std::string& name, const std::string& format) {
-  return {name, [format](const std::filesystem::path& file) {
-            std::error_code ec;
-            if (!std::filesystem::is_regular_file(file, ec)) return false;
-            std::ifstream in(file);
-            try {
-              const json j = json::parse(in);
-              return j.is_object() && j.value("format", "") == format;
-            } catch (const std::exception&) {
-              return false;
-            }
-          }};
 }
 
 ReplaceableOutput resultsOutput() {

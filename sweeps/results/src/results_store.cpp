@@ -189,8 +189,10 @@ struct ResultsStore::Connection {
     Statement view(db, "SELECT sql FROM sqlite_master WHERE type = 'view' AND name = 'combinations'", file);
     if (!view.step() || view.text(0) != kCombinationsView)
       fail(file, "combinations: the view is missing or not occsweep's (edited by hand?)");
-    Statement other(db, "SELECT type, name FROM sqlite_master WHERE name NOT IN ('meta', 'region', 'maps', "
-                        "'thresholds', 'combinations') AND type != 'index'", file);
+    // By type and name: a trigger may share a table's name (SQLite keeps their names apart).
+    Statement other(db, "SELECT type, name FROM sqlite_master WHERE type != 'index' AND NOT (type = 'table' AND "
+                        "name IN ('meta', 'region', 'maps', 'thresholds')) AND NOT (type = 'view' AND name = "
+                        "'combinations')", file);
     if (other.step())
       fail(file, other.text(0) + " " + other.text(1) + ": not part of a results store (added by hand?)");
   }

@@ -289,9 +289,11 @@ ResultsCheck checkResultsFile(const std::filesystem::path& file, const std::file
   const bool store = isResultsStore(file);
   if (store) ResultsStore::open(file).verifyIntegrity();
   const ResultsFile head = readResultsHeader(file);
-  if (store)  // each map row's engine among those the header names
+  if (store)  // each map row's engine among those the header names; "mixed" when exported from a mixed JSON file,
+              // which records no engine per map
     for (const std::string& e : ResultsStore::open(file).engineNames())
-      if (std::find(head.header.engines.begin(), head.header.engines.end(), e) == head.header.engines.end())
+      if (std::find(head.header.engines.begin(), head.header.engines.end(), e) == head.header.engines.end() &&
+          !(e == "mixed" && head.header.engine == "mixed"))
         throw std::runtime_error(name + ": maps.engine: '" + e + "' is not among the engines map.engines names "
                                  "(edited by hand?)");
   if (!head.complete) throw std::runtime_error(name + ": incomplete results");

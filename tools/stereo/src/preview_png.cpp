@@ -10,10 +10,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/eval/png_text.hpp"
 #include "occsweep/stereo/generate.hpp"
 
 namespace occsweep::stereo {
 namespace {
+
+constexpr const char* kPreviewMark = "occsweep dataset generate";
 
 /// 8-bit grey (CV_8UC1) or OpenCV's BGR (CV_8UC3), written to a temporary name and renamed.
 void writeAtomically(const cv::Mat& image, const std::filesystem::path& file) {
@@ -33,7 +36,11 @@ void writeAtomically(const cv::Mat& image, const std::filesystem::path& file) {
   if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, image.data, row_stride, nullptr))
     throw std::runtime_error(file.string() + ": cannot encode the PNG: " + png.message);
   bytes.resize(size);
-  writeFileAtomically(file, bytes);
+  // Marked as occsweep's (its Software text chunk), so that a re-run replaces its own preview, never a user's PNG.
+  checkOutputTarget(file, true, {"preview image", [](const std::filesystem::path& f) {
+                                   return pngText(f, "Software") == kPreviewMark;
+                                 }});
+  writeFileAtomically(file, pngWithText(bytes, "Software", kPreviewMark));
 }
 
 }  // namespace

@@ -81,13 +81,17 @@ void writeRanking(const DatasetSummary& s, const GenerateConfig& c, const PointC
                             {"pointcloud_grid", {{"name", grid.name}, {"file_hash", grid.file_hash}}},
                             {"ranked_by", "naive FDR ascending (NaN last), then TPR descending, then id"},
                             {"sets", nlohmann::json::array()}};
-  nlohmann::json timing = {{"dataset", s.name}, {"scale", s.scale}, {"render_seconds", s.render_seconds},
+  nlohmann::json timing = {{"format", "occsweep-pointcloud-timing"}, {"dataset", s.name}, {"scale", s.scale},
+                           {"render_seconds", s.render_seconds},
                            {"keyframes", c.scale.keyframes}, {"sets", nlohmann::json::array()}};
   if (const auto options = realismOptionsJson(c); !options.empty()) ranking["options"] = options;
   for (const auto& set : s.sets) {
     ranking["sets"].push_back(setJson(set));
     timing["sets"].push_back({{"folder", set.folder}, {"seconds", set.seconds}});
   }
+  // Rewritten in a data-set folder a run resumes in: only over occsweep's own (docs/robustness.md, "Ownership").
+  checkOutputTarget(dir / "ranking.json", true, jsonOutput("point cloud ranking", "occsweep-pointcloud-ranking"));
+  checkOutputTarget(dir / "timing.json", true, jsonOutput("generation timing", "occsweep-pointcloud-timing"));
   writeJsonAtomically(ranking, dir / "ranking.json");
   writeJsonAtomically(timing, dir / "timing.json");
 }

@@ -2,7 +2,9 @@
 // (docs/robustness.md, "Child processes").
 #pragma once
 
+#include <filesystem>
 #include <string>
+#include <sys/types.h>
 #include <vector>
 
 namespace occsweep {
@@ -13,6 +15,21 @@ namespace occsweep {
 /// and waits for it before removing the temporaries it was writing (removeTemporariesOnInterrupt). It ignores
 /// SIGINT: a Ctrl-C reaches occsweep, which ends it, instead of a Python traceback.
 [[nodiscard]] int runChild(const std::vector<std::string>& argv);
+
+/// How a started child is set up between fork and exec (startChild).
+struct ChildSetup {
+  std::filesystem::path cwd;  ///< entered before exec; empty: this process's folder
+  std::filesystem::path log;  ///< stdout and stderr appended here, stdin from /dev/null; empty: this process's
+  bool ignore_interrupt = false;  ///< SIGINT ignored: occsweep, which the Ctrl-C reaches, ends the child itself
+  bool registered = false;        ///< forked under the interrupt registry (killed and waited for on SIGINT/SIGTERM)
+};
+
+/// The one way occsweep starts a program (no shell, PATH searched): stop signals blocked across the fork, then in
+/// the child SIGTERM when occsweep dies however it dies (PR_SET_PDEATHSIG), its stop-signal handlers reset to their
+/// defaults (ignored ones stay ignored), `setup` applied, and exec. A failure after the fork is written to the
+/// child's stderr and ends it with 127. Returns its PID; -1 when it was not started (fork failed, or an interrupt
+/// arrived first for a registered child). docs/robustness.md, "Child processes".
+[[nodiscard]] pid_t startChild(const std::vector<std::string>& argv, const ChildSetup& setup);
 
 /// argv as exec wants it: pointers into `argv`'s strings, then nullptr. Built before fork (the child of a threaded
 /// process may only make system calls).

@@ -26,6 +26,13 @@ class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// An output that appeared or changed at the target while occsweep wrote it: kept, and nothing was replaced. Not a
+/// failed write: what the command made (a sweep's partial log) stays for a run after the user moved it away.
+class OutputConflict : public OutputError {
+ public:
+  using OutputError::OutputError;
+};
+
 /// `file: reason` for an errno value: ENOSPC is "no space left on device", EFBIG the file-size limit.
 [[nodiscard]] std::string writeFailure(const std::filesystem::path& file, int error_number);
 
@@ -34,6 +41,10 @@ struct ReplaceableOutput {
   std::string name;  ///< "data set folder", "results file", ...
   std::function<bool(const std::filesystem::path&)> is_own;
 };
+
+/// A JSON output of occsweep's, proven by its own "format" field being `format`: what --force, or a command that
+/// rewrites it in a folder it resumes in, may replace (docs/robustness.md, "Ownership").
+[[nodiscard]] ReplaceableOutput jsonOutput(const std::string& name, const std::string& format);
 
 /// The target as a clean path: a trailing slash dropped, `.` and `..` resolved against the current folder.
 [[nodiscard]] std::filesystem::path outputTarget(const std::filesystem::path& target);
@@ -77,6 +88,9 @@ class OutputFile {
   /// Flushes, checks, syncs and closes the temporary: another program may then read or write it by its path.
   void finish();
   void commit();
+  /// The outputs of one command, committed together: every target is checked first, so that one created or
+  /// changed meanwhile (OutputConflict) or a failed write stops the command before any of them is committed.
+  static void commitTogether(const std::vector<OutputFile*>& files);
 
  private:
   struct Buffer;

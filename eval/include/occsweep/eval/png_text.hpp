@@ -4,11 +4,17 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace occsweep {
 
-/// The value of `file`'s tEXt chunk of `keyword`, read chunk by chunk as the PNG format defines it (up to the
-/// first image data); "" when the file is not a PNG or has no such chunk.
+/// The value of `file`'s first tEXt chunk of `keyword`; "" when it has none, or is not a well-formed PNG (IHDR
+/// first, every chunk's CRC right, IEND last with nothing after it, no chunk above 64 MB).
 [[nodiscard]] std::string pngText(const std::filesystem::path& file, const std::string& keyword);
+
+/// `png` (a whole PNG file's bytes) with a tEXt chunk `keyword`=`text` inserted right after its IHDR chunk, as
+/// matplotlib places its own: for images written by an encoder that writes none (libpng's simplified API).
+/// std::invalid_argument when `png` does not start with the signature and IHDR.
+[[nodiscard]] std::string pngWithText(std::string_view png, const std::string& keyword, const std::string& text);
 
 }  // namespace occsweep

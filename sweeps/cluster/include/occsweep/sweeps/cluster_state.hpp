@@ -42,6 +42,9 @@ struct ProcessOutput {
 /// output, which no check proves occsweep's. Anything else stays for the task's own --force rule to refuse
 /// (docs/cluster.md, "Outputs stay in the plan folder").
 void removeOwnOutput(const ClusterTask& task, const std::filesystem::path& dir);
+/// Throws naming the output when it leads out of DIR, through a symbolic link on its way (a linked `merged/`): a task
+/// writes only inside its plan folder (docs/cluster.md, "Outputs stay in the plan folder").
+void requireOutputInside(const ClusterTask& task, const std::filesystem::path& dir);
 /// True when the output is older than one of its inputs (an input was redone after it).
 [[nodiscard]] bool outputStale(const ClusterTask& task, const std::filesystem::path& dir);
 

@@ -21,7 +21,6 @@
 
 namespace occsweep {
 
-/// Everything about a results file except its numbers.
 /// The most combinations a JSON results file may take: it is built in memory while the sweep runs and
 /// read back whole by every reader (about 1.9 KB a combination writing, 1.4 KB reading: 200,000 is about 380 MB),
 /// whereas a store (--out NAME.db) is written batch by batch for grids of any size. The paper's largest grid
@@ -29,6 +28,11 @@ namespace occsweep {
 /// files").
 inline constexpr std::uint64_t kMaxJsonCombinations = 200'000;
 
+/// The engines a results file may name in map.engines (docs/results-format.md): the sweep engines' names.
+inline constexpr const char* kDirectEngine = "direct";
+inline constexpr const char* kReplayEngine = "replay";
+
+/// Everything about a results file except its numbers.
 struct ResultsHeader {
   std::string version, commit;                 ///< occsweep that wrote it
   std::string grid_name, grid_hash;            ///< grid file and FNV-1a of its bytes
@@ -100,9 +104,6 @@ void setEngines(ResultsHeader& h, const std::set<std::string>& engines);
 
 /// JSON, written to a temporary name beside `file` and renamed (writeFileAtomically).
 void writeResults(const ResultsFile& f, const std::filesystem::path& file);
-
-/// A JSON file whose "format" field is `format`: occsweep's own output of that kind, which --force may replace.
-[[nodiscard]] ReplaceableOutput jsonOutput(const std::string& name, const std::string& format);
 /// An occsweep results file of either format (sweep, merge).
 [[nodiscard]] ReplaceableOutput resultsOutput();
 
