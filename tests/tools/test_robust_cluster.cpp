@@ -397,6 +397,27 @@ TEST_CASE("cluster plan never replaces a Slurm script it did not write: a user's
   CHECK(fs::is_empty(dir / "theirs"));
 }
 
+TEST_CASE("cluster plan --force refuses to replace a plan whose outputs the new plan's other commands would take as done") {
+  // Old binary: re-planned with other sweep settings, every old shard passed the new tasks' check and counted as done,
+  // and the report printed the old settings' numbers for the new plan.
+  const fs::path dir = test::scratch("robust-cluster-stale");
+  makeScene(dir / "A", 1);
+  writeSmallGrid(dir / "grids" / "small.json");
+  const std::string plan = "cluster plan --out p --experiment sweep --datasets A --grids grids/small.json:1";
+  REQUIRE(test::runIn(dir, plan).exit_code == 0);
+  const auto ran = test::runIn(dir, "cluster run-local p");
+  INFO(ran.output);
+  REQUIRE(ran.exit_code == 0);
+  const std::string before = test::bytesOf(dir / "p" / "plan.json");
+  const auto r = test::runIn(dir, plan + " --sweep-args=--s-c,2 --force");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("an output of the plan being replaced") && Contains("would take as done"));
+  CHECK(test::bytesOf(dir / "p" / "plan.json") == before);
+  // The same plan again is fine: its outputs are its own.
+  CHECK(test::runIn(dir, plan + " --force").exit_code == 0);
+}
+
 TEST_CASE("cluster plan refuses an ungrouped grid past a JSON results file's combinations, whatever its shards") {
   const fs::path dir = test::scratch("robust-cluster-json-grid");
   makeScene(dir / "A", 1);

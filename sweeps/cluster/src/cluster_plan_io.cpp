@@ -1,5 +1,6 @@
 // The plan's files: DIR/plan.json (the manifest of every shard) and one sbatch script per stage.
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -154,6 +155,26 @@ std::optional<std::string> brokenPlanOutputRule(const std::string& output) {
 namespace {
 
 // --force replaces occsweep's own earlier plan only, as everywhere (docs/cluster.md); a user's plan.json stays.
+// An output the old plan's task wrote, at the path a task of the new plan with another command writes, would pass
+// that task's check and count as done (a sweep's results under other settings): refused, naming it, before the plan
+// is replaced (docs/cluster.md, "The plan").
+void refuseStaleOutputs(const std::filesystem::path& dir, const ClusterPlan& old, const json& plan) {
+  std::map<std::string, json> argv_of;  // the new plan's command per output
+  for (const json& stage : plan.at("stages"))
+    for (const json& task : stage.at("tasks")) argv_of[task.at("output").get<std::string>()] = task.at("argv");
+  for (const ClusterStage& stage : old.stages)
+    for (const ClusterTask& task : stage.tasks) {
+      std::error_code ec;
+      const auto now = argv_of.find(task.output);
+      if (now == argv_of.end() || now->second == json(task.argv) ||
+          !std::filesystem::exists(std::filesystem::symlink_status(dir / task.output, ec)))
+        continue;
+      throw std::runtime_error((dir / task.output).string() + ": an output of the plan being replaced, which the new "
+                               "plan's task there (another command) would take as done: remove it (and the other "
+                               "outputs of the old plan), or choose another --out (nothing changed)");
+    }
+}
+
 void refuseOtherPlan(const std::filesystem::path& dir, const json& plan, bool force) {
   namespace fs = std::filesystem;
   const fs::path manifest = dir / "plan.json";
@@ -162,9 +183,11 @@ void refuseOtherPlan(const std::filesystem::path& dir, const json& plan, bool fo
   if (const auto why = notOurPlan(manifest))
     throw std::runtime_error(manifest.string() + ": " + *why + ": refused, with or without --force (nothing "
                              "changed); choose another --out");
-  if (!force && planJson(readPlan(dir)) != plan)
+  const ClusterPlan old = readPlan(dir);
+  if (!force && planJson(old) != plan)
     throw std::runtime_error(manifest.string() + ": a different plan is already there (--force replaces it, or "
                              "choose another --out)");
+  refuseStaleOutputs(dir, old, plan);
 }
 
 // The script occsweep wrote for `stage_name` in the plan at `dir` (nothing when no plan there has that stage).
