@@ -92,9 +92,7 @@ void cleanOnInterrupt() {
     ::waitpid(pid, nullptr, 0);
   }
   for (const auto& [path, claim] : registry()) {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-    fs::remove(path.string() + "-journal", ec);  // SQLite's rollback journal of a temporary store
+    removeTemporaryEntry(path);
     releaseTemporary(claim);
   }
   ::_exit(128 + sig);
@@ -498,9 +496,7 @@ ClaimedTemporary::ClaimedTemporary(const fs::path& target) {
 }
 
 ClaimedTemporary::~ClaimedTemporary() {
-  std::error_code ec;
-  fs::remove_all(claim_.path, ec);
-  fs::remove(claim_.path.string() + "-journal", ec);
+  removeTemporaryEntry(claim_.path);
   unregisterTemporary(claim_);
 }
 

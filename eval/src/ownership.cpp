@@ -184,15 +184,18 @@ bool isStaleTemporaryOf(const fs::path& entry, const fs::path& target) {
   return staleRecord(entry, target).has_value();
 }
 
+bool removeTemporaryEntry(const fs::path& path) noexcept {
+  std::error_code ec, journal_ec;
+  fs::remove_all(path, ec);  // a folder temporary is occsweep's as a whole: only occsweep wrote into it
+  fs::remove(path.string() + "-journal", journal_ec);
+  return !ec;
+}
+
 bool removeStaleTemporary(const fs::path& entry, const fs::path& target) {
   const std::optional<std::string> token = staleRecord(entry, target);
   if (!token) return false;
   std::error_code ec;
-  fs::remove_all(entry, ec);  // a folder temporary is occsweep's as a whole: only occsweep wrote into it
-  // SQLite's rollback journal of a store being created there, named after it: what a kill during the creation left.
-  std::error_code journal_ec;
-  fs::remove(entry.string() + "-journal", journal_ec);
-  if (!ec) fs::remove(ownershipLedger() / *token, ec);
+  if (removeTemporaryEntry(entry)) fs::remove(ownershipLedger() / *token, ec);
   return true;
 }
 

@@ -67,4 +67,8 @@ std::string pngText(const std::filesystem::path& file, const std::string& keywor
   }
 }
 
+ReplaceableOutput markedPngOutput(const std::string& name, const std::string& software) {
+  return {name, [software](const std::filesystem::path& file) { return pngText(file, "Software") == software; }};
+}
+
 }  // namespace occsweep

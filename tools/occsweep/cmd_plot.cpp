@@ -27,7 +27,7 @@ struct PlotOptions {
 // A figure occsweep plot drew before: a PNG whose Software text chunk is exactly "occsweep plot" (plot_results.py
 // writes it). A user's PNG that mentions occsweep in a description is not one (docs/robustness.md, "Ownership").
 ReplaceableOutput figureOutput() {
-  return {"figure", [](const std::filesystem::path& file) { return pngText(file, "Software") == "occsweep plot"; }};
+  return markedPngOutput("figure", "occsweep plot");
 }
 
 // The method `params` draws: --method, or the only one given, or the first that is not the baseline.
@@ -60,7 +60,7 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   const int code = runChild({python, script, data_file.temporary().string(), figure.temporary().string()});
   if (code != 0) throw std::runtime_error("plot: " + python + " " + script + " failed (exit code " + std::to_string(code) + ")");
   // A script that exits 0 without drawing (another Python, another script) leaves no empty figure behind.
-  if (pngText(figure.temporary(), "Software") != "occsweep plot")
+  if (!figureOutput().is_own(figure.temporary()))
     throw std::runtime_error("plot: " + python + " " + script + " exited 0 but drew no figure (nothing written)");
   if (o.json.empty()) figure.commit();
   else OutputFile::commitTogether({&data_file, &figure});  // neither when the other's name was taken meanwhile

@@ -34,9 +34,7 @@ struct ReproduceOptions {
 // chunk, kReproductionFigureMark); a user's PNG at that name stays and the run fails naming it.
 void placeFigure(const std::filesystem::path& drawn, const std::filesystem::path& out) {
   const std::filesystem::path target = out / drawn.filename();
-  checkOutputTarget(target, true, {"reproduction figure", [](const std::filesystem::path& file) {
-                                     return pngText(file, "Software") == kReproductionFigureMark;
-                                   }});
+  checkOutputTarget(target, true, markedPngOutput("reproduction figure", kReproductionFigureMark));
   renameIntoPlace(drawn, target);
 }
 

@@ -175,11 +175,12 @@ void refuseStaleOutputs(const std::filesystem::path& dir, const ClusterPlan& old
     }
 }
 
-void refuseOtherPlan(const std::filesystem::path& dir, const json& plan, bool force) {
+// The occsweep plan already in `dir` (nothing when there is none), read once for every check below.
+std::optional<ClusterPlan> replacedPlan(const std::filesystem::path& dir, const json& plan, bool force) {
   namespace fs = std::filesystem;
   const fs::path manifest = dir / "plan.json";
   std::error_code ec;
-  if (!fs::exists(fs::symlink_status(manifest, ec))) return;
+  if (!fs::exists(fs::symlink_status(manifest, ec))) return std::nullopt;
   if (const auto why = notOurPlan(manifest))
     throw std::runtime_error(manifest.string() + ": " + *why + ": refused, with or without --force (nothing "
                              "changed); choose another --out");
@@ -188,15 +189,14 @@ void refuseOtherPlan(const std::filesystem::path& dir, const json& plan, bool fo
     throw std::runtime_error(manifest.string() + ": a different plan is already there (--force replaces it, or "
                              "choose another --out)");
   refuseStaleOutputs(dir, old, plan);
+  return old;
 }
 
-// The script occsweep wrote for `stage_name` in the plan at `dir` (nothing when no plan there has that stage).
-std::optional<std::string> ownScript(const std::filesystem::path& dir, const std::string& stage_name) {
-  std::error_code ec;
-  if (!std::filesystem::exists(std::filesystem::symlink_status(dir / "plan.json", ec))) return std::nullopt;
-  const ClusterPlan old = readPlan(dir);
-  for (const ClusterStage& st : old.stages)
-    if (st.name == stage_name) return sbatchScript(old, st);
+// The script occsweep wrote for `stage_name` in the plan `old` (nothing when it has no such stage).
+std::optional<std::string> ownScript(const std::optional<ClusterPlan>& old, const std::string& stage_name) {
+  if (old)
+    for (const ClusterStage& st : old->stages)
+      if (st.name == stage_name) return sbatchScript(*old, st);
   return std::nullopt;
 }
 
@@ -204,30 +204,29 @@ std::optional<std::string> ownScript(const std::filesystem::path& dir, const std
 // writing through one would put the plan's files elsewhere (docs/robustness.md, "Ownership").
 void refuseLinks(const std::filesystem::path& dir) {
   namespace fs = std::filesystem;
-  for (const fs::path& entry : {dir / "plan.json", dir / "slurm", dir / "logs"}) {
+  auto refuseLink = [](const fs::path& entry) {
     std::error_code ec;
     if (fs::is_symlink(fs::symlink_status(entry, ec)))
       throw std::runtime_error(entry.string() + ": is a symbolic link: occsweep never writes through or replaces "
                                "one, even with --force (nothing changed); remove it, or choose another --out");
-  }
+  };
+  for (const fs::path& entry : {dir / "plan.json", dir / "slurm", dir / "logs"}) refuseLink(entry);
   std::error_code ec;
   if (fs::is_directory(fs::symlink_status(dir / "slurm", ec)))
-    for (const auto& script : fs::directory_iterator(dir / "slurm", ec))
-      if (script.is_symlink(ec))
-        throw std::runtime_error(script.path().string() + ": is a symbolic link: occsweep never writes through or "
-                                 "replaces one, even with --force (nothing changed); remove it, or choose another --out");
+    for (const auto& script : fs::directory_iterator(dir / "slurm", ec)) refuseLink(script.path());
 }
 
 // A stage's script is written where nothing stands, or over the very bytes occsweep wrote for the plan there: a
 // user's file, or occsweep's script edited by hand (a `module load` line), is never replaced, even with --force
 // (docs/cluster.md, "The plan").
-void refuseOtherScripts(const std::filesystem::path& dir, const ClusterPlan& plan) {
+void refuseOtherScripts(const std::filesystem::path& dir, const ClusterPlan& plan,
+                        const std::optional<ClusterPlan>& old) {
   namespace fs = std::filesystem;
   for (const ClusterStage& st : plan.stages) {
     const fs::path script = dir / "slurm" / (st.name + ".sbatch");
     std::error_code ec;
     if (!fs::exists(fs::symlink_status(script, ec))) continue;
-    const std::optional<std::string> own = ownScript(dir, st.name);
+    const std::optional<std::string> own = ownScript(old, st.name);
     const bool same = own && fs::is_regular_file(fs::symlink_status(script, ec)) &&
                       fs::file_size(script, ec) == own->size() && readFileBytes(script) == *own;
     if (!same)
@@ -249,8 +248,8 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool f
         throw std::invalid_argument("task " + st.name + "[" + std::to_string(t.index) + "] output " + t.output + ": " +
                                     *broken);
   refuseLinks(dir);
-  refuseOtherPlan(dir, j, force);
-  refuseOtherScripts(dir, plan);
+  const std::optional<ClusterPlan> old = replacedPlan(dir, j, force);
+  refuseOtherScripts(dir, plan, old);
   const bool new_folder = !fs::exists(dir);
   try {
     fs::create_directories(dir / "slurm");

@@ -73,7 +73,8 @@ bool isOwnReproductionEntry(const fs::directory_entry& entry) {
       std::string first;
       return std::getline(in, first) && first == kReproductionReportMark;
     }
-    if (entry.path().extension() == ".png") return pngText(entry.path(), "Software") == kReproductionFigureMark;
+    if (entry.path().extension() == ".png")
+      return markedPngOutput("", kReproductionFigureMark).is_own(entry.path());
   }
   return isStaleTemporaryOf(entry.path(), entry.path().parent_path() / outputNameOf(name));
 }

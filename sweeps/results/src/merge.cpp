@@ -63,20 +63,31 @@ MergeHeaders mergeHeaders(const std::vector<std::filesystem::path>& files) {
   return {std::move(heads), std::move(out)};
 }
 
+// The combinations of the merged file's grid as its header claims them. Without the grid file that count is only
+// what the file claims (a 15 KB file can claim 3e8, which would take 2.4 GB): bounded like an enumeration before
+// anything is allocated for it.
+std::uint64_t boundedGridCombinations(const ResultsHeader& merged, const std::filesystem::path& first_file) {
+  try {
+    checkLimit("grid.combinations", merged.grid_combinations, limits().combinations, "--max-combinations");
+  } catch (const LimitError& e) {
+    throw std::runtime_error(first_file.string() + ": " + e.what());
+  }
+  return merged.grid_combinations;
+}
+
+// The ids of the merged file's Eq. 16 group (only the grid's count is needed for them).
+std::vector<std::uint64_t> groupIds(const ResultsHeader& merged) {
+  GridEnumeration shape;
+  shape.combinations = merged.grid_combinations;
+  return expectedIds(shape, merged.selection);
+}
+
 // Every id of the selection exactly once over the files: a bit per combination of the grid.
 class IdOwners {
  public:
-  IdOwners(const ResultsHeader& merged, const std::filesystem::path& first_file) : n_(merged.grid_combinations) {
-    // Without the grid file the count is only what the file claims (a 15 KB file can claim 3e8,
-    // which would take 2.4 GB): bounded like an enumeration before anything is allocated for it.
-    try {
-      checkLimit("grid.combinations", n_, limits().combinations, "--max-combinations");
-    } catch (const LimitError& e) {
-      throw std::runtime_error(first_file.string() + ": " + e.what());
-    }
-    GridEnumeration shape;  // only the count is needed for the expected ids
-    shape.combinations = n_;
-    if (merged.selection.group) group_ = expectedIds(shape, merged.selection);
+  IdOwners(const ResultsHeader& merged, const std::filesystem::path& first_file)
+      : n_(boundedGridCombinations(merged, first_file)) {
+    if (merged.selection.group) group_ = groupIds(merged);
     owner_.assign(n_, 0);
   }
   void claim(std::uint64_t id, std::size_t file, const std::vector<std::filesystem::path>& files) {
@@ -141,18 +152,10 @@ ResultsFile mergeResults(const std::vector<std::filesystem::path>& files) {
 
 namespace {
 
-// The combinations the merged file holds: its grid's, or its Eq. 16 group's (every shard merged). Bounded like an
-// enumeration before the group's ids are listed.
+// The combinations the merged file holds: its grid's, or its Eq. 16 group's (every shard merged).
 std::uint64_t mergedCombinations(const ResultsHeader& merged, const std::filesystem::path& first_file) {
-  try {
-    checkLimit("grid.combinations", merged.grid_combinations, limits().combinations, "--max-combinations");
-  } catch (const LimitError& e) {
-    throw std::runtime_error(first_file.string() + ": " + e.what());
-  }
-  if (!merged.selection.group) return merged.grid_combinations;
-  GridEnumeration shape;
-  shape.combinations = merged.grid_combinations;
-  return expectedIds(shape, merged.selection).size();
+  const std::uint64_t grid = boundedGridCombinations(merged, first_file);
+  return merged.selection.group ? groupIds(merged).size() : grid;
 }
 
 // A merge into JSON is built in memory: past kMaxJsonCombinations it is refused from the first file's header (the

@@ -287,15 +287,20 @@ ResultsCheck checkResultsFile(const std::filesystem::path& file, const std::file
   const std::string name = file.string();
   ResultsCheck out;
   const bool store = isResultsStore(file);
-  if (store) ResultsStore::open(file).verifyIntegrity();
+  std::vector<std::string> row_engines;  // a store's map rows each name their engine
+  if (store) {
+    const ResultsStore opened = ResultsStore::open(file);
+    opened.verifyIntegrity();
+    row_engines = opened.engineNames();
+  }
   const ResultsFile head = readResultsHeader(file);
-  if (store)  // each map row's engine among those the header names; "mixed" when exported from a mixed JSON file,
-              // which records no engine per map
-    for (const std::string& e : ResultsStore::open(file).engineNames())
-      if (std::find(head.header.engines.begin(), head.header.engines.end(), e) == head.header.engines.end() &&
-          !(e == "mixed" && head.header.engine == "mixed"))
-        throw std::runtime_error(name + ": maps.engine: '" + e + "' is not among the engines map.engines names "
-                                 "(edited by hand?)");
+  // Each map row's engine among those the header names; "mixed" when exported from a mixed JSON file, which records
+  // no engine per map.
+  for (const std::string& e : row_engines)
+    if (std::find(head.header.engines.begin(), head.header.engines.end(), e) == head.header.engines.end() &&
+        !(e == "mixed" && head.header.engine == "mixed"))
+      throw std::runtime_error(name + ": maps.engine: '" + e + "' is not among the engines map.engines names "
+                               "(edited by hand?)");
   if (!head.complete) throw std::runtime_error(name + ": incomplete results");
   if (!std::isfinite(head.seconds) || head.seconds < 0)
     throw std::runtime_error(name + ": seconds: must be a finite number >= 0");

@@ -37,9 +37,7 @@ void writeAtomically(const cv::Mat& image, const std::filesystem::path& file) {
     throw std::runtime_error(file.string() + ": cannot encode the PNG: " + png.message);
   bytes.resize(size);
   // Marked as occsweep's (its Software text chunk), so that a re-run replaces its own preview, never a user's PNG.
-  checkOutputTarget(file, true, {"preview image", [](const std::filesystem::path& f) {
-                                   return pngText(f, "Software") == kPreviewMark;
-                                 }});
+  checkOutputTarget(file, true, markedPngOutput("preview image", kPreviewMark));
   writeFileAtomically(file, pngWithText(bytes, "Software", kPreviewMark));
 }
 

@@ -39,8 +39,11 @@ void releaseTemporary(const TemporaryClaim& claim);
 /// and start time. A record of another host or PID namespace (a shared home folder) never proves it gone.
 [[nodiscard]] bool isStaleTemporaryOf(const std::filesystem::path& entry, const std::filesystem::path& target);
 
-/// Removes `entry` (a file, or a folder with what it holds), SQLite's `entry-journal` beside it, and its record when
-/// isStaleTemporaryOf; true if it did.
+/// Removes a temporary at `path` (a file, or a folder with what it holds) and SQLite's rollback journal named after
+/// it (`path-journal`, what a kill of a store being written there leaves); false when `path` could not be removed.
+bool removeTemporaryEntry(const std::filesystem::path& path) noexcept;
+
+/// Removes `entry` (removeTemporaryEntry) and its record when isStaleTemporaryOf; true if it did.
 bool removeStaleTemporary(const std::filesystem::path& entry, const std::filesystem::path& target);
 
 }  // namespace occsweep

@@ -6,11 +6,17 @@
 #include <string>
 #include <string_view>
 
+#include "occsweep/eval/output_file.hpp"
+
 namespace occsweep {
 
 /// The value of `file`'s first tEXt chunk of `keyword`; "" when it has none, or is not a well-formed PNG (IHDR
 /// first, every chunk's CRC right, IEND last with nothing after it, no chunk above 64 MB).
 [[nodiscard]] std::string pngText(const std::filesystem::path& file, const std::string& keyword);
+
+/// A figure of occsweep's, proven by a well-formed PNG whose Software text chunk is exactly `software` (what matplotlib
+/// writes from `metadata={"Software": ...}`, or pngWithText): what --force, or a re-run, may replace.
+[[nodiscard]] ReplaceableOutput markedPngOutput(const std::string& name, const std::string& software);
 
 /// `png` (a whole PNG file's bytes) with a tEXt chunk `keyword`=`text` inserted right after its IHDR chunk, as
 /// matplotlib places its own: for images written by an encoder that writes none (libpng's simplified API).
