@@ -111,6 +111,13 @@ TEST_CASE("a plan has every shard once and merges take exactly their shards and 
     writePlan(p, dir, false);
     const ClusterPlan back = readPlan(dir);
     for (const auto& s : p.stages) CHECK(sbatchScript(back, stageNamed(back, s.name)) == sbatchScript(p, s));
+    for (const char* stage : {"sweep", "merge"})
+      for (std::size_t i = 0; i < stageNamed(p, stage).tasks.size(); ++i) {
+        const auto& work = stageNamed(p, stage).tasks[i].expect_work;
+        REQUIRE(work.has_value());
+        CHECK(work->group.has_value() == (stageNamed(p, stage).tasks[i].expect_grid == "reduction"));
+        CHECK(stageNamed(back, stage).tasks[i].expect_work == work);
+      }
     writePlan(p, dir, false);  // the same plan again is fine
     ClusterPlan other = p;
     other.slurm.mem = "9G";
@@ -226,6 +233,30 @@ TEST_CASE("cluster commands refuse a folder without a plan and a failing task ma
   CHECK(r.exit_code != 0);
   CHECK_THAT(r.output, Contains("failed"));
   CHECK_FALSE(fs::exists(dir / "p" / "merged"));
+}
+
+TEST_CASE("occsweep's results of the task's grid and shard under other sweep settings are not taken as done") {
+  // Old code: the check compared grid and shard only, so a shard swept at resolution 0.1 counted as done in a plan
+  // that sweeps at 0.2, and its numbers went into the merge.
+  const auto dir = test::scratch("cluster-other-work");
+  REQUIRE(test::runCli("scene --out " + (dir / "ds").string() + " --scans 4 --width 16 --height 12").exit_code == 0);
+  auto r = test::runCli("cluster plan --out " + (dir / "p").string() + " --experiment sweep --datasets " +
+                        (dir / "ds").string() + " --grids octomap-opt:1 --sweep-args=--resolution,0.2");
+  REQUIRE(r.exit_code == 0);
+  const ClusterPlan plan = readPlan(dir / "p");
+  const fs::path shard = dir / "p" / stageNamed(plan, "sweep").tasks.at(0).output;
+  fs::create_directories(shard.parent_path());
+  REQUIRE(test::runCli("sweep --quiet --dataset " + (dir / "ds").string() + " --grid octomap-opt --out " +
+                       shard.string()).exit_code == 0);
+  const std::string before = test::bytesOf(shard);
+  r = test::runCli("cluster status " + (dir / "p").string());
+  CHECK_THAT(r.output, Contains("invalid sweep[0]") && Contains("map.resolution 0.1, expected 0.2"));
+  // run-local does not take it as done, and does not remove it either: the sweep task refuses another work's
+  // results at its output without --force, and the file stays as it was.
+  r = test::runCli("cluster run-local " + (dir / "p").string() + " -j 1");
+  CHECK(r.exit_code != 0);
+  CHECK(test::bytesOf(shard) == before);
+  CHECK_FALSE(fs::exists(dir / "p" / stageNamed(plan, "merge").tasks.at(0).output));
 }
 
 TEST_CASE("a task's output is removed before it runs again only when its kind's check proves it occsweep's") {

@@ -197,6 +197,11 @@ std::vector<LoadedGrid> loadPlanGrids(const PlanConfig& c) {
   return out;
 }
 
+/// What a results file of this sweep says besides grid and shard: checked before a task counts as done.
+ExpectedWork expectedWork(const SweepConfig& sweep) {
+  return {sweep.selection.group, sweep.resolution, sweep.s_c, toText(sweep.variant), toText(sweep.stats), sweep.truth};
+}
+
 /// Shard k of grid g on set s: the plan's shared sweep settings with this task's data set, grid, output, shard
 /// (and Eq. 16 group when grouped).
 ClusterTask sweepTask(const PlanConfig& c, const SweptSet& s, const LoadedGrid& g, std::uint64_t k) {
@@ -219,12 +224,13 @@ ClusterTask sweepTask(const PlanConfig& c, const SweptSet& s, const LoadedGrid& 
   t.expect_grid = g.name;
   t.expect_shard = k;
   t.expect_shards = shards;
+  t.expect_work = expectedWork(sweep);
   return t;
 }
 
 /// The merge of the shards `shards` of grid g on set s.
 ClusterTask mergeTask(const PlanConfig& c, const SweptSet& s, const LoadedGrid& g,
-                      const std::vector<std::string>& shards) {
+                      const std::vector<std::string>& shards, const ExpectedWork& work) {
   ClusterTask m;
   m.label = s.key + " " + g.name;
   m.output = "merged/" + s.key + "/" + g.name + ".json";
@@ -233,6 +239,7 @@ ClusterTask mergeTask(const PlanConfig& c, const SweptSet& s, const LoadedGrid& 
   m.inputs = shards;
   m.kind = OutputKind::Results;
   m.expect_grid = g.name;
+  m.expect_work = work;
   return m;
 }
 
@@ -269,7 +276,8 @@ void addSweepStages(const PlanConfig& c, const std::vector<SweptSet>& swept, con
         shards.push_back(t.output);
         sweep.tasks.push_back(std::move(t));
       }
-      ClusterTask m = mergeTask(c, s, g, shards);
+      // The merge holds what its shards hold: their group and settings.
+      ClusterTask m = mergeTask(c, s, g, shards, *sweep.tasks.back().expect_work);
       m.index = merge.tasks.size();
       all_merged.push_back(m.output);
       if (!g.plan.grouped) optimisation.push_back(m.output);

@@ -17,10 +17,19 @@ namespace {
 using nlohmann::json;
 constexpr const char* kPlanFormat = "occsweep-cluster-plan";
 
+json workJson(const ExpectedWork& w) {
+  json group = nullptr;
+  if (w.group) group = {w.group->index, w.group->count, w.group->seed};
+  return {{"group", group}, {"resolution", w.resolution}, {"s_c", w.s_c}, {"variant", w.variant},
+          {"stats", w.stats}, {"truth", truthModeName(w.truth)}};
+}
+
 json taskJson(const ClusterTask& t) {
   json j = {{"index", t.index}, {"label", t.label}, {"argv", t.argv}, {"inputs", t.inputs},
             {"output", t.output}, {"kind", kindName(t.kind)}};
-  if (t.kind == OutputKind::Results) j["expect"] = {{"grid", t.expect_grid}, {"shard", {t.expect_shard, t.expect_shards}}};
+  if (t.kind != OutputKind::Results) return j;
+  j["expect"] = {{"grid", t.expect_grid}, {"shard", {t.expect_shard, t.expect_shards}}};
+  if (t.expect_work) j["expect"]["work"] = workJson(*t.expect_work);
   return j;
 }
 
@@ -58,6 +67,27 @@ std::optional<std::string> notOurPlan(const std::filesystem::path& manifest) {
   } catch (const std::exception& e) {
     return std::string("not an occsweep plan (") + e.what() + ")";
   }
+}
+
+ExpectedWork parseWork(const json& w, const std::string& file, const std::string& where) {
+  ExpectedWork work;
+  const json group = field<json>(w, "group", file, where);
+  if (!group.is_null()) {
+    const auto g = field<std::vector<std::uint64_t>>(w, "group", file, where);
+    if (g.size() != 3 || g[0] >= g[1])
+      throw std::runtime_error(file + ": " + where + "group: expected [I, N, SEED] with I < N");
+    work.group = SweepSelection::Group{g[0], g[1], g[2]};
+  }
+  work.resolution = field<double>(w, "resolution", file, where);
+  work.s_c = field<double>(w, "s_c", file, where);
+  work.variant = field<std::string>(w, "variant", file, where);
+  work.stats = field<std::string>(w, "stats", file, where);
+  try {
+    work.truth = parseTruthMode(field<std::string>(w, "truth", file, where));
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(file + ": " + where + "truth: " + e.what());
+  }
+  return work;
 }
 
 ClusterPlan parsePlan(const json& j, const std::string& file) {
@@ -100,6 +130,7 @@ ClusterPlan parsePlan(const json& j, const std::string& file) {
           throw std::runtime_error(file + ": " + where + "expect.shard: expected [I, N] with I < N");
         t.expect_shard = shard[0];
         t.expect_shards = shard[1];
+        if (e.contains("work")) t.expect_work = parseWork(e.at("work"), file, where + "expect.work.");
       }
       st.tasks.push_back(std::move(t));
     }

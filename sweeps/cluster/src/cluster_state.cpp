@@ -8,6 +8,7 @@
 #include "occsweep/eval/process_stat.hpp"
 #include "occsweep/sweeps/cluster_state.hpp"
 #include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/results_diff.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
@@ -28,6 +29,24 @@ pid_t liveLocalTask(const fs::path& dir, const std::string& stage, std::uint64_t
   if (ec || !fs::equivalent(cwd, dir, ec)) return 0;
   return pid_t(pid);
 }
+
+namespace {
+/// The first header field where a results file describes other work than the task's plan fixes (its Eq. 16 group,
+/// map settings, truth), as "FIELD VALUE, expected VALUE"; empty when it matches or the plan fixes none.
+std::string otherWork(const ResultsHeader& found, const ClusterTask& task) {
+  if (!task.expect_work) return "";
+  const ExpectedWork& w = *task.expect_work;
+  ResultsHeader expected = found;
+  expected.selection.group = w.group;
+  expected.resolution = w.resolution, expected.s_c = w.s_c;
+  expected.variant = w.variant, expected.stats = w.stats;
+  expected.truth = w.truth;
+  const auto fields = incomparableHeaderFields(expected, found, false);
+  if (fields.empty()) return "";
+  const ResultsDifference& d = fields.front();
+  return d.field + " " + d.candidate + ", expected " + d.golden;
+}
+}  // namespace
 
 std::string checkOutput(const ClusterTask& task, const fs::path& dir) {
   const fs::path file = dir / task.output;
@@ -62,6 +81,7 @@ std::string checkOutput(const ClusterTask& task, const fs::path& dir) {
         if (s.shard_index != task.expect_shard || s.shard_count != task.expect_shards)
           return "shard " + std::to_string(s.shard_index) + "/" + std::to_string(s.shard_count) + ", expected " +
                  std::to_string(task.expect_shard) + "/" + std::to_string(task.expect_shards);
+        if (const std::string why = otherWork(f.header, task); !why.empty()) return why;
         (void)checkAgainstGrid(f, file.string());
         return "";
       }

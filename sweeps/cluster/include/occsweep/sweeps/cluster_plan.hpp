@@ -22,6 +22,16 @@ enum class OutputKind {
   Exists,      ///< any file or folder (custom generation commands)
 };
 
+/// The header fields of a results file that a plan fixes besides grid and shard: the sweep settings every task of the
+/// plan shares and the task's Eq. 16 group.
+struct ExpectedWork {
+  std::optional<SweepSelection::Group> group;
+  double resolution = 0.1, s_c = 4.0;
+  std::string variant, stats;
+  TruthMode truth = TruthMode::Full;
+  friend bool operator==(const ExpectedWork&, const ExpectedWork&) = default;
+};
+
 /// One shard: one occsweep command, its inputs (outputs of earlier stages) and its output, paths relative to the
 /// plan folder (tasks run there).
 struct ClusterTask {
@@ -34,6 +44,10 @@ struct ClusterTask {
   OutputKind kind = OutputKind::Exists;
   std::string expect_grid;             ///< Results: the grid name the file must have
   std::uint64_t expect_shard = 0, expect_shards = 1;
+  /// Results: the work the file must describe beside its grid and shard (its Eq. 16 group and map settings), so
+  /// that occsweep's results of other work at the output's name never count as done (docs/cluster.md, "Status").
+  /// Plans written before the field have none: only grid and shard are checked.
+  std::optional<ExpectedWork> expect_work;
 };
 
 struct ClusterStage {
