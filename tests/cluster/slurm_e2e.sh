@@ -3,7 +3,7 @@
 # root):
 #  1. installs Slurm when missing, starts it on loopback; stops it on exit, also on failure (trap);
 #  2. plans a small reproduction (2 small data sets of the built-in scene, 2 + 3 + 2 sweep shards each) twice: runs one
-#     with `run-local -j 2`, submits the other, waits, checks status;
+#     with `run-local --threads 2`, submits the other, waits, checks status;
 #  3. removes one sweep shard and blocks its path, so its task fails: status must show it failed, resubmit must
 #     submit only it (and the merge and report after it);
 #  4. unblocks it, resubmits only it again, waits: everything done.
@@ -40,10 +40,10 @@ echo "slurm_e2e: Slurm up after $((SECONDS - t0)) s (SLURM_CONF=$SLURM_CONF)"
 # CI's sanitizer build runs it too (with the default scene and the full reduction grid it took 1,003 s there, a
 # quarter of the sanitized suite; now about 30 s in Release, mostly Slurm's scheduling). The data sets: the built-in
 # scene at 8 scans of 32 x 24 rays, an eighth of the default's points.
-plan_args=(--experiment reproduce --datasets ds0,ds1 --unranked
+plan_args=(--experiment reproduce --name ds0 --name ds1 --unranked
            --generate "scene --out {out} --seed {seed} --scans 8 --width 32 --height 24"
            --generate-out "data/{dataset}" --generate-kind dataset
-           --grids "octomap-opt:2,knn-opt:3,$work/reduction-small.json:2:grouped" --cpus-per-task 1 --mem 400M
+           --grid "octomap-opt:2" --grid "knn-opt:3" --grid "$work/reduction-small.json:2:grouped" --cpus-per-task 1 --mem 400M
            --time 00:10:00)
 # The grouped grid: the reduction grid's parameters at coarser steps (600 combinations, not 112,500, whose results
 # are 37 MB of JSON that a sanitizer build reads and writes slowly); grouping works the same on any grid.
@@ -67,7 +67,7 @@ GRID
 "$bin" cluster plan --out "$work/local" "${plan_args[@]}"
 "$bin" cluster plan --out "$work/slurm" "${plan_args[@]}"
 
-"$bin" cluster run-local "$work/local" -j 2
+"$bin" cluster run-local "$work/local" --threads 2
 "$bin" cluster status "$work/local" || fail "run-local left tasks not done"
 echo "slurm_e2e: run-local done after $((SECONDS - t0)) s"
 

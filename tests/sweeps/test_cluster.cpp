@@ -226,10 +226,10 @@ TEST_CASE("cluster commands refuse a folder without a plan and a failing task ma
   auto r = test::runCli("cluster status " + dir.string());
   CHECK(r.exit_code != 0);
   CHECK_THAT(r.output, Contains("plan.json"));
-  r = test::runCli("cluster plan --out " + (dir / "p").string() + " --experiment sweep --datasets " +
-                   (dir / "none").string() + " --grids octomap-opt:2");
+  r = test::runCli("cluster plan --out " + (dir / "p").string() + " --experiment sweep --dataset " +
+                   (dir / "none").string() + " --grid octomap-opt:2");
   REQUIRE(r.exit_code == 0);
-  r = test::runCli("cluster run-local " + (dir / "p").string() + " -j 2");
+  r = test::runCli("cluster run-local " + (dir / "p").string() + " --threads 2");
   CHECK(r.exit_code != 0);
   CHECK_THAT(r.output, Contains("failed"));
   CHECK_FALSE(fs::exists(dir / "p" / "merged"));
@@ -240,8 +240,8 @@ TEST_CASE("occsweep's results of the task's grid and shard under other sweep set
   // that sweeps at 0.2, and its numbers went into the merge.
   const auto dir = test::scratch("cluster-other-work");
   REQUIRE(test::runCli("scene --out " + (dir / "ds").string() + " --scans 4 --width 16 --height 12").exit_code == 0);
-  auto r = test::runCli("cluster plan --out " + (dir / "p").string() + " --experiment sweep --datasets " +
-                        (dir / "ds").string() + " --grids octomap-opt:1 --sweep-args=--resolution,0.2");
+  auto r = test::runCli("cluster plan --out " + (dir / "p").string() + " --experiment sweep --dataset " +
+                        (dir / "ds").string() + " --grid octomap-opt:1 --sweep-args=--resolution,0.2");
   REQUIRE(r.exit_code == 0);
   const ClusterPlan plan = readPlan(dir / "p");
   const fs::path shard = dir / "p" / stageNamed(plan, "sweep").tasks.at(0).output;
@@ -253,7 +253,7 @@ TEST_CASE("occsweep's results of the task's grid and shard under other sweep set
   CHECK_THAT(r.output, Contains("invalid sweep[0]") && Contains("map.resolution 0.1, expected 0.2"));
   // run-local does not take it as done, and does not remove it either: the sweep task refuses another work's
   // results at its output without --force, and the file stays as it was.
-  r = test::runCli("cluster run-local " + (dir / "p").string() + " -j 1");
+  r = test::runCli("cluster run-local " + (dir / "p").string() + " --threads 1");
   CHECK(r.exit_code != 0);
   CHECK(test::bytesOf(shard) == before);
   CHECK_FALSE(fs::exists(dir / "p" / stageNamed(plan, "merge").tasks.at(0).output));

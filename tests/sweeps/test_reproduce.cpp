@@ -54,7 +54,7 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
   // compare's own files go beside the reproduction: its folder holds only what reproduce writes, or a re-run refuses it
   const auto checks = test::scratch("reproduce-checks");
   const bool figures = haveMatplotlib();
-  const auto r = test::runCli("reproduce --scale ci --datasets building-voronoi-I,parking-voronoi-O --nca-samples 200 "
+  const auto r = test::runCli("reproduce --scale ci --name building-voronoi-I --name parking-voronoi-O --nca-samples 200 "
                               "--runtime-repeats 1 --quiet --out " + dir.string() + (figures ? "" : " --no-figures"));
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
@@ -146,7 +146,7 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
 
   // --steps comparison again in the same folder: the sweeps are reused, only that step runs, the same numbers come
   // out, and the report says which findings were not looked at rather than printing stale ones.
-  const auto again = test::runCli("reproduce --scale ci --datasets building-voronoi-I,parking-voronoi-O --steps comparison "
+  const auto again = test::runCli("reproduce --scale ci --name building-voronoi-I --name parking-voronoi-O --steps comparison "
                                   "--no-figures --quiet --out " + dir.string());
   INFO(again.output);
   REQUIRE(again.exit_code == 0);
@@ -166,13 +166,13 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
 
 TEST_CASE("reproduce refuses bad input with the field named") {
   const auto dir = test::scratch("reproduce-bad");
-  auto r = test::runCli("reproduce --datasets building-voronoi-X --no-figures --out " + dir.string());
+  auto r = test::runCli("reproduce --name building-voronoi-X --no-figures --out " + dir.string());
   CHECK(r.exit_code != 0);
-  CHECK(r.output.find("--datasets") != std::string::npos);
+  CHECK(r.output.find("--name") != std::string::npos);
 
   std::filesystem::create_directories(dir / "data" / "building-plain-I");
   std::ofstream(dir / "data" / "building-plain-I" / "ranking.json") << R"({"sets": [{"folder": "pcs-0000"}]})";
-  r = test::runCli("reproduce --datasets building-plain-I --no-figures --quiet --data " + (dir / "data").string() +
+  r = test::runCli("reproduce --name building-plain-I --no-figures --quiet --data-root " + (dir / "data").string() +
                    " --out " + (dir / "out").string());
   CHECK(r.exit_code != 0);
   CHECK(r.output.find("ranking.json") != std::string::npos);
@@ -208,19 +208,19 @@ TEST_CASE("a reproduction uses data of one kind: --realistic needs realistic dat
   writeRankedStub(dir / "mixed" / "building-plain-O", realistic);
   writeRankedStub(dir / "half" / "building-plain-I", realistic);
 
-  auto r = test::runCli("reproduce --realistic --datasets building-plain-I --steps comparison --no-figures --quiet --data " +
+  auto r = test::runCli("reproduce --realistic --name building-plain-I --steps comparison --no-figures --quiet --data-root " +
                         (dir / "plain").string() + " --out " + (dir / "out1").string());
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("plain/building-plain-I/ranking.json: generated without `dataset generate --realistic`") != std::string::npos);
 
-  r = test::runCli("reproduce --datasets building-plain-I,building-plain-O --steps comparison --no-figures --quiet --data " +
+  r = test::runCli("reproduce --name building-plain-I --name building-plain-O --steps comparison --no-figures --quiet --data-root " +
                    (dir / "mixed").string() + " --out " + (dir / "out2").string());
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("mixed/building-plain-O/ranking.json: generated with options") != std::string::npos);
   CHECK(r.output.find("one reproduction uses data of one kind") != std::string::npos);
 
   // The plain reproduction refuses realistic data before it generates the missing set beside it.
-  r = test::runCli("reproduce --datasets building-plain-I,building-plain-O --steps comparison --no-figures --quiet --data " +
+  r = test::runCli("reproduce --name building-plain-I --name building-plain-O --steps comparison --no-figures --quiet --data-root " +
                    (dir / "half").string() + " --out " + (dir / "out3").string());
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("half/building-plain-I/ranking.json: generated with options") != std::string::npos);
@@ -281,7 +281,7 @@ TEST_CASE("reproduce finds its figure script beside its binary (share/occsweep),
   fs::create_directories(dir / "prefix" / "bin");
   fs::copy_file(test::cliUnderTest(), dir / "prefix" / "bin" / "occsweep");
   auto r = test::runShell(test::shellQuoted(dir / "prefix" / "bin" / "occsweep") +
-                          " reproduce --datasets building-plain-I --steps fits --quiet --out " +
+                          " reproduce --name building-plain-I --steps fits --quiet --out " +
                           test::shellQuoted(dir / "out") + " 2>&1");
   INFO(r.output);
   CHECK(r.exit_code == 2);

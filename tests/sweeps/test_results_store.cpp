@@ -404,7 +404,7 @@ std::vector<std::string> readersOf(const fs::path& file, const fs::path& good, c
   const std::string f = test::shellQuoted(file), out = (dir / "reader-out").string();
   return {"compare " + f,
           "merge " + f + " --out " + out + ".db",
-          "results export " + f + " --csv " + out + ".csv",
+          "results export " + f + " --out " + out + ".csv",
           "plot params " + f + " --out " + out + ".png --json " + out + ".plot.json",
           "results diff " + test::shellQuoted(good) + " " + f};
 }
@@ -566,7 +566,7 @@ TEST_CASE("merge and results export into a store killed at random moments leave 
     (void)sweepToFile(quietSweep(data, "reduction", dir / ("s" + std::to_string(i) + ".db"), i, 2));
   (void)sweepToFile(quietSweep(data, "reduction", dir / "whole.db"));
   const std::set<std::string> inputs = {"scene3", "s0.db", "s1.db", "whole.db", "log"};
-  const std::vector<std::string> commands = {"merge s0.db s1.db --out m.db", "results export whole.db --store m.db"};
+  const std::vector<std::string> commands = {"merge s0.db s1.db --out m.db", "results export whole.db --out m.db"};
   SplitMix64 rng(22);
   for (const std::string& command : commands) {
     const auto started = std::chrono::steady_clock::now();
@@ -659,7 +659,7 @@ TEST_CASE("a mixed-engine JSON results file exported or merged into a store pass
   j["map"]["engines"] = {"direct", "replay"};
   std::ofstream(dir / "mixed.json") << j.dump(1) << '\n';
   REQUIRE(checkError(dir / "mixed.json") == "passed");
-  for (const std::string command : {"results export mixed.json --store e.db", "merge mixed.json --out m.db"}) {
+  for (const std::string command : {"results export mixed.json --out e.db", "merge mixed.json --out m.db"}) {
     INFO(command);
     const auto r = test::runIn(dir, command);
     INFO(r.output);

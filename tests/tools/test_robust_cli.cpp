@@ -72,7 +72,7 @@ TEST_CASE("numeric flags are refused with their rule in plain numbers, exit 2, n
                     dir);
   requireUsageError("scene --out " + (dir / "s").string() + " --seed abc", "--seed cannot take the value abc", dir);
   requireUsageError("grid count octomap-opt --groups 0", "--groups must be an integer >= 1, got 0", dir);
-  requireUsageError("cluster run-local " + dir.string() + " -j 0", "--jobs must be an integer from 1 to 1024, got 0", dir);
+  requireUsageError("cluster run-local " + dir.string() + " --threads 0", "--threads must be an integer from 1 to 1024, got 0", dir);
 }
 
 TEST_CASE("a typo in a command or an option is exit 2 with the nearest valid name") {
@@ -335,15 +335,15 @@ TEST_CASE("a grid file that gives a key twice is refused, naming the file and th
 // "filesystem error: ..."); each names the flag or the path and the rule.
 TEST_CASE("cluster plan names the flag or the folder where a library's raw error text was printed") {
   const fs::path dir = test::scratch("robust-cli-raw-errors");
-  auto r = test::runCli("cluster plan --out " + (dir / "p").string() + " --grids octomap-opt:99999999999999999999999");
+  auto r = test::runCli("cluster plan --out " + (dir / "p").string() + " --grid octomap-opt:99999999999999999999999");
   INFO(r.output);
   CHECK(r.exit_code == 2);
-  CHECK_THAT(r.output, Contains("--grids 'octomap-opt:99999999999999999999999': shards must be a whole number from 1 "
+  CHECK_THAT(r.output, Contains("--grid 'octomap-opt:99999999999999999999999': shards must be a whole number from 1 "
                                 "to 18446744073709551615"));
   CHECK_FALSE(fs::exists(dir / "p"));
   std::ofstream(dir / "a-file") << "mine\n";
-  r = test::runCli("cluster plan --out " + (dir / "a-file" / "p").string() + " --experiment sweep --datasets " +
-                   (dir / "ds").string() + " --grids octomap-opt:1");
+  r = test::runCli("cluster plan --out " + (dir / "a-file" / "p").string() + " --experiment sweep --dataset " +
+                   (dir / "ds").string() + " --grid octomap-opt:1");
   INFO(r.output);
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.output, Contains((dir / "a-file" / "p").string() + ": cannot create the plan folder: Not a directory"));

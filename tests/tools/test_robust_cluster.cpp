@@ -41,8 +41,8 @@ void writeSmallGrid(const fs::path& file) {
 
 /// run-local started in its own process group (so that the test can always clean up what it started), output to
 /// `log`.
-pid_t startRunLocal(const fs::path& plan, const fs::path& log, int jobs) {
-  const std::string cli = test::cliUnderTest(), dir = plan.string(), j = std::to_string(jobs);
+pid_t startRunLocal(const fs::path& plan, const fs::path& log, int threads) {
+  const std::string cli = test::cliUnderTest(), dir = plan.string(), j = std::to_string(threads);
   const pid_t pid = ::fork();
   REQUIRE(pid >= 0);
   if (pid == 0) {
@@ -50,7 +50,7 @@ pid_t startRunLocal(const fs::path& plan, const fs::path& log, int jobs) {
     const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     ::dup2(fd, STDOUT_FILENO);
     ::dup2(fd, STDERR_FILENO);
-    ::execl(cli.c_str(), cli.c_str(), "cluster", "run-local", dir.c_str(), "-j", j.c_str(), nullptr);
+    ::execl(cli.c_str(), cli.c_str(), "cluster", "run-local", dir.c_str(), "--threads", j.c_str(), nullptr);
     ::_exit(127);
   }
   ::setpgid(pid, pid);
@@ -113,7 +113,7 @@ int waitExit(pid_t pid) {
 }
 
 std::string planWith(const std::string& plan, const std::string& extra = "") {
-  return "cluster plan --out " + plan + " --experiment sweep --datasets A B --grids grids/small.json:2" + extra;
+  return "cluster plan --out " + plan + " --experiment sweep --dataset A B --grid grids/small.json:2" + extra;
 }
 
 }  // namespace
@@ -145,7 +145,7 @@ TEST_CASE("cluster plan --experiment sweep takes user data-set folders without -
     CHECK((t.argv.at(3) == fs::absolute(dir / "A").string() || t.argv.at(3) == fs::absolute(dir / "B").string()));
     CHECK(t.argv.at(5) == (dir / "grids" / "small.json").string());  // resolved at plan time
   }
-  r = test::runIn(dir, "cluster run-local p -j 2");
+  r = test::runIn(dir, "cluster run-local p --threads 2");
   INFO(r.output);
   CHECK(r.exit_code == 0);
   r = test::runIn(dir, "cluster status p");
@@ -176,7 +176,7 @@ TEST_CASE("status sees run-local's running shards, a second run-local is refused
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.output, Contains("stage sweep: 4 tasks: 0 done, 2 running,"));
   CHECK_THAT(r.output, Contains("run-local pid "));
-  r = test::runIn(dir, "cluster run-local p -j 2");
+  r = test::runIn(dir, "cluster run-local p --threads 2");
   INFO(r.output);
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.output, Contains("another `cluster run-local` (pid " + std::to_string(first) + ")"));
@@ -278,11 +278,11 @@ TEST_CASE("a grid named ../../../victim or a plan output outside the plan folder
   for (const std::string name : {"../../../victim", "a/b", ".hidden", "..", "tab\\there"}) {
     INFO("grid name " << name);
     writeGridNamed(dir / "grids" / "evil.json", name);
-    auto r = test::runIn(dir, "cluster plan --out p --experiment sweep --datasets A --grids "
-                              "grids/small.json:1,grids/evil.json:1");
+    auto r = test::runIn(dir, "cluster plan --out p --experiment sweep --dataset A --grid "
+                              "grids/small.json:1 --grid grids/evil.json:1");
     INFO(r.output);
     // Twice: the second run finds merged/A made by the first, through which ../../../victim.json resolves.
-    for (int run = 0; run < 2 && r.exit_code == 0; ++run) (void)test::runIn(dir, "cluster run-local p -j 2");
+    for (int run = 0; run < 2 && r.exit_code == 0; ++run) (void)test::runIn(dir, "cluster run-local p --threads 2");
     CHECK(r.exit_code == 2);
     CHECK_THAT(r.output, Contains("evil.json: name: must be a single path component"));
     CHECK_FALSE(fs::exists(dir / "p" / "plan.json"));
@@ -290,7 +290,7 @@ TEST_CASE("a grid named ../../../victim or a plan output outside the plan folder
     fs::remove_all(dir / "p");
   }
   // A plan made well, then edited by hand so that the merge writes ../victim.json: refused, nothing run.
-  auto r = test::runIn(dir, "cluster plan --out p --experiment sweep --datasets A --grids grids/small.json:1");
+  auto r = test::runIn(dir, "cluster plan --out p --experiment sweep --dataset A --grid grids/small.json:1");
   REQUIRE(r.exit_code == 0);
   std::string plan = test::bytesOf(dir / "p" / "plan.json");
   const std::string merged = "\"merged/A/small-octomap.json\"";
@@ -298,7 +298,7 @@ TEST_CASE("a grid named ../../../victim or a plan output outside the plan folder
   for (auto at = plan.find(merged); at != std::string::npos; at = plan.find(merged))  // argv, output, inputs
     plan.replace(at, merged.size(), "\"merged/../../victim.json\"");
   std::ofstream(dir / "p" / "plan.json", std::ios::trunc) << plan;
-  r = test::runIn(dir, "cluster run-local p -j 2");
+  r = test::runIn(dir, "cluster run-local p --threads 2");
   INFO(r.output);
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.output, Contains("plan.json: stages[merge].tasks[].output: must be a relative path inside the plan"));
@@ -313,7 +313,7 @@ TEST_CASE("cluster plan --force replaces only occsweep's own plan, a user's plan
   const fs::path dir = test::scratch("robust-cluster-force");
   makeScene(dir / "A", 1);
   writeSmallGrid(dir / "grids" / "small.json");
-  const std::string plan = "cluster plan --out p --experiment sweep --datasets A --grids grids/small.json:";
+  const std::string plan = "cluster plan --out p --experiment sweep --dataset A --grid grids/small.json:";
   fs::create_directories(dir / "p");
   const std::string mine = "{\"my\": \"own plan, not occsweep's\"}\n";
   std::ofstream(dir / "p" / "plan.json") << mine;
@@ -348,7 +348,7 @@ TEST_CASE("cluster plan never replaces a Slurm script it did not write: a user's
   const fs::path dir = test::scratch("robust-cluster-scripts");
   makeScene(dir / "A", 1);
   writeSmallGrid(dir / "grids" / "small.json");
-  const std::string plan = "cluster plan --experiment sweep --datasets A --grids grids/small.json:";
+  const std::string plan = "cluster plan --experiment sweep --dataset A --grid grids/small.json:";
   REQUIRE(test::runIn(dir, plan + "2 --out probe").exit_code == 0);
   const std::string stage = readPlan(dir / "probe").stages.at(0).name;
   const std::string script = "slurm/" + stage + ".sbatch";
@@ -403,7 +403,7 @@ TEST_CASE("cluster plan --force refuses to replace a plan whose outputs the new 
   const fs::path dir = test::scratch("robust-cluster-stale");
   makeScene(dir / "A", 1);
   writeSmallGrid(dir / "grids" / "small.json");
-  const std::string plan = "cluster plan --out p --experiment sweep --datasets A --grids grids/small.json:1";
+  const std::string plan = "cluster plan --out p --experiment sweep --dataset A --grid grids/small.json:1";
   REQUIRE(test::runIn(dir, plan).exit_code == 0);
   const auto ran = test::runIn(dir, "cluster run-local p");
   INFO(ran.output);
@@ -426,7 +426,7 @@ TEST_CASE("cluster plan refuses an ungrouped grid past a JSON results file's com
     "p_t": {"step": 0.000016}}})";
   for (const char* shards : {"1", "4"}) {
     const auto r =
-        test::runIn(dir, std::string("cluster plan --out p --experiment sweep --datasets A --grids fine.json:") + shards);
+        test::runIn(dir, std::string("cluster plan --out p --experiment sweep --dataset A --grid fine.json:") + shards);
     INFO(r.output);
     CHECK(r.exit_code == 2);
     CHECK_THAT(r.output,

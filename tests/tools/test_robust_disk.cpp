@@ -70,7 +70,7 @@ TEST_CASE("every command writing to a full disk says no space left, names the fi
       {"dataset generate --name parking-plain-I --scale ci --out disk/gen", "disk/gen", true, true},
       {"reproduce --scale ci --no-figures --out disk/repro", "disk/repro", true, true},
       {"cluster select ds/ranking.json --out disk/sel", "disk/sel", false},
-      {"cluster plan --out disk/plan --experiment sweep --datasets scene --sets . --grids tiny.json:1", "disk/plan",
+      {"cluster plan --out disk/plan --experiment sweep --dataset scene --sets . --grid tiny.json:1", "disk/plan",
        false},
   };
   // Full, then one page free: the write fails at its first byte, or in the middle of the output.

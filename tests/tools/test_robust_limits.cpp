@@ -481,7 +481,7 @@ TEST_CASE("worker threads are bounded on every command that takes them: a refusa
         {"sweep" + data + " --grid " + grid + " --threads " + t + " --out " + (dir / "r.json").string(), "r.json"},
         {"reproduce --scale ci --no-figures --threads " + t + " --out " + (dir / "repro").string(), "repro"},
         {"dataset generate --name building-plain-I --threads " + t + " --out " + (dir / "gen").string(), "gen"},
-        {"cluster plan --experiment sweep --datasets " + scene().string() + " --grids " + grid + " --threads " + t +
+        {"cluster plan --experiment sweep --dataset " + scene().string() + " --grid " + grid + " --threads " + t +
              " --out " + (dir / "plan").string(), "plan"},
     };
     for (const auto& c : cases) {
@@ -490,9 +490,9 @@ TEST_CASE("worker threads are bounded on every command that takes them: a refusa
       checkRefused(r, {"--threads must be an integer from 0 to 1024, got " + t});
       CHECK_FALSE(fs::exists(dir / c.output));
     }
-    INFO("run-local --jobs " << t);
-    checkRefused(runOccsweep("cluster run-local " + (dir / "no-plan").string() + " --jobs " + t),
-                 {"--jobs must be an integer from 1 to 1024, got " + t});
+    INFO("run-local --threads " << t);
+    checkRefused(runOccsweep("cluster run-local " + (dir / "no-plan").string() + " --threads " + t),
+                 {"--threads must be an integer from 1 to 1024, got " + t});
   }
   CHECK(leftovers(dir).empty());
   // The bound itself runs, in bounded memory, and gives the map one thread gives (docs/robustness.md).
@@ -518,7 +518,7 @@ TEST_CASE("cluster plan --pcs-count past its limit is refused by the flag, in bo
   checkRefused(one, {"--pcs-count 100000 in --blocks 1", "131071 bytes", "raise --blocks"});
   CHECK_FALSE(fs::exists(dir / "p"));
   // At the limit, in enough blocks, the plan is written (each generation task gets its block's ids).
-  const Run at = runOccsweep("cluster plan --out " + (dir / "p").string() + " --datasets one --pcs-count 100000 "
+  const Run at = runOccsweep("cluster plan --out " + (dir / "p").string() + " --name one --pcs-count 100000 "
                              "--blocks 16 --sets pcs-0000 --group-set pcs-0000", 1024);
   INFO(at.output);
   CHECK(at.exit_code == 0);

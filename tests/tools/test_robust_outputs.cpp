@@ -293,7 +293,7 @@ TEST_CASE("reproduce --out refuses a folder holding a user's file before any wor
   }
   userFolder(dir / "w");
   const auto before = snapshot(dir);
-  const CommandResult r = runIn(dir, "reproduce --scale ci --no-figures --quiet --datasets parking-plain-I --out w");
+  const CommandResult r = runIn(dir, "reproduce --scale ci --no-figures --quiet --name parking-plain-I --out w");
   INFO(r.output);
   CHECK(r.exit_code == 2);
   CHECK(mentions(r, "w: exists and is not occsweep's reproduction folder"));
@@ -323,7 +323,7 @@ TEST_CASE("reproduce --out refuses a folder whose report, step file or figure is
     writeBytes(dir / "w" / name, bytes);
     const auto before = snapshot(dir);
     const CommandResult r =
-        runIn(dir, "reproduce --scale ci --no-figures --quiet --steps real-stereo --datasets parking-plain-I --out w");
+        runIn(dir, "reproduce --scale ci --no-figures --quiet --steps real-stereo --name parking-plain-I --out w");
     INFO(r.output);
     CHECK(r.exit_code == 2);
     CHECK(mentions(r, "w: exists and is not occsweep's reproduction folder (" + name + " is not one of its files"));

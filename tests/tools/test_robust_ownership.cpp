@@ -69,15 +69,15 @@ std::vector<Writer> writers(const fs::path& in) {
       {"compare " + s + "oct.json " + s + "knn.json --csv OUT", "c.csv", {"c.csv"}},
       {"compare " + s + "oct.json " + s + "knn.json --markdown OUT", "c.md", {"c.md"}},
       {"compare " + s + "oct.json " + s + "knn.json --latex OUT", "c.tex", {"c.tex"}},
-      {"results export " + s + "oct.json --csv OUT", "e.csv", {"e.csv"}},
-      {"results export " + s + "oct.json --store OUT", "e.db", {"e.db"}},
+      {"results export " + s + "oct.json --out OUT", "e.csv", {"e.csv"}},
+      {"results export " + s + "oct.json --out OUT", "e.db", {"e.db"}},
       {"plot improvement " + s + "oct.json " + s + "knn.json --python " + kPython + " --out OUT", "f.png", {"f.png"}},
       {"sweep --dataset " + s + "scene --grid " + s + "tiny.json --quiet --out OUT", "r.db", {"r.db"}},
       {"import truth " + s + "truth.json --dataset " + s + "scene --out OUT", "w", {"w"}},
-      {"results export " + s + "oct.json --json OUT", "e.json", {"e.json"}},
+      {"results export " + s + "oct.json --out OUT", "e.json", {"e.json"}},
       {"plot improvement " + s + "oct.json " + s + "knn.json --python " + kPython + " --out f.png --json OUT",
        "d.json", {"d.json", "f.png"}},
-      {"cluster plan --experiment sweep --datasets " + s + "scene --grids " + s + "tiny.json:1 --out OUT", "p", {"p"}},
+      {"cluster plan --experiment sweep --dataset " + s + "scene --grid " + s + "tiny.json:1 --out OUT", "p", {"p"}},
   };
 }
 

@@ -3,7 +3,7 @@
 # Each experiment is a line of tools/fidelity/experiments.txt: a name, the `dataset generate` options it changes,
 # and the question it answers. For each, at ci scale on all 20 data sets:
 #   occsweep dataset generate --all --scale ci --no-preview OPTIONS --out OUT/NAME/data
-#   occsweep reproduce --scale ci --data OUT/NAME/data --out OUT/NAME/repro --steps comparison --no-figures
+#   occsweep reproduce --scale ci --data-root OUT/NAME/data --out OUT/NAME/repro --steps comparison --no-figures
 # (the comparison step: octomap-opt and knn-opt on the 1st, median and last set of every data set, under full and
 # observable truth), then tools/fidelity/summarize.py writes OUT/summary.md (the tables of docs/fidelity.md),
 # OUT/summary.json and OUT/fidelity_*.png. A finished experiment is not redone (delete its folder to redo it).
@@ -35,7 +35,7 @@ while IFS=$'\t' read -r name options question; do
     # shellcheck disable=SC2086 # the options are words
     "$bin" dataset generate --all --scale ci --no-preview $options --out "$dir/data" 2>"$dir/generate.log"
   fi
-  "$bin" reproduce --scale ci --data "$dir/data" --out "$dir/repro" --steps comparison --no-figures --quiet
+  "$bin" reproduce --scale ci --data-root "$dir/data" --out "$dir/repro" --steps comparison --no-figures --quiet
   printf '%s\t%s\t%s\t%d\n' "$name" "$options" "$question" $((SECONDS - t0)) >"$dir/experiment.tsv"
   echo "experiments: $name done in $((SECONDS - t0)) s"
 done <"$here/experiments.txt"

@@ -60,14 +60,16 @@ struct PlanOptions {
   std::string dir, kind = "exists";
   std::vector<std::string> grids, sweep_args;
   bool force = false;
-  CLI::Option *datasets = nullptr, *blocks = nullptr, *unranked = nullptr, *sets = nullptr, *group_set = nullptr;
+  std::vector<std::string> dataset_dirs, dataset_names;
+  CLI::Option *blocks = nullptr, *unranked = nullptr, *sets = nullptr, *group_set = nullptr;
 };
 
 /// The generation and selection options of `cluster plan`.
 void addPlanDataOptions(CLI::App& plan, PlanOptions& o) {
   PlanConfig& c = o.config;
-  o.datasets = plan.add_option("--datasets", c.datasets, "reproduce: data-set names (default the paper's 20); sweep: "
-                                                         "data-set folders")->delimiter(',');
+  plan.add_option("--dataset", o.dataset_dirs, "--experiment sweep: a data-set folder to sweep (repeatable)");
+  plan.add_option("--name", o.dataset_names, "--experiment reproduce: a paper data set to generate and sweep "
+                                             "(repeatable; default the paper's 20)");
   plan.add_option("--generate", c.generate, "Generation command, occsweep arguments; {dataset} {index} {seed} {block} {blocks} {out} {scale}")
       ->capture_default_str();
   plan.add_option("--generate-out", c.generate_out, "What one generation task writes, relative to the plan folder")->capture_default_str();
@@ -90,9 +92,10 @@ void addPlanDataOptions(CLI::App& plan, PlanOptions& o) {
 /// The sweep and sbatch options of `cluster plan`.
 void addPlanRunOptions(CLI::App& plan, PlanOptions& o) {
   PlanConfig& c = o.config;
-  plan.add_option("--grids", o.grids, "NAME[:SHARDS[:grouped]], grouped: data set i sweeps Eq. 16 group i of the data sets "
-                                      "(default octomap-opt:1,knn-opt:4, and reduction:4:grouped for reproduce)")->delimiter(',');
-  plan.add_option("--group-seed", c.group_seed, "Eq. 16 permutation seed of grouped grids")->capture_default_str();
+  plan.add_option("--grid", o.grids, "NAME[:SHARDS[:grouped]] (repeatable), grouped: data set i sweeps Eq. 16 group i of "
+                                     "the data sets (default octomap-opt:1, knn-opt:4, and reduction:4:grouped for "
+                                     "reproduce)");
+  plan.add_option("--seed", c.group_seed, "Eq. 16 permutation seed of grouped grids")->capture_default_str();
   plan.add_option("--threads", c.sweep_threads, "--threads of each sweep (0: --cpus-per-task)")->capture_default_str()
       ->check(threadCount());
   plan.add_option("--sweep-args", o.sweep_args, "More `occsweep sweep` settings for every sweep, e.g. --s-c,4")->delimiter(',');
@@ -105,6 +108,19 @@ void addPlanRunOptions(CLI::App& plan, PlanOptions& o) {
   plan.add_option("--sbatch", c.slurm.extra, "More #SBATCH options, verbatim (repeatable), e.g. --qos=long");
 }
 
+/// --dataset names folders (sweep), --name the paper's data sets (reproduce): the other one is refused.
+std::vector<std::string> plannedDatasets(const PlanOptions& o) {
+  const bool sweep = o.config.experiment == "sweep";
+  if (sweep && !o.dataset_names.empty())
+    throw CLI::ValidationError("--name", "names a paper data set to generate, which --experiment sweep does not: give "
+                                         "the data-set folders with --dataset");
+  if (!sweep && !o.dataset_dirs.empty())
+    throw CLI::ValidationError("--dataset", "names a data-set folder to sweep, which --experiment reproduce does not "
+                                            "(it generates its data): give paper data sets with --name, or use "
+                                            "--experiment sweep");
+  return sweep ? o.dataset_dirs : o.dataset_names;
+}
+
 int runPlan(const PlanOptions& o) {
   PlanConfig c = o.config;
   c.ranked = o.unranked->count() == 0;
@@ -112,7 +128,8 @@ int runPlan(const PlanOptions& o) {
     c.grids.clear();
     for (const auto& text : o.grids) c.grids.push_back(parsePlanGrid(text));
   }
-  applyPlanDefaults(c, {o.datasets->count() > 0, !o.grids.empty(), o.sets->count() > 0, o.group_set->count() > 0,
+  c.datasets = plannedDatasets(o);
+  applyPlanDefaults(c, {!c.datasets.empty(), !o.grids.empty(), o.sets->count() > 0, o.group_set->count() > 0,
                         o.blocks->count() > 0});
   const std::filesystem::path binary = c.occsweep.empty() ? runningBinary() : std::filesystem::path(c.occsweep);
   c.occsweep = std::filesystem::absolute(binary).string();
@@ -201,12 +218,13 @@ Subcommand addStatus(CLI::App& app) {
 
 Subcommand addRunLocal(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
-  auto jobs = std::make_shared<int>(1);
+  auto threads = std::make_shared<int>(1);
   CLI::App* local = app.add_subcommand("run-local", "Run the plan's unfinished shards on this machine");
   local->add_option("dir", *dir, "Plan folder")->required();
-  local->add_option("-j,--jobs", *jobs, "Tasks at a time")->capture_default_str()->check(threadCount(1));
-  return {local, [dir, jobs] {
-            const std::size_t failed = runLocal(readPlan(*dir), *dir, *jobs);
+  local->add_option("--threads", *threads, "Tasks run at a time (each sweep task uses the plan's --threads)")
+      ->capture_default_str()->check(threadCount(1));
+  return {local, [dir, threads] {
+            const std::size_t failed = runLocal(readPlan(*dir), *dir, *threads);
             if (failed) std::cerr << failed << " tasks failed: fix them and run again (done tasks are kept)\n";
             return failed ? 1 : 0;
           }};

@@ -105,7 +105,7 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
   gen->add_option("--sgbm", o->sgbm, "One custom point cloud set: blockSize=5,uniquenessRatio=10,speckleWindowSize=100,"
                                      "speckleRange=2,disp12MaxDiff=1 (omitted keys keep these values)");
   gen->add_option("--pcs", o->pcs, "Point cloud parameter ids, comma-separated (default: the scale's even subset)");
-  gen->add_option("--grid", o->grid, "Point cloud parameter grid, name or file")->capture_default_str();
+  gen->add_option("--pcs-grid", o->grid, "Point cloud parameter grid, name or file")->capture_default_str();
   gen->add_option("--seed", o->seed, "Seed of sensor noise and pose drift")->capture_default_str();
   gen->add_option("--pose-drift", o->drift_m, "SLAM-like drift: position random walk, metres per keyframe (sigma)")
       ->capture_default_str()->check(numberAtLeast(0));
@@ -114,6 +114,7 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
   addRealismOptions(*gen, *o);
   gen->add_flag("--no-preview", o->no_preview, "Do not write OUT/NAME/preview/*.png");
   gen->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(threadCount());
+  gen->add_flag("--quiet", o->quiet, "No progress on stderr");
   const auto middlebury = addDatasetMiddlebury(app);  // `dataset middlebury`: cmd_dataset_middlebury.cpp
   return [o, gen, middlebury]() -> int {
     if (middlebury.first->parsed()) return middlebury.second();

@@ -125,12 +125,14 @@ std::pair<CLI::App*, std::function<int()>> addDatasetMiddlebury(CLI::App& datase
   mb->add_flag("--no-voxel-filter", o->no_voxel_filter, "Write the raw reprojected points, one per valid disparity "
                "(truth stays at --leaf), as dataset generate's flag")->excludes(filter);
   mb->add_option("--focal", o->focal, "Focal length, pixels (full size)")->capture_default_str()->check(numberAbove(0));
-  mb->add_option("--baseline", o->baseline, "Baseline, metres")->capture_default_str()->check(numberAbove(0));
+  mb->add_option("--stereo-baseline", o->baseline, "Distance between the two cameras' centres, metres")->capture_default_str()->check(numberAbove(0));
   mb->add_option("--doffs", o->doffs, "Disparity offset, pixels (the set's dmin.txt)")->capture_default_str()->check(numberAtLeast(0));
-  mb->add_option("--grid", o->grid, "Point cloud parameter grid (its ci subset is used)")->capture_default_str();
-  return {mb, [o]() -> int {
+  mb->add_option("--pcs-grid", o->grid, "Point cloud parameter grid (its ci subset is used)")->capture_default_str();
+  auto quiet = std::make_shared<bool>(false);
+  mb->add_flag("--quiet", *quiet, "No progress");
+  return {mb, [o, quiet]() -> int {
 #ifdef OCCSWEEP_HAVE_STEREO
-            (void)writeMiddleburySets(*o, false);
+            (void)writeMiddleburySets(*o, *quiet);
             return 0;
 #else
             std::cerr << "occsweep dataset middlebury: this build has no stereo tools (configure with "

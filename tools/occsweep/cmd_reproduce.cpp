@@ -94,8 +94,9 @@ const RegisterCommand kReproduce{"reproduce",
   app.add_option("--scale", o->scale, "ci (under 10 min on 2 cores), small, paper: data scale and reductions")
       ->check(CLI::IsMember({"ci", "small", "paper"}))->capture_default_str();
   app.add_option("--out", o->out, "Output folder: *.json, report.md, fig*.png, maps/, sweeps/, data/")->required();
-  app.add_option("--data", o->data, "Generated data sets to use (default OUT/data; missing ones are generated)");
-  app.add_option("--datasets", o->datasets, "Only these data sets (default: the paper's 20)")->delimiter(',');
+  app.add_option("--data-root", o->data, "Folder of generated data sets to use, one folder per name (default "
+                                       "OUT/data; missing ones are generated)");
+  app.add_option("--name", o->datasets, "Only this paper data set (repeatable; default: the paper's 20)");
   app.add_flag("--realistic", o->realistic, "Data with the realism options the experiments of docs/fidelity.md point "
                "to (dataset generate --realistic); report.md says which data was used");
   app.add_option("--steps", o->steps, "Only these steps: fits, nca, comparison, curves (needs comparison), runtime, "
@@ -127,7 +128,7 @@ const RegisterCommand kReproduce{"reproduce",
     const auto known = paperDatasetNames();
     for (const auto& d : c.datasets)
       if (std::find(known.begin(), known.end(), d) == known.end())
-        throw std::invalid_argument("--datasets: '" + d + "' is not one of the paper's 20 (docs/datasets.md)");
+        throw std::invalid_argument("--name: '" + d + "' is not one of the paper's 20 (docs/datasets.md)");
     if (!o->no_figures) c.draw_figures = figureDrawer(o->python);  // before hours of work: fail now if it cannot
     const double seconds = runReproduction(c);
     std::printf("reproduce --scale %s: %.1f s; report %s/report.md\n", c.scale.c_str(), seconds, c.out.string().c_str());

@@ -1,5 +1,6 @@
 // occsweep results check FILE: exit 0 only for a complete, consistent results file.
-// occsweep results export FILE --csv|--json|--store OUT: a results file or store converted, map by map.
+// occsweep results export FILE --out OUT: a results file or store converted, map by map, into the format OUT's name
+// asks for (.csv, .db/.sqlite, else JSON).
 // occsweep results diff GOLDEN NEW: exit 0 only when NEW has GOLDEN's numbers (docs/results-format.md, "Regression
 // checks against a golden file").
 #include <cstdio>
@@ -53,7 +54,7 @@ int runDiff(const std::string& golden_file, const std::string& new_file, double 
 }
 
 struct ExportTarget {
-  std::string csv, json, store;
+  std::string out;
   bool force = false;
 };
 
@@ -66,25 +67,25 @@ ReplaceableOutput csvExport() {
           }};
 }
 
+bool isCsvPath(const std::filesystem::path& p) { return p.extension() == ".csv"; }
+
+// The format follows --out's name, as for `sweep --out` (docs/results-format.md, "Export").
 int runExport(const std::string& source, const ExportTarget& to) {
-  if (to.csv.empty() && to.json.empty() && to.store.empty())
-    throw std::invalid_argument("results export: give one of --csv, --json or --store");
-  if (!to.store.empty()) {
-    if (!isStorePath(to.store)) throw std::invalid_argument("--store " + to.store + ": a results store's name ends in .db or .sqlite");
-    checkOutputTarget(to.store, to.force, resultsOutput());
+  if (isStorePath(to.out)) {
+    checkOutputTarget(to.out, to.force, resultsOutput());
     (void)checkResultsFile(source, "");  // what `results check` refuses is never exported
-    writeResultsStore(readResults(source), to.store);
-    std::cout << "wrote " << to.store << '\n';
+    writeResultsStore(readResults(source), to.out);
+    std::cout << "wrote " << to.out << '\n';
     return 0;
   }
-  const std::string& target = to.csv.empty() ? to.json : to.csv;
-  checkOutputTarget(target, to.force, to.csv.empty() ? resultsOutput() : csvExport());
+  const bool csv = isCsvPath(to.out);
+  checkOutputTarget(to.out, to.force, csv ? csvExport() : resultsOutput());
   (void)checkResultsFile(source, "");  // what `results check` refuses fails before anything is written
-  OutputFile out(target);
-  if (to.csv.empty()) exportJson(source, out.stream());
-  else exportCsv(source, out.stream());
+  OutputFile out(to.out);
+  if (csv) exportCsv(source, out.stream());
+  else exportJson(source, out.stream());
   out.commit();
-  std::cout << "wrote " << target << '\n';
+  std::cout << "wrote " << to.out << '\n';
   return 0;
 }
 
@@ -109,16 +110,13 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   diff->add_flag("--auc-only", *auc_only, "Compare the AUCs alone, not the confusion counts (a missing combination "
                                           "still differs)");
   CLI::App* export_ = app.add_subcommand("export", "Convert a results file or store, map by map (docs/results-format.md, "
-                                                  "\"Export\"): --csv one row per combination, --json the JSON "
-                                                  "results file, --store a results store");
+                                                  "\"Export\"), into the format --out's name asks for: NAME.csv one "
+                                                  "row per combination, NAME.db or NAME.sqlite a results store, "
+                                                  "anything else the JSON results file");
   auto source = std::make_shared<std::string>();
   auto to = std::make_shared<ExportTarget>();
   export_->add_option("file", *source, "Results file or store")->required();
-  CLI::Option* csv = export_->add_option("--csv", to->csv, "Write CSV here");
-  CLI::Option* json = export_->add_option("--json", to->json, "Write JSON here");
-  CLI::Option* store = export_->add_option("--store", to->store, "Write a results store here (.db or .sqlite)");
-  csv->excludes(json)->excludes(store);
-  json->excludes(store);
+  export_->add_option("--out", to->out, "The converted file: .csv, .db/.sqlite or JSON, by its name")->required();
   export_->add_flag("--force", to->force, "Replace occsweep's own output of the same kind at the target");
   app.require_subcommand(1);
   return [=] {

@@ -51,7 +51,7 @@ CLI::Validator integerAtLeast(T lo) {
 /// 550 MB before any work; 2^30 crashed the thread pool).
 inline constexpr int kMaxThreads = 1024;
 
-/// --threads (0: all cores) and --jobs (at least 1): a whole number from `lo` to kMaxThreads.
+/// --threads (0: all cores) and run-local's --threads (at least 1): a whole number from `lo` to kMaxThreads.
 inline CLI::Validator threadCount(int lo = 0) { return integerIn<int>(lo, kMaxThreads); }
 
 /// A finite number in [lo, hi] (closed), or above lo (open) when `lo_open`; hi may be infinity.

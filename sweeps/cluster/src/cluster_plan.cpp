@@ -87,8 +87,8 @@ std::string groupSet(const PlanConfig& c) { return c.group_set.empty() ? c.sets[
 void checkPlanConfig(const PlanConfig& c) {
   if (c.experiment != "reproduce" && c.experiment != "sweep")
     throw std::invalid_argument("--experiment '" + c.experiment + "': expected reproduce or sweep");
-  if (c.datasets.empty()) throw std::invalid_argument("no data sets: give --datasets");
-  if (c.grids.empty()) throw std::invalid_argument("no grids: give --grids");
+  if (c.datasets.empty()) throw std::invalid_argument("no data sets: give --dataset (--experiment sweep) or --name");
+  if (c.grids.empty()) throw std::invalid_argument("no grids: give --grid");
   if (c.blocks == 0) throw std::invalid_argument("--blocks must be at least 1");
   if (c.pcs_count > kMaxPcsCount)
     throw std::invalid_argument("--pcs-count " + std::to_string(c.pcs_count) + " is more than the limit of " +

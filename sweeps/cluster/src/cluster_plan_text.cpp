@@ -9,7 +9,7 @@ namespace occsweep {
 PlanGrid parsePlanGrid(const std::string& text) {
   PlanGrid g;
   const auto bad = [&](const std::string& why) {
-    return std::invalid_argument("--grids '" + text + "': " + why + " (expected NAME[:SHARDS[:grouped]])");
+    return std::invalid_argument("--grid '" + text + "': " + why + " (expected NAME[:SHARDS[:grouped]])");
   };
   std::vector<std::string> parts;
   // A grid may be a path: split from the right, at most two fields.
