@@ -33,9 +33,10 @@ void writeError(const char* what, const char* detail) {
     struct sigaction current {};
     if (::sigaction(sig, nullptr, &current) == 0 && current.sa_handler != SIG_IGN) ::signal(sig, SIG_DFL);
   }
+  ::signal(SIGPIPE, SIG_DFL);  // occsweep ignores it for itself (main.cpp); a child gets the usual behaviour
   ::sigprocmask(SIG_SETMASK, &previous_mask, nullptr);
   if (*log) {
-    const int out = ::open(log, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    const int out = ::open(log, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | O_NOFOLLOW, 0644);
     const int in = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
     if (out < 0 || in < 0 || ::dup2(out, STDOUT_FILENO) < 0 || ::dup2(out, STDERR_FILENO) < 0 ||
         ::dup2(in, STDIN_FILENO) < 0)

@@ -169,10 +169,12 @@ std::map<fs::path, TargetState>& checkedTargets() {
   return *targets;
 }
 
+// A target no checkOutputTarget accepted is replaced by nothing: whatever stands there at the commit (a user's file
+// written while occsweep ran, or before it) stays, and the commit fails naming it (docs/robustness.md, "Ownership").
 TargetState checkedState(const fs::path& target) {
   std::lock_guard lock(registryMutex());
   const auto it = checkedTargets().find(targetKey(target));
-  return it != checkedTargets().end() ? it->second : stateOf(target);
+  return it != checkedTargets().end() ? it->second : TargetState{};
 }
 
 [[noreturn]] void appeared(const fs::path& target, const char* what) {
@@ -338,11 +340,23 @@ void requireCompanionName(const fs::path& target, const std::string& suffix) {
                     std::to_string(kFileNameMax - suffix.size()) + " bytes");
 }
 
+namespace {
+// One name in one existing folder, by the folder's identity (device and inode): two spellings of a folder that no
+// path comparison sees as one (a bind mount) still name one file.
+bool sameNameInSameFolder(const OutputReadings& a, const OutputReadings& b) {
+  if (a.resolved.filename() != b.resolved.filename()) return false;
+  struct stat fa {}, fb {};
+  if (::stat(a.resolved.parent_path().c_str(), &fa) != 0 || ::stat(b.resolved.parent_path().c_str(), &fb) != 0)
+    return false;
+  return fa.st_dev == fb.st_dev && fa.st_ino == fb.st_ino;
+}
+}  // namespace
+
 bool outputsCollide(const fs::path& a, const fs::path& b) {
   const OutputReadings ra = outputReadings(a), rb = outputReadings(b);
   for (const auto& [x, y] : {std::pair{ra.lexical, rb.lexical}, {ra.resolved, rb.resolved}})
     if (within(x, y) || within(y, x)) return true;
-  return false;
+  return sameNameInSameFolder(ra, rb);
 }
 
 void requireSeparateOutputs(const std::vector<std::pair<std::string, fs::path>>& outputs) {

@@ -330,6 +330,11 @@ std::vector<Damaged> editedStores(const fs::path& base, const fs::path& dir, std
       {"seconds-nan", "UPDATE meta SET value = 'nan' WHERE key = 'seconds'"},
       {"resolution-negative", "UPDATE meta SET value = json_set(value, '$.map.resolution', -0.1) WHERE key = 'header'"},
       {"map-seconds-negative", "UPDATE maps SET seconds = -1 WHERE map_index = 2"},
+      // Old code: SQLite read text as 0 (or its numeric prefix) and every reader went on.
+      {"map-seconds-text", "UPDATE maps SET seconds = 'abc' WHERE map_index = 2"},
+      {"auc-text-prefix", "UPDATE maps SET auc_observed = '0.5abc' WHERE map_index = 2"},
+      {"seconds-hex", "UPDATE meta SET value = '0x10' WHERE key = 'seconds'"},
+      {"seconds-prefix", "UPDATE meta SET value = '1.5abc' WHERE key = 'seconds'"},
       {"incomplete", "UPDATE meta SET value = '0' WHERE key = 'complete'"},
       {"parameter-edited", "UPDATE maps SET p_m = p_m + 0.01 WHERE map_index = 1"},
       {"auc-points", "UPDATE maps SET auc_points = auc_points + 1 WHERE map_index = 2"},

@@ -40,6 +40,7 @@ std::string paramsMethod(const PlotOptions& o, const std::vector<ComparisonRow>&
 }
 
 int runPlot(const std::string& kind, const PlotOptions& o) {
+  requireSeparateOutputs({{"--out", o.out}, {"--json", o.json}});
   checkOutputTarget(o.out, o.force, figureOutput());
   if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("plot data", "occsweep-plot"));
   const std::string python = findPython(o.python, "plot");  // before any work: fail now if it cannot draw

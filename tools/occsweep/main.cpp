@@ -1,4 +1,6 @@
 // occsweep: OctoMap against the k-NN inverse sensor model, voxel for voxel, over parameter grids.
+#include <csignal>
+
 #include <algorithm>
 #include <iostream>
 #include <map>
@@ -14,6 +16,9 @@
 int main(int argc, char** argv) {
   using namespace occsweep::cli;
   occsweep::removeTemporariesOnInterrupt();  // before any thread: SIGINT/SIGTERM remove unfinished outputs
+  // A reader that goes away (`occsweep grid list | head -1`) fails a write with EPIPE instead of killing occsweep
+  // mid-work by SIGPIPE: a sweep finishes and commits its results, nothing partial is left (docs/robustness.md).
+  ::signal(SIGPIPE, SIG_IGN);
   occsweep::addGridFolder(installedDataFolder() / "grids");  // after $OCCSWEEP_GRIDS (docs/install.md)
   CLI::App app{"occsweep " + std::string(occsweep::kVersion) +
                ": occupancy mapping with OctoMap and the k-NN inverse sensor model (Miao et al., Sensors 2022)"};

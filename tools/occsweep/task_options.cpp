@@ -38,8 +38,14 @@ std::vector<SweepConfig> sweepConfigsOf(const SweepOptions& o) {
     throw std::invalid_argument("--out: give one per --grid, in the same order (" + std::to_string(o.grids.size()) +
                                 " --grid, " + std::to_string(o.outs.size()) + " --out)");
   std::vector<std::pair<std::string, std::filesystem::path>> outputs;
-  for (std::size_t i = 0; i < o.outs.size(); ++i) outputs.push_back({"--out " + std::to_string(i + 1), o.outs[i]});
-  requireSeparateOutputs(outputs);  // two grids into one file would lose the first's results
+  // Each output with the partial file it is written through (docs/results-format.md): two grids into one file
+  // would lose the first's results, and one grid's output at another's partial name would be taken for it.
+  for (std::size_t i = 0; i < o.outs.size(); ++i) {
+    const std::string flag = "--out " + std::to_string(i + 1);
+    outputs.push_back({flag, o.outs[i]});
+    outputs.push_back({flag + "'s partial file", partialOutputPath(o.outs[i])});
+  }
+  requireSeparateOutputs(outputs);
   std::vector<SweepConfig> out;
   for (std::size_t i = 0; i < o.grids.size(); ++i) {
     SweepOptions one = o;

@@ -79,7 +79,11 @@ class TaskStopper {
 class PlanLock {
  public:
   explicit PlanLock(const fs::path& dir) : file_(dir / "run-local.lock") {
-    fd_ = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    // O_NOFOLLOW: a symbolic link at the lock's name is the user's, never written through (docs/robustness.md,
+    // "Ownership").
+    fd_ = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd_ < 0 && errno == ELOOP)
+      throw std::runtime_error(file_.string() + ": is a symbolic link: occsweep never writes through one; remove it");
     if (fd_ < 0) throw std::runtime_error(file_.string() + ": cannot open: " + std::strerror(errno));
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       std::string holder;

@@ -1,5 +1,6 @@
 // Building a cluster plan: which shards an experiment needs, their commands, inputs and outputs.
 #include <algorithm>
+#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -104,10 +105,19 @@ void checkPlanConfig(const PlanConfig& c) {
 }
 
 /// The sets of `c.sets` in data set i's folder `dir`; their sweeps wait for `deps`.
+/// Two sets whose names make one key (`x/y` and `x_y` both `x_y`) would share their outputs, and one of them would
+/// never be swept: refused, naming both.
 void addSweptSets(const PlanConfig& c, std::size_t i, const std::string& key, const std::string& dir,
                   const std::vector<std::string>& deps, std::vector<SweptSet>& swept) {
-  for (const auto& s : c.sets)
-    swept.push_back({joinPath(dir, s), key + (s == "." ? "" : "/" + fileKey(s)), s, i, deps});
+  std::map<std::string, std::string> set_of_key;
+  for (const auto& s : c.sets) {
+    const std::string set_key = key + (s == "." ? "" : "/" + fileKey(s));
+    if (const auto [it, fresh] = set_of_key.emplace(set_key, s); !fresh)
+      throw std::invalid_argument("--sets " + it->second + " and " + s + " would share the plan's outputs (both "
+                                  "named " + set_key + "): give each set once, under names that differ in more "
+                                  "than '/' and '_'");
+    swept.push_back({joinPath(dir, s), set_key, s, i, deps});
+  }
 }
 
 /// The select task of a ranked plan: the data set's blocks linked as pcs-NNNN and rank-N in one folder.

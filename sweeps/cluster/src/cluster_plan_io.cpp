@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/cluster_plan.hpp"
 #include "occsweep/sweeps/results.hpp"
 
@@ -220,6 +221,8 @@ std::optional<ClusterPlan> replacedPlan(const std::filesystem::path& dir, const 
     throw std::runtime_error(manifest.string() + ": a different plan is already there (--force replaces it, or "
                              "choose another --out)");
   refuseStaleOutputs(dir, old, plan);
+  // Proven occsweep's plan: its commit may replace it, and nothing that takes its place meanwhile (output_file.hpp).
+  checkOutputTarget(manifest, true, jsonOutput("cluster plan", kPlanFormat));
   return old;
 }
 
@@ -264,8 +267,39 @@ void refuseOtherScripts(const std::filesystem::path& dir, const ClusterPlan& pla
       throw std::runtime_error(script.string() + ": not the script occsweep wrote for the plan there (a file of "
                                "yours, or the plan's script edited by hand): never replaced, even with --force "
                                "(nothing changed); move it away, or choose another --out");
+    const std::string bytes = *own;
+    checkOutputTarget(script, true, {"Slurm script of the plan", [bytes](const fs::path& file) {
+                                       return readFileBytes(file) == bytes;
+                                     }});
   }
 }
+
+/// The files and folders one writePlan made, removed one by one on failure: a folder goes only when empty, so an
+/// entry someone else put there meanwhile stays, and so does every folder on its way (docs/robustness.md,
+/// "Ownership": a folder tree is never removed whole).
+class MadeEntries {
+ public:
+  /// create_directories, remembering each folder it creates.
+  void folders(const std::filesystem::path& dir) {
+    std::vector<std::filesystem::path> missing;
+    for (std::filesystem::path p = dir; !p.empty() && !std::filesystem::exists(std::filesystem::symlink_status(p));
+         p = p.parent_path()) {
+      missing.push_back(p);
+      if (p == p.parent_path()) break;
+    }
+    std::filesystem::create_directories(dir);
+    entries_.insert(entries_.end(), missing.rbegin(), missing.rend());
+  }
+  void file(const std::filesystem::path& f) { entries_.push_back(f); }
+  /// Newest first; fs::remove leaves a folder that is not empty.
+  void undo() {
+    std::error_code ec;
+    for (auto it = entries_.rbegin(); it != entries_.rend(); ++it) std::filesystem::remove(*it, ec);
+  }
+
+ private:
+  std::vector<std::filesystem::path> entries_;
+};
 
 }  // namespace
 
@@ -281,25 +315,25 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool f
   refuseLinks(dir);
   const std::optional<ClusterPlan> old = replacedPlan(dir, j, force);
   refuseOtherScripts(dir, plan, old);
-  const bool new_folder = !fs::exists(dir);
+  MadeEntries made;
   try {
-    fs::create_directories(dir / "slurm");
-    fs::create_directories(dir / "logs");
+    made.folders(dir / "slurm");
+    made.folders(dir / "logs");
     for (const auto& st : plan.stages) {
       const fs::path script = dir / "slurm" / (st.name + ".sbatch");
+      const bool existed = fs::exists(fs::symlink_status(script));
       writeFileAtomically(script, sbatchScript(plan, st));
+      if (!existed) made.file(script);
       fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
     }
     writeJsonAtomically(j, manifest);  // last: a plan folder with plan.json is complete
   } catch (const fs::filesystem_error& e) {  // the plan folder named, not the library's "filesystem error"
-    std::error_code ec;
-    if (new_folder) fs::remove_all(dir, ec);
+    made.undo();
     throw std::runtime_error(dir.string() + ": cannot create the plan folder: " + e.code().message() +
                              (e.code() == std::errc::not_a_directory ? " (a file is in the way; choose another --out)"
                                                                       : ""));
   } catch (...) {
-    std::error_code ec;
-    if (new_folder) fs::remove_all(dir, ec);  // a failed write (a full disk) leaves no half plan folder it made
+    made.undo();  // a failed write (a full disk) leaves none of the plan files and folders it made
     throw;
   }
 }

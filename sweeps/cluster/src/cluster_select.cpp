@@ -73,6 +73,10 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
         throw std::runtime_error("format: expected \"occsweep-pointcloud-ranking\"");
       for (const auto& s : j.at("sets")) {
         RankedSet r{s.at("folder").get<std::string>(), {}, s.at("id").get<std::uint64_t>(), NAN, NAN};
+        // The folder names a link in --out: one name, never a path that leads elsewhere (docs/cluster.md).
+        if (const fs::path f(r.folder); r.folder.empty() || f.filename() != f || r.folder == "." || r.folder == "..")
+          throw std::runtime_error("sets: folder '" + r.folder + "' is not a single folder name beside the ranking "
+                                   "(no '/', not '.' or '..')");
         r.path = fs::absolute(file).parent_path() / r.folder;
         if (s.contains("naive")) {
           r.fdr = number(s["naive"], "fdr");

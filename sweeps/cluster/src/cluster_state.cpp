@@ -1,4 +1,8 @@
 // Task status from outputs on disk and Slurm's records, and which tasks a resubmission must run.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstring>
 #include <fstream>
 #include <set>
 
@@ -153,10 +157,18 @@ std::vector<Submission> readSubmissions(const fs::path& dir) {
 }
 
 void appendSubmission(const fs::path& dir, const Submission& s) {
-  std::ofstream out(dir / "submissions.jsonl", std::ios::app);
-  out << nlohmann::json{{"stage", s.stage}, {"job_id", s.job_id}, {"tasks", s.tasks}}.dump() << '\n';
-  out.flush();
-  if (!out) throw std::runtime_error((dir / "submissions.jsonl").string() + ": cannot append");
+  const fs::path file = dir / "submissions.jsonl";
+  // O_NOFOLLOW: a symbolic link at the record's name is the user's, never written through (docs/robustness.md,
+  // "Ownership"); O_APPEND: one whole line per write.
+  const int fd = ::open(file.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+  if (fd < 0)
+    throw std::runtime_error(file.string() + (errno == ELOOP ? ": is a symbolic link: occsweep never writes through "
+                                                               "one; remove it"
+                                                             : ": cannot open: " + std::string(std::strerror(errno))));
+  const std::string line = nlohmann::json{{"stage", s.stage}, {"job_id", s.job_id}, {"tasks", s.tasks}}.dump() + '\n';
+  const bool written = ::write(fd, line.data(), line.size()) == ssize_t(line.size());
+  ::close(fd);
+  if (!written) throw std::runtime_error(file.string() + ": cannot append");
 }
 
 const char* stateName(TaskState s) {

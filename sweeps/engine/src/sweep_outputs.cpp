@@ -45,7 +45,7 @@ ResultsHeader twinHeader(ResultsHeader h) {
 // even then (docs/robustness.md, "Outputs, temporaries and --force").
 std::optional<ResultsFile> completeSameWork(const SweepConfig& c, const ResultsHeader& h,
                                             ResultsFile (*read)(const fs::path&)) {
-  requireCompanionName(c.out, isStorePath(c.out) ? ".partial" : ".partial.jsonl");
+  requireCompanionName(c.out, partialOutputPath(c.out).string().substr(c.out.string().size()));
   checkOutputTarget(c.out, true, resultsOutput());  // also when absent: then nothing may replace what appears
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(c.out, ec))) return std::nullopt;
@@ -65,7 +65,7 @@ std::optional<ResultsFile> checkOutputs(const SweepConfig& c, const ResultsHeade
   std::optional<ResultsFile> old = completeSameWork(c, h, &readResults);
   if (old && (!hasTwin(c) || completeResultsOf(c.observable_out, twinHeader(h)))) {
     // Superseded (a kill came between the rename and the removal): removed only when it is occsweep's log.
-    const fs::path partial = c.out.string() + ".partial.jsonl";
+    const fs::path partial = partialOutputPath(c.out);
     if (isOwnPartialLog(partial, h)) fs::remove(partial, ec);
     return old;
   }
@@ -185,7 +185,7 @@ class JsonOutput final : public OutputBase {
 // The same sweep's complete store at `out` is left as it is (its header returned).
 std::optional<ResultsFile> completeStore(const SweepConfig& c, const ResultsHeader& h) {
   std::optional<ResultsFile> old = completeSameWork(c, h, &readResultsHeader);
-  const fs::path partial = c.out.string() + ".partial";
+  const fs::path partial = partialOutputPath(c.out);
   std::error_code ec;
   // Superseded (a kill came between the rename and the removal): removed only when occsweep's and not being written.
   if (old && isOccsweepStore(partial)) {
@@ -284,6 +284,8 @@ class StoreOutput final : public OutputBase {
   void begin(std::size_t) override {
     if (c_.out.has_parent_path()) fs::create_directories(c_.out.parent_path());
     if (!store_) {
+      requireNoJournalBeside(partial_);  // a new store: any journal there is not its own
+      requireNoJournalBeside(c_.out);
       // Created beside it, locked, then put in place: a second sweep into the same --out finds it locked.
       // Made at a temporary, so its journal is kept in memory: a kill during the creation leaves no `-journal`.
       lock_ = PartialLock::publish(partial_, replace_ ? &lock_ : nullptr, [&](const fs::path& t) {
@@ -340,3 +342,9 @@ std::unique_ptr<GridOutput> makeGridOutput(const SweepConfig& c, const ResultsHe
 }
 
 }  // namespace occsweep::sweep_detail
+
+namespace occsweep {
+std::filesystem::path partialOutputPath(const std::filesystem::path& out) {
+  return out.string() + (isStorePath(out) ? ".partial" : ".partial.jsonl");
+}
+}  // namespace occsweep

@@ -54,6 +54,20 @@ namespace {
 // The step files a reproduction writes, each proven occsweep's by its own "format" field (occsweep-reproduce-NAME).
 constexpr const char* kStepFiles[] = {"fits", "nca", "comparison", "curves", "runtime", "real-stereo", "run"};
 
+// A step file of a reproduction, proven by its own "format" field.
+ReplaceableOutput stepFileOutput(const std::string& step) {
+  return jsonOutput("reproduction step file", "occsweep-reproduce-" + step);
+}
+
+// report.md of a reproduction, proven by its first line.
+ReplaceableOutput reportOutput() {
+  return {"reproduction report", [](const fs::path& file) {
+            std::ifstream in(file);
+            std::string first;
+            return std::getline(in, first) && first == kReproductionReportMark;
+          }};
+}
+
 // An entry of a reproduction folder that is occsweep's (docs/robustness.md, "Ownership"): a step file whose
 // "format" is its own; report.md under its first-line mark; a PNG carrying the figures' Software mark; a temporary
 // the ledger proves a killed run left; the data, sweeps and maps folders, whose every file is proven again when a
@@ -67,12 +81,8 @@ bool isOwnReproductionEntry(const fs::directory_entry& entry) {
   const fs::path stem = entry.path().stem();
   if (entry.is_regular_file(ec)) {
     if (entry.path().extension() == ".json" && std::ranges::find(kStepFiles, stem.string()) != std::end(kStepFiles))
-      return jsonOutput("", "occsweep-reproduce-" + stem.string()).is_own(entry.path());
-    if (name == "report.md") {
-      std::ifstream in(entry.path());
-      std::string first;
-      return std::getline(in, first) && first == kReproductionReportMark;
-    }
+      return stepFileOutput(stem.string()).is_own(entry.path());
+    if (name == "report.md") return reportOutput().is_own(entry.path());
     if (entry.path().extension() == ".png")
       return markedPngOutput("", kReproductionFigureMark).is_own(entry.path());
   }
@@ -130,10 +140,17 @@ double runReproduction(const ReproduceConfig& c) {
   r.datasets = datasets.size();
   if (!datasets.empty()) r.generator_options = datasets.front().generator_options;
   auto runs = [&](const std::string& name) { return std::find(c.steps.begin(), c.steps.end(), name) != c.steps.end(); };
+  // Each file is checked again just before it is written: one a user put at its name while the run went on is
+  // refused, not replaced (the commit replaces only what this check accepted: output_file.hpp).
+  auto writeStepFile = [&](const std::string& name, const json& result) {
+    const fs::path file = c.out / (name + ".json");
+    checkOutputTarget(file, true, stepFileOutput(name));
+    writeJsonAtomically(result, file);
+  };
   auto stepFile = [&](const char* name, auto&& fn) {
     if (!runs(name)) return json();
     const json result = step(name, fn);
-    writeJsonAtomically(result, c.out / (std::string(name) + ".json"));
+    writeStepFile(name, result);
     return result;
   };
   r.fits = stepFile("fits", [&] { return runDistributionFits(c, datasets); });
@@ -142,15 +159,15 @@ double runReproduction(const ReproduceConfig& c) {
   r.curves = stepFile("curves", [&] { return runCurvesAndMaps(c, datasets, r.comparison); });
   r.runtime = stepFile("runtime", [&] { return runRuntimeModels(c, datasets); });
   r.real_stereo = stepFile("real-stereo", [&] { return runRealStereo(c); });
+  checkOutputTarget(c.out / "report.md", true, reportOutput());
   writeFileAtomically(c.out / "report.md", reproductionReport(c, r));
   if (c.draw_figures) step("figures", [&] { return c.draw_figures(c.out, c.steps), 0; });
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   timing["total"] = seconds;
-  writeJsonAtomically({{"format", "occsweep-reproduce-run"}, {"scale", c.scale}, {"seconds", timing},
+  writeStepFile("run", {{"format", "occsweep-reproduce-run"}, {"scale", c.scale}, {"seconds", timing},
                        {"datasets", datasets.size()}, {"nca_samples", c.nca_samples}, {"nca_folds", c.nca_folds},
                        {"seed", c.seed}, {"figures", bool(c.draw_figures)}, {"steps", c.steps},
-                       {"realistic", c.realistic}, {"generator_options", r.generator_options}},
-                      c.out / "run.json");
+                       {"realistic", c.realistic}, {"generator_options", r.generator_options}});
   return seconds;
 }
 

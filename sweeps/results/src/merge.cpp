@@ -182,6 +182,7 @@ std::uint64_t mergeResultsInto(const std::vector<std::filesystem::path>& files, 
   }
   const MergeHeaders heads = mergeHeaders(files);
   const ResultsFile& merged = heads.merged;
+  requireNoJournalBeside(out);
   OutputFile file(out);  // its empty temporary becomes the store: removed on an error or an interrupt
   std::uint64_t maps = 0;
   {

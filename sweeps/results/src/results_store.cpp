@@ -97,6 +97,9 @@ class Statement {
     sqlite3_clear_bindings(s_);
   }
   [[nodiscard]] bool isNull(int c) const { return sqlite3_column_type(s_, c) == SQLITE_NULL; }
+  /// A stored number (or NULL): SQLite would read text such as 'abc' or '1.5abc' as 0 or 1.5 without a word.
+  [[nodiscard]] bool isNumberOrNull(int c) const { return sqlite3_column_type(s_, c) != SQLITE_TEXT &&
+                                                          sqlite3_column_type(s_, c) != SQLITE_BLOB; }
   [[nodiscard]] std::int64_t integer(int c) const { return sqlite3_column_int64(s_, c); }
   [[nodiscard]] double real(int c) const {
     return isNull(c) ? std::numeric_limits<double>::quiet_NaN() : sqlite3_column_double(s_, c);
@@ -216,6 +219,14 @@ bool isResultsStore(const fs::path& file) {
   return in.read(head, sizeof head) && std::memcmp(head, "SQLite format 3", 16) == 0;
 }
 
+namespace {
+bool walModeFile(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  unsigned char head[20] = {};
+  return in.read(reinterpret_cast<char*>(head), sizeof head) && (head[18] == 2 || head[19] == 2);
+}
+}  // namespace
+
 bool isOccsweepStore(const fs::path& file) {
   std::error_code ec;
   if (fs::is_symlink(fs::symlink_status(file, ec)) || !isResultsStore(file)) return false;
@@ -267,6 +278,9 @@ ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& hea
 ResultsStore ResultsStore::open(const fs::path& file, bool writable) {
   auto c = std::make_unique<Connection>(file);
   if (!isResultsStore(file)) fail(file, "not a results store (no SQLite header)");
+  // Bytes 18 and 19 of the SQLite header are 2 in WAL mode, which occsweep never uses: opening such a file, even
+  // read-only, would leave FILE-wal and FILE-shm beside it.
+  if (walModeFile(file)) fail(file, "in SQLite's WAL journal mode, which no store occsweep writes uses (not opened)");
   const int flags = writable ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
   if (openDatabase(file, flags, &c->db) != SQLITE_OK)
     fail(file, std::string("cannot open: ") + (c->db ? sqlite3_errmsg(c->db) : "out of memory"));
@@ -282,7 +296,10 @@ ResultsStore ResultsStore::open(const fs::path& file, bool writable) {
   c->header = parseHeader(header, file.string() + ": meta.header");
   c->complete = c->meta("complete") == "1";
   try {
-    c->seconds = std::stod(c->meta("seconds"));
+    const std::string text = c->meta("seconds");
+    std::size_t used = 0;
+    c->seconds = std::stod(text, &used);
+    if (used != text.size() || text.find_first_of("xXpP") != std::string::npos) throw std::invalid_argument(text);
   } catch (const std::exception&) {
     fail(file, "meta.seconds: must be a number");
   }
@@ -413,6 +430,8 @@ void ResultsStore::forEachMap(MapDetail detail, const MapVisitor& visit) const {
                                                                : fixedOf(maps.real(col)));
     }
     const int a = int(kMapColumns) + n_params;
+    for (int col = int(kMapColumns); col < a + 4; ++col)
+      if (!maps.isNumberOrNull(col)) fail(c.file, where + ": column " + std::to_string(col + 1) + " must be a number");
     m.area = {maps.real(a), maps.real(a + 1), int(maps.integer(a + 2))};
     m.seconds = maps.real(a + 3);
     requireStoredNumbers(m, c.file, where);
@@ -481,7 +500,19 @@ ResultsFile readResultsAt(const fs::path& file, MapDetail detail) {
   return f;
 }
 
+void requireNoJournalBeside(const fs::path& store) {
+  for (const char* suffix : {"-journal", "-wal", "-shm"}) {
+    const fs::path companion = store.string() + suffix;
+    std::error_code ec;
+    if (fs::exists(fs::symlink_status(companion, ec)))
+      throw OutputError(companion.string() + ": stands where SQLite keeps the journal of the store occsweep is to "
+                        "write at " + store.string() + ", and would be taken for its unfinished transaction: nothing "
+                        "was written; move it away, or choose another name");
+  }
+}
+
 void writeResultsStore(const ResultsFile& f, const fs::path& file) {
+  requireNoJournalBeside(file);
   OutputFile out(file);  // its empty temporary becomes the store: removed on an error or an interrupt
   {
     ResultsStore store = ResultsStore::create(out.temporary(), f.header, StoreUse::Temporary);

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/fnv1a.hpp"
 
 namespace occsweep::stereo {
@@ -80,19 +81,17 @@ PointCloudGrid parsePointCloudGrid(const nlohmann::json& j, const std::string& f
 }
 
 PointCloudGrid loadPointCloudGrid(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot read the point cloud grid");
-  std::stringstream bytes;
-  bytes << in.rdbuf();
+  // readFileBytes refuses a FIFO or a device by name, which a stream would wait on forever.
+  const std::string bytes = readFileBytes(file);
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(bytes.str());
+    j = nlohmann::json::parse(bytes);
   } catch (const nlohmann::json::parse_error& e) {
     throw std::runtime_error(file.string() + ": not valid JSON: " + e.what());
   }
   PointCloudGrid g = parsePointCloudGrid(j, file.string());
   Fnv1a h;
-  h.feed(bytes.str());
+  h.feed(bytes);
   g.file_hash = h.hex();
   return g;
 }

@@ -73,8 +73,9 @@ void removeStaleTemporaries(const std::filesystem::path& target);
 struct TargetState;
 
 /// One file written under `.NAME.tmp-PID-TOKEN` beside `target`; `commit()` flushes, checks and renames it into
-/// place, only over what checkOutputTarget accepted (or found when writing began): an output that appeared or
-/// changed meanwhile is kept and the commit fails. Destroyed uncommitted (an exception), it removes the temporary.
+/// place, only over what checkOutputTarget accepted, as it was then; with no such check, only where nothing stands:
+/// an output that appeared or changed meanwhile is kept and the commit fails. Destroyed uncommitted (an exception),
+/// it removes the temporary.
 /// Every write is checked: the first failure throws OutputError at the latest in `commit()`.
 class OutputFile {
  public:

@@ -35,6 +35,10 @@ struct SweepConfig {
   friend bool operator==(const SweepConfig&, const SweepConfig&) = default;
 };
 
+/// The file a sweep into `out` writes its finished maps to while it runs: OUT.partial for a store, OUT.partial.jsonl
+/// for JSON (docs/results-format.md).
+[[nodiscard]] std::filesystem::path partialOutputPath(const std::filesystem::path& out);
+
 /// What a sweep wrote, without its maps.
 struct SweepSummary {
   ResultsHeader header;

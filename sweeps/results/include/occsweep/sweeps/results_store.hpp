@@ -35,6 +35,11 @@ inline constexpr std::uint32_t kStoreApplicationId = 0x4F435357;
 /// consistent); Temporary keeps it in memory (a temporary renamed into place when complete, removed on a kill).
 enum class StoreUse { Durable, Temporary };
 
+/// Refuses (OutputError, exit 2) to make a new store at `store` while an entry stands at SQLite's names beside it
+/// (STORE-journal, -wal, -shm): SQLite would take it for the new store's unfinished transaction, roll it into the
+/// store and delete it, a user's file as much as a stale journal (docs/robustness.md, "Ownership").
+void requireNoJournalBeside(const std::filesystem::path& store);
+
 /// One store, open. Errors are std::runtime_error naming the file (and the table and field where one is wrong).
 class ResultsStore {
  public:
