@@ -96,11 +96,12 @@ inline CommandResult runCli(const std::string& args) {
   return runShell(shellQuoted(cliUnderTest()) + " " + args + " 2>&1");
 }
 
-/// Starts `/bin/sh -c line` as a child and returns its PID, for tests that signal it. SIGINT and SIGTERM are
-/// blocked across fork and reset to their default in the child before they are unblocked: a signal that arrives
-/// before exec ends the child instead of running Catch's handler there, which deadlocks on malloc's lock after a
-/// fork of a threaded process.
-inline pid_t startShell(const std::string& line) {
+/// Forks a child that runs `exec_in_child` (which execs, or returns to _exit(127)) and returns its PID, for tests
+/// that signal it. SIGINT and SIGTERM are blocked across fork and reset to their default in the child before they
+/// are unblocked: a signal that arrives before exec ends the child instead of running Catch's handler there, which
+/// reports a failure from the child and can deadlock on malloc's lock after a fork of a threaded process.
+template <class ExecInChild>
+pid_t startChildProgram(ExecInChild exec_in_child) {
   sigset_t stop, previous;
   sigemptyset(&stop);
   sigaddset(&stop, SIGINT);
@@ -111,11 +112,16 @@ inline pid_t startShell(const std::string& line) {
     ::signal(SIGINT, SIG_DFL);
     ::signal(SIGTERM, SIG_DFL);
     ::sigprocmask(SIG_SETMASK, &previous, nullptr);
-    ::execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
+    exec_in_child();
     ::_exit(127);
   }
   ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
   return child;
+}
+
+/// Starts `/bin/sh -c line` as a child (startChildProgram) and returns its PID.
+inline pid_t startShell(const std::string& line) {
+  return startChildProgram([&] { ::execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr)); });
 }
 
 /// runCli in folder `cwd`, with `prefix` first (e.g. "ulimit -f 4;").

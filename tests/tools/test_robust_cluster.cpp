@@ -43,16 +43,14 @@ void writeSmallGrid(const fs::path& file) {
 /// `log`.
 pid_t startRunLocal(const fs::path& plan, const fs::path& log, int threads) {
   const std::string cli = test::cliUnderTest(), dir = plan.string(), j = std::to_string(threads);
-  const pid_t pid = ::fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
+  const pid_t pid = test::startChildProgram([&] {
     ::setpgid(0, 0);
     const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     ::dup2(fd, STDOUT_FILENO);
     ::dup2(fd, STDERR_FILENO);
     ::execl(cli.c_str(), cli.c_str(), "cluster", "run-local", dir.c_str(), "--threads", j.c_str(), nullptr);
-    ::_exit(127);
-  }
+  });
+  REQUIRE(pid >= 0);
   ::setpgid(pid, pid);
   return pid;
 }

@@ -26,19 +26,17 @@ constexpr int kKills = 20;
 /// Starts `occsweep ARGS...` in `cwd` without a shell (so that the signal reaches occsweep itself).
 pid_t start(const fs::path& cwd, const std::vector<std::string>& args) {
   const std::string binary = cliUnderTest();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    if (::chdir(cwd.c_str()) != 0) ::_exit(127);
+  std::vector<char*> argv{const_cast<char*>(binary.c_str())};
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  // A kill that comes before exec ends the child, never Catch's handler in it (startChildProgram).
+  return startChildProgram([&] {
+    if (::chdir(cwd.c_str()) != 0) return;
     const int null = ::open("/dev/null", O_WRONLY);
     ::dup2(null, 1);
     ::dup2(null, 2);
-    std::vector<char*> argv{const_cast<char*>(binary.c_str())};
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
     ::execv(binary.c_str(), argv.data());
-    ::_exit(127);
-  }
-  return pid;
+  });
 }
 
 int wait(pid_t pid) {
