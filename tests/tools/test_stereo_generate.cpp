@@ -1,5 +1,9 @@
 // `occsweep dataset generate` end to end (docs/datasets.md): byte-identical outputs, ranking, refusals.
+#include <sys/wait.h>
+
+#include <chrono>
 #include <fstream>
+#include <thread>
 #include <sstream>
 
 #include <catch2/catch.hpp>
@@ -95,4 +99,52 @@ TEST_CASE("Every scan records the left camera at its keyframe and the observable
                                 (dir / "m.ot").string());
   INFO(map.output);
   CHECK_THAT(map.output, Catch::Contains("(observable truth): TP 272 FP 380 FN 1 "));
+}
+
+TEST_CASE("dataset generate replaces its own earlier output only with --force, and refuses before any work",
+          "[stereo][cli][ownership]") {
+  const fs::path dir = test::scratch("stereo-gen-force");
+  const std::string command = "dataset generate --name building-plain-I --scale ci --pcs 0 --no-preview --quiet --out " +
+                              dir.string();
+  REQUIRE(test::runCli(command).exit_code == 0);
+  const fs::path set = dir / "building-plain-I" / "pcs-0000";
+  const std::string manifest = test::bytesOf(set / "manifest.json");
+  // Old binary: a re-run with another seed replaced the earlier set without a word, exit 0.
+  auto r = test::runCli(command + " --seed 5");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Catch::Contains("pcs-0000") && Catch::Contains("--force"));
+  CHECK(test::bytesOf(set / "manifest.json") == manifest);
+  // Old binary: with a user's ranking.json there, pcs-0000 was regenerated first, then the run said "nothing was
+  // changed". Now the user's file is found before any work, with or without --force.
+  const fs::path ranking = dir / "building-plain-I" / "ranking.json";
+  std::ofstream(ranking, std::ios::trunc) << "{\"format\": \"mine\"}\n";
+  r = test::runCli(command + " --seed 5 --force");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Catch::Contains("ranking.json"));
+  CHECK(test::bytesOf(set / "manifest.json") == manifest);
+  CHECK(test::bytesOf(ranking) == "{\"format\": \"mine\"}\n");
+  fs::remove(ranking);
+  r = test::runCli(command + " --seed 5 --force");
+  CHECK(r.exit_code == 0);
+  CHECK(test::bytesOf(set / "manifest.json") != manifest);
+}
+
+TEST_CASE("a generation that fails removes what it made, never a file put in a folder it made", "[stereo][cli][ownership]") {
+  // Old binary: the failure removed the outermost folder it had made (new/), with the user's notes.txt in it.
+  const fs::path dir = test::scratch("stereo-gen-fail");
+  const fs::path out = dir / "new" / "ds";
+  // ulimit -f 1: the first scan written fails (EFBIG), after the folders are made and the keyframes rendered.
+  const pid_t pid = test::startShell("ulimit -f 1; exec " + test::shellQuoted(test::cliUnderTest()) +
+                                     " dataset generate --name building-plain-I --scale ci --pcs 0 --quiet --out " +
+                                     test::shellQuoted(out) + " > /dev/null 2>&1");
+  for (int i = 0; i < 2000 && !fs::exists(out / "building-plain-I"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  REQUIRE(fs::exists(out / "building-plain-I"));
+  std::ofstream(dir / "new" / "notes.txt") << "the user's notes\n";
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 2);
+  CHECK(test::bytesOf(dir / "new" / "notes.txt") == "the user's notes\n");
+  CHECK_FALSE(fs::exists(out));  // the folders it made and left empty are gone
 }

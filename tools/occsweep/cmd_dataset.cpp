@@ -115,6 +115,8 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
   gen->add_flag("--no-preview", o->no_preview, "Do not write OUT/NAME/preview/*.png");
   gen->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(threadCount());
   gen->add_flag("--quiet", o->quiet, "No progress on stderr");
+  gen->add_flag("--force", o->force, "Replace occsweep's own earlier output at the data sets' names (sets, ranking, "
+                                     "timing, previews, summary; a user's file never)");
   const auto middlebury = addDatasetMiddlebury(app);  // `dataset middlebury`: cmd_dataset_middlebury.cpp
   return [o, gen, middlebury]() -> int {
     if (middlebury.first->parsed()) return middlebury.second();
@@ -127,6 +129,10 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
 }  // namespace
 
 #ifdef OCCSWEEP_HAVE_STEREO
+namespace {
+ReplaceableOutput summaryOutput() { return jsonOutput("data-set summary", "occsweep-dataset-summary"); }
+}  // namespace
+
 void generateDatasets(const DatasetOptions& o) {
   if (o.all == !o.name.empty()) throw std::invalid_argument("give either --name ENV-TEXTURE-LAYOUT or --all");
   if (!o.sgbm.empty() && !o.pcs.empty()) throw std::invalid_argument("--sgbm and --pcs exclude each other");
@@ -138,11 +144,14 @@ void generateDatasets(const DatasetOptions& o) {
   c.drift.yaw_deg_per_keyframe = o.drift_yaw;
   c.preview = !o.no_preview;
   c.progress = !o.quiet;
+  c.force = o.force;
   applyRealism(o, c);
   const PointCloudGrid grid = loadPointCloudGrid(resolveGridPath(o.grid));
   if (!o.sgbm.empty()) c.custom = parseSgbmParams(o.sgbm);
   if (!o.pcs.empty()) c.pcs_ids = parseIds(o.pcs, grid.size());
   const std::vector<DatasetName> names = o.all ? allDatasetNames() : std::vector{parseDatasetName(o.name)};
+  const std::filesystem::path summary_file = std::filesystem::path(o.out) / "summary.json";
+  if (o.all) checkOutputTarget(summary_file, o.force, summaryOutput());  // before hours of work
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o.threads);
   nlohmann::json summary = nlohmann::json::array();
@@ -156,9 +165,8 @@ void generateDatasets(const DatasetOptions& o) {
     summary.push_back(summaryRow(s));
   }
   if (!o.all) return;
-  const std::filesystem::path file = std::filesystem::path(o.out) / "summary.json";
-  checkOutputTarget(file, true, jsonOutput("data-set summary", "occsweep-dataset-summary"));  // only occsweep's own
-  writeJsonAtomically({{"format", "occsweep-dataset-summary"}, {"datasets", summary}}, file);
+  checkOutputTarget(summary_file, true, summaryOutput());  // again: a user's file put there meanwhile stays
+  writeJsonAtomically({{"format", "occsweep-dataset-summary"}, {"datasets", summary}}, summary_file);
 }
 #else
 void generateDatasets(const DatasetOptions&) {

@@ -19,7 +19,8 @@ struct DatasetOptions {
   double right_gain = 1, right_offset = 0, right_gamma = 1, right_vignetting = 0;
   bool far_clutter = false, no_voxel_filter = false, realistic = false;
   double box_height = 0.5, noise_scale = 1;
-  bool quiet = false;  ///< no progress on stderr (not a `dataset generate` flag: `reproduce --quiet` sets it)
+  bool quiet = false;  ///< no progress on stderr
+  bool force = false;  ///< replace occsweep's own earlier output at the data sets' names
 };
 
 /// Generates the data sets `o` names under o.out (OUT/NAME/pcs-*/, OUT/NAME/ranking.json last) and prints one

@@ -55,13 +55,14 @@ auto figureDrawer(const std::string& configured_python) {
   };
 }
 
-/// Missing data sets: `dataset generate --name NAME --scale SCALE --out OUT --no-preview [--realistic]`, the
-/// command's own code in this process.
+/// Missing data sets: `dataset generate --name NAME --scale SCALE --out OUT --no-preview --force [--realistic]`, the
+/// command's own code in this process. --force: a data set a killed reproduction began (sets without their
+/// ranking) is regenerated over its own sets, each proven occsweep's; a user's file there is still refused.
 auto datasetGenerator(bool quiet) {
   return [quiet](const std::string& name, const std::string& scale, const std::filesystem::path& out, bool realistic) {
     DatasetOptions o;
     o.name = name, o.scale = scale, o.out = out.string();
-    o.no_preview = true, o.realistic = realistic, o.quiet = quiet;
+    o.no_preview = true, o.realistic = realistic, o.quiet = quiet, o.force = true;
     generateDatasets(o);
   };
 }

@@ -53,22 +53,50 @@ std::vector<std::pair<std::int64_t, SgbmParams>> chosenSets(const GenerateConfig
   return sets;
 }
 
-// A generation that fails (a full disk) removes the folders this run made: no half data-set folder is left.
-struct RemoveMadeOnFailure {
-  fs::path first_made;  ///< the outermost folder of `dir` that did not exist; empty if none
-  explicit RemoveMadeOnFailure(const fs::path& dir) {
+// A generation that fails (a full disk) leaves nothing of its own where it made the data set's folder: the sets
+// and previews it wrote there, each proven occsweep's, then each folder it made, only when that leaves it empty. A
+// folder that held anything before, or an entry someone else put in it meanwhile, stays (docs/robustness.md,
+// "Ownership": a folder tree is never removed whole).
+class RemoveMadeOnFailure {
+ public:
+  explicit RemoveMadeOnFailure(const fs::path& dir) : dir_(dir) {
     for (fs::path p = dir; !p.empty() && !fs::exists(p); p = p.parent_path()) {
-      first_made = p;
+      made_.push_back(p);
       if (p == p.parent_path()) break;
     }
   }
   RemoveMadeOnFailure(const RemoveMadeOnFailure&) = delete;
   RemoveMadeOnFailure& operator=(const RemoveMadeOnFailure&) = delete;
   ~RemoveMadeOnFailure() {
+    if (made_.empty() || std::uncaught_exceptions() == 0) return;
     std::error_code ec;
-    if (!first_made.empty() && std::uncaught_exceptions() > 0) fs::remove_all(first_made, ec);
+    for (fs::directory_iterator it(dir_, ec), end; !ec && it != end; it.increment(ec))
+      if (fs::is_directory(fs::symlink_status(it->path(), ec)) && datasetOutput().is_own(it->path()))
+        fs::remove_all(it->path(), ec);  // a set of this run's, whole: every entry its manifest's
+    for (fs::directory_iterator it(dir_ / "preview", ec), end; !ec && it != end; it.increment(ec))
+      if (previewOutput().is_own(it->path())) fs::remove(it->path(), ec);
+    fs::remove(dir_ / "preview", ec);
+    for (const fs::path& p : made_) fs::remove(p, ec);  // innermost first; refuses a folder that is not empty
   }
+
+ private:
+  fs::path dir_;
+  std::vector<fs::path> made_;  ///< the folders on the way to dir_ that did not exist, innermost first
 };
+
+// Every output of one data set, checked before any work (docs/robustness.md, "Ownership"): an existing one of
+// occsweep's is refused unless --force, a user's file always, so that "nothing was changed" holds when refused.
+// Each is checked again just before it is written.
+void checkGenerationTargets(const fs::path& dir, const GenerateConfig& c,
+                            const std::vector<std::pair<std::int64_t, SgbmParams>>& sets) {
+  for (const auto& [id, params] : sets) checkOutputTarget(dir / folderName(id), c.force, datasetOutput());
+  checkOutputTarget(dir / "ranking.json", c.force, rankingOutput());
+  checkOutputTarget(dir / "timing.json", c.force, timingOutput());
+  if (!c.preview) return;
+  for (const char* png : {"left.png", "right.png"}) checkOutputTarget(dir / "preview" / png, c.force, previewOutput());
+  for (const auto& [id, params] : sets)
+    checkOutputTarget(dir / "preview" / ("disparity-" + folderName(id) + ".png"), c.force, previewOutput());
+}
 
 // What every point cloud set of one data set shares.
 struct DatasetContext {
@@ -327,6 +355,7 @@ DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& c,
   const auto sets = chosenSets(c, grid);
 
   const fs::path dir = out_root / name.str();
+  checkGenerationTargets(dir, c, sets);
   const RemoveMadeOnFailure cleanup(dir);
   fs::create_directories(dir);
   DatasetSummary summary{name.str(), c.scale.name, {}, 0};

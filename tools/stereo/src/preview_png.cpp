@@ -37,7 +37,7 @@ void writeAtomically(const cv::Mat& image, const std::filesystem::path& file) {
     throw std::runtime_error(file.string() + ": cannot encode the PNG: " + png.message);
   bytes.resize(size);
   // Marked as occsweep's (its Software text chunk), so that a re-run replaces its own preview, never a user's PNG.
-  checkOutputTarget(file, true, markedPngOutput("preview image", kPreviewMark));
+  checkOutputTarget(file, true, previewOutput());
   writeFileAtomically(file, pngWithText(bytes, "Software", kPreviewMark));
 }
 
@@ -60,5 +60,7 @@ void writeDisparityPng(const std::vector<std::int16_t>& disparity, int width, in
   colour.setTo(cv::Scalar(0, 0, 0), scaled == 0);  // invalid disparities black
   writeAtomically(colour, file);
 }
+
+ReplaceableOutput previewOutput() { return markedPngOutput("preview image", kPreviewMark); }
 
 }  // namespace occsweep::stereo

@@ -74,6 +74,9 @@ void rankSets(std::vector<PointCloudSetSummary>& sets) {
   for (std::size_t i = 0; i < sets.size(); ++i) sets[i].rank = int(i + 1);
 }
 
+ReplaceableOutput rankingOutput() { return jsonOutput("point cloud ranking", "occsweep-pointcloud-ranking"); }
+ReplaceableOutput timingOutput() { return jsonOutput("generation timing", "occsweep-pointcloud-timing"); }
+
 void writeRanking(const DatasetSummary& s, const GenerateConfig& c, const PointCloudGrid& grid,
                   const std::filesystem::path& dir) {
   nlohmann::json ranking = {{"format", "occsweep-pointcloud-ranking"}, {"version", 1}, {"dataset", s.name},
@@ -90,8 +93,8 @@ void writeRanking(const DatasetSummary& s, const GenerateConfig& c, const PointC
     timing["sets"].push_back({{"folder", set.folder}, {"seconds", set.seconds}});
   }
   // Rewritten in a data-set folder a run resumes in: only over occsweep's own (docs/robustness.md, "Ownership").
-  checkOutputTarget(dir / "ranking.json", true, jsonOutput("point cloud ranking", "occsweep-pointcloud-ranking"));
-  checkOutputTarget(dir / "timing.json", true, jsonOutput("generation timing", "occsweep-pointcloud-timing"));
+  checkOutputTarget(dir / "ranking.json", true, rankingOutput());
+  checkOutputTarget(dir / "timing.json", true, timingOutput());
   writeJsonAtomically(ranking, dir / "ranking.json");
   writeJsonAtomically(timing, dir / "timing.json");
 }

@@ -91,7 +91,8 @@ struct PlanConfig {
   std::string occsweep;                     ///< binary; default: the running one
   std::vector<std::string> datasets;        ///< reproduce: names; sweep: existing data-set folders
   std::string generate =
-      "dataset generate --name {dataset} --out {block_dir} --scale {scale} --pcs {pcs} --threads {cpus} --no-preview";
+      "dataset generate --name {dataset} --out {block_dir} --scale {scale} --pcs {pcs} --threads {cpus} --no-preview "
+      "--force";
   std::string generate_out = "{block_dir}/{dataset}/ranking.json";  ///< what one generation task writes last
   OutputKind generate_kind = OutputKind::Exists;
   std::string scale = "paper";

@@ -14,6 +14,7 @@
 #include "scene.hpp"
 #include "sgbm.hpp"
 #include "occsweep/eval/confusion.hpp"
+#include "occsweep/eval/output_file.hpp"
 
 namespace occsweep::stereo {
 
@@ -52,6 +53,9 @@ struct GenerateConfig {
   double max_depth = 20.0;             ///< a ZED reports no depth beyond 20 m
   bool preview = true;                 ///< write preview/ PNGs of keyframe 0 (left image, disparities)
   bool progress = true;                ///< progress lines on stderr (`reproduce --quiet` turns them off)
+  /// --force: replace occsweep's own earlier output at the data set's names (its sets, ranking, timing, previews);
+  /// without it an existing one is refused before any work. A user's file is refused either way.
+  bool force = false;
   /// SGBM's matcher once per keyframe and matcher combination, each speckle variant derived from it (the same
   /// bytes, docs/datasets.md "How generation shares work"); false: every set runs StereoSGBM::compute with its
   /// full parameters, the path before sharing (the oracle of the tests and the benchmark's baseline).
@@ -99,6 +103,9 @@ struct Keyframes {
 /// OUT/<name>/timing.json; progress on stderr. Folders are written under temporary names and renamed.
 [[nodiscard]] DatasetSummary generateDataset(const DatasetName& name, const GenerateConfig& config,
                                              const PointCloudGrid& grid, const std::filesystem::path& out_root);
+
+/// A preview PNG of occsweep's, proven by its Software chunk.
+[[nodiscard]] ReplaceableOutput previewOutput();
 
 /// Writes a PNG of a grey image, a disparity map (colour-coded, invalid black) or both. Temporary name + rename.
 void writeGreyPng(const GreyImage& image, const std::filesystem::path& file);

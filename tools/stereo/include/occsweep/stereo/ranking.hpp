@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/eval/output_file.hpp"
+
 #include "generate.hpp"
 
 namespace occsweep::stereo {
@@ -18,6 +20,10 @@ namespace occsweep::stereo {
 
 /// Sorts by naive FDR ascending (NaN last), then TPR descending, then id ascending, and numbers the ranks 1..n.
 void rankSets(std::vector<PointCloudSetSummary>& sets);
+
+/// ranking.json and timing.json of occsweep's, proven by their own "format" fields.
+[[nodiscard]] ReplaceableOutput rankingOutput();
+[[nodiscard]] ReplaceableOutput timingOutput();
 
 /// DIR/ranking.json (deterministic) and DIR/timing.json, each written to a temporary name and renamed.
 void writeRanking(const DatasetSummary& summary, const GenerateConfig& config, const PointCloudGrid& grid,
