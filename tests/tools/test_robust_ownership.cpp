@@ -657,6 +657,21 @@ TEST_CASE("cluster files are never written through a user's symbolic link, and r
   CHECK(r.output.find("run-local.lock: is a symbolic link") != std::string::npos);
   CHECK(fileBytes(dir / "victim.txt") == "precious\n");
   fs::remove(dir / "p" / "run-local.lock");
+  // Old binary: run-local removed a user's file at a task log's name and wrote the task's output there.
+  writeBytes(dir / "p" / "logs" / "local-sweep-0.log", "the user's log\n");
+  r = runIn(dir, "cluster run-local p");
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("local-sweep-0.log: exists and is not a task log of occsweep's") != std::string::npos);
+  CHECK(fileBytes(dir / "p" / "logs" / "local-sweep-0.log") == "the user's log\n");
+  CHECK_FALSE(fs::exists(dir / "p" / "sweeps"));
+  fs::remove(dir / "p" / "logs" / "local-sweep-0.log");
+  REQUIRE(runIn(dir, "cluster run-local p").exit_code == 0);
+  CHECK(fileBytes(dir / "p" / "logs" / "local-sweep-0.log").starts_with("# occsweep cluster run-local: task log\n"));
+  // Its own logs are no obstacle to a task that runs again: replaced.
+  fs::remove_all(dir / "p" / "sweeps");
+  fs::remove_all(dir / "p" / "merged");
+  REQUIRE(runIn(dir, "cluster run-local p").exit_code == 0);
+  CHECK(fileBytes(dir / "p" / "logs" / "local-sweep-0.log").starts_with("# occsweep cluster run-local: task log\n"));
   // Old binary: the select task linked "../newname" outside --out.
   fs::create_directories(dir / "gen" / "newname");
   writeBytes(dir / "gen" / "ranking.json", R"({"format": "occsweep-pointcloud-ranking", "sets": [{"folder": )"

@@ -127,6 +127,33 @@ fs::path logOf(const fs::path& dir, const ClusterStage& stage, const ClusterTask
   return dir / "logs" / ("local-" + stage.name + "-" + std::to_string(t.index) + ".log");
 }
 
+constexpr const char* kTaskLogMark = "# occsweep cluster run-local: task log";
+
+/// A task's log starts with kTaskLogMark: a log of an earlier run is replaced; anything else at its name (a user's
+/// file, a link) is never removed or written (docs/robustness.md, "Ownership"), and the task does not start.
+/// Whether an entry stands at `log`; throws when it is not a task log of occsweep's.
+bool requireOwnTaskLog(const fs::path& log) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(log, ec))) return false;
+  std::string first;
+  const bool own = fs::is_regular_file(fs::symlink_status(log, ec)) && std::getline(std::ifstream(log), first) &&
+                   first == kTaskLogMark;
+  if (!own)
+    throw std::runtime_error(log.string() + ": exists and is not a task log of occsweep's (its first line is not \"" +
+                             kTaskLogMark + "\"): never replaced; move it away and run again");
+  return true;
+}
+
+void startTaskLog(const fs::path& log, const std::string& label) {
+  if (requireOwnTaskLog(log)) fs::remove(log);
+  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error(log.string() + ": cannot create: " + std::strerror(errno));
+  const std::string header = std::string(kTaskLogMark) + "\n# " + label + "\n";
+  const bool written = ::write(fd, header.data(), header.size()) == ssize_t(header.size());
+  ::close(fd);
+  if (!written) throw std::runtime_error(log.string() + ": cannot write");
+}
+
 /// One stage's tasks while they run: which process runs which task in which stopper slot, and what has finished.
 class StageRun {
  public:
@@ -145,7 +172,7 @@ class StageRun {
   /// Starts task `t` in a free slot, with its log and its running marker.
   void start(const ClusterTask& t) {
     const fs::path log = logOf(dir_, stage_, t);
-    fs::remove(log);
+    startTaskLog(log, t.label);
     const pid_t pid = spawnLogged(t.argv, dir_, log);
     const std::size_t slot = free_slots_.back();
     free_slots_.pop_back();
@@ -225,6 +252,19 @@ std::size_t runStage(const ClusterStage& stage, const std::vector<std::uint64_t>
 
 }  // namespace
 
+/// The running markers of an earlier run (`STAGE-N.pid`, a PID): removed; any other entry stays.
+void removeStaleMarkers(const fs::path& running) {
+  std::error_code ec;
+  std::vector<fs::path> markers;
+  for (fs::directory_iterator it(running, ec), end; !ec && it != end; it.increment(ec)) {
+    long pid = 0;
+    if (it->path().extension() == ".pid" && fs::is_regular_file(fs::symlink_status(it->path(), ec)) &&
+        std::ifstream(it->path()) >> pid && pid > 0)
+      markers.push_back(it->path());
+  }
+  for (const auto& m : markers) fs::remove(m, ec);
+}
+
 std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs) {
   const fs::path dir = fs::absolute(plan_dir);  // tasks start in it, and logs open after that chdir
   if (jobs < 1) throw std::invalid_argument("-j must be at least 1");
@@ -232,9 +272,11 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
   fs::create_directories(dir / "running");
   const PlanLock lock(dir);
   refuseLiveTasks(plan, dir);
-  for (const auto& marker : fs::directory_iterator(dir / "running")) fs::remove(marker.path());  // none is live
+  removeStaleMarkers(dir / "running");  // none is live
   // Otherwise what is done is what is on disk.
   const auto torun = tasksToRun(plan, planStatus(plan, dir, {}, {}));
+  for (std::size_t s = 0; s < plan.stages.size(); ++s)  // before any task starts: a user's file at a log's name
+    for (const std::uint64_t id : torun[s]) (void)requireOwnTaskLog(logOf(dir, plan.stages[s], plan.stages[s].tasks[id]));
   TaskStopper stopper{std::size_t(jobs)};
   std::size_t failed = 0;
   for (std::size_t s = 0; s < plan.stages.size() && !stopper.signal(); ++s) {
