@@ -186,8 +186,11 @@ bool isStaleTemporaryOf(const fs::path& entry, const fs::path& target) {
 
 bool removeTemporaryEntry(const fs::path& path) noexcept {
   std::error_code ec, journal_ec;
+  // occsweep never makes a temporary (or journal) that is a symbolic link: one there is the user's, and stays.
+  if (fs::is_symlink(fs::symlink_status(path, ec))) return false;
   fs::remove_all(path, ec);  // a folder temporary is occsweep's as a whole: only occsweep wrote into it
-  fs::remove(path.string() + "-journal", journal_ec);
+  const fs::path journal = path.string() + "-journal";
+  if (!fs::is_symlink(fs::symlink_status(journal, journal_ec))) fs::remove(journal, journal_ec);
   return !ec;
 }
 

@@ -229,6 +229,15 @@ TEST_CASE("a temporary that a killed run recorded is removed by the next run wri
   REQUIRE(a.exit_code == 0);
   CHECK(!fs::exists(left));
   CHECK(entriesOf(ledger) == std::set<std::string>{live.token});
+  // Old binary: a symbolic link the user put at a killed run's recorded temporary path was removed. occsweep never
+  // makes a temporary that is a link: it is the user's entry, and stays.
+  const fs::path again = killedRunsTemporary(dir / "c", "w", state);
+  fs::remove_all(again);
+  writeBytes(dir / "c" / "victim", "the user's file\n");
+  fs::create_symlink("victim", again);
+  REQUIRE(runIn(dir / "c", std::string(kTinyScene) + " --out w", env).exit_code == 0);
+  CHECK(fs::is_symlink(fs::symlink_status(again)));
+  CHECK(fileBytes(dir / "c" / "victim") == "the user's file\n");
 }
 
 TEST_CASE("SQLite's journal beside a recorded temporary a killed run left goes with it, and only then",
