@@ -1,5 +1,6 @@
 // The ledger of temporaries (docs/robustness.md, "Ownership"): what proves a leftover temporary is occsweep's.
 #include "occsweep/eval/ownership.hpp"
+#include "occsweep/eval/fnv1a.hpp"
 #include "occsweep/eval/process_stat.hpp"
 
 #include <cstdio>
@@ -215,5 +216,46 @@ std::optional<std::string> staleRecord(const fs::path& entry, const fs::path& ta
   return t.token;
 }
 }  // namespace
+
+namespace {
+struct TextOutputRecord {
+  fs::path file;  ///< the record's own file in the ledger
+  std::string path, size, hash;
+};
+
+// The record of `file`, named by the hash of its absolute path, and what the file is now.
+std::optional<TextOutputRecord> textOutputRecord(const fs::path& file) {
+  const fs::path ledger = ownershipLedger();
+  std::error_code ec;
+  if (ledger.empty() || !fs::is_regular_file(fs::symlink_status(file, ec))) return std::nullopt;
+  const std::string absolute = fs::absolute(file, ec).lexically_normal().string();
+  Fnv1a name, content;
+  name.feed(absolute);
+  try {
+    content.feedFile(file);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  return TextOutputRecord{ledger.parent_path() / "outputs" / name.hex(), absolute,
+                          std::to_string(fs::file_size(file, ec)), content.hex()};
+}
+}  // namespace
+
+void recordTextOutput(const fs::path& file) {
+  const std::optional<TextOutputRecord> r = textOutputRecord(file);
+  if (!r) return;
+  std::error_code ec;
+  fs::create_directories(r->file.parent_path(), ec);
+  std::ofstream(r->file, std::ios::trunc) << r->path << '\n' << r->size << '\n' << r->hash << '\n';
+}
+
+bool isRecordedTextOutput(const fs::path& file) {
+  const std::optional<TextOutputRecord> now = textOutputRecord(file);
+  if (!now) return false;
+  std::ifstream in(now->file);
+  std::string path, size, hash;
+  return std::getline(in, path) && std::getline(in, size) && std::getline(in, hash) && path == now->path &&
+         size == now->size && hash == now->hash;
+}
 
 }  // namespace occsweep

@@ -737,3 +737,38 @@ TEST_CASE("a reader that goes away ends nothing half-done: a sweep piped to a cl
   CHECK(fs::exists(dir / "r.json"));
   CHECK_FALSE(fs::exists(dir / "r.json.partial.jsonl"));
 }
+
+TEST_CASE("a table is replaced with --force only when it holds the bytes occsweep wrote there, never a file with its "
+          "first line", "[ownership]") {
+  // Old binary: a thesis.tex whose first line is compare's LaTeX comment and a notes.csv starting with compare's (or
+  // export's) CSV header were replaced with --force, exit 0.
+  const fs::path in = inputs("ownership/tables");
+  const std::string s = shellQuoted(in) + "/";
+  const fs::path dir = scratch("ownership/tables-out");
+  const std::string compare = "compare " + s + "oct.json " + s + "knn.json --force";
+  REQUIRE(runIn(dir, compare + " --latex own.tex --csv own.csv --markdown own.md").exit_code == 0);
+  auto userFileLike = [&](const std::string& name) {
+    const std::string first = fileBytes(dir / name).substr(0, fileBytes(dir / name).find('\n') + 1);
+    writeBytes(dir / ("user-" + name), first + "the user's own text\n");
+  };
+  for (const std::string name : {"own.tex", "own.csv", "own.md"}) userFileLike(name);
+  for (const auto& [flag, name] : std::vector<std::pair<std::string, std::string>>{
+           {"--latex", "own.tex"}, {"--csv", "own.csv"}, {"--markdown", "own.md"}}) {
+    INFO(name);
+    const std::string user = "user-" + name, before = fileBytes(dir / user);
+    const CommandResult r = runIn(dir, compare + " " + flag + " " + user);
+    CHECK(r.exit_code == 2);
+    CHECK(fileBytes(dir / user) == before);
+    CHECK(runIn(dir, compare + " " + flag + " " + name).exit_code == 0);  // its own: replaced
+  }
+  REQUIRE(runIn(dir, "results export " + s + "oct.json --out own-export.csv").exit_code == 0);
+  userFileLike("own-export.csv");
+  const std::string before = fileBytes(dir / "user-own-export.csv");
+  CHECK(runIn(dir, "results export " + s + "oct.json --force --out user-own-export.csv").exit_code == 2);
+  CHECK(fileBytes(dir / "user-own-export.csv") == before);
+  CHECK(runIn(dir, "results export " + s + "oct.json --force --out own-export.csv").exit_code == 0);
+  // Occsweep's own table edited by hand is the user's now.
+  writeBytes(dir / "own.tex", fileBytes(dir / "own.tex") + "% my note\n");
+  CHECK(runIn(dir, compare + " --latex own.tex").exit_code == 2);
+  CHECK(fileBytes(dir / "own.tex").ends_with("% my note\n"));
+}

@@ -11,6 +11,7 @@
 #include "task_options.hpp"
 #include "compare_tables.hpp"
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/merge.hpp"
 
 namespace occsweep::cli {
@@ -103,12 +104,12 @@ void printTruth(TruthMode truth) {
             << '\n';
 }
 
-// A table compare wrote before: a regular file whose first line starts with `first_line` (the CSV header, or the
-// Markdown and LaTeX files' comment naming occsweep compare); --force replaces nothing else.
+// A table compare wrote before: a regular file holding exactly the bytes occsweep recorded writing there (a CSV,
+// Markdown or LaTeX file has no field of its own for a mark, and a first line is text a user could write:
+// ownership.hpp), its first line `first_line` besides; --force replaces nothing else.
 ReplaceableOutput tableOutput(const std::string& name, const std::string& first_line) {
   return {name, [first_line](const std::filesystem::path& file) {
-            std::error_code ec;
-            if (!std::filesystem::is_regular_file(file, ec)) return false;
+            if (!isRecordedTextOutput(file)) return false;
             std::ifstream in(file);
             std::string line;
             return bool(std::getline(in, line)) && line.starts_with(first_line);
@@ -167,6 +168,8 @@ void writeOutputs(const CompareTask& o, const nlohmann::json& comparison, const 
   std::vector<OutputFile*> all;
   for (const auto& f : files) all.push_back(f.get());
   OutputFile::commitTogether(all);
+  for (const std::string& table : {o.csv, o.markdown, o.latex})
+    if (!table.empty()) recordTextOutput(table);  // what a later --force may replace (tableOutput)
 }
 
 int runCompare(const CompareTask& o) {

@@ -10,6 +10,7 @@
 #include "command_registry.hpp"
 #include "limit_options.hpp"
 #include "option_checks.hpp"
+#include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
 #include "occsweep/sweeps/results_store.hpp"
@@ -58,12 +59,13 @@ struct ExportTarget {
   bool force = false;
 };
 
-// A CSV export of occsweep's: replaced with --force; anything else never.
+// A CSV export of occsweep's, proven by the record of the bytes it wrote there (a CSV has no field for a mark:
+// ownership.hpp): replaced with --force; anything else never.
 ReplaceableOutput csvExport() {
   return {"CSV export", [](const std::filesystem::path& file) {
             std::ifstream in(file);
             std::string first;
-            return std::getline(in, first) && first.starts_with("id,map_index,");
+            return isRecordedTextOutput(file) && std::getline(in, first) && first.starts_with("id,map_index,");
           }};
 }
 
@@ -85,6 +87,7 @@ int runExport(const std::string& source, const ExportTarget& to) {
   if (csv) exportCsv(source, out.stream());
   else exportJson(source, out.stream());
   out.commit();
+  if (csv) recordTextOutput(to.out);  // what a later --force may replace (csvExport)
   std::cout << "wrote " << to.out << '\n';
   return 0;
 }

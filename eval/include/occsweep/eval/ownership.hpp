@@ -46,4 +46,13 @@ bool removeTemporaryEntry(const std::filesystem::path& path) noexcept;
 /// Removes `entry` (removeTemporaryEntry) and its record when isStaleTemporaryOf; true if it did.
 bool removeStaleTemporary(const std::filesystem::path& entry, const std::filesystem::path& target);
 
+/// Records an output occsweep has just committed whose format has no field of its own to carry a mark (CSV, Markdown
+/// and LaTeX tables): its absolute path, size and FNV-1a hash of its bytes, in the ledger's `outputs/` folder.
+/// Nothing is recorded where the ledger cannot be written; such a file is then never replaced (--force refuses it).
+void recordTextOutput(const std::filesystem::path& file);
+
+/// True when `file` holds exactly the bytes occsweep recorded at this path (recordTextOutput): a file a user wrote,
+/// or occsweep's edited by hand, is not occsweep's to replace.
+[[nodiscard]] bool isRecordedTextOutput(const std::filesystem::path& file);
+
 }  // namespace occsweep
