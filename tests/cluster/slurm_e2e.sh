@@ -82,7 +82,7 @@ echo "slurm_e2e: Slurm run done after $((SECONDS - t0)) s"
 
 # One task fails on purpose: its output path is a folder, so the sweep cannot read or replace it.
 victim=sweeps/ds1/knn-opt/shard-1-of-3.json
-index=$("$bin" cluster status "$work/slurm" --all | sed -n "s|^  done sweep\[\([0-9]*\)\] .* -> $victim\$|\1|p")
+index=$("$bin" cluster status "$work/slurm" --list-done | sed -n "s|^  done sweep\[\([0-9]*\)\] .* -> $victim\$|\1|p")
 [[ -n $index ]] || fail "no sweep task writes $victim"
 rm "$work/slurm/$victim"
 mkdir "$work/slurm/$victim"

@@ -212,7 +212,7 @@ Subcommand addStatus(CLI::App& app) {
   status->add_flag("--wait", o->wait, "Wait until no task is running or pending, then print");
   status->add_option("--timeout", o->timeout, "With --wait: give up after this many seconds (0: never)")->capture_default_str();
   status->add_option("--poll", o->poll, "With --wait: seconds between looks")->capture_default_str()->check(numberAbove(0));
-  status->add_flag("--all", o->all, "List every task, done ones too");
+  status->add_flag("--list-done", o->all, "List every task, done ones too");
   return {status, [o] { return runStatus(*o); }};
 }
 
