@@ -8,44 +8,11 @@
 #include <set>
 #include <sstream>
 
-#include "test_helpers.hpp"
+#include "cli_help.hpp"
 
 namespace {
 
 using Flags = std::map<std::string, std::set<std::string>>;  // flag -> leaf commands that take it
-
-// The lines of a --help section ("Subcommands:", "Options:") up to the next blank line.
-std::vector<std::string> section(const std::string& help, const std::string& title) {
-  std::vector<std::string> lines;
-  std::istringstream in(help);
-  bool inside = false;
-  for (std::string line; std::getline(in, line);) {
-    if (line == title) inside = true;
-    else if (inside && line.empty()) break;
-    else if (inside) lines.push_back(line);
-  }
-  return lines;
-}
-
-// Every leaf below `command` (a command with no subcommands), and its flags: option lines are indented by two
-// spaces, their descriptions by more.
-void walk(const std::string& command, Flags& flags, std::set<std::string>& leaves) {
-  const std::string help = occsweep::test::runCli(command + " --help").output;
-  const std::regex subcommand("^  ([a-z][a-z-]*)\\s.*"), option("^  (?:-[a-zA-Z],)?(--[a-z0-9-]+).*");
-  std::vector<std::string> subs;
-  for (const auto& line : section(help, "Subcommands:")) {
-    std::smatch m;
-    if (std::regex_match(line, m, subcommand)) subs.push_back(m[1]);
-  }
-  for (const auto& sub : subs) walk(command.empty() ? sub : command + " " + sub, flags, leaves);
-  if (!subs.empty() || command.empty()) return;
-  leaves.insert(command);
-  std::istringstream in(help);  // every option group: "Options:", "Limits:", ...
-  for (std::string line; std::getline(in, line);) {
-    std::smatch m;
-    if (std::regex_match(line, m, option) && m[1] != "--help") flags[m[1]].insert(command);
-  }
-}
 
 std::string docsCli() {
   std::ifstream in(std::string(OCCSWEEP_SOURCE_DIR) + "/docs/cli.md");
@@ -81,9 +48,11 @@ Flags documentedFlags(const std::string& doc) {
 }  // namespace
 
 TEST_CASE("every leaf command's flags are the ones docs/cli.md lists for it, and no concept has a second spelling") {
+  std::map<std::string, occsweep::test::LeafHelp> leaves;
+  occsweep::test::walkHelp("", leaves);
   Flags flags;
-  std::set<std::string> leaves;
-  walk("", flags, leaves);
+  for (const auto& [command, help] : leaves)
+    for (const auto& flag : help.flags) flags[flag].insert(command);
   CHECK(leaves.size() >= 30);
   CHECK(leaves.count("sweep"));
   CHECK(leaves.count("cluster run-local"));

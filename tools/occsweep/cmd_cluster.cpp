@@ -151,6 +151,7 @@ int runPlan(const PlanOptions& o) {
 Subcommand addPlan(CLI::App& app) {
   auto o = std::make_shared<PlanOptions>();
   CLI::App* plan = app.add_subcommand("plan", "Write the shards, the manifest (plan.json) and one sbatch script per stage");
+  addExample(*plan, "occsweep cluster plan --out plan --experiment sweep --dataset ds --grid octomap-opt:2");
   plan->add_option("--experiment", o->config.experiment, "reproduce: generate data, sweep, merge, compare; sweep: existing data sets")
       ->check(CLI::IsMember({"reproduce", "sweep"}))->capture_default_str();
   plan->add_option("--out", o->dir, "Plan folder (tasks run there; outputs go under it)")->required();
@@ -163,6 +164,7 @@ Subcommand addPlan(CLI::App& app) {
 Subcommand addSelect(CLI::App& app) {
   auto t = std::make_shared<SelectTask>();
   CLI::App* select = app.add_subcommand("select", "Task of ranked plans: link a data set's generated sets as pcs-NNNN and rank-N");
+  addExample(*select, "occsweep cluster select gen/building-plain-I/ranking.json --out sets");
   addSelectOptions(*select, *t);  // task_options.cpp: also what `cluster plan` tasks are parsed with
   return {select, [t] {
             const auto n = selectRanked({t->rankings.begin(), t->rankings.end()}, t->out);
@@ -177,6 +179,9 @@ Subcommand addSubmit(CLI::App& app, bool resubmit) {
   CLI::App* sub = resubmit ? app.add_subcommand("resubmit", "Submit only the shards whose outputs are missing or "
                                                             "invalid, and what depends on them")
                            : app.add_subcommand("submit", "Submit a plan: one job array per stage, chained with afterok");
+  addExample(*sub, resubmit ? "occsweep cluster resubmit splan"
+                            : "occsweep cluster plan --out splan --experiment sweep --dataset ds --grid octomap-opt:1\n"
+                              "occsweep cluster submit splan\noccsweep cluster status splan --wait --timeout 600");
   sub->add_option("dir", *dir, "Plan folder")->required();
   return {sub, [dir, resubmit] { return (void)submitPlan(readPlan(*dir), *dir, resubmit, std::cout), 0; }};
 }
@@ -208,6 +213,7 @@ int runStatus(const StatusOptions& o) {
 Subcommand addStatus(CLI::App& app) {
   auto o = std::make_shared<StatusOptions>();
   CLI::App* status = app.add_subcommand("status", "Done, running, pending, failed and missing shards (exit 0: all done)");
+  addExample(*status, "occsweep cluster status plan");
   status->add_option("dir", o->dir, "Plan folder")->required();
   status->add_flag("--wait", o->wait, "Wait until no task is running or pending, then print");
   status->add_option("--timeout", o->timeout, "With --wait: give up after this many seconds (0: never)")->capture_default_str();
@@ -220,6 +226,7 @@ Subcommand addRunLocal(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
   auto threads = std::make_shared<int>(1);
   CLI::App* local = app.add_subcommand("run-local", "Run the plan's unfinished shards on this machine");
+  addExample(*local, "occsweep cluster run-local plan --threads 2");
   local->add_option("dir", *dir, "Plan folder")->required();
   local->add_option("--threads", *threads, "Tasks run at a time (each sweep task uses the plan's --threads)")
       ->capture_default_str()->check(threadCount(1));

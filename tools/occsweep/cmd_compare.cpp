@@ -205,6 +205,7 @@ int runCompare(const CompareTask& o) {
 const RegisterCommand kCompare{"compare", "Best AUC of every method per data set, the improvement over a baseline, and "
                                           "whether it is real (docs/statistics.md)",
                                [](CLI::App& app) {
+  addExample(app, "occsweep compare oct.json knn.json --latex table.tex");
   auto task = std::make_shared<CompareTask>();
   addCompareOptions(app, *task);  // task_options.cpp: also what `cluster plan` tasks are parsed with
   addLimitOptions(app, {Limit::Combinations});  // each file's grid is enumerated to check its maps

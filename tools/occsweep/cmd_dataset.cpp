@@ -97,6 +97,7 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
   auto o = std::make_shared<DatasetOptions>();
   CLI::App* gen = app.add_subcommand("generate", "Render a data set, run StereoSGBM per point cloud parameter set, "
                                                  "write OUT/NAME/pcs-*/ and OUT/NAME/ranking.json");
+  addExample(*gen, "occsweep dataset generate --name building-plain-I --scale ci --pcs 0,1 --out gen");
   gen->add_option("--name", o->name, "ENV-TEXTURE-LAYOUT: {building,parking}-{plain,voronoi}-{I,O,T,L,S}");
   gen->add_flag("--all", o->all, "All 20 data sets (also writes OUT/summary.json)");
   gen->add_option("--out", o->out, "Output folder")->required();

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cmd_dataset_middlebury.hpp"
+#include "command_registry.hpp"
 #include "option_checks.hpp"
 
 #ifdef OCCSWEEP_HAVE_STEREO
@@ -112,6 +113,7 @@ std::pair<CLI::App*, std::function<int()>> addDatasetMiddlebury(CLI::App& datase
   auto o = std::make_shared<MiddleburyOptions>(middleburyDefaults());
   CLI::App* mb = dataset.add_subcommand("middlebury", "A real stereo pair with ground-truth disparity (Middlebury 2006; "
                                                       "default: Aloe from Debian's opencv-doc) as OUT/pcs-*/ data sets");
+  addExample(*mb, "occsweep dataset middlebury --out aloe");
   mb->add_option("--left", o->left, "Left image (JPEG or 8-bit PNG)")->capture_default_str();
   mb->add_option("--right", o->right, "Right image")->capture_default_str();
   mb->add_option("--gt", o->gt, "Ground-truth disparity of the left image: 8-bit PNG, full-size pixels, 0 unknown")

@@ -206,6 +206,13 @@ ImportCommands addImportOptions(CLI::App& app, ImportOptions& o) {
       app.add_subcommand("cloud", "Point clouds (PLY, PCD, x y z text), one scan each"),
       app.add_subcommand("truth", "Add ground truth (PLY mesh or cloud, PCD, JSON boxes) to a data set")};
   addCommonOptions(subs, o);
+  const std::string real = "tests/data/real/";  // the repository's samples (tests/data/real/README.md)
+  addExample(*subs.depth, "occsweep import depth " + real + "slambook_joinMap/depth/*.pgm --poses " + real +
+                              "slambook_joinMap/pose.txt --fx 518 --fy 519 --cx 325.5 --cy 253.5 --max-depth 7 "
+                              "--stride 8 --out room");
+  addExample(*subs.graph, "occsweep import graph " + real + "octomap_share_data/spherical_scan.graph --out sphere");
+  addExample(*subs.cloud, "occsweep import cloud " + real + "octomap_share_data/scan_first2000.xyz --out cloud");
+  addExample(*subs.truth, "occsweep import truth tests/data/examples/boxes.json --dataset cloud --out cloud-truth");
   addDepthOptions(*subs.depth, o);
   addCloudOptions(*subs.cloud, o);
   addTruthOptions(*subs.truth, o);

@@ -189,6 +189,7 @@ int runMap(const MapOptions& o) {
 
 const RegisterCommand kMap{"map", "Build one map of a data set and write it as OctoMap .ot (octovis opens it)",
                            [](CLI::App& app) {
+  addExample(app, "occsweep map --dataset ds --method knn --out knn.ot");
   auto o = std::make_shared<MapOptions>();
   addMapOptions(app, *o);
   return [o] { return runMap(*o); };

@@ -72,6 +72,7 @@ Counts compare(const octomap::OcTree& a, const octomap::OcTree& b, float thresho
 
 const RegisterCommand kMapDiff{"mapdiff", "Count the voxels two maps (.ot) disagree on at p_t, as JSON",
                                [](CLI::App& app) {
+  addExample(app, "occsweep map --dataset ds --method octomap --out a.ot\noccsweep map --dataset ds --method knn --out b.ot\noccsweep mapdiff a.ot b.ot");
   struct Options {
     std::string a, b;
     double p_t = 0.5;

@@ -27,7 +27,8 @@ void printMethod(const MappingMethod& m) {
 }
 
 const RegisterCommand kMethods{"methods", "List every registered mapping method with its parameters (docs/methods.md)",
-                               [](CLI::App&) {
+                               [](CLI::App& app) {
+  addExample(app, "occsweep methods");
   return [] {
     for (const auto& m : registeredMethods()) printMethod(*m);
     return 0;

@@ -82,6 +82,7 @@ const RegisterCommand kPlot{"plot", "Figures of a comparison: best curves, budge
       {"params", "AUC against each parameter: mean and best over the maps with each value (the grid's marginal)"}};
   for (const std::string& k : kPlotKinds) {
     CLI::App* sub = app.add_subcommand(k, what.at(k));
+    addExample(*sub, "occsweep plot " + k + " oct.json knn.json --out " + k + ".png");
     sub->add_option("files", o->files, "Complete results files (as for compare)")->required();
     sub->add_option("--out", o->out, "The figure (PNG)")->required();
     sub->add_option("--json", o->json, "Also write the plotted data");

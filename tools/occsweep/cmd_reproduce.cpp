@@ -91,6 +91,7 @@ const RegisterCommand kReproduce{"reproduce",
                                  "Reproduce the paper's Section 4: distribution fits, NCA weights, optimal-AUC "
                                  "comparison, curves and maps, run-time models; report.md and five figures",
                                  [](CLI::App& app) {
+  addExample(app, "occsweep reproduce --scale ci --name building-plain-I --steps fits --no-figures --out repro");
   auto o = std::make_shared<ReproduceOptions>();
   app.add_option("--scale", o->scale, "ci (under 10 min on 2 cores), small, paper: data scale and reductions")
       ->check(CLI::IsMember({"ci", "small", "paper"}))->capture_default_str();

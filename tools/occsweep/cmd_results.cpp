@@ -96,6 +96,7 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   auto file = std::make_shared<std::string>();
   CLI::App* check = app.add_subcommand("check", "Exit 0 when FILE is a complete, consistent results file (docs/results-format.md)");
   auto dataset = std::make_shared<std::string>();
+  addExample(*check, "occsweep results check knn.json");
   check->add_option("file", *file, "Results file")->required();
   check->add_option("--dataset", *dataset, "Also check against this data set: its content hash, and every threshold "
                                            "counting its region's and its truth's voxels");
@@ -103,6 +104,8 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   CLI::App* diff = app.add_subcommand("diff", "Exit 0 when NEW has GOLDEN's confusion counts and AUCs, else 1 with a "
                                               "table of what changed (docs/results-format.md)");
   auto golden = std::make_shared<std::string>();
+  addExample(*diff, "occsweep sweep --dataset ds --grid knn-opt --engine direct --out knn-direct.json\n"
+                    "occsweep results diff knn.json knn-direct.json");
   auto candidate = std::make_shared<std::string>();
   auto auc_tolerance = std::make_shared<double>(0.0);
   diff->add_option("golden", *golden, "The results file to match")->required();
@@ -117,6 +120,7 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
                                                   "row per combination, NAME.db or NAME.sqlite a results store, "
                                                   "anything else the JSON results file");
   auto source = std::make_shared<std::string>();
+  addExample(*export_, "occsweep results export knn.json --out knn.csv");
   auto to = std::make_shared<ExportTarget>();
   export_->add_option("file", *source, "Results file or store")->required();
   export_->add_option("--out", to->out, "The converted file: .csv, .db/.sqlite or JSON, by its name")->required();

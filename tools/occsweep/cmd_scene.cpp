@@ -13,6 +13,7 @@ namespace {
 
 const RegisterCommand kScene{"scene", "Write the built-in scene (four boxes in an O, an orbiting range sensor)",
                              [](CLI::App& app) {
+  addExample(app, "occsweep scene --out ds --scans 8 --width 32 --height 24");
   struct Options {
     std::string out;
     BuiltinSceneConfig config;

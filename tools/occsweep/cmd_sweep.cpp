@@ -39,6 +39,7 @@ void refuseLargeJson(const SweepConfig& c) {
 
 const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one map per combination but p_t",
                              [](CLI::App& app) {
+  addExample(app, "occsweep sweep --dataset ds --grid octomap-opt --grid knn-opt --out oct.json --out knn.json");
   auto o = std::make_shared<SweepOptions>();
   addSweepOptions(app, *o);  // task_options.cpp: also what `cluster plan` tasks are parsed with
   for (const char* needed : {"--dataset", "--grid", "--out"}) app.get_option(needed)->required();

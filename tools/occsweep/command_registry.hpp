@@ -29,6 +29,17 @@ struct RegisterCommand {
   }
 };
 
+/// The runnable example at the end of a leaf command's --help: one command per line, each starting `occsweep `,
+/// run in this order from the repository's root by tests/tools/test_help_examples.cpp.
+inline void addExample(CLI::App& app, const std::string& lines) {
+  std::string text = "\nExample:";
+  std::size_t start = 0;
+  for (std::size_t end; (end = lines.find('\n', start)) != std::string::npos; start = end + 1)
+    text += "\n  " + lines.substr(start, end - start);
+  if (start < lines.size()) text += "\n  " + lines.substr(start);
+  app.footer(text);
+}
+
 /// For commands with their own subcommands (`grid count`): runs the chosen one, or prints help.
 inline int runChosen(const std::vector<std::pair<CLI::App*, std::function<int()>>>& subs) {
   for (const auto& [sub, run] : subs)
