@@ -6,6 +6,8 @@
 #include <set>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 #include "occsweep/sweeps/grid.hpp"
@@ -78,6 +80,18 @@ TEST_CASE("plan option parsers refuse what they cannot read and name it") {
   CHECK_THROWS(buildPlan(c));
   c.grids = {{"knn-opt", 2, false}, {"knn-opt", 3, false}};
   CHECK_THROWS_WITH(buildPlan(c), Contains("twice"));
+  // Two ungrouped grids of one method: the report (compare) takes one result per method and set.
+  const fs::path mine = test::scratch("cluster-plan-methods") / "knn-mine.json";
+  {
+    std::ifstream in(std::string(OCCSWEEP_SOURCE_DIR) + "/sweeps/grids/knn-opt.json");
+    nlohmann::json g = nlohmann::json::parse(in);
+    g["name"] = "knn-mine";
+    std::ofstream(mine) << g.dump();
+  }
+  c.grids = {{"knn-opt", 1, false}, {mine.string(), 1, false}};
+  CHECK_THROWS_WITH(buildPlan(c), Contains("knn-opt and knn-mine are both of method knn"));
+  c.grids = {{"knn-opt", 1, false}, {mine.string(), 1, true}};  // grouped: not in the report
+  CHECK_NOTHROW(buildPlan(c));
 }
 
 TEST_CASE("a plan has every shard once and merges take exactly their shards and plan.json reads back the same") {

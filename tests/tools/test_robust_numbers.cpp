@@ -390,6 +390,18 @@ TEST_CASE("compare refuses results that do not compare, names the file behind ev
     CHECK(r.exit_code == 0);
     CHECK(has(r.output, "warning"));
   }
+  SECTION("two results of one method for one set, or one file twice (old: the better one taken without a word)") {
+    const fs::path again = fx.dir / "again.json";
+    fs::copy_file(fx.knn, again, fs::copy_options::overwrite_existing);
+    requireRefused(run("compare " + fx.octomap.string() + " " + fx.knn.string() + " " + again.string()),
+                   {"again.json", "two results of method knn for one data set", "--allow-mixed"});
+    requireRefused(run("compare " + fx.octomap.string() + " " + fx.knn.string() + " " + fx.knn.string()),
+                   {"the same file given twice", "--allow-mixed"});
+    const auto r = run("compare --allow-mixed " + fx.octomap.string() + " " + fx.knn.string() + " " + again.string());
+    INFO(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(has(r.output, "warning (--allow-mixed)"));
+  }
   SECTION("the verdicts' alpha and smallest effect must be numbers in their range (old: nan accepted)") {
     for (const std::string flag : {"--alpha nan", "--alpha inf", "--alpha 0.5", "--smallest-effect nan",
                                    "--smallest-effect -1"}) {

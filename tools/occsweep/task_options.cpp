@@ -113,8 +113,8 @@ void addCompareOptions(CLI::App& app, CompareTask& task) {
   app.add_flag("--force", task.force, "Replace occsweep's own previous outputs at --json, --csv, --markdown, --latex "
                                       "(nothing else)");
   app.add_flag("--allow-mixed", task.allow_mixed, "Compare anyway when files of one data set differ in resolution, "
-                                                  "s_c, k-NN variant or statistics mode, or are shards (each is listed "
-                                                  "on stderr)");
+                                                  "s_c, k-NN variant or statistics mode, are shards, or are two of "
+                                                  "one method (the better best AUC taken); each is listed on stderr");
 }
 
 void addSelectOptions(CLI::App& app, SelectTask& task) {

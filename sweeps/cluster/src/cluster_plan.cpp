@@ -187,11 +187,18 @@ void refuseLargeJsonGrid(const PlanGrid& g, const GridEnumeration& e) {
 /// Grids are loaded now so that a wrong name or too many shards fail at planning, not on the cluster.
 std::vector<LoadedGrid> loadPlanGrids(const PlanConfig& c) {
   std::set<std::string> seen;
+  std::map<std::string, std::string> ungrouped_of_method;  // the report compares one result per method and set
   std::vector<LoadedGrid> out;
   for (const auto& g : c.grids) {
     if (g.shards == 0) throw std::invalid_argument("grid " + g.name + ": shards must be at least 1");
     const GridSpec spec = loadGrid(resolveGridPath(g.name));
     if (!seen.insert(spec.name).second) throw std::invalid_argument("grid " + spec.name + " given twice");
+    if (const auto [it, fresh] = g.grouped ? std::pair{ungrouped_of_method.end(), true}
+                                           : ungrouped_of_method.try_emplace(spec.method, spec.name);
+        !fresh)
+      throw std::invalid_argument("grids " + it->second + " and " + spec.name + " are both of method " + spec.method +
+                                  ": the report compares one result per method and data set (docs/cluster.md); "
+                                  "plan them in two plans, or group one of them");
     const GridEnumeration e = enumerateGrid(spec);
     const auto maps = e.maps.size();
     if (!g.grouped && g.shards > maps)

@@ -83,7 +83,7 @@ std::string mixedTruths(const std::vector<ResultsFile>& files, const std::vector
 
 std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, const std::vector<std::string>& names) {
   std::vector<std::string> problems;
-  std::map<std::string, std::size_t> first_of_hash, first_knn_of_hash;
+  std::map<std::string, std::size_t> first_of_hash, first_knn_of_hash, first_of_method;
   for (std::size_t i = 0; i < files.size(); ++i) {
     const ResultsHeader& h = files[i].header;
     if (h.selection.shard_count != 1)
@@ -108,6 +108,13 @@ std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, co
         problems.push_back(names[i] + " (" + settingsText(h) + ") and " + names[k->second] + " (" + settingsText(ko) +
                            "): another k-NN variant or statistics mode on the same data set");
     }
+    // After the reasons above, which say more.
+    // One file per method and set: of two, compareBest would take the better best AUC without a word.
+    if (const auto [j, fresh] = first_of_method.try_emplace(h.dataset_hash + '\n' + h.method, i); !fresh)
+      problems.push_back(names[j->second] + " and " + names[i] + ": two results of method " + h.method +
+                         " for one data set (" + h.dataset_name + ", hash " + h.dataset_hash + "), " +
+                         (names[j->second] == names[i] ? "the same file given twice" : "the better best AUC of "
+                                                                                        "the two would be taken"));
   }
   return problems;
 }
