@@ -129,7 +129,8 @@ TEST_CASE("dataset generate replaces its own earlier output only with --force, a
   CHECK(test::bytesOf(set / "manifest.json") != manifest);
 }
 
-TEST_CASE("a generation that fails removes what it made, never a file put in a folder it made", "[stereo][cli][ownership]") {
+TEST_CASE("a generation that fails removes what it made, never a file put in a folder it made",
+          "[stereo][cli][ownership]") {
   // Old binary: the failure removed the outermost folder it had made (new/), with the user's notes.txt in it.
   const fs::path dir = test::scratch("stereo-gen-fail");
   const fs::path out = dir / "new" / "ds";

@@ -127,10 +127,10 @@ fs::path logOf(const fs::path& dir, const ClusterStage& stage, const ClusterTask
   return dir / "logs" / ("local-" + stage.name + "-" + std::to_string(t.index) + ".log");
 }
 
+/// A task's log starts with this line: a log of an earlier run is replaced; anything else at its name (a user's
+/// file, a link) is never removed or written (docs/robustness.md, "Ownership"), and no task starts.
 constexpr const char* kTaskLogMark = "# occsweep cluster run-local: task log";
 
-/// A task's log starts with kTaskLogMark: a log of an earlier run is replaced; anything else at its name (a user's
-/// file, a link) is never removed or written (docs/robustness.md, "Ownership"), and the task does not start.
 /// Whether an entry stands at `log`; throws when it is not a task log of occsweep's.
 bool requireOwnTaskLog(const fs::path& log) {
   std::error_code ec;
@@ -252,6 +252,7 @@ std::size_t runStage(const ClusterStage& stage, const std::vector<std::uint64_t>
 
 }  // namespace
 
+namespace {
 /// The running markers of an earlier run (`STAGE-N.pid`, a PID): removed; any other entry stays.
 void removeStaleMarkers(const fs::path& running) {
   std::error_code ec;
@@ -265,9 +266,18 @@ void removeStaleMarkers(const fs::path& running) {
   for (const auto& m : markers) fs::remove(m, ec);
 }
 
+/// Before any task starts: a user's file at the log's name of a task to run stops run-local (requireOwnTaskLog).
+void requireOwnTaskLogs(const ClusterPlan& plan, const std::vector<std::vector<std::uint64_t>>& torun,
+                        const fs::path& dir) {
+  for (std::size_t s = 0; s < plan.stages.size(); ++s)
+    for (const std::uint64_t id : torun[s])
+      (void)requireOwnTaskLog(logOf(dir, plan.stages[s], plan.stages[s].tasks[id]));
+}
+}  // namespace
+
 std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs) {
   const fs::path dir = fs::absolute(plan_dir);  // tasks start in it, and logs open after that chdir
-  if (jobs < 1) throw std::invalid_argument("-j must be at least 1");
+  if (jobs < 1) throw std::invalid_argument("--threads must be at least 1");
   fs::create_directories(dir / "logs");
   fs::create_directories(dir / "running");
   const PlanLock lock(dir);
@@ -275,8 +285,7 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
   removeStaleMarkers(dir / "running");  // none is live
   // Otherwise what is done is what is on disk.
   const auto torun = tasksToRun(plan, planStatus(plan, dir, {}, {}));
-  for (std::size_t s = 0; s < plan.stages.size(); ++s)  // before any task starts: a user's file at a log's name
-    for (const std::uint64_t id : torun[s]) (void)requireOwnTaskLog(logOf(dir, plan.stages[s], plan.stages[s].tasks[id]));
+  requireOwnTaskLogs(plan, torun, dir);
   TaskStopper stopper{std::size_t(jobs)};
   std::size_t failed = 0;
   for (std::size_t s = 0; s < plan.stages.size() && !stopper.signal(); ++s) {

@@ -60,8 +60,9 @@ struct ComparisonRow {
 
 /// Why `files` (named by `names`) cannot be compared as they are, one sentence each naming the files: a shard
 /// instead of a whole grid or Eq. 16 group, another resolution or s_c within a data set, another k-NN variant or
-/// statistics mode, two results of one method for one data set (or one file given twice). Empty when comparable. (Rows are data-set contents, by hash: files of one name with other
-/// scans, region or truth are never compared with each other; missingReason says so.)
+/// statistics mode, two results of one method for one data set (or one file given twice). Empty when comparable.
+/// (Rows are data-set contents, by hash: files of one name with other scans, region or truth are never compared with
+/// each other; missingReason says so.)
 [[nodiscard]] std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files,
                                                      const std::vector<std::string>& names);
 
