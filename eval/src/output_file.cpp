@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -257,6 +258,30 @@ fs::path outputTarget(const fs::path& target) {
     if (!p.has_filename() && p != p.root_path()) p = p.parent_path();
   }
   return p;
+}
+
+ReplaceableOutput recordedTextOutput(const std::string& name, const std::string& first_line) {
+  return {name, [first_line](const fs::path& file) {
+            if (!isRecordedTextOutput(file)) return false;
+            std::ifstream in(file);
+            std::string line;
+            return bool(std::getline(in, line)) && line.starts_with(first_line);
+          }};
+}
+
+std::vector<fs::path> missingFolders(const fs::path& dir) {
+  std::vector<fs::path> missing;
+  std::error_code ec;
+  for (fs::path p = dir; !p.empty() && !fs::exists(fs::symlink_status(p, ec)); p = p.parent_path()) {
+    missing.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  return missing;
+}
+
+void removeEmptyFolders(const std::vector<fs::path>& folders) noexcept {
+  std::error_code ec;
+  for (const fs::path& p : folders) fs::remove(p, ec);  // refuses a folder that is not empty
 }
 
 ReplaceableOutput jsonOutput(const std::string& name, const std::string& format) {

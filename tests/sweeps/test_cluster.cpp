@@ -99,7 +99,8 @@ TEST_CASE("a plan has every shard once and merges take exactly their shards and 
   for (int round = 0; round < 20; ++round) {
     const auto nd = 1 + rng.below(4), so = 1 + rng.below(20), sk = 1 + rng.below(30), sr = 1 + rng.below(5);
     std::vector<std::string> names;
-    for (std::uint64_t i = 0; i < nd; ++i) names.push_back("d" + std::to_string(i));
+    // Appended piece by piece: "d" + std::to_string trips GCC 12's -Wrestrict false positive here.
+    for (std::uint64_t i = 0; i < nd; ++i) names.push_back(std::string("d").append(std::to_string(i)));
     const ClusterPlan p = buildPlan(sceneConfig(names, {{"octomap-opt", so, false}, {"knn-opt", sk, false},
                                                         {"reduction", sr, true}}));
     REQUIRE(p.stages.size() == 4);

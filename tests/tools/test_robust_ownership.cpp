@@ -625,7 +625,7 @@ TEST_CASE("a user's file at SQLite's journal names beside a store to be written 
     const CommandResult r = runIn(dir, command);
     INFO(r.output);
     CHECK(r.exit_code == 2);
-    CHECK(r.output.find(journal + ": stands where SQLite keeps the journal") != std::string::npos);
+    CHECK(mentions(r, journal + ": stands where SQLite keeps the journal"));
     CHECK(fileBytes(dir / journal) == "the user's notes\n");
     fs::remove(dir / journal);
     CHECK(leftovers(dir).empty());
@@ -644,7 +644,7 @@ TEST_CASE("a store in SQLite's WAL mode is refused by every reader and nothing i
     INFO(command);
     const CommandResult r = runIn(in, command);
     CHECK(r.exit_code == 2);
-    CHECK(r.output.find("WAL journal mode") != std::string::npos);
+    CHECK(mentions(r, "WAL journal mode"));
     CHECK_FALSE(fs::exists(in / "wal.db-wal"));
     CHECK_FALSE(fs::exists(in / "wal.db-shm"));
     CHECK(fileBytes(in / "wal.db") == before);
@@ -663,14 +663,14 @@ TEST_CASE("cluster files are never written through a user's symbolic link, and r
   fs::create_symlink("../victim.txt", dir / "p" / "run-local.lock");
   CommandResult r = runIn(dir, "cluster run-local p");
   CHECK(r.exit_code == 2);
-  CHECK(r.output.find("run-local.lock: is a symbolic link") != std::string::npos);
+  CHECK(mentions(r, "run-local.lock: is a symbolic link"));
   CHECK(fileBytes(dir / "victim.txt") == "precious\n");
   fs::remove(dir / "p" / "run-local.lock");
   // Old binary: run-local removed a user's file at a task log's name and wrote the task's output there.
   writeBytes(dir / "p" / "logs" / "local-sweep-0.log", "the user's log\n");
   r = runIn(dir, "cluster run-local p");
   CHECK(r.exit_code == 2);
-  CHECK(r.output.find("local-sweep-0.log: exists and is not a task log of occsweep's") != std::string::npos);
+  CHECK(mentions(r, "local-sweep-0.log: exists and is not a task log of occsweep's"));
   CHECK(fileBytes(dir / "p" / "logs" / "local-sweep-0.log") == "the user's log\n");
   CHECK_FALSE(fs::exists(dir / "p" / "sweeps"));
   fs::remove(dir / "p" / "logs" / "local-sweep-0.log");
@@ -687,14 +687,14 @@ TEST_CASE("cluster files are never written through a user's symbolic link, and r
                                            R"("../newname", "id": 0}]})");
   r = runIn(dir, "cluster select gen/ranking.json --out sel/d");
   CHECK(r.exit_code == 2);
-  CHECK(r.output.find("gen/ranking.json: sets: folder '../newname' is not a single folder name") != std::string::npos);
+  CHECK(mentions(r, "gen/ranking.json: sets: folder '../newname' is not a single folder name"));
   CHECK_FALSE(fs::exists(fs::symlink_status(dir / "sel" / "newname")));
   CHECK_FALSE(fs::exists(dir / "sel" / "d"));
   // Old binary: sets x/y and x_y shared one output, and one was never swept.
   r = runIn(dir, "cluster plan --out q --experiment sweep --dataset " + s + "scene --sets x/y x_y --grid " + s +
                      "tiny.json:1");
   CHECK(r.exit_code == 2);
-  CHECK(r.output.find("--sets x/y and x_y would share the plan's outputs") != std::string::npos);
+  CHECK(mentions(r, "--sets x/y and x_y would share the plan's outputs"));
   CHECK_FALSE(fs::exists(dir / "q"));
 }
 
@@ -710,7 +710,7 @@ TEST_CASE("outputs that collide through a sweep's partial file, or two names of 
     const CommandResult r = runIn(dir, "sweep --dataset " + s + "scene --grid " + s + "tiny.json --grid " + s +
                                            "tiny.json --quiet " + outs);
     CHECK(r.exit_code == 2);
-    CHECK(r.output.find("partial file name one file") != std::string::npos);
+    CHECK(mentions(r, "partial file name one file"));
     CHECK(leftovers(dir).empty());
     CHECK(fs::is_empty(dir));
   }
@@ -718,7 +718,7 @@ TEST_CASE("outputs that collide through a sweep's partial file, or two names of 
   const CommandResult r = runIn(dir, "plot improvement " + s + "oct.json " + s + "knn.json --python " +
                                          std::string(kPython) + " --out f.png --json f.png");
   CHECK(r.exit_code == 2);
-  CHECK(r.output.find("--out and --json name one file") != std::string::npos);
+  CHECK(mentions(r, "--out and --json name one file"));
   CHECK(fs::is_empty(dir));
 }
 
@@ -733,7 +733,7 @@ TEST_CASE("a reader that goes away ends nothing half-done: a sweep piped to a cl
                                    shellQuoted(cliUnderTest()) + " sweep --dataset " + s + "scene --grid " + s +
                                    "tiny.json --out r.json 2>&1; echo \"exit $?\" >&3; } | true");
   INFO(r.output);
-  CHECK(r.output.find("exit 0") != std::string::npos);
+  CHECK(mentions(r, "exit 0"));
   CHECK(fs::exists(dir / "r.json"));
   CHECK_FALSE(fs::exists(dir / "r.json.partial.jsonl"));
 }

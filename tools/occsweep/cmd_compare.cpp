@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -104,18 +103,6 @@ void printTruth(TruthMode truth) {
             << '\n';
 }
 
-// A table compare wrote before: a regular file holding exactly the bytes occsweep recorded writing there (a CSV,
-// Markdown or LaTeX file has no field of its own for a mark, and a first line is text a user could write:
-// ownership.hpp), its first line `first_line` besides; --force replaces nothing else.
-ReplaceableOutput tableOutput(const std::string& name, const std::string& first_line) {
-  return {name, [first_line](const std::filesystem::path& file) {
-            if (!isRecordedTextOutput(file)) return false;
-            std::ifstream in(file);
-            std::string line;
-            return bool(std::getline(in, line)) && line.starts_with(first_line);
-          }};
-}
-
 // Every output needs a file of its own on a path that can hold it, checked before the first is written: a failure
 // at the third output must not leave the first two behind (docs/robustness.md, outputs).
 void requireDistinctOutputs(const CompareTask& o) {
@@ -126,10 +113,12 @@ void requireDistinctOutputs(const CompareTask& o) {
 void checkOutputs(const CompareTask& o) {
   requireDistinctOutputs(o);
   if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("comparison", "occsweep-comparison"));
-  if (!o.csv.empty()) checkOutputTarget(o.csv, o.force, tableOutput("comparison CSV", "dataset,point_cloud_set,"));
+  if (!o.csv.empty())
+    checkOutputTarget(o.csv, o.force, recordedTextOutput("comparison CSV", "dataset,point_cloud_set,"));
   if (!o.markdown.empty())
-    checkOutputTarget(o.markdown, o.force, tableOutput("comparison Markdown", "<!-- occsweep compare"));
-  if (!o.latex.empty()) checkOutputTarget(o.latex, o.force, tableOutput("comparison LaTeX", "% occsweep compare"));
+    checkOutputTarget(o.markdown, o.force, recordedTextOutput("comparison Markdown", "<!-- occsweep compare"));
+  if (!o.latex.empty())
+    checkOutputTarget(o.latex, o.force, recordedTextOutput("comparison LaTeX", "% occsweep compare"));
 }
 
 CompareStatisticsOptions statisticsOptions(const CompareTask& o) {
@@ -169,7 +158,7 @@ void writeOutputs(const CompareTask& o, const nlohmann::json& comparison, const 
   for (const auto& f : files) all.push_back(f.get());
   OutputFile::commitTogether(all);
   for (const std::string& table : {o.csv, o.markdown, o.latex})
-    if (!table.empty()) recordTextOutput(table);  // what a later --force may replace (tableOutput)
+    if (!table.empty()) recordTextOutput(table);  // what a later --force may replace (recordedTextOutput)
 }
 
 int runCompare(const CompareTask& o) {

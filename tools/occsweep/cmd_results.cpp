@@ -4,7 +4,6 @@
 // occsweep results diff GOLDEN NEW: exit 0 only when NEW has GOLDEN's numbers (docs/results-format.md, "Regression
 // checks against a golden file").
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 
 #include "command_registry.hpp"
@@ -59,16 +58,6 @@ struct ExportTarget {
   bool force = false;
 };
 
-// A CSV export of occsweep's, proven by the record of the bytes it wrote there (a CSV has no field for a mark:
-// ownership.hpp): replaced with --force; anything else never.
-ReplaceableOutput csvExport() {
-  return {"CSV export", [](const std::filesystem::path& file) {
-            std::ifstream in(file);
-            std::string first;
-            return isRecordedTextOutput(file) && std::getline(in, first) && first.starts_with("id,map_index,");
-          }};
-}
-
 bool isCsvPath(const std::filesystem::path& p) { return p.extension() == ".csv"; }
 
 // The format follows --out's name, as for `sweep --out` (docs/results-format.md, "Export").
@@ -81,13 +70,13 @@ int runExport(const std::string& source, const ExportTarget& to) {
     return 0;
   }
   const bool csv = isCsvPath(to.out);
-  checkOutputTarget(to.out, to.force, csv ? csvExport() : resultsOutput());
+  checkOutputTarget(to.out, to.force, csv ? recordedTextOutput("CSV export", "id,map_index,") : resultsOutput());
   (void)checkResultsFile(source, "");  // what `results check` refuses fails before anything is written
   OutputFile out(to.out);
   if (csv) exportCsv(source, out.stream());
   else exportJson(source, out.stream());
   out.commit();
-  if (csv) recordTextOutput(to.out);  // what a later --force may replace (csvExport)
+  if (csv) recordTextOutput(to.out);  // what a later --force may replace (recordedTextOutput)
   std::cout << "wrote " << to.out << '\n';
   return 0;
 }

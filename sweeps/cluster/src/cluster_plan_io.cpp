@@ -261,16 +261,16 @@ void refuseOtherScripts(const std::filesystem::path& dir, const ClusterPlan& pla
     std::error_code ec;
     if (!fs::exists(fs::symlink_status(script, ec))) continue;
     const std::optional<std::string> own = ownScript(old, st.name);
-    const bool same = own && fs::is_regular_file(fs::symlink_status(script, ec)) &&
-                      fs::file_size(script, ec) == own->size() && readFileBytes(script) == *own;
-    if (!same)
+    const ReplaceableOutput own_script{"Slurm script of the plan", [own](const fs::path& file) {
+                                         std::error_code ec;
+                                         return own && fs::is_regular_file(fs::symlink_status(file, ec)) &&
+                                                fs::file_size(file, ec) == own->size() && readFileBytes(file) == *own;
+                                       }};
+    if (!own_script.is_own(script))
       throw std::runtime_error(script.string() + ": not the script occsweep wrote for the plan there (a file of "
                                "yours, or the plan's script edited by hand): never replaced, even with --force "
                                "(nothing changed); move it away, or choose another --out");
-    const std::string bytes = *own;
-    checkOutputTarget(script, true, {"Slurm script of the plan", [bytes](const fs::path& file) {
-                                       return readFileBytes(file) == bytes;
-                                     }});
+    checkOutputTarget(script, true, own_script);  // its commit replaces this very file, nothing put there meanwhile
   }
 }
 
@@ -281,12 +281,7 @@ class MadeEntries {
  public:
   /// create_directories, remembering each folder it creates.
   void folders(const std::filesystem::path& dir) {
-    std::vector<std::filesystem::path> missing;
-    for (std::filesystem::path p = dir; !p.empty() && !std::filesystem::exists(std::filesystem::symlink_status(p));
-         p = p.parent_path()) {
-      missing.push_back(p);
-      if (p == p.parent_path()) break;
-    }
+    const std::vector<std::filesystem::path> missing = missingFolders(dir);  // innermost first
     std::filesystem::create_directories(dir);
     entries_.insert(entries_.end(), missing.rbegin(), missing.rend());
   }

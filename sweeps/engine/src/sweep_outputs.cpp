@@ -120,8 +120,8 @@ void writeSweepResults(const ResultsFile& f, FinishedMaps& finished, const Sweep
 // What both outputs keep: the sweep, its header, its engine, the partial file and the complete results found.
 class OutputBase : public GridOutput {
  public:
-  OutputBase(const SweepConfig& c, const ResultsHeader& h, std::string engine, const std::string& partial_suffix)
-      : c_(c), h_(h), engine_(std::move(engine)), partial_(c.out.string() + partial_suffix) {}
+  OutputBase(const SweepConfig& c, const ResultsHeader& h, std::string engine)
+      : c_(c), h_(h), engine_(std::move(engine)), partial_(partialOutputPath(c.out)) {}
   const std::optional<ResultsFile>& complete() const override { return existing_; }
   fs::path partial() const override { return partial_; }
 
@@ -137,7 +137,7 @@ class OutputBase : public GridOutput {
 class JsonOutput final : public OutputBase {
  public:
   JsonOutput(const SweepConfig& c, const ResultsHeader& h, std::string engine)
-      : OutputBase(c, h, std::move(engine), ".partial.jsonl") {
+      : OutputBase(c, h, std::move(engine)) {
     existing_ = checkOutputs(c, h);
     if (existing_) return;
     finished_.done =
@@ -261,7 +261,7 @@ class StoreWriter {
 class StoreOutput final : public OutputBase {
  public:
   StoreOutput(const SweepConfig& c, const ResultsHeader& h, std::string engine)
-      : OutputBase(c, h, std::move(engine), ".partial") {
+      : OutputBase(c, h, std::move(engine)) {
     if (hasTwin(c)) throw std::invalid_argument("sweep: observable_out is written as JSON only (a results store has no twin)");
     existing_ = completeStore(c, h);
     if (existing_) return;

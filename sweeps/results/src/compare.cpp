@@ -108,8 +108,8 @@ std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, co
         problems.push_back(names[i] + " (" + settingsText(h) + ") and " + names[k->second] + " (" + settingsText(ko) +
                            "): another k-NN variant or statistics mode on the same data set");
     }
-    // After the reasons above, which say more.
-    // One file per method and set: of two, compareBest would take the better best AUC without a word.
+    // One file per method and set (of two, compareBest would take the better best AUC without a word); after the
+    // reasons above, which say more.
     if (const auto [j, fresh] = first_of_method.try_emplace(h.dataset_hash + '\n' + h.method, i); !fresh)
       problems.push_back(names[j->second] + " and " + names[i] + ": two results of method " + h.method +
                          " for one data set (" + h.dataset_name + ", hash " + h.dataset_hash + "), " +

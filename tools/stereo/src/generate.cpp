@@ -59,12 +59,7 @@ std::vector<std::pair<std::int64_t, SgbmParams>> chosenSets(const GenerateConfig
 // "Ownership": a folder tree is never removed whole).
 class RemoveMadeOnFailure {
  public:
-  explicit RemoveMadeOnFailure(const fs::path& dir) : dir_(dir) {
-    for (fs::path p = dir; !p.empty() && !fs::exists(p); p = p.parent_path()) {
-      made_.push_back(p);
-      if (p == p.parent_path()) break;
-    }
-  }
+  explicit RemoveMadeOnFailure(const fs::path& dir) : dir_(dir), made_(missingFolders(dir)) {}
   RemoveMadeOnFailure(const RemoveMadeOnFailure&) = delete;
   RemoveMadeOnFailure& operator=(const RemoveMadeOnFailure&) = delete;
   ~RemoveMadeOnFailure() {
@@ -75,8 +70,8 @@ class RemoveMadeOnFailure {
         fs::remove_all(it->path(), ec);  // a set of this run's, whole: every entry its manifest's
     for (fs::directory_iterator it(dir_ / "preview", ec), end; !ec && it != end; it.increment(ec))
       if (previewOutput().is_own(it->path())) fs::remove(it->path(), ec);
-    fs::remove(dir_ / "preview", ec);
-    for (const fs::path& p : made_) fs::remove(p, ec);  // innermost first; refuses a folder that is not empty
+    removeEmptyFolders({dir_ / "preview"});
+    removeEmptyFolders(made_);
   }
 
  private:

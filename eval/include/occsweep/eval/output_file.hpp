@@ -46,6 +46,19 @@ struct ReplaceableOutput {
 /// rewrites it in a folder it resumes in, may replace (docs/robustness.md, "Ownership").
 [[nodiscard]] ReplaceableOutput jsonOutput(const std::string& name, const std::string& format);
 
+/// A text output of occsweep's in a format with no field of its own for a mark (a CSV, Markdown or LaTeX table),
+/// proven by the record of the bytes occsweep wrote there (isRecordedTextOutput, ownership.hpp), its first line
+/// starting with `first_line` besides: what --force may replace. Record it with recordTextOutput once committed.
+[[nodiscard]] ReplaceableOutput recordedTextOutput(const std::string& name, const std::string& first_line);
+
+/// The folders on the way to `dir` (itself included) that do not exist, innermost first: what a command about to
+/// create `dir` makes, and removes again on failure with removeEmptyFolders.
+[[nodiscard]] std::vector<std::filesystem::path> missingFolders(const std::filesystem::path& dir);
+
+/// Removes each of `folders`, in order, only while it is empty: a folder holding anything (an entry someone put there
+/// meanwhile) stays, and so does every folder on its way (docs/robustness.md, "Ownership").
+void removeEmptyFolders(const std::vector<std::filesystem::path>& folders) noexcept;
+
 /// The target as a clean path: a trailing slash dropped, `.` and `..` resolved against the current folder.
 [[nodiscard]] std::filesystem::path outputTarget(const std::filesystem::path& target);
 
