@@ -73,7 +73,7 @@ TEST_CASE("the golden check fails when a single voxel's classification changes")
   const SweepConfig c;
   MethodValues values;
   for (Fixed v : m.params.values) values.push_back(toDouble(v));
-  auto tree = findMethod("octomap").buildMap(data.scans, values, {c.resolution, c.s_c, c.variant, c.stats, {}});
+  auto tree = findMethod("octomap").buildMap(data.scans, values, {c.resolution, c.s_c, c.variant, c.stats, {}, {}});
   RegionSample sample = sampleRegion(*tree, truth);
 
   auto withCounts = [&](const RegionSample& s) {

@@ -126,7 +126,7 @@ MethodValues randomMapParams(SplitMix64& rng, int k, Fixed p_u, Fixed p_l) {
 }
 
 KnnParams knnParams(const MethodValues& m, const Scene& scene, UpdateVariant variant, StatsMode stats) {
-  return KnnMethod().knnParams(m, {scene.resolution, scene.s_c, variant, stats, {}});
+  return KnnMethod().knnParams(m, {scene.resolution, scene.s_c, variant, stats, {}, {}});
 }
 
 /// Thresholds: the grid's p_min..p_max by 0.12, plus probabilities whose log-odds voxels hold exactly.

@@ -128,7 +128,7 @@ TEST_CASE("switched off, sor-octomap and ror-octomap are plain OctoMap voxel for
   const auto dir = test::processScratch("methods-off");
   const fs::path data = randomScene(dir, 41);
   const Dataset d = readDataset(data);
-  const MapContext context{0.1, 4.0, UpdateVariant::Default, StatsMode::Batch, {}};
+  const MapContext context{0.1, 4.0, UpdateVariant::Default, StatsMode::Batch, {}, {}};
   const MethodValues octomap{0.97, 0.12, 0.7, 0.4};
   const auto plain = leaves(*findMethod("octomap").buildMap(d.scans, octomap, context));
   REQUIRE(plain.size() > 1000);
@@ -190,6 +190,16 @@ TEST_CASE("the registry refuses a method that breaks its rules, naming the rule"
   auto bad_name = std::make_shared<Broken>();
   bad_name->name_ = "Bad Name";
   CHECK_THROWS_WITH(registerMethod(bad_name), Catch::Contains("lower-case letters"));
+  // A parameter becomes `occsweep map --NAME`: a map setting's or a flag's name, or one no flag can spell, would
+  // have ended every command at start-up.
+  for (const char* reserved : {"resolution", "s_c", "threads", "max_points", "from", "p_t", "Radius", "two words", "9k"}) {
+    auto clash = std::make_shared<Broken>();
+    clash->params_ = {{"p_max", "p_max", "", 0.9, 0.5, 1, false, true, false, ""},
+                      {"p_min", "p_min", "", 0.1, 0, 0.5, false, true, false, ""},
+                      {reserved, reserved, "", 1, 0, 2, false, false, false, ""}};
+    INFO(reserved);
+    CHECK_THROWS_WITH(registerMethod(clash), Catch::Contains("a parameter name is [a-z][a-z0-9_]*"));
+  }
   CHECK_THROWS_WITH(findMethod("nope"), Catch::Contains("knn, octomap"));
   const auto listed = test::runCli("methods");
   CHECK(listed.exit_code == 0);

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <csignal>
 #include <functional>
 #include <set>
@@ -672,4 +673,55 @@ TEST_CASE("a mixed-engine JSON results file exported or merged into a store pass
   }
   CHECK(checkError(dir / "e.db") == "passed");
   CHECK(checkError(dir / "m.db") == "passed");
+}
+
+TEST_CASE("compare and map --from read only what they checked while a store is swapped at its name") {
+  // A store and two hand edits of it, renamed in turn onto one name while the readers run: the best map's AUC set to
+  // 0.99 (compare reads a store's maps without their counts, so only the check derives the AUC again), and its p_u
+  // set to 0.99, a value the grid does not hold (only the check against the grid catches it). Each reader either
+  // refuses an edit (exit 2) or prints the true best map: never an AUC of 0.99 (compare printed it when it checked a
+  // file by name and then opened it again), p_u=0.99, or counts that differ (map --from).
+  const auto dir = test::scratch("store-swap");
+  const auto data = smallScene(dir);
+  (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "oct.db"));
+  (void)sweepToFile(quietSweep(data, "knn-opt", dir / "good.db"));
+  const ResultsFile good = readResults(dir / "good.db");
+  const auto best = std::max_element(good.maps.begin(), good.maps.end(), [](const MapResult& a, const MapResult& b) {
+    return a.area.anchored < b.area.anchored;
+  });
+  const std::string where = " WHERE map_index = " + std::to_string(best->map_index);
+  const std::vector<std::pair<std::string, std::string>> edits = {{"auc.db", "UPDATE maps SET auc_anchored = 0.99" + where},
+                                                                  {"p_u.db", "UPDATE maps SET p_u = 0.99" + where}};
+  for (const auto& [name, sql] : edits) {
+    fs::copy_file(dir / "good.db", dir / name);
+    editStore(dir / name, sql);
+    REQUIRE(test::runCli("results check " + test::shellQuoted(dir / name)).exit_code == 2);
+  }
+  fs::copy_file(dir / "good.db", dir / "knn.db");
+  std::atomic<bool> stop = false;
+  std::thread swapper([&] {
+    for (std::uint64_t i = 0; !stop; ++i) {  // a fresh copy each time: rename moves the inode a reader may hold
+      const fs::path from = dir / (i % 2 ? "good.db" : edits[i / 2 % 2].first), next = dir / "next.db";
+      std::error_code ec;
+      fs::copy_file(from, next, fs::copy_options::overwrite_existing, ec);
+      if (!ec) fs::rename(next, dir / "knn.db", ec);
+    }
+  });
+  const std::string q = test::shellQuoted(dir);
+  const std::vector<std::string> readers = {
+      "compare " + q + "/oct.db " + q + "/knn.db",
+      "map --dataset " + test::shellQuoted(data) + " --from " + q + "/knn.db --best --force --out " + q + "/best.ot"};
+  std::size_t refused = 0, read = 0;
+  for (int run = 0; run < 100; ++run)
+    for (const std::string& reader : readers) {
+      const auto r = test::runCli(reader);
+      INFO(reader << "\n" << r.output);
+      CHECK_THAT(r.output, !Contains("0.9900") && !Contains("AUC 0.99") && !Contains("p_u=0.99") && !Contains("counts differ"));
+      CHECK((r.exit_code == 0 || r.exit_code == 2));
+      ++(r.exit_code == 0 ? read : refused);
+    }
+  stop = true;
+  swapper.join();
+  WARN(read << " reads, " << refused << " refusals of an edit, of " << 2 * 100);
+  CHECK(read + refused == 2 * 100);
 }

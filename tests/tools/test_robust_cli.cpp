@@ -54,15 +54,15 @@ void requireUsageError(const std::string& args, const std::string& message, cons
 TEST_CASE("numeric flags are refused with their rule in plain numbers, exit 2, nothing written") {
   const fs::path dir = test::scratch("robust-cli-numbers");
   const std::string ds = tinyScene().string(), out = (dir / "m.ot").string();
-  requireUsageError("map --dataset " + ds + " --k 0 --out " + out, "--k must be an integer >= 1, got 0", dir);
-  requireUsageError("map --dataset " + ds + " --k 1.5 --out " + out, "--k must be an integer >= 1, got 1.5", dir);
+  requireUsageError("map --dataset " + ds + " --k 0 --out " + out, "--k must be an integer from 1 to 100000, got 0", dir);
+  requireUsageError("map --dataset " + ds + " --k 1.5 --out " + out, "--k must be an integer from 1 to 100000, got 1.5", dir);
   requireUsageError("map --dataset " + ds + " --k 99999999999 --out " + out,
-                    "--k must be an integer from 1 to 2147483647, got 99999999999", dir);
+                    "--k must be an integer from 1 to 100000, got 99999999999", dir);
   requireUsageError("map --dataset " + ds + " --s-c 0 --out " + out, "--s-c must be a number > 0, got 0", dir);
   requireUsageError("map --dataset " + ds + " --resolution 0 --out " + out, "--resolution must be a number > 0, got 0",
                     dir);
-  requireUsageError("map --dataset " + ds + " --p-m abc --out " + out, "--p-m must be a number in [0, 1], got abc", dir);
-  requireUsageError("map --dataset " + ds + " --p-h 1.5 --out " + out, "--p-h must be a number in [0, 1], got 1.5", dir);
+  requireUsageError("map --dataset " + ds + " --p-m abc --out " + out, "--p-m must be a number in [0, 0.5], got abc", dir);
+  requireUsageError("map --dataset " + ds + " --p-h 1.5 --out " + out, "--p-h must be a number in [0.5, 1], got 1.5", dir);
   requireUsageError("map --dataset " + ds + " --p-t nan --out " + out, "--p-t must be a number in [0, 1], got nan", dir);
   requireUsageError("map --dataset " + ds + " --threads -1 --out " + out, "--threads must be an integer from 0 to 1024, got -1",
                     dir);

@@ -1,71 +1,227 @@
-// occsweep map: one map of a data set with OctoMap or the k-NN model, written as OctoMap's .ot.
+// occsweep map: one map of a data set with any registered method, written as OctoMap's .ot (docs/methods.md,
+// "One map"). Its parameters come from the method (defaults, bounds, relations), or, with --from, from a map a
+// results file scored, whose stored counts the rebuilt map must reproduce.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <optional>
 #include <limits>
-#include <unistd.h>
+#include <map>
+#include <optional>
+#include <set>
 
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "command_registry.hpp"
-#include "option_checks.hpp"
 #include "limit_options.hpp"
-#include "occsweep/core/knn_inverse_sensor_model.hpp"
-#include "occsweep/core/octomap_baseline.hpp"
+#include "option_checks.hpp"
+#include "occsweep/core/method_registry.hpp"
+#include "occsweep/data/map_file.hpp"
+#include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
-#include "occsweep/eval/confusion.hpp"
-#include "occsweep/sweeps/replay.hpp"
-#include "occsweep/sweeps/results.hpp"
+#include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/results_verify.hpp"
 
 namespace occsweep::cli {
 namespace {
 
 struct MapOptions {
-  std::string dataset, out, method = "knn", variant = toText(UpdateVariant::Default), stats = toText(StatsMode::Batch),
-              truth = truthModeName(TruthMode::Full);
-  bool force = false;
+  std::string dataset, out, method = "knn", from, variant = toText(UpdateVariant::Default),
+              stats = toText(StatsMode::Batch), truth = truthModeName(TruthMode::Full);
+  double resolution = 0.1, s_c = 4.0, p_t = 0.5;
+  bool force = false, best = false;
+  std::optional<std::uint64_t> map_index;
   int threads = 0;
-  KnnParams knn;
-  double p_h = OctoMapParams{}.p_h;
+  std::map<std::string, double> values;             // every registered method's parameters by name, as given
+  std::map<std::string, CLI::Option*> parameters;   // the flag of each of them
+  std::map<std::string, CLI::Option*> settings;     // --method and the map settings: all taken from --from's file
 };
 
-// The k-NN direct build with the scans' searches and rays on `threads` workers (0: all): the same map as one
-// thread's KnnInverseSensorModel::buildMap (parallelBuildMap). In an arena of that many threads, as `sweep` runs,
-// so that parallelBuildMap's batch (twice the arena's threads) follows --threads. liboctomap's build stays on one
-// thread.
-std::unique_ptr<octomap::OcTree> buildKnnMap(const PointCloudSet& scans, const KnnParams& k, int threads) {
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-  return arena.execute(
-      [&] { return parallelBuildMap(KnnInverseSensorModel(k), scans, parallelKnnDistances(scans, k.k, k.s_c)); });
+// What the map is and how it is judged: from flags, or from a results file's map (--from).
+struct MapRecipe {
+  const MappingMethod* method = nullptr;
+  MethodValues values;
+  MapContext context;
+  TruthMode truth = TruthMode::Full;
+  std::vector<ThresholdResult> thresholds;  // the p_t to count at; with --from, the stored counts to reproduce
+  std::optional<MapResult> stored;          // --from: the map as the results file holds it
+};
+
+std::string flagOf(const std::string& parameter) {
+  std::string flag = "--" + parameter;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  return flag;
 }
 
-constexpr const char* kSettingsFormat = "occsweep-map-settings";
+// What every method that has a parameter of this name allows: the widest closed bounds, integer if all say so.
+// The flag refuses what none allows, naming the rule; the chosen method's own bounds and relations follow
+// (brokenRelation).
+struct ParameterFlag {
+  std::vector<std::string> methods, meanings;  // each method's own words for it
+  double lowest = 0, highest = 0;
+  bool integer = true;
+};
 
-bool isOccsweepSettings(const std::filesystem::path& file) {
-  if (!std::filesystem::is_regular_file(file)) return false;  // a FIFO would block the read below
-  if (jsonOutput("", kSettingsFormat).is_own(file)) return true;
-  try {  // written before the format field existed: occsweep's keys
-    std::ifstream in(file);
-    const auto j = nlohmann::json::parse(in);
-    return j.is_object() && j.contains("method") && j.contains("parameters") && j.contains("dataset_hash");
-  } catch (const std::exception&) {
-    return false;
+CLI::Validator flagRule(const ParameterFlag& f) {
+  return f.integer ? integerIn<long long>(std::llround(f.lowest), std::llround(f.highest)) : numberIn(f.lowest, f.highest);
+}
+
+// One flag per parameter name of every registered method (--p-h, --k, --std-mul, ...): a method takes the ones it
+// has, its defaults fill the rest (`occsweep methods` lists them).
+void addParameterFlags(CLI::App& app, MapOptions& o) {
+  std::map<std::string, ParameterFlag> flags;
+  for (const auto& m : registeredMethods())
+    for (const MethodParameter& p : m->parameters()) {
+      auto [it, fresh] = flags.try_emplace(p.name);
+      ParameterFlag& f = it->second;
+      f.methods.push_back(m->name());
+      f.lowest = fresh ? p.lowest : std::min(f.lowest, p.lowest);
+      f.highest = fresh ? p.highest : std::max(f.highest, p.highest);
+      f.integer = f.integer && p.integer;
+      f.meanings.push_back(p.meaning);
+    }
+  for (const auto& [name, f] : flags) {
+    const bool one_meaning = std::all_of(f.meanings.begin(), f.meanings.end(), [&](auto& m) { return m == f.meanings[0]; });
+    std::string help = one_meaning ? f.meanings[0] + " [" : "";
+    for (std::size_t i = 0; i < f.methods.size(); ++i)
+      help += (i ? (one_meaning ? ", " : "; ") : "") + f.methods[i] + (one_meaning ? "" : ": " + f.meanings[i]);
+    help += one_meaning ? "; default: the method's]" : " (default: the method's)";
+    o.parameters[name] = app.add_option(flagOf(name), o.values[name], help)
+                          ->check(flagRule(f));
   }
 }
 
-// A .ot is occsweep's own when it is an OctoMap .ot with occsweep's settings beside it (a .ot from another tool has
-// no .ot.json, and is refused even with --force).
-ReplaceableOutput mapOutput() {
-  return {"map (.ot with its .ot.json)", [](const std::filesystem::path& ot) {
-            std::ifstream in(ot, std::ios::binary);
-            std::string head(21, '\0');
-            in.read(head.data(), std::streamsize(head.size()));
-            return in && head == "# Octomap OcTree file" && isOccsweepSettings(ot.string() + ".json");
-          }};
+std::vector<std::string> methodNames() {
+  std::vector<std::string> names;
+  for (const auto& m : registeredMethods()) names.push_back(m->name());
+  return names;
+}
+
+void addMapOptions(CLI::App& app, MapOptions& o) {
+  app.add_option("--dataset", o.dataset, "Data-set folder")->required();
+  app.add_option("--out", o.out, "Output map, .ot (written with MAP.ot.json; .bt is refused)")->required();
+  app.add_flag("--force", o.force, "Replace occsweep's own previous map and settings at --out (nothing else)");
+  o.settings["--method"] = app.add_option("--method", o.method, "Mapping method: " + registeredMethodNames())
+                              ->check(CLI::IsMember(methodNames()))
+                              ->capture_default_str();
+  addParameterFlags(app, o);
+  o.settings["--p-t"] = app.add_option("--p-t", o.p_t, "Occupancy threshold of the TP/FP/FN/TN summary (recorded in "
+                                                       "MAP.ot.json; the .ot keeps log-odds only)")
+                           ->capture_default_str()->check(probability());
+  o.settings["--s-c"] = app.add_option("--s-c", o.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
+  o.settings["--resolution"] = app.add_option("--resolution", o.resolution, "Voxel edge, metres")
+                                  ->capture_default_str()->check(numberAbove(0));
+  o.settings["--variant"] = app.add_option("--variant", o.variant, "k-NN update: default (occupied wins) or literal "
+                                                                   "(Algorithm 1 word for word)")
+                               ->check(CLI::IsMember(kUpdateVariantNames.list()))->capture_default_str();
+  o.settings["--stats"] = app.add_option("--stats", o.stats, "k-NN mu, sigma: batch (whole set, the paper's) or online")
+                             ->check(CLI::IsMember(kStatsModeNames.list()))->capture_default_str();
+  o.settings["--truth"] = app.add_option("--truth", o.truth, "Truth of the TP/FP/FN/TN summary: full, or observable (only "
+                                                           "truth voxels a ray from a scan origin reaches within s_c "
+                                                           "first; docs/results-format.md)")
+                             ->check(CLI::IsMember(kTruthModeNames.list()))->capture_default_str();
+  app.add_option("--from", o.from, "Rebuild a map a results file (.json or .db) scored, with every parameter and setting "
+                                   "it stored; its counts must be reproduced at every p_t")
+      ->check(CLI::ExistingFile);
+  app.add_flag("--best", o.best, "With --from: the map of the best AUC (as compare picks it)");
+  app.add_option("--map-index", o.map_index, "With --from: the map of this index")
+      ->check(integerIn<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
+  app.add_option("--threads", o.threads, "Worker threads of the build (0: all cores; the map is the same)")
+      ->capture_default_str()->check(threadCount());
+  addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points});
+}
+
+bool given(const CLI::Option* option) { return option->count() > 0; }
+
+// The values given by flag over the method's defaults; a flag the method has no parameter for is refused.
+MethodValues valuesFromFlags(const MappingMethod& method, const MapOptions& o) {
+  MethodValues values = defaultValues(method);
+  std::set<std::string> own;
+  for (const MethodParameter& p : method.parameters()) own.insert(p.name);
+  for (const auto& [name, value] : o.values) {
+    if (!given(o.parameters.at(name))) continue;
+    if (!own.count(name))
+      throw std::invalid_argument(flagOf(name) + ": method " + method.name() + " has no parameter " + name +
+                                  " (`occsweep methods` lists each method's)");
+    values[parameterIndex(method, name)] = value;
+  }
+  return values;
+}
+
+MapRecipe recipeFromFlags(const MapOptions& o) {
+  if (o.best || o.map_index) throw std::invalid_argument("--best and --map-index choose a map of --from RESULTS");
+  MapRecipe r;
+  r.method = &findMethod(o.method);
+  r.values = valuesFromFlags(*r.method, o);
+  if (auto why = brokenRelation(*r.method, r.values))
+    throw std::invalid_argument("--method " + o.method + ": " + *why +
+                                "; a parameter no flag gives takes the method's default (occsweep methods)");
+  // p_t as results keep it, to 1e-6 (docs/grids.md): the value checked is the value counted at.
+  const Fixed p_t = Fixed(std::llround(o.p_t * double(kFixedScale)));
+  const double p_max = parameterValue(*r.method, r.values, "p_max"), p_min = parameterValue(*r.method, r.values, "p_min");
+  if (!(toDouble(p_t) >= p_min && toDouble(p_t) <= p_max))
+    throw std::invalid_argument("--p-t " + detail::fmt(toDouble(p_t)) + " (to 1e-6) must lie in [p_min, p_max] = [" +
+                                detail::fmt(p_min) + ", " + detail::fmt(p_max) + "]");
+  r.context.resolution = o.resolution;
+  r.context.s_c = o.s_c;
+  r.context.variant = parseUpdateVariant(o.variant);
+  r.context.stats = parseStatsMode(o.stats);
+  r.truth = parseTruthMode(o.truth);
+  r.thresholds.push_back({0, p_t, {}});
+  return r;
+}
+
+// The map of the best AUC (compareBest's rule: the highest, ties to the lowest map index) or of --map-index, from
+// one checked read of the file: what `results check` refuses is never rebuilt (docs/results-format.md, "Reading").
+MapResult chosenMap(const MapOptions& o, ResultsHeader& header) {
+  std::optional<MapResult> chosen;
+  ResultsFile head;
+  (void)readCheckedResults(o.from, "", [&](MapResult&& m) {
+    const bool wanted = o.best ? isBetterBest(m.area.anchored, chosen ? std::optional(chosen->area.anchored)
+                                                                       : std::nullopt)
+                               : m.map_index == *o.map_index;
+    if (wanted) chosen = std::move(m);
+  }, &head);
+  header = head.header;
+  if (!chosen)
+    throw std::invalid_argument("--from " + o.from + (o.best ? ": no map with an AUC" :
+                                ": no map of index " + std::to_string(*o.map_index)));
+  return *chosen;
+}
+
+MapRecipe recipeFromResults(const MapOptions& o, const std::string& dataset_hash) {
+  if (o.best == o.map_index.has_value())
+    throw std::invalid_argument("--from needs exactly one of --best and --map-index");
+  for (const auto* flags : {&o.parameters, &o.settings})
+    for (const auto& [key, option] : *flags)
+      if (given(option))
+        throw std::invalid_argument(option->get_name() + ": --from takes every parameter and setting from " + o.from +
+                                    "; drop " + option->get_name());
+  MapRecipe r;
+  ResultsHeader header;
+  r.stored = chosenMap(o, header);
+  if (dataset_hash != header.dataset_hash)
+    throw std::invalid_argument("--dataset " + o.dataset + " (content hash " + dataset_hash + ") is not the data set " + o.from +
+                                " was swept on (" + header.dataset_name + ", " + header.dataset_hash + ")");
+  try {
+    r.method = &findMethod(header.method);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("--from " + o.from + ": " + e.what());
+  }
+  for (const MethodParameter& p : r.method->parameters())
+    r.values.push_back(parameterValue(header.parameters, r.stored->params, p.name));
+  if (auto why = brokenRelation(*r.method, r.values))
+    throw std::invalid_argument("--from " + o.from + ": map " + std::to_string(r.stored->map_index) + ": " + *why);
+  r.context.resolution = header.resolution;
+  r.context.s_c = header.s_c;
+  r.context.variant = parseUpdateVariant(header.variant);
+  r.context.stats = parseStatsMode(header.stats);
+  r.truth = header.truth;
+  r.thresholds = r.stored->thresholds;
+  return r;
 }
 
 // Every point beyond s_c only frees space (OctoMap's maxrange, Algorithm 1's out-of-range branch): say so, since
@@ -79,117 +235,90 @@ void warnWhenAllBeyondRange(const PointCloudSet& scans, double s_c) {
               << " m from its sensor origin): no voxel can become occupied; raise --s-c\n";
 }
 
-void addProbability(CLI::App& app, const std::string& flag, double& value, const std::string& help) {
-  app.add_option(flag, value, help)->capture_default_str()->check(probability());
+// The method's build with its scans' work on `threads` TBB workers (0: all), in an arena of that many as `sweep`
+// runs: the same map on any number (docs/architecture.md, "Threads"). liboctomap's own builds use one thread.
+std::unique_ptr<octomap::OcTree> buildOnThreads(const MapRecipe& r, const PointCloudSet& scans, int threads) {
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  return arena.execute([&] {
+    MapContext context = r.context;
+    context.executor.for_each = [](std::size_t count, const std::function<void(std::size_t)>& body) {
+      tbb::parallel_for(std::size_t(0), count, [&](std::size_t t) { body(t); });
+    };
+    context.executor.concurrency = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+    return r.method->buildMap(scans, r.values, context);
+  });
 }
 
-void addMapOptions(CLI::App& app, MapOptions& o) {
-  KnnParams& k = o.knn;
-  app.add_option("--dataset", o.dataset, "Data-set folder")->required();
-  app.add_option("--out", o.out, "Output map, .ot (written with MAP.ot.json; .bt is refused)")->required();
-  app.add_flag("--force", o.force, "Replace occsweep's own previous map and settings at --out (nothing else)");
-  app.add_option("--method", o.method, "Mapping method")->check(CLI::IsMember({"octomap", "knn"}))->capture_default_str();
-  addProbability(app, "--p-h", o.p_h, "OctoMap: probability of a hit");
-  addProbability(app, "--p-m", k.p_m, "Miss probability (k-NN: rays to points within s_c)");
-  addProbability(app, "--p-m-out", k.p_m_out, "k-NN: p'_m, miss for rays to points beyond s_c only");
-  addProbability(app, "--p-u", k.p_u, "k-NN: upper bound of p(s) (Eq. 6)");
-  addProbability(app, "--p-l", k.p_l, "k-NN: lower bound of p(s) (Eq. 6)");
-  addProbability(app, "--p-max", k.p_max, "Upper clamping threshold");
-  addProbability(app, "--p-min", k.p_min, "Lower clamping threshold");
-  addProbability(app, "--p-t", k.p_t, "Occupancy threshold of the TP/FP/FN/TN summary (recorded in MAP.ot.json; the .ot keeps log-odds only)");
-  app.add_option("--k", k.k, "k-NN: neighbours averaged")->capture_default_str()->check(integerAtLeast<int>(1));
-  app.add_option("--s-c", k.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
-  app.add_option("--resolution", k.resolution, "Voxel edge, metres")->capture_default_str()->check(numberAbove(0));
-  app.add_option("--variant", o.variant, "k-NN update: default (occupied wins) or literal (Algorithm 1 word for word)")
-      ->check(CLI::IsMember(kUpdateVariantNames.list()))->capture_default_str();
-  app.add_option("--stats", o.stats, "k-NN mu, sigma: batch (whole set, the paper's) or online (running)")
-      ->check(CLI::IsMember(kStatsModeNames.list()))->capture_default_str();
-  app.add_option("--truth", o.truth, "Truth of the TP/FP/FN/TN summary: full, or observable (only truth voxels a ray "
-                                     "from a scan origin reaches within s_c first; docs/results-format.md)")
-      ->check(CLI::IsMember(kTruthModeNames.list()))->capture_default_str();
-  app.add_option("--threads", o.threads, "Worker threads of the k-NN build (0: all cores; the map is the same)")
-      ->capture_default_str()->check(threadCount());
-  addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points});
-}
-
-// Refuses broken parameters and outputs before reading anything. liboctomap writes .ot whatever the name; a .bt
-// name would hold .ot bytes that octovis and readBinary misread.
-void checkMapRequest(const MapOptions& o, const KnnParams& k, const OctoMapParams& om) {
-  namespace fs = std::filesystem;
-  if (fs::path(o.out).extension() == ".bt")
-    throw std::invalid_argument("--out " + o.out + ": .bt keeps only occupied/free, not the log-odds the " +
-                                "evaluation reads: write .ot (octovis opens it; octomap's convert_octree makes a .bt)");
-  if (fs::path(o.out).extension() != ".ot")
-    throw std::invalid_argument("--out " + o.out + ": must end in .ot (the map is written as OctoMap .ot, "
-                                "log-odds kept)");
-  if (o.method == "octomap") validate(om); else validate(k);
-  requireCompanionName(o.out, ".json");
-  checkOutputTarget(o.out, o.force, mapOutput());
-  // occsweep's own settings without their map are what a kill between the two renames leaves (the .ot.json is
-  // renamed first): a leftover of occsweep's, replaced like a stale temporary (docs/robustness.md).
-  const bool orphan_settings = !fs::exists(fs::symlink_status(o.out)) && isOccsweepSettings(o.out + ".json");
-  checkOutputTarget(o.out + ".json", o.force || orphan_settings, jsonOutput("map settings (.ot.json)", kSettingsFormat));
-}
-
-// The .ot format keeps resolution and log-odds only: the resolved settings go beside it, in MAP.ot.json.
-nlohmann::json mapSettings(const MapOptions& o, const KnnParams& k, const OctoMapParams& om, const Dataset& d,
+// The .ot keeps resolution and log-odds only: what built it goes beside it, in MAP.ot.json.
+nlohmann::json mapSettings(const MapOptions& o, const MapRecipe& r, const Dataset& d, const std::string& dataset_hash,
                            double seconds) {
-  nlohmann::json params = {{"p_m", k.p_m}, {"p_max", k.p_max}, {"p_min", k.p_min}, {"p_t", k.p_t},
-                           {"resolution", k.resolution}, {"s_c", k.s_c}};
-  if (o.method == "octomap") {
-    params["p_h"] = om.p_h;
-  } else {
-    params.update({{"p_m_out", k.p_m_out}, {"p_u", k.p_u}, {"p_l", k.p_l}, {"k", k.k}, {"variant", o.variant},
-                   {"stats", o.stats}});
-  }
-  return {{"format", kSettingsFormat}, {"method", o.method}, {"dataset", o.dataset}, {"dataset_name", d.name},
-          {"dataset_hash", datasetContentHash(o.dataset)}, {"parameters", params}, {"build_seconds", seconds}};
+  nlohmann::json params = nlohmann::json::object();
+  const std::vector<MethodParameter> parameters = r.method->parameters();
+  for (std::size_t i = 0; i < parameters.size(); ++i)
+    params[parameters[i].name] = parameters[i].integer ? nlohmann::json(std::llround(r.values[i])) : nlohmann::json(r.values[i]);
+  if (!r.stored) params["p_t"] = toDouble(r.thresholds.front().p_t);
+  params.update({{"resolution", r.context.resolution}, {"s_c", r.context.s_c},
+                 {"variant", toText(r.context.variant)}, {"stats", toText(r.context.stats)}});
+  nlohmann::json settings = {{"format", kMapSettingsFormat}, {"method", r.method->name()}, {"dataset", o.dataset},
+                             {"dataset_name", d.name}, {"dataset_hash", dataset_hash},
+                             {"parameters", params}, {"truth", truthModeName(r.truth)}, {"build_seconds", seconds}};
+  if (r.stored) settings["from"] = {{"results", o.from}, {"map_index", r.stored->map_index}};
+  return settings;
 }
 
-// The map and its settings, both written out and checked before either is renamed: a failed write (a full disk,
-// `ulimit -f`) or a file put at either name meanwhile leaves neither.
-void writeMapAndSettings(const octomap::OcTree& tree, const nlohmann::json& settings, const std::string& out) {
-  OutputFile map_file(out);
-  if (!tree.write(map_file.stream())) throw OutputError(out + ": liboctomap could not write the map");
-  OutputFile settings_file(out + ".json");
-  settings_file.stream() << settings.dump(1) << '\n';
-  OutputFile::commitTogether({&map_file, &settings_file});  // neither when either fails or was taken meanwhile
+// Flags: the counts at --p-t. --from: the counts at every stored p_t, each equal to the stored ones, or exit 1.
+int reportCounts(const MapRecipe& r, const octomap::OcTree& tree, const GroundTruth& truth, const MapOptions& o) {
+  const RegionSample sample = sampleRegion(tree, truth);
+  const char* truth_note = r.truth == TruthMode::Observable ? " (observable truth)" : "";
+  int differing = 0;
+  for (const ThresholdResult& stored : r.thresholds) {
+    const ConfusionCounts c = classify(sample, toDouble(stored.p_t));
+    if (!r.stored) {
+      std::cout << "at p_t " << toDouble(stored.p_t) << truth_note << ": TP " << c.tp << " FP " << c.fp << " FN " << c.fn
+                << " TN " << c.tn << "  TPR " << c.tpr() << " FDR " << c.fdr() << '\n';
+    } else if (!(c == stored.counts)) {
+      if (++differing <= 5)
+        std::cout << "at p_t " << toDouble(stored.p_t) << ": TP " << c.tp << " FP " << c.fp << " FN " << c.fn << " TN "
+                  << c.tn << ", stored TP " << stored.counts.tp << " FP " << stored.counts.fp << " FN "
+                  << stored.counts.fn << " TN " << stored.counts.tn << '\n';
+    }
+  }
+  if (!r.stored) return 0;
+  std::cout << "map " << r.stored->map_index << " of " << o.from << " (AUC " << r.stored->area.anchored << truth_note
+            << "): " << (differing == 0 ? "counts equal the stored ones at all " : "counts differ at ")
+            << (differing == 0 ? r.thresholds.size() : std::size_t(differing)) << " of " << r.thresholds.size()
+            << " thresholds\n";
+  return differing == 0 ? 0 : 1;
 }
 
 int runMap(const MapOptions& o) {
-  KnnParams k = o.knn;
-  k.variant = parseUpdateVariant(o.variant);
-  k.stats = parseStatsMode(o.stats);
-  const OctoMapParams om{o.p_h, k.p_m, k.p_max, k.p_min, k.p_t, k.resolution, k.s_c};
-  checkMapRequest(o, k, om);
+  checkMapTarget(o.out, o.force);  // before any reading: a refused output costs nothing
+  const std::string dataset_hash = datasetContentHash(o.dataset);
+  const MapRecipe r = o.from.empty() ? recipeFromFlags(o) : recipeFromResults(o, dataset_hash);
   const Dataset d = readDataset(o.dataset);
-  requireInKeyRange(d, o.dataset, k.resolution);
-  warnWhenAllBeyondRange(d.scans, k.s_c);
+  requireInKeyRange(d, o.dataset, r.context.resolution);
+  warnWhenAllBeyondRange(d.scans, r.context.s_c);
   // The truth is built before the map: a region it cannot use (past its limit, no voxel) costs no build and leaves
   // no map.
   const bool has_truth = !d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty();
+  if (r.stored && !has_truth) throw std::invalid_argument("--dataset " + o.dataset + " has no truth to count against");
   std::optional<GroundTruth> gt;
-  const TruthMode truth = parseTruthMode(o.truth);
-  if (has_truth) gt = evaluatedTruth(truth, groundTruthOf(d, o.dataset, k.resolution), d.scans, k.s_c, o.dataset);
+  if (has_truth)
+    gt = evaluatedTruth(r.truth, groundTruthOf(d, o.dataset, r.context.resolution), d.scans, r.context.s_c, o.dataset);
   const auto start = std::chrono::steady_clock::now();
-  auto tree = o.method == "octomap" ? buildOctoMap(d.scans, om) : buildKnnMap(d.scans, k, o.threads);
+  const auto tree = buildOnThreads(r, d.scans, o.threads);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  writeMapAndSettings(*tree, mapSettings(o, k, om, d, seconds), o.out);
-  std::cout << "method " << o.method << ", " << d.scans.size() << " scans, " << pointCount(d.scans)
+  writeMapFile(*tree, mapSettings(o, r, d, dataset_hash, seconds), o.out);
+  std::cout << "method " << r.method->name() << ", " << d.scans.size() << " scans, " << pointCount(d.scans)
             << " points, built in " << seconds << " s\n"
             << "map " << o.out << ": " << tree->getNumLeafNodes() << " leaves (settings in " << o.out << ".json)\n";
-  if (gt) {
-    const ConfusionCounts c = classify(sampleRegion(*tree, *gt), k.p_t);
-    std::cout << "at p_t " << k.p_t << (truth == TruthMode::Observable ? " (observable truth)" : "") << ": TP "
-              << c.tp << " FP " << c.fp << " FN " << c.fn << " TN " << c.tn << "  TPR " << c.tpr() << " FDR "
-              << c.fdr() << '\n';
-  }
-  return 0;
+  return gt ? reportCounts(r, *tree, *gt, o) : 0;
 }
 
 const RegisterCommand kMap{"map", "Build one map of a data set and write it as OctoMap .ot (octovis opens it)",
                            [](CLI::App& app) {
-  addExample(app, "occsweep map --dataset ds --method knn --out knn.ot");
+  addExample(app, "occsweep map --dataset ds --method knn --k 3 --out knn.ot\n"
+                  "occsweep map --dataset ds --from knn.json --best --out best.ot");
   auto o = std::make_shared<MapOptions>();
   addMapOptions(app, *o);
   return [o] { return runMap(*o); };

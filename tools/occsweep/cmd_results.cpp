@@ -29,10 +29,8 @@ void printDifferences(const std::vector<ResultsDifference>& rows) {
 // Exit 0 when nothing differs, 1 with the table of what does; unreadable input throws (exit 2, the file named).
 int runDiff(const std::string& golden_file, const std::string& new_file, double auc_tolerance, CountsCheck counts) {
   // What `results check` refuses is never compared: a damaged file is exit 2, not a table of differences.
-  (void)checkResultsFile(golden_file, "");
-  (void)checkResultsFile(new_file, "");
-  const ResultsFile golden = readResults(golden_file);
-  const ResultsFile candidate = readResults(new_file);
+  const ResultsFile golden = readCheckedResults(golden_file, MapDetail::Full);
+  const ResultsFile candidate = readCheckedResults(new_file, MapDetail::Full);
   const ResultsDiff diff = diffResults(golden, candidate, auc_tolerance, counts);
   const std::string checked = std::string(counts == CountsCheck::Exact ? "confusion counts exact, " : "") +
                               "AUC within " + plainNumber(auc_tolerance);

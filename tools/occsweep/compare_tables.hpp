@@ -30,8 +30,9 @@ struct ComparisonTables {
 
 /// The statistics block printed after the table.
 [[nodiscard]] std::string statisticsText(const ComparisonTables& t);
-/// A best map's parameters but the clamping thresholds (fixed in the paper's grids), in the method's order:
-/// "p_h=0.62 p_m=0.38".
+/// Every parameter of a best map, the grid's fixed ones too, in the method's order and to the 1e-6 grids keep:
+/// "p_max=0.98 p_min=0.02 p_h=0.62 p_m=0.38". With the file's settings (resolution, s_c, variant, statistics,
+/// truth), what `occsweep map` takes to rebuild it; `map --from FILE --best` takes them all from the file.
 [[nodiscard]] std::string bestParametersText(const BestMap& best, const std::vector<ResultsFile>& files);
 /// A best map's parameters as fields: {"p_h": 0.62, "p_m": 0.38, ...}.
 [[nodiscard]] nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFile>& files);

@@ -130,31 +130,20 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   return r;
 }
 
+ScanExecutor tbbScanExecutor() {
+  const auto for_each = [](std::size_t count, const std::function<void(std::size_t)>& body) {
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t t) { body(t); });
+  };
+  return {for_each, std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()))};
+}
+
 KnnSetDistances parallelKnnDistances(const PointCloudSet& set, int k, double s_c) {
-  KnnSetDistances out;
-  out.k = k;
-  out.s_c = s_c;
-  out.scans.resize(set.size());
-  tbb::parallel_for(std::size_t(0), set.size(), [&](std::size_t t) { out.scans[t] = scanKnnDistances(set[t], k, s_c); });
-  accumulateStatistics(out);
-  return out;
+  return computeKnnDistances(set, k, s_c, tbbScanExecutor());
 }
 
 std::unique_ptr<octomap::OcTree> parallelBuildMap(const KnnInverseSensorModel& model, const PointCloudSet& set,
                                                   const KnnSetDistances& distances, std::size_t batch) {
-  detail::checkDistances(model.params(), set, distances);
-  if (batch == 0) batch = 2 * std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-  KnnInverseSensorModel::DirectBuild build = model.startBuild();
-  tbb::enumerable_thread_specific<ScanEventRecorder> recorders(model.params().resolution);
-  std::vector<ScanEvents> events(std::min(batch, set.size()));
-  for (std::size_t first = 0; first < set.size(); first += batch) {
-    const std::size_t last = std::min(set.size(), first + batch);
-    tbb::parallel_for(first, last, [&](std::size_t t) {
-      model.recordScan(recorders.local(), set[t], distances.scans[t], events[t - first]);
-    });
-    for (std::size_t t = first; t < last; ++t) model.applyScan(build, events[t - first], distances, t);
-  }
-  return model.finishBuild(std::move(build));
+  return model.buildMap(set, distances, tbbScanExecutor(), batch);
 }
 
 SetFeature parallelSetFeature(const PointCloudSet& set, const FeatureRequest& request, double s_c, StatsMode stats) {

@@ -168,7 +168,7 @@ class DirectEngine final : public SweepEngine {
     scans_ = &in.scans;
     truth_ = &in.truth;
     marked_ = in.twin ? &in.marked : nullptr;
-    context_ = {c.resolution, c.s_c, c.variant, c.stats, {}};
+    context_ = {c.resolution, c.s_c, c.variant, c.stats, {}, {}};
     // The distances of each k depend only on the points, k and s_c: computed once, shared by every map of that k.
     // Serially, under the lock: a parallel loop here could take another map's task, which would wait for this lock.
     context_.knn_distances = [this](int k) -> const KnnSetDistances& {

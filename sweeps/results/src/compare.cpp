@@ -50,8 +50,7 @@ std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files) {
     auto& best = knn ? row.knn : (h.method == "octomap" ? row.octomap : other);
     if (knn || h.method == "octomap") (knn ? row.knn_files : row.octomap_files).push_back(std::size_t(&f - files.data()));
     for (const auto& m : f.maps) {
-      // Ties keep the first (lowest map index): stable across runs.
-      if (std::isnan(m.area.anchored) || (best && !(m.area.anchored > best->auc))) continue;
+      if (!isBetterBest(m.area.anchored, best ? std::optional(best->auc) : std::nullopt)) continue;
       best = BestMap{m.area.anchored, m.area.observed, m.params, m.map_index, std::size_t(&f - files.data())};
     }
     if (other) row.others.insert_or_assign(h.method, *other);

@@ -123,17 +123,20 @@ class IdOwners {
   std::vector<std::uint32_t> owner_;  // 1 + the file holding each id; 0: none yet
 };
 
-// Streams every map of every file to `sink`, each file checked against its grid, each id owned once.
+// Streams every map of every file to `sink`, each id owned once. Each file is read once with every check of
+// `results check` (readCheckedResults), and must still hold the work its header was merged as: a file replaced at
+// its name since is refused, never merged unchecked (docs/results-format.md, "Reading").
 void mergeMaps(const std::vector<std::filesystem::path>& files, const MergeHeaders& heads, const MergedMapSink& sink) {
   IdOwners owners(heads.merged.header, files.front());
   for (std::size_t i = 0; i < files.size(); ++i) {
-    GridChecker grid(heads.inputs[i].header, true, files[i].string());
-    forEachResultsMap(files[i], MapDetail::Full, [&](MapResult&& m) {
-      grid.add(m);
+    ResultsFile read;
+    (void)readCheckedResults(files[i], "", [&](MapResult&& m) {
       for (const ThresholdResult& t : m.thresholds) owners.claim(t.id, i, files);
       sink(std::move(m));
-    });
-    grid.finish();
+    }, &read);
+    std::string why;
+    if (!sameWork(heads.inputs[i].header, read.header, true, &why))
+      throw std::runtime_error(files[i].string() + ": changed while it was merged: " + why);
   }
   owners.requireAll();
 }

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "occsweep/core/method_registry.hpp"
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/sweeps/sharding.hpp"
@@ -283,42 +284,94 @@ void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const s
   for (const MapResult& m : f.maps) check.add(m);
 }
 
-ResultsCheck checkResultsFile(const std::filesystem::path& file, const std::filesystem::path& dataset) {
-  const std::string name = file.string();
-  ResultsCheck out;
-  const bool store = isResultsStore(file);
-  std::vector<std::string> row_engines;  // a store's map rows each name their engine
-  if (store) {
-    const ResultsStore opened = ResultsStore::open(file);
-    opened.verifyIntegrity();
-    row_engines = opened.engineNames();
+namespace {
+
+// One open of a results file: a store through one connection, a JSON file from one read of its bytes, so that what
+// is checked is what is read (a file replaced at its name meanwhile is neither half-checked nor read unchecked).
+struct OpenedResults {
+  std::optional<ResultsStore> store;
+  ResultsFile content;                    // header, completeness, seconds, truth voxels; a JSON file's maps too
+  std::vector<std::string> row_engines;   // a store's map rows each name their engine
+};
+
+OpenedResults openResults(const std::filesystem::path& file) {
+  OpenedResults o;
+  if (!isResultsStore(file)) {  // parsed from the one read of its bytes: a store put there meanwhile is no JSON
+    o.content = parseResults(readJsonFile(file), file.string());
+    return o;
   }
-  const ResultsFile head = readResultsHeader(file);
+  o.store.emplace(ResultsStore::open(file));
+  o.store->verifyIntegrity();
+  o.row_engines = o.store->engineNames();
+  o.content.header = o.store->header();
+  o.content.complete = o.store->complete();
+  o.content.seconds = o.store->seconds();
+  o.content.truth_voxels = o.store->truthVoxels();
+  return o;
+}
+
+void forEachOpenedMap(OpenedResults& o, const MapVisitor& visit) {
+  if (o.store) return o.store->forEachMap(MapDetail::Full, visit);
+  std::vector<MapResult> maps = std::move(o.content.maps);
+  for (MapResult& m : maps) visit(std::move(m));
+}
+
+void checkOpenedHeader(const OpenedResults& o, const std::string& name) {
+  const ResultsFile& head = o.content;
   // Each map row's engine among those the header names; "mixed" when exported from a mixed JSON file, which records
   // no engine per map.
-  for (const std::string& e : row_engines)
+  for (const std::string& e : o.row_engines)
     if (std::find(head.header.engines.begin(), head.header.engines.end(), e) == head.header.engines.end() &&
         !(e == "mixed" && head.header.engine == "mixed"))
       throw std::runtime_error(name + ": maps.engine: '" + e + "' is not among the engines map.engines names "
                                "(edited by hand?)");
-  if (!head.complete) throw std::runtime_error(name + ": incomplete results");
+  if (!head.complete) throw std::runtime_error(name + ": incomplete results (the sweep did not finish)");
   if (!std::isfinite(head.seconds) || head.seconds < 0)
     throw std::runtime_error(name + ": seconds: must be a finite number >= 0");
-  out.header = head.header;
-  ClaimsChecker claims(head.header, true, name);
-  GridChecker grid(head.header, true, name);
+}
+
+}  // namespace
+
+ResultsCheck readCheckedResults(const std::filesystem::path& file, const std::filesystem::path& dataset,
+                                const MapVisitor& visit, ResultsFile* header) {
+  const std::string name = file.string();
+  OpenedResults opened = openResults(file);
+  checkOpenedHeader(opened, name);
+  ResultsCheck out;
+  out.header = opened.content.header;
+  if (header) {
+    std::vector<MapResult> maps = std::move(opened.content.maps);
+    *header = opened.content;
+    opened.content.maps = std::move(maps);
+  }
+  ClaimsChecker claims(out.header, true, name);
+  GridChecker grid(out.header, true, name);
   std::optional<DatasetChecker> data;
-  if (!dataset.empty()) data.emplace(head.header, name, dataset);
-  forEachResultsMap(file, MapDetail::Full, [&](MapResult&& m) {
+  if (!dataset.empty()) data.emplace(out.header, name, dataset);
+  forEachOpenedMap(opened, [&](MapResult&& m) {
     claims.add(m);
     grid.add(m);
     if (data) data->add(m);
     ++out.maps;
+    if (visit) visit(std::move(m));
   });
   claims.finish();
   grid.finish();
   out.grid_checked = grid.found();
   return out;
+}
+
+ResultsCheck checkResultsFile(const std::filesystem::path& file, const std::filesystem::path& dataset) {
+  return readCheckedResults(file, dataset, {}, nullptr);
+}
+
+ResultsFile readCheckedResults(const std::filesystem::path& file, MapDetail detail) {
+  ResultsFile f;
+  (void)readCheckedResults(file, "", [&](MapResult&& m) {
+    if (detail == MapDetail::Summary) m.thresholds = {};
+    f.maps.push_back(std::move(m));
+  }, &f);
+  return f;
 }
 
 }  // namespace occsweep

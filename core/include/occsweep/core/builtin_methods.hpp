@@ -212,7 +212,9 @@ inline KnnParams KnnMethod::knnParams(const MethodValues& v, const MapContext& c
 inline std::unique_ptr<octomap::OcTree> KnnMethod::buildMap(const PointCloudSet& set, const MethodValues& v,
                                                             const MapContext& c) const {
   const KnnInverseSensorModel model(knnParams(v, c));
-  return c.knn_distances ? model.buildMap(set, c.knn_distances(model.params().k)) : model.buildMap(set);
+  const int k = model.params().k;
+  if (c.knn_distances) return model.buildMap(set, c.knn_distances(k), c.executor);
+  return model.buildMap(set, computeKnnDistances(set, k, c.s_c, c.executor), c.executor);
 }
 
 // --- sor-octomap ---

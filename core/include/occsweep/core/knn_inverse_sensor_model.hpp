@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -14,6 +15,7 @@
 #include "octomap_baseline.hpp"
 #include "flat_key_index.hpp"
 #include "scan_events.hpp"
+#include "scan_executor.hpp"
 #include "voxel_update_rule.hpp"
 
 namespace occsweep {
@@ -31,6 +33,11 @@ class KnnInverseSensorModel {
   /// flat voxel store scan by scan (the events of scan_events.hpp) and writes the OcTree once at the end.
   [[nodiscard]] std::unique_ptr<octomap::OcTree> buildMap(const PointCloudSet& set,
                                                           const KnnSetDistances& distances) const;
+
+  /// The same with the scans' events recorded on `executor`, `batch` scans at a time (0: twice its concurrency),
+  /// and applied in scan order on this thread: the same map, voxel for voxel (docs/architecture.md, "Threads").
+  [[nodiscard]] std::unique_ptr<octomap::OcTree> buildMap(const PointCloudSet& set, const KnnSetDistances& distances,
+                                                          const ScanExecutor& executor, std::size_t batch = 0) const;
 
   /// buildMap's steps, for a caller that records the scans on several threads: startBuild, then each scan's
   /// events recorded on its own (recordScan: any thread, one recorder each) and applied in scan order
@@ -106,6 +113,57 @@ inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const Po
   for (std::size_t t = 0; t < set.size(); ++t) {
     recordScan(recorder, set[t], distances.scans[t], events);
     applyScan(build, events, distances, t);
+  }
+  return finishBuild(std::move(build));
+}
+
+namespace detail {
+
+// Recorders for the calls that run at once: taken as a call starts, given back as it ends. Each grows to its
+// scans' windows once, and there are no more than the calls that ever ran together (the executor's concurrency),
+// as with one recorder per thread.
+class RecorderPool {
+ public:
+  explicit RecorderPool(double resolution) : resolution_(resolution) {}
+  std::unique_ptr<ScanEventRecorder> take() {
+    const std::lock_guard lock(mutex_);
+    if (free_.empty()) return std::make_unique<ScanEventRecorder>(resolution_);
+    auto r = std::move(free_.back());
+    free_.pop_back();
+    return r;
+  }
+  void giveBack(std::unique_ptr<ScanEventRecorder> r) {
+    const std::lock_guard lock(mutex_);
+    free_.push_back(std::move(r));
+  }
+
+ private:
+  double resolution_;
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<ScanEventRecorder>> free_;
+};
+
+}  // namespace detail
+
+inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const PointCloudSet& set,
+                                                                       const KnnSetDistances& distances,
+                                                                       const ScanExecutor& executor,
+                                                                       std::size_t batch) const {
+  if (!executor.for_each) return buildMap(set, distances);  // this thread: one recorder, scan after scan
+  detail::checkDistances(params_, set, distances);
+  if (batch == 0) batch = 2 * std::max<std::size_t>(1, executor.concurrency);
+  batch = std::min(batch, std::max<std::size_t>(1, set.size()));
+  DirectBuild build = startBuild();
+  detail::RecorderPool recorders(params_.resolution);
+  std::vector<ScanEvents> events(batch);  // one list per place in the batch, applied in scan order
+  for (std::size_t first = 0; first < set.size(); first += batch) {
+    const std::size_t count = std::min(batch, set.size() - first);
+    executor.run(count, [&](std::size_t i) {
+      auto recorder = recorders.take();
+      recordScan(*recorder, set[first + i], distances.scans[first + i], events[i]);
+      recorders.giveBack(std::move(recorder));
+    });
+    for (std::size_t i = 0; i < count; ++i) applyScan(build, events[i], distances, first + i);
   }
   return finishBuild(std::move(build));
 }

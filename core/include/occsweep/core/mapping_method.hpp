@@ -17,6 +17,7 @@
 #include "knn_set_distances.hpp"
 #include "mapping_params.hpp"
 #include "point_cloud_set.hpp"
+#include "scan_executor.hpp"
 #include "voxel_update_rule.hpp"
 
 namespace occsweep {
@@ -112,6 +113,8 @@ struct MapContext {
   /// The set's k-NN distances for k and s_c, shared by the maps of a sweep (the direct engine computes each k
   /// once); empty: a method computes its own.
   std::function<const KnnSetDistances&(int k)> knn_distances;
+  /// Where a method may run its per-scan work in parallel (the same map whatever it does); empty: this thread.
+  ScanExecutor executor;
 };
 
 /// The interface every method implements (docs/methods.md, "Bring your own method").

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -15,7 +16,8 @@
 namespace occsweep {
 
 /// Adds a method. Throws std::invalid_argument naming the rule broken: a name taken, empty or not of
-/// [a-z0-9-], no p_max or p_min, a relation naming an unknown parameter, a parameter listed twice.
+/// [a-z0-9-], no p_max or p_min, a relation naming an unknown parameter, a parameter listed twice, a parameter
+/// name not of [a-z][a-z0-9_]* or one of the settings every map shares (isReservedParameterName).
 void registerMethod(std::shared_ptr<const MappingMethod> method);
 /// The method of that name; std::invalid_argument naming it and every registered name when there is none.
 [[nodiscard]] const MappingMethod& findMethod(const std::string& name);
@@ -25,6 +27,10 @@ void registerMethod(std::shared_ptr<const MappingMethod> method);
 [[nodiscard]] std::string registeredMethodNames();
 
 // ---------------------------------------------------------------------------------------------------------
+/// Names no parameter may take: p_t (implied), the settings every map shares (resolution, s_c, variant, stats,
+/// truth) and the other flags of `occsweep map`, which makes `--NAME` of each parameter (docs/methods.md, "One map").
+[[nodiscard]] bool isReservedParameterName(const std::string& name);
+
 namespace detail {
 
 // The shipped methods are in from the start, so a lookup never races with their registration.
@@ -34,14 +40,22 @@ struct MethodTable {
   MethodTable();
 };
 
+inline bool isParameterName(const std::string& name) {
+  return !name.empty() && name[0] >= 'a' && name[0] <= 'z' &&
+         name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") == std::string::npos;
+}
+
 inline void checkMethod(const MappingMethod& m) {
   const std::string name = m.name();
   if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-") != std::string::npos)
     throw std::invalid_argument("method '" + name + "': a name is lower-case letters, digits and '-'");
   std::map<std::string, int> seen;
-  for (const MethodParameter& p : m.parameters())
-    if (p.name == "p_t" || ++seen[p.name] > 1)
-      throw std::invalid_argument("method " + name + ": parameter " + p.name + " listed twice (p_t is implied)");
+  for (const MethodParameter& p : m.parameters()) {
+    if (!isParameterName(p.name) || isReservedParameterName(p.name))
+      throw std::invalid_argument("method " + name + ": parameter '" + p.name + "': a parameter name is [a-z][a-z0-9_]*"
+                                  " and none of p_t, the map settings or `occsweep map`'s flags");
+    if (++seen[p.name] > 1) throw std::invalid_argument("method " + name + ": parameter " + p.name + " listed twice");
+  }
   for (const char* needed : {"p_max", "p_min"})
     if (!seen.count(needed)) throw std::invalid_argument("method " + name + ": needs a parameter " + needed);
   for (const ParameterRelation& r : m.relations())
@@ -73,6 +87,13 @@ inline MethodTable& methodTable() {
 }
 
 }  // namespace detail
+
+inline bool isReservedParameterName(const std::string& name) {
+  static const std::set<std::string> reserved = {"p_t",   "resolution", "s_c",  "variant", "stats", "truth",
+                                                 "dataset", "out",      "force", "method", "from",  "best",
+                                                 "map_index", "threads", "help"};
+  return reserved.count(name) > 0 || name.rfind("max_", 0) == 0;
+}
 
 inline void registerMethod(std::shared_ptr<const MappingMethod> method) {
   if (!method) throw std::invalid_argument("registerMethod: no method");

@@ -1,6 +1,7 @@
 // Merging shards, and the best-AUC comparison behind the paper's Fig. 5.
 #pragma once
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -50,6 +51,12 @@ struct ComparisonRow {
 
 /// The methods of `others` over all rows, by name: the columns compare adds after OctoMap and k-NN.
 [[nodiscard]] std::vector<std::string> otherMethods(const std::vector<ComparisonRow>& rows);
+
+/// Whether a map of AUC `auc` takes the best place from `best` (none yet): the highest AUC, NaN never, ties to the
+/// map seen first (the lowest map index: stable across runs).
+[[nodiscard]] inline bool isBetterBest(double auc, std::optional<double> best) {
+  return !std::isnan(auc) && (!best || auc > *best);
+}
 
 [[nodiscard]] std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files);
 

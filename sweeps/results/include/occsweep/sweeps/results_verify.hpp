@@ -6,6 +6,7 @@
 #include <string>
 
 #include "occsweep/sweeps/results.hpp"
+#include "occsweep/sweeps/results_store.hpp"
 
 namespace occsweep {
 
@@ -77,5 +78,14 @@ struct ResultsCheck {
 /// not empty (DatasetChecker). Throws std::runtime_error naming the file for the first failure, and for an
 /// incomplete file.
 [[nodiscard]] ResultsCheck checkResultsFile(const std::filesystem::path& file, const std::filesystem::path& dataset);
+/// checkResultsFile and the read in one: the file is opened once (a store through one connection, a JSON file read
+/// once) and each map, once its own checks passed, goes to `visit`; `header` (when given) receives the header,
+/// completeness, seconds and truth voxels. The checks of the whole file end it: use what `visit` kept only once this
+/// returns. What is checked is what is read, even when the file is replaced at its name meanwhile
+/// (docs/results-format.md, "Reading").
+ResultsCheck readCheckedResults(const std::filesystem::path& file, const std::filesystem::path& dataset,
+                                const MapVisitor& visit, ResultsFile* header);
+/// The same, every map kept in memory (Summary: without thresholds): for compare, plot and diff.
+[[nodiscard]] ResultsFile readCheckedResults(const std::filesystem::path& file, MapDetail detail);
 
 }  // namespace occsweep
