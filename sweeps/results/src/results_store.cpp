@@ -531,37 +531,49 @@ void writeResultsStore(const ResultsFile& f, const fs::path& file) {
 // ---------------------------------------------------------------------------------------------------------
 // Export
 
+// Both exports read their file once with every check of `results check` (readCheckedResults): what is written is
+// what was checked, even when the file is replaced at its name meanwhile. The header is known before the first map.
 void exportJson(const fs::path& file, std::ostream& out) {
-  ResultsFile head = readResultsHeader(file);
-  head.maps.clear();
-  json top = toJson(head);
-  const std::string placeholder = "occsweep-export-maps";  // where the maps go, streamed one by one
-  top["maps"] = placeholder;
-  const std::string text = top.dump(1);
-  const std::string marker = "\"maps\": \"" + placeholder + "\"";
-  const std::size_t at = text.find(marker);
-  out << text.substr(0, at) << "\"maps\": [";
+  ResultsFile head;
+  std::string text, marker;
+  std::size_t at = 0;
   bool first = true;
+  const auto writeOpening = [&] {  // the header, up to where the maps go
+    json top = toJson(head);
+    const std::string placeholder = "occsweep-export-maps";  // where the maps go, streamed one by one
+    top["maps"] = placeholder;
+    text = top.dump(1);
+    marker = "\"maps\": \"" + placeholder + "\"";
+    at = text.find(marker);
+    out << text.substr(0, at) << "\"maps\": [";
+  };
   // nlohmann's dump(1) puts an element of the top object's array 2 spaces in: each line of the map's own dump(1)
   // is indented by 2 more, so that the bytes equal writeResults' (a test compares them).
-  forEachResultsMap(file, MapDetail::Full, [&](MapResult&& m) {
+  (void)readCheckedResults(file, "", [&](MapResult&& m) {
+    if (first) writeOpening();
     std::string element = toJson(m, head.header.parameters).dump(1);
     std::string indented = "  ";
     for (char ch : element) indented.append(ch == '\n' ? "\n  " : std::string(1, ch));
     out << (first ? "\n" : ",\n") << indented;
     first = false;
-  });
+  }, &head);
+  if (first) writeOpening();
   out << (first ? "]" : "\n ]") << text.substr(at + marker.size()) << '\n';
 }
 
 void exportCsv(const fs::path& file, std::ostream& out) {
-  const ResultsFile head = readResultsHeader(file);
-  const ParameterLayout& layout = head.header.parameters;
+  ResultsFile head;
+  bool first = true;
   const auto number = [](double v) { return std::isfinite(v) ? json(v).dump() : std::string(); };
-  out << "id,map_index";
-  for (const std::string& name : layout.names) out << ',' << name;
-  out << ",p_t,tp,fp,fn,tn,tpr,fdr,auc_anchored,auc_observed\n";
-  forEachResultsMap(file, MapDetail::Full, [&](MapResult&& m) {
+  const auto writeHeaderLine = [&] {
+    out << "id,map_index";
+    for (const std::string& name : head.header.parameters.names) out << ',' << name;
+    out << ",p_t,tp,fp,fn,tn,tpr,fdr,auc_anchored,auc_observed\n";
+  };
+  (void)readCheckedResults(file, "", [&](MapResult&& m) {
+    if (first) writeHeaderLine();
+    first = false;
+    const ParameterLayout& layout = head.header.parameters;
     std::string params;
     for (std::size_t i = 0; i < layout.names.size(); ++i) {
       const Fixed v = m.params.values[i];
@@ -573,7 +585,8 @@ void exportCsv(const fs::path& file, std::ostream& out) {
       out << t.id << ',' << m.map_index << params << ',' << number(toDouble(t.p_t)) << ',' << c.tp << ',' << c.fp
           << ',' << c.fn << ',' << c.tn << ',' << number(c.tpr()) << ',' << number(c.fdr()) << auc;
     }
-  });
+  }, &head);
+  if (first) writeHeaderLine();
 }
 
 }  // namespace occsweep

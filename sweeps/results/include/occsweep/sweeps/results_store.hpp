@@ -92,7 +92,8 @@ void forEachResultsMap(const std::filesystem::path& file, MapDetail detail, cons
 void writeResultsStore(const ResultsFile& f, const std::filesystem::path& file);
 
 /// Writes a results file's JSON form to `out` map by map, byte for byte what writeResults writes for the same
-/// results (the export of a store, however large, in memory bounded by one map).
+/// results (the export of a store, however large, in memory bounded by one map). Both exports read the file once
+/// with every check of `results check` (readCheckedResults) and throw on the first failure, part-way through `out`.
 void exportJson(const std::filesystem::path& file, std::ostream& out);
 /// One CSV row per combination: id, map_index, the method's parameters, p_t, TP, FP, FN, TN, TPR, FDR, and the
 /// map's anchored and observed AUC (docs/results-format.md, "Export").
