@@ -66,7 +66,21 @@ struct ParameterFlag {
 };
 
 CLI::Validator flagRule(const ParameterFlag& f) {
-  return f.integer ? integerIn<long long>(std::llround(f.lowest), std::llround(f.highest)) : numberIn(f.lowest, f.highest);
+  if (!f.integer) return numberIn(f.lowest, f.highest);
+  return integerIn<long long>(std::llround(f.lowest), std::llround(f.highest));
+}
+
+// "hit: ... [octomap, sor-octomap; default: the method's]", or each method's words where they differ (--k).
+std::string flagHelp(const ParameterFlag& f) {
+  const auto same = [&](const std::string& m) { return m == f.meanings.front(); };
+  if (std::all_of(f.meanings.begin(), f.meanings.end(), same)) {
+    std::string of;
+    for (const auto& m : f.methods) of += (of.empty() ? "" : ", ") + m;
+    return f.meanings.front() + " [" + of + "; default: the method's]";
+  }
+  std::string help;
+  for (std::size_t i = 0; i < f.methods.size(); ++i) help += (i ? "; " : "") + f.methods[i] + ": " + f.meanings[i];
+  return help + " (default: the method's)";
 }
 
 // One flag per parameter name of every registered method (--p-h, --k, --std-mul, ...): a method takes the ones it
@@ -83,15 +97,8 @@ void addParameterFlags(CLI::App& app, MapOptions& o) {
       f.integer = f.integer && p.integer;
       f.meanings.push_back(p.meaning);
     }
-  for (const auto& [name, f] : flags) {
-    const bool one_meaning = std::all_of(f.meanings.begin(), f.meanings.end(), [&](auto& m) { return m == f.meanings[0]; });
-    std::string help = one_meaning ? f.meanings[0] + " [" : "";
-    for (std::size_t i = 0; i < f.methods.size(); ++i)
-      help += (i ? (one_meaning ? ", " : "; ") : "") + f.methods[i] + (one_meaning ? "" : ": " + f.meanings[i]);
-    help += one_meaning ? "; default: the method's]" : " (default: the method's)";
-    o.parameters[name] = app.add_option(flagOf(name), o.values[name], help)
-                          ->check(flagRule(f));
-  }
+  for (const auto& [name, f] : flags)
+    o.parameters[name] = app.add_option(flagOf(name), o.values[name], flagHelp(f))->check(flagRule(f));
 }
 
 std::vector<std::string> methodNames() {
@@ -111,7 +118,8 @@ void addMapOptions(CLI::App& app, MapOptions& o) {
   o.settings["--p-t"] = app.add_option("--p-t", o.p_t, "Occupancy threshold of the TP/FP/FN/TN summary (recorded in "
                                                        "MAP.ot.json; the .ot keeps log-odds only)")
                            ->capture_default_str()->check(probability());
-  o.settings["--s-c"] = app.add_option("--s-c", o.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
+  o.settings["--s-c"] = app.add_option("--s-c", o.s_c, "Maximum range s_c, metres")
+                            ->capture_default_str()->check(numberAbove(0));
   o.settings["--resolution"] = app.add_option("--resolution", o.resolution, "Voxel edge, metres")
                                   ->capture_default_str()->check(numberAbove(0));
   o.settings["--variant"] = app.add_option("--variant", o.variant, "k-NN update: default (occupied wins) or literal "
