@@ -57,6 +57,10 @@ CASES = [
      "target_link_libraries(occsweep_grid PUBLIC occsweep::reproduce)\n", "end", "grid links occsweep::reproduce"),
     ("a part leaves a source unlisted", "sweeps/engine/src/unlisted.cpp",
      "int unlisted = 0;\n", "end", "does not list sweeps/engine/src/unlisted.cpp"),
+    ("the command line leaves a subcommand unlisted", "tools/occsweep/cmd_unlisted.cpp",
+     "int unlisted = 0;\n", "end", "does not list tools/occsweep/cmd_unlisted.cpp in occsweep_cli"),
+    ("map includes the engine", "tools/occsweep/cmd_map.cpp",
+     '#include "occsweep/sweeps/replay.hpp"\n', "top", "tools/occsweep/cmd_map.cpp:1: map includes an engine header"),
     ("the library starts a shell", "sweeps/engine/src/progress.cpp",
      '\nstatic int shell = std::system("occsweep sweep");\n', "end", "sweeps/engine/src/progress.cpp:"),
 ]

@@ -134,6 +134,22 @@ def check_cmake(root, errors):
                                   f"{', '.join(ALLOWED.get(owner, [])) or 'nothing else'}")
 
 
+def check_command_sources(root, errors):
+    """The command line is an object library of listed files (tools/CMakeLists.txt): a subcommand file left out
+    would never register, and no test would name it. And `map` builds any method without the engine (it runs
+    MappingMethod::buildMap with its own executor: docs/architecture.md, "Threads")."""
+    cmake = root / "tools" / "CMakeLists.txt"
+    text = cmake.read_text() if cmake.is_file() else ""
+    for source in sorted((root / "tools" / "occsweep").glob("*.cpp")):
+        if source.name != "main.cpp" and f"occsweep/{source.name}" not in text:
+            errors.append(f"tools/CMakeLists.txt: does not list {source.relative_to(root)} in occsweep_cli")
+    cmd_map = root / "tools" / "occsweep" / "cmd_map.cpp"
+    if cmd_map.is_file():
+        for number, line in enumerate(cmd_map.read_text().splitlines(), 1):
+            if re.match(r'\s*#\s*include\s*"occsweep/sweeps/(replay|sweep|sweep_engine|progress)\.hpp"', line):
+                errors.append(f"tools/occsweep/cmd_map.cpp:{number}: map includes an engine header")
+
+
 def check_library_runs_nothing(root, files, errors):
     banned = re.compile(r"\bstd::system\s*\(|\bpopen\s*\(|OCCSWEEP_SOURCE_DIR")
     for source in files:
@@ -157,6 +173,7 @@ def main() -> int:
     errors = []
     count = check_includes(root, [f for f in files if f.suffix != ".txt"], errors)
     check_cmake(root, errors)
+    check_command_sources(root, errors)
     check_library_runs_nothing(root, files, errors)
     for e in errors:
         print(e)
