@@ -183,6 +183,7 @@ TEST_CASE("compare names the best map map --from --best rebuilds, with every par
   const occsweep::ResultsFile knn = occsweep::readResults(dir / "knn-opt.json");
   CHECK(row.at("knn").at("map_index") == bestOf(knn).map_index);
   CHECK(row.at("knn").at("parameters").at("p_max") == 0.98);
+  CHECK(row.at("knn").at("parameters").at("k").is_number_integer());  // as results files write it
   const CommandResult from = occsweep::test::runIn(dir, "map --dataset ds --from knn-opt.json --best --out b.ot");
   INFO(from.output);
   CHECK(from.output.find("map " + row.at("knn").at("map_index").dump() + " of knn-opt.json") != std::string::npos);
