@@ -289,6 +289,15 @@ struct Damaged {
   bool hand_edit = false;  ///< a claim changed on purpose: results check must refuse it (a flip may hit unused bytes)
 };
 
+// The index of the map of the highest AUC (the first of equals): the map a hand edit of the best changes.
+std::uint64_t bestMapIndex(const ResultsFile& f) {
+  const auto best = std::max_element(f.maps.begin(), f.maps.end(), [](const MapResult& a, const MapResult& b) {
+    return a.area.anchored < b.area.anchored;
+  });
+  REQUIRE(best != f.maps.end());
+  return best->map_index;
+}
+
 // `base` copied to `dir/name` and changed by `edit` (SQL run on a store, as a user's sqlite3 shell would).
 fs::path copyOf(const fs::path& base, const fs::path& dir, const std::string& name) {
   const fs::path out = dir / name;
@@ -422,13 +431,10 @@ TEST_CASE("every damaged or edited results file results check refuses, every rea
   const auto data = smallScene(dir);
   (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "r.db"));
   (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "r.json"));
-  const ResultsFile whole = readResults(dir / "r.json");
-  const auto best = std::max_element(whole.maps.begin(), whole.maps.end(), [](const MapResult& a, const MapResult& b) {
-    return a.area.anchored < b.area.anchored;
-  });
+  const std::uint64_t best = bestMapIndex(readResults(dir / "r.json"));
   const fs::path corpus = dir / "corpus";
   fs::create_directories(corpus);
-  std::vector<Damaged> files = editedStores(dir / "r.db", corpus, best->map_index);
+  std::vector<Damaged> files = editedStores(dir / "r.db", corpus, best);
   for (auto& d : damagedCopies(dir / "r.db", corpus, 8, 12, 11)) files.push_back(d);
   for (auto& d : damagedCopies(dir / "r.json", corpus, 6, 6, 12)) files.push_back(d);
   for (auto& d : editedJson(dir / "r.json", corpus)) files.push_back(d);
@@ -685,11 +691,7 @@ TEST_CASE("compare and map --from read only what they checked while a store is s
   const auto data = smallScene(dir);
   (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "oct.db"));
   (void)sweepToFile(quietSweep(data, "knn-opt", dir / "good.db"));
-  const ResultsFile good = readResults(dir / "good.db");
-  const auto best = std::max_element(good.maps.begin(), good.maps.end(), [](const MapResult& a, const MapResult& b) {
-    return a.area.anchored < b.area.anchored;
-  });
-  const std::string where = " WHERE map_index = " + std::to_string(best->map_index);
+  const std::string where = " WHERE map_index = " + std::to_string(bestMapIndex(readResults(dir / "good.db")));
   const std::vector<std::pair<std::string, std::string>> edits = {{"auc.db", "UPDATE maps SET auc_anchored = 0.99" + where},
                                                                   {"p_u.db", "UPDATE maps SET p_u = 0.99" + where}};
   for (const auto& [name, sql] : edits) {

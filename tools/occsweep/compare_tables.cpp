@@ -231,13 +231,7 @@ std::string bestParametersText(const BestMap& best, const std::vector<ResultsFil
 }
 
 nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFile>& files) {
-  const ParameterLayout& layout = files[best.file].header.parameters;
-  nlohmann::json out = nlohmann::json::object();
-  for (std::size_t i = 0; i < layout.names.size(); ++i) {  // integers (k) as results files write them
-    const Fixed v = best.params.values[i];
-    out[layout.names[i]] = layout.integer[i] ? nlohmann::json(v / kFixedScale) : nlohmann::json(toDouble(v));
-  }
-  return out;
+  return toJson(best.params, files[best.file].header.parameters);
 }
 
 std::string csvTable(const ComparisonTables& t) {

@@ -119,12 +119,17 @@ json toJson(const ResultsHeader& h) {
   return j;
 }
 
-json toJson(const MapResult& m, const ParameterLayout& parameters) {
+json toJson(const MapParams& p, const ParameterLayout& parameters) {
   json params = json::object();
   for (std::size_t i = 0; i < parameters.names.size(); ++i) {
-    const Fixed v = m.params.values.at(i);
+    const Fixed v = p.values.at(i);
     params[parameters.names[i]] = parameters.integer[i] ? json(std::uint64_t(v / kFixedScale)) : json(toDouble(v));
   }
+  return params;
+}
+
+json toJson(const MapResult& m, const ParameterLayout& parameters) {
+  const json params = toJson(m.params, parameters);
   json thresholds = json::array();
   for (const auto& t : m.thresholds) {
     const auto& c = t.counts;

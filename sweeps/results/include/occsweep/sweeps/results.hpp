@@ -90,6 +90,8 @@ void setEngines(ResultsHeader& h, const std::set<std::string>& engines);
 [[nodiscard]] nlohmann::json finiteNumber(double v);
 
 [[nodiscard]] nlohmann::json toJson(const ResultsHeader& h);
+/// A map's parameters by name, as results files write them: integers (k) as integers, the rest as numbers.
+[[nodiscard]] nlohmann::json toJson(const MapParams& params, const ParameterLayout& parameters);
 [[nodiscard]] nlohmann::json toJson(const MapResult& m, const ParameterLayout& parameters);
 [[nodiscard]] nlohmann::json toJson(const ResultsFile& f);
 
