@@ -44,9 +44,17 @@ std::map<fs::path, TemporaryClaim>& registry() {
   return *claims;
 }
 
-void registerTemporary(const TemporaryClaim& c) {
+// Registers `c` and makes its entry (an empty file, opened for writing, or an empty folder) in one step under the
+// registry's lock, which an interrupt's cleaner holds until _exit (cleanOnInterrupt): the entry exists when the
+// cleaner looks, and is removed, or is never made. Made after the lock is released, it could appear just after the
+// cleaner's removal and outlive the exit. Returns the file's descriptor (0 for a folder); on failure, -1 with errno
+// set and nothing registered.
+int registerAndCreate(const TemporaryClaim& c, TemporaryKind kind) {
   std::lock_guard lock(registryMutex());
-  registry()[c.path] = c;
+  const int fd = kind == TemporaryKind::File ? ::open(c.path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666)
+                                             : ::mkdir(c.path.c_str(), 0777);
+  if (fd >= 0) registry()[c.path] = c;
+  return fd;
 }
 
 // Drops a temporary (removed or committed) from the registry and its record from the ledger.
@@ -448,11 +456,10 @@ OutputFile::OutputFile(const fs::path& target) : target_(outputTarget(target)) {
   checked_ = std::make_unique<TargetState>(checkedState(target_));
   claim_ = claimTemporary(target_);
   temporary_ = claim_.path;
-  registerTemporary(claim_);
-  const int fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  const int fd = registerAndCreate(claim_, TemporaryKind::File);
   if (fd < 0) {
     const int e = errno;
-    unregisterTemporary(claim_);
+    releaseTemporary(claim_);
     fail(target_, e);
   }
   buffer_ = std::make_unique<Buffer>(fd);
@@ -502,10 +509,9 @@ OutputFolder::OutputFolder(const fs::path& target) : target_(outputTarget(target
   checked_ = std::make_unique<TargetState>(checkedState(target_));
   claim_ = claimTemporary(target_);
   temporary_ = claim_.path;
-  registerTemporary(claim_);
-  if (::mkdir(temporary_.c_str(), 0777) != 0) {
+  if (registerAndCreate(claim_, TemporaryKind::Folder) != 0) {
     const int e = errno;
-    unregisterTemporary(claim_);
+    releaseTemporary(claim_);
     fail(target_, e);
   }
 }
@@ -527,11 +533,17 @@ void OutputFolder::commit() {
 
 // ---- ClaimedTemporary ----
 
-ClaimedTemporary::ClaimedTemporary(const fs::path& target) {
+ClaimedTemporary::ClaimedTemporary(const fs::path& target, TemporaryKind kind) {
   const fs::path t = outputTarget(target);
   removeStaleTemporaries(t);
   claim_ = claimTemporary(t);
-  registerTemporary(claim_);
+  const int fd = registerAndCreate(claim_, kind);
+  if (fd < 0) {
+    const int e = errno;
+    releaseTemporary(claim_);
+    fail(t, e);
+  }
+  if (kind == TemporaryKind::File) ::close(fd);
 }
 
 ClaimedTemporary::~ClaimedTemporary() {

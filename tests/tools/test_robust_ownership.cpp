@@ -13,6 +13,7 @@
 
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/ownership.hpp"
+#include "occsweep/sweeps/results_store.hpp"
 #include "robust_outputs_helpers.hpp"
 
 using namespace occsweep;
@@ -258,6 +259,62 @@ TEST_CASE("SQLite's journal beside a recorded temporary a killed run left goes w
   CHECK(!fs::exists(left));
   CHECK(!fs::exists(left.string() + "-journal"));
   CHECK(fileBytes(look_alike.string() + "-journal") == "the user's");
+}
+
+namespace {
+
+// A child process that makes and drops temporaries of every kind on two threads, in a loop (a results store at an
+// OutputFile's temporary, as `results export` writes one, an OutputFolder, a store at a ClaimedTemporary file, as a
+// sweep's partial store is made, a ClaimedTemporary folder), and sends itself SIGINT after `delay_us`. Returns its exit code (130 when the interrupt's cleaner ended it).
+int interruptedWhileMaking(const fs::path& dir, const fs::path& state, const ResultsHeader& header, unsigned delay_us) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::setenv("OCCSWEEP_STATE_DIR", state.c_str(), 1);
+    removeTemporariesOnInterrupt();
+    for (int maker = 0; maker < 2; ++maker)
+      std::thread([dir, header] {
+        for (;;) {
+          try {
+            OutputFile file(dir / "f.db");
+            (void)ResultsStore::create(file.temporary(), header, StoreUse::Temporary);
+            const OutputFolder folder(dir / "d");
+            const ClaimedTemporary store(dir / "s.db", TemporaryKind::File);
+            (void)ResultsStore::create(store.path(), header, StoreUse::Temporary);
+            const ClaimedTemporary figures(dir / "figures", TemporaryKind::Folder);
+            std::ofstream(figures.path() / "a.png") << "drawn";
+          } catch (const std::exception&) {
+          }
+        }
+      }).detach();
+    ::usleep(delay_us);
+    ::kill(::getpid(), SIGINT);
+    for (;;) ::pause();  // the cleaner's _exit ends the process
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
+TEST_CASE("an interrupt while temporaries are being made leaves none behind, at 150 seeded moments", "[ownership]") {
+  // Old library: a temporary was registered, then made once the registry's lock was released, and SQLite created a
+  // store's temporary itself. An interrupt's cleaner that ran in between removed nothing, or removed the file SQLite
+  // then made again, before the exit: `.s.db.tmp-PID-TOKEN` (or another) was left beside the target for good.
+  const fs::path dir = scratch("ownership/interrupted-makers");
+  REQUIRE(runIn(dir, std::string(kTinyScene) + " --out scene").exit_code == 0);
+  writeTinyGrid(dir / "tiny.json");
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out oct.json").exit_code == 0);
+  const ResultsHeader header = readResultsHeader(dir / "oct.json").header;
+  SplitMix64 rng(31);
+  for (int moment = 0; moment < 150; ++moment) {
+    const fs::path out = dir / ("run" + std::to_string(moment));
+    fs::create_directories(out);
+    const unsigned delay_us = unsigned(rng.next() % 4000);
+    INFO("delay " << delay_us << " us");
+    CHECK(interruptedWhileMaking(out, dir / "state", header, delay_us) == 130);
+    CHECK(entriesOf(out).empty());
+  }
 }
 
 TEST_CASE("an output created or changed while occsweep writes it is kept, and the commit fails naming it",

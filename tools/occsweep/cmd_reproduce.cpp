@@ -44,8 +44,7 @@ auto figureDrawer(const std::string& configured_python) {
   const std::string python = findPython(configured_python, "reproduce");
   const std::string script = figureScript("plot_reproduction.py").string();
   return [python, script](const std::filesystem::path& out, const std::vector<std::string>& steps) {
-    const ClaimedTemporary drawn(out / "figures");  // the script draws here; removed whatever happens
-    std::filesystem::create_directory(drawn.path());
+    const ClaimedTemporary drawn(out / "figures", TemporaryKind::Folder);  // the script draws here; removed whatever happens
     std::vector<std::string> argv{python, script, out.string(), "--into", drawn.path().string()};
     argv.insert(argv.end(), steps.begin(), steps.end());
     if (const int code = runChild(argv); code != 0)

@@ -104,7 +104,9 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
     fs::create_directory_symlink(link, tmp / ("rank-" + std::to_string(r + 1)));
     list.push_back({{"rank", r + 1}, {"id", sets[r].id}, {"folder", sets[r].folder}, {"path", link.string()}});
   }
-  writeJsonAtomically({{"format", "occsweep-selected-sets"}, {"sets", list}}, tmp / "sets.json");
+  // Written in the temporary folder directly: an interrupt that removed the folder makes this write fail, where
+  // an atomic write would make the folder again.
+  writeFileChecked(tmp / "sets.json", nlohmann::json{{"format", "occsweep-selected-sets"}, {"sets", list}}.dump(1) + '\n');
   folder.commit();
   return sets.size();
 }

@@ -118,7 +118,7 @@ PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replac
                                  const std::function<void(const fs::path&)>& make) {
   // Claimed and registered as OutputFile's temporaries are (docs/robustness.md, "Ownership"): an interrupt removes
   // it, what a kill leaves the next run removes, and nothing of a user's is ever at that name.
-  const ClaimedTemporary claimed(file);
+  const ClaimedTemporary claimed(file, TemporaryKind::File);  // `make` fills it, never creates it
   const fs::path& temporary = claimed.path();
   std::error_code ec;
   try {
@@ -195,7 +195,7 @@ PartialLog::PartialLog(fs::path file, const ResultsHeader& header, std::size_t m
   if (maps_done == 0) {
     // The header is written before the log appears under its name: a log without it is never occsweep's.
     lock_ = PartialLock::publish(file_, lock_.held() ? &lock_ : nullptr, [&](const fs::path& temporary) {
-      std::ofstream first(temporary, std::ios::trunc);
+      std::ofstream first(temporary, std::ios::in | std::ios::out);  // the claimed empty file; never created here
       first << toJson(header).dump() << '\n' << std::flush;
       if (!first) throw OutputError(writeFailure(file_, errno));
     });

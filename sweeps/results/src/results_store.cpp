@@ -242,7 +242,10 @@ ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& hea
   auto c = std::make_unique<Connection>(file);
   std::error_code ec;
   if (fs::exists(fs::symlink_status(file)) && fs::file_size(file, ec) != 0) fail(file, "results store: already exists");
-  if (openDatabase(file, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, &c->db) != SQLITE_OK)
+  // A temporary is the empty file its claim made (OutputFile, ClaimedTemporary): opened, never created, so that one
+  // an interrupt has removed is not made again before the exit.
+  const int create = use == StoreUse::Temporary ? 0 : SQLITE_OPEN_CREATE;
+  if (openDatabase(file, SQLITE_OPEN_READWRITE | create, &c->db) != SQLITE_OK)
     fail(file, std::string("cannot create: ") + (c->db ? sqlite3_errmsg(c->db) : "out of memory"));
   std::string params;
   for (std::size_t i = 0; i < header.parameters.names.size(); ++i)

@@ -139,12 +139,16 @@ class OutputFolder {
 /// what checkOutputTarget accepted; an output created or changed meanwhile is kept (OutputError).
 void renameIntoPlace(const std::filesystem::path& from, const std::filesystem::path& target);
 
-/// A temporary name claimed beside `target` (ownership.hpp) and registered: removed with what it holds (and an
-/// SQLite `-journal` beside it) on SIGINT, SIGTERM or SIGHUP, or when destroyed. For writers that make the file
-/// themselves and then link or rename it into place (a sweep's partial output).
+/// What a ClaimedTemporary makes at its name: an empty file or an empty folder.
+enum class TemporaryKind { File, Folder };
+
+/// A temporary claimed beside `target` (ownership.hpp), made empty and registered in one step: removed with what it
+/// holds (and an SQLite `-journal` beside it) on SIGINT, SIGTERM or SIGHUP, or when destroyed. For writers that fill
+/// it themselves and then link or rename it into place (a sweep's partial output, a script's figures). They open it
+/// without creating it: a temporary an interrupt has removed is then never made again before the exit.
 class ClaimedTemporary {
  public:
-  explicit ClaimedTemporary(const std::filesystem::path& target);
+  ClaimedTemporary(const std::filesystem::path& target, TemporaryKind kind);
   ~ClaimedTemporary();
   ClaimedTemporary(const ClaimedTemporary&) = delete;
   ClaimedTemporary& operator=(const ClaimedTemporary&) = delete;

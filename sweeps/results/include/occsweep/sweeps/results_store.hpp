@@ -43,7 +43,8 @@ void requireNoJournalBeside(const std::filesystem::path& store);
 /// One store, open. Errors are std::runtime_error naming the file (and the table and field where one is wrong).
 class ResultsStore {
  public:
-  /// A new store at `file`, which must not exist, holding `header`; incomplete until finish().
+  /// A new store at `file` holding `header`; incomplete until finish(). Durable: `file` must not exist. Temporary:
+  /// `file` is the empty file its claim made (OutputFile, ClaimedTemporary), opened and never created.
   [[nodiscard]] static ResultsStore create(const std::filesystem::path& file, const ResultsHeader& header,
                                            StoreUse use = StoreUse::Durable);
   /// An existing store, checked to be an occsweep results store of a version this program reads.
