@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Figures of `occsweep plot` (docs/statistics.md, "Figures"): draws DATA.json, which the command computed from
-results files, into FIG.png. Every number drawn comes from DATA.json.
+results files, into FIG in DATA.json's "figure_format" (png, pdf or svg). Every number drawn comes from DATA.json.
 
-usage: plot_results.py DATA.json FIG.png
+usage: plot_results.py DATA.json FIG
 """
 import json
 import math
@@ -17,9 +17,13 @@ plt.rcParams.update({"font.size": 10, "axes.titlesize": 10, "legend.fontsize": 8
 AUC = "AUC (area under the TPR-FDR curve, anchored)"
 
 
-def save(fig, path):
+# The mark occsweep checks to know the script drew (PNG: its Software chunk; PDF and SVG: their Creator).
+MARK = {"png": {"Software": "occsweep plot"}, "pdf": {"Creator": "occsweep plot"}, "svg": {"Creator": "occsweep plot"}}
+
+
+def save(fig, path, figure_format):
     # `path` is occsweep's temporary for the figure: occsweep renames it into place once this script succeeded.
-    fig.savefig(path, format="png", dpi=150, bbox_inches="tight", metadata={"Software": "occsweep plot"})
+    fig.savefig(path, format=figure_format, dpi=150, bbox_inches="tight", metadata=MARK[figure_format])
     plt.close(fig)
 
 
@@ -37,9 +41,31 @@ def legend_below(fig, ax_or_axes, ncol=3):
     fig.legend(handles, labels, loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, 0.0), frameon=False)
 
 
+# One colour, marker and line style per method in every figure (docs/statistics.md, "Figures"): Okabe and Ito's
+# palette, which readers with any common colour-vision deficiency tell apart. The shipped methods keep theirs; any
+# other method takes one by its name, so that it too keeps it from figure to figure.
+OKABE_ITO = ["#000000", "#D55E00", "#0072B2", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442"]
+SHIPPED = {"octomap": 0, "knn": 1, "sor-octomap": 2, "ror-octomap": 3, "range-octomap": 4}
+MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*"]
+LINES = ["-", "--", "-.", ":", (0, (5, 1)), (0, (3, 1, 1, 1, 1, 1)), (0, (1, 1)), (0, (8, 2))]
+
+
+def style_index(method):
+    if method in SHIPPED:
+        return SHIPPED[method]
+    return 5 + sum(method.encode()) % (len(OKABE_ITO) - 5)
+
+
 def colours(methods):
-    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    return {m: cycle[i % len(cycle)] for i, m in enumerate(sorted(methods))}
+    return {m: OKABE_ITO[style_index(m)] for m in methods}
+
+
+def marker(method):
+    return MARKERS[style_index(method)]
+
+
+def line(method):
+    return LINES[style_index(method)]
 
 
 def curves(d):
@@ -51,7 +77,9 @@ def curves(d):
     for ax, s in zip(axes.flat, sets):
         for m in s["methods"]:
             xs, ys = zip(*m["points"]) if m["points"] else ([], [])
-            ax.plot(xs, ys, "-o", ms=3, color=col[m["method"]], label=m["method"])
+            # Each its own line style and marker, hollow markers and thin lines: a curve under another shows.
+            ax.plot(xs, ys, linestyle=line(m["method"]), marker=marker(m["method"]), ms=4, mfc="none", lw=1.2,
+                    color=col[m["method"]], label=m["method"])
             ax.annotate(f"{m['method']}: AUC {m['auc']:.4f}" if m["auc"] is not None else m["method"],
                         xy=(0.98, 0.03 + 0.08 * s["methods"].index(m)), xycoords="axes fraction", ha="right",
                         fontsize=7, color=col[m["method"]])
@@ -73,7 +101,8 @@ def budget(d):
     col = colours({m["method"] for m in d["methods"]})
     for m in d["methods"]:
         n = list(range(1, m["maps"] + 1))
-        ax.plot(n, m["curve"], color=col[m["method"]], label=f"{m['method']} ({m['maps']} maps)")
+        ax.plot(n, m["curve"], color=col[m["method"]], linestyle=line(m["method"]), lw=1.4,
+                label=f"{m['method']} ({m['maps']} maps)")
     if d["baseline_best"] is not None:
         ax.axhline(d["baseline_best"], color="k", ls="--", lw=1, label=f"{d['baseline']}: best of its whole grid")
     ax.set_xscale("log")
@@ -90,14 +119,14 @@ def improvement(d):
     col = colours({m["method"] for m in d["methods"]})
     for m in d["methods"]:
         if m["points"]:
-            ax.scatter([p[0] for p in m["points"]], [p[1] for p in m["points"]], s=18, color=col[m["method"]],
-                       edgecolors="k", linewidths=0.3, label=m["method"], alpha=0.8)
+            ax.scatter([p[0] for p in m["points"]], [p[1] for p in m["points"]], s=22, color=col[m["method"]],
+                       marker=marker(m["method"]), edgecolors="k", linewidths=0.3, label=m["method"], alpha=0.8)
     names = [m["method"] for m in d["methods"]]
     for i, m in enumerate(d["methods"]):  # the mean's 95 % interval, one column per method
         iv = m["interval"]
         if iv is not None:
-            right.errorbar([i], [iv["mean"]], yerr=[[iv["mean"] - iv["lower"]], [iv["upper"] - iv["mean"]]], fmt="D",
-                           color=col[m["method"]], capsize=3, ms=5)
+            right.errorbar([i], [iv["mean"]], yerr=[[iv["mean"] - iv["lower"]], [iv["upper"] - iv["mean"]]],
+                           fmt=marker(m["method"]), color=col[m["method"]], capsize=3, ms=5)
     for a in (ax, right):
         a.axhline(0, color="k", lw=0.8)
         a.grid(alpha=0.3)
@@ -148,7 +177,13 @@ def main():
         sys.exit(f"plot_results.py: {sys.argv[1]}: {e}")
     if d.get("kind") not in FIGURES:
         sys.exit(f"plot_results.py: {sys.argv[1]}: unknown kind {d.get('kind')!r}")
-    save(FIGURES[d["kind"]](d), sys.argv[2])
+    figure_format = d.get("figure_format", "png")
+    if figure_format not in MARK:
+        sys.exit(f"plot_results.py: {sys.argv[1]}: unknown figure_format {figure_format!r}")
+    try:
+        save(FIGURES[d["kind"]](d), sys.argv[2], figure_format)
+    except Exception as e:  # one line, never a traceback: occsweep reports the failure and writes nothing
+        sys.exit(f"plot_results.py: cannot draw the {d['kind']} figure: {type(e).__name__}: {e}")
 
 
 if __name__ == "__main__":

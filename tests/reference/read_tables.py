@@ -73,6 +73,7 @@ def latex_texts(folder, count):
     """Each name's table compiled in one document; the text pdftotext reads between name i's markers."""
     with open(os.path.join(folder, "doc.tex"), "w") as doc:
         doc.write("\\documentclass{article}\n\\usepackage[T1]{fontenc}\n\\usepackage{booktabs}\n"
+                  "\\usepackage{graphicx}\n\\usepackage{array}\n"
                   "\\usepackage[landscape,margin=1cm]{geometry}\n"
                   "\\makeatletter\\renewenvironment{table}{\\def\\@captype{table}\\par}{\\par}\\makeatother\n"
                   "\\begin{document}\n")

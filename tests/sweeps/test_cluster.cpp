@@ -11,7 +11,7 @@
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 #include "occsweep/sweeps/grid.hpp"
-#include "occsweep/sweeps/merge.hpp"
+
 #include "test_helpers.hpp"
 
 using namespace occsweep;

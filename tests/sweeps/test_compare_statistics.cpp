@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <sstream>
 
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/eval/bounded_read.hpp"
@@ -331,10 +332,10 @@ j = json.load(open('c.json'))
 assert len(rows) == len(j['rows']) == 1, 'rows'
 for row, jr in zip(rows, j['rows']):
     for m in ('octomap', 'knn'):
-        assert float(row[m + '.auc']) == jr[m]['auc'], m
-        for name, value in jr[m]['parameters'].items():
+        assert float(row[m + '.auc']) == jr['methods'][m]['auc'], m
+        for name, value in jr['methods'][m]['parameters'].items():
             assert float(row[m + '.' + name]) == value, name
-    assert float(row['knn.improvement_percent']) == jr['improvement_percent']
+    assert float(row['knn.improvement_percent']) == jr['methods']['knn']['improvement_percent']
 print('csv equals json')
 ")";
   const auto py = test::runShell("cd " + dir.string() + " && " + check);
@@ -345,12 +346,14 @@ print('csv equals json')
   // compiles with booktabs where pdflatex is installed (the test command installs it: tools/setup.sh).
   CHECK(test::bytesOf(dir / "c.tex") == test::bytesOf(golden / "compare.tex"));
   if (test::runShell("command -v pdflatex").exit_code == 0) {
-    std::ofstream(dir / "doc.tex") << "\\documentclass{article}\n\\usepackage{booktabs}\n\\usepackage[landscape]{geometry}\n"
-                                      "\\begin{document}\n\\input{c.tex}\n\\end{document}\n";
+    std::ofstream(dir / "doc.tex") << "\\documentclass{article}\n\\usepackage{booktabs}\n\\usepackage{graphicx}\n"
+                                      "\\usepackage{array}\n\\begin{document}\n\\input{c.tex}\n\\end{document}\n";
     const auto tex = test::runShell("cd " + dir.string() + " && pdflatex -interaction=nonstopmode -halt-on-error doc.tex");
     INFO(tex.output);
     CHECK(tex.exit_code == 0);
     CHECK(fs::file_size(dir / "doc.pdf") > 1000);
+    // Within the text width of a plain article: TeX reports any box wider than its line (old: 421 pt and 1,154 pt).
+    CHECK(test::bytesOf(dir / "doc.log").find("Overfull \\hbox") == std::string::npos);
   } else {
     WARN("pdflatex not installed: the LaTeX table is checked against its golden text only");
   }
@@ -360,4 +363,77 @@ print('csv equals json')
   const auto refused = test::runIn(dir, "compare " + files + " --csv mine.csv --force");
   CHECK(refused.exit_code == 2);
   CHECK(test::bytesOf(dir / "mine.csv") == "my,own,data\n");
+}
+
+TEST_CASE("compare's terminal output fits 100 columns with five methods and names every method's best map") {
+  // Old binary: one line per set of about 380 characters (every method's AUC, best map and file side by side, then
+  // 15 statistics columns).
+  const auto dir = test::processScratch("compare-terminal");
+  REQUIRE(test::runIn(dir, "scene --out ds").exit_code == 0);
+  const std::vector<std::string> grids = {"octomap-opt", "knn-opt", "sor-octomap-opt", "ror-octomap-opt",
+                                          "range-octomap-opt"};
+  std::string files;
+  for (const std::string& grid : grids) {
+    REQUIRE(test::runIn(dir, "sweep --dataset ds --quiet --grid " + grid + " --out " + grid + ".json").exit_code == 0);
+    files += " " + grid + ".json";
+  }
+  const auto r = test::runIn(dir, "compare" + files + " --json c.json --latex t.tex");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  // The LaTeX of five methods fits a plain article's text width too (old: the statistics table ran 1,154 pt past it).
+  if (test::runShell("command -v pdflatex").exit_code == 0) {
+    std::ofstream(dir / "doc.tex") << "\\documentclass{article}\n\\usepackage{booktabs}\n\\usepackage{graphicx}\n"
+                                      "\\usepackage{array}\n\\begin{document}\n\\input{t.tex}\n\\end{document}\n";
+    const auto tex = test::runShell("cd " + dir.string() + " && pdflatex -interaction=nonstopmode -halt-on-error doc.tex");
+    INFO(tex.output);
+    CHECK(tex.exit_code == 0);
+    CHECK(test::bytesOf(dir / "doc.log").find("Overfull \\hbox") == std::string::npos);
+    CHECK(test::bytesOf(dir / "t.tex").find("range OctoMap") != std::string::npos);  // display names
+  }
+  std::istringstream lines(r.output);
+  std::size_t widest = 0, count = 0;
+  for (std::string line; std::getline(lines, line); ++count) widest = std::max(widest, line.size());
+  CHECK(widest <= 100);
+  CHECK(count > 20);
+  const nlohmann::json rows = nlohmann::json::parse(test::bytesOf(dir / "c.json")).at("rows");
+  for (const std::string& grid : grids) {
+    const std::string method = grid.substr(0, grid.size() - 4);
+    const nlohmann::json& best = rows.at(0).at("methods").at(method);
+    // The method's line, then its parameters: what `map --from FILE --map-index N` rebuilds.
+    CHECK(r.output.find("map " + best.at("map_index").dump() + " of " + grid + ".json") != std::string::npos);
+    CHECK(r.output.find(best.at("params").get<std::string>()) != std::string::npos);
+  }
+}
+
+TEST_CASE("compare --csv and results export write numbers alike, and the exports of two files concatenate into one "
+          "table by their method column") {
+  // Old binary: compare wrote p_max as 0.97999999999999998 and export as 0.98; the export had no data-set or method
+  // column, so rows of two files could not be told apart once concatenated.
+  const auto dir = test::processScratch("csv-alike");
+  const fs::path golden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin";
+  const std::string om = (golden / "octomap-opt.json").string(), knn = (golden / "knn-opt.json").string();
+  REQUIRE(test::runIn(dir, "compare " + om + " " + knn + " --csv c.csv").exit_code == 0);
+  REQUIRE(test::runIn(dir, "results export " + om + " --out o.csv").exit_code == 0);
+  REQUIRE(test::runIn(dir, "results export " + knn + " --out k.csv").exit_code == 0);
+  const char* check = R"(python3 -c "
+import csv
+c = list(csv.DictReader(open('c.csv')))
+assert c[0]['knn.p_max'] == '0.98' and c[0]['octomap.p_max'] == '0.98', (c[0]['knn.p_max'], c[0]['octomap.p_max'])
+rows = list(csv.DictReader(open('o.csv'))) + list(csv.DictReader(open('k.csv')))
+assert {r['method'] for r in rows} == {'octomap', 'knn'}, 'methods'
+assert {r['grid'] for r in rows} == {'octomap-opt', 'knn-opt'}, 'grids'
+assert all(r['p_max'] == '0.98' for r in rows), 'p_max'
+assert all(r['dataset'] == c[0]['dataset'] and r['truth'] == 'full' for r in rows), 'dataset'
+def digits(s):  # the significant digits, whatever the notation (0.0001 and 1e-04 alike)
+    return s.lower().split('e')[0].replace('-', '').replace('.', '').strip('0')
+for r in rows:
+    for key in ('p_t', 'tpr', 'fdr', 'auc_anchored'):
+        if r[key]:  # the shortest text: as many digits as Python's shortest repr
+            assert digits(r[key]) == digits(repr(float(r[key]))), (key, r[key])
+print('alike', len(rows))
+")";
+  const auto py = test::runShell("cd " + dir.string() + " && " + check);
+  INFO(py.output);
+  CHECK(py.exit_code == 0);
+  CHECK(py.output.find("alike 4230") != std::string::npos);  // 180 + 4,050 combinations
 }

@@ -6,7 +6,9 @@
 #include <set>
 #include <sstream>
 
+#include "occsweep/core/method_registry.hpp"
 #include "occsweep/sweeps/grid.hpp"
+#include "occsweep/sweeps/selection.hpp"
 #include "occsweep/sweeps/sharding.hpp"
 #include "test_helpers.hpp"
 
@@ -104,6 +106,106 @@ TEST_CASE("Eq. 15's closed form equals the enumeration on randomly generated gri
     const GridSpec g = parseGrid(j, "random.json");
     INFO("seed " << seed << " grid " << j.dump());
     CHECK(closedFormCount(g) == enumerateGrid(g).combinations);
+  }
+}
+
+namespace {
+
+// A random grid file of `method`: hundredths inside each parameter's bounds (within 1 of its lowest value), integer
+// parameters as lists of a few values, p_t by a random step.
+json randomGridOf(const MappingMethod& method, SplitMix64& rng) {
+  json parameters = json::object();
+  for (const MethodParameter& p : method.parameters()) {
+    const double lo = p.lowest + (p.lowest_open ? 0.01 : 0.0);
+    const double hi = std::min(p.highest - (p.highest_open ? 0.01 : 0.0), lo + 1.0);
+    if (p.integer) {
+      json list = json::array();
+      for (int i = 0, n = 1 + int(rng.below(3)); i < n; ++i) list.push_back(std::llround(lo) + 2 * i);
+      parameters[p.name] = list;
+    } else {
+      parameters[p.name] = randomRange(rng, lo, hi, true);
+    }
+  }
+  parameters["p_t"] = {{"step", (1 + int(rng.below(30))) / 100.0}};
+  return {{"name", "random"}, {"method", method.name()}, {"parameters", parameters}};
+}
+
+// A method whose relations join p_a and p_c twice (p_a >= p_b >= p_c and p_a >= p_c): not a forest.
+class ChainedTwiceMethod final : public MappingMethod {
+ public:
+  std::string name() const override { return "test-chained-twice"; }
+  std::string description() const override { return "test: relations that are not a forest"; }
+  std::string reference() const override { return "tests/sweeps/test_grid.cpp"; }
+  std::vector<MethodParameter> parameters() const override {
+    return {{"p_a", "p_a", "", 0.6, 0, 1, true, true, false, "test"},
+            {"p_b", "p_b", "", 0.5, 0, 1, true, true, false, "test"},
+            {"p_c", "p_c", "", 0.4, 0, 1, true, true, false, "test"},
+            {"p_max", "p_max", "upper clamp", 0.97, 0.5, 1, false, true, false, "Eq. 12"},
+            {"p_min", "p_min", "lower clamp", 0.12, 0, 0.5, true, true, false, "Eq. 12"}};
+  }
+  std::vector<ParameterRelation> relations() const override {
+    return {{"p_a", "p_b", false, "test"}, {"p_b", "p_c", false, "test"}, {"p_a", "p_c", true, "test"}};
+  }
+  MapRule rule(const MethodValues&, const RuleContext&) const override { return {}; }
+};
+
+}  // namespace
+
+TEST_CASE("the closed form equals the enumeration for every registered method on 60 random grids each, and a "
+          "method whose relations are not a forest is counted map by map") {
+  // Old library: closedFormCount knew knn and octomap by name; every other method had none.
+  for (const auto& method : registeredMethods()) {
+    for (std::uint64_t seed = 1; seed <= 60; ++seed) {
+      SplitMix64 rng(seed);
+      const json j = randomGridOf(*method, rng);
+      const GridSpec g = parseGrid(j, "random.json");
+      INFO(method->name() << " seed " << seed << " grid " << j.dump());
+      REQUIRE(closedFormCount(g).has_value());
+      CHECK(*closedFormCount(g) == enumerateGrid(g).combinations);
+      CHECK(combinationCount(g) == enumerateGrid(g).combinations);
+    }
+  }
+  registerMethod(std::make_shared<ChainedTwiceMethod>());
+  const MappingMethod& twice = findMethod("test-chained-twice");
+  for (std::uint64_t seed = 1; seed <= 30; ++seed) {
+    SplitMix64 rng(seed);
+    const GridSpec g = parseGrid(randomGridOf(twice, rng), "random.json");
+    CHECK_FALSE(closedFormCount(g).has_value());
+    CHECK(combinationCount(g) == enumerateGrid(g).combinations);
+  }
+}
+
+TEST_CASE("a shard's window of the grid selects exactly what the whole enumeration selects, on 200 random grids "
+          "and shard counts") {
+  // Old library: every sweep, shard or not, enumerated the whole grid first (a 398 M-combination grid ran out of
+  // memory at 3 GB for a shard of 2,000).
+  const auto methods = registeredMethods();
+  for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+    SplitMix64 rng(seed);
+    const MappingMethod& method = *methods[seed % methods.size()];
+    const GridSpec g = parseGrid(randomGridOf(method, rng), "random.json");
+    const GridEnumeration whole = enumerateGrid(g);
+    SweepSelection s;
+    s.shard_count = 1 + rng.below(std::max<std::uint64_t>(1, whole.maps.size() + 1));
+    s.shard_index = rng.below(s.shard_count);
+    INFO(method.name() << " seed " << seed << ": shard " << s.shard_index << "/" << s.shard_count << " of "
+                       << whole.maps.size() << " maps");
+    const GridEnumeration window = enumerateSelection(g, s);
+    CHECK(window.combinations == whole.combinations);
+    CHECK(window.map_count == whole.maps.size());
+    CHECK(thresholdedMapCount(g) == whole.thresholded_maps);
+    const auto expected = selectWork(g, whole, s), actual = selectWork(g, window, s);
+    REQUIRE(actual.size() == expected.size());
+    for (std::size_t i = 0; i < actual.size(); ++i) {
+      CHECK(actual[i].map_index == expected[i].map_index);
+      CHECK(actual[i].thresholds == expected[i].thresholds);
+      CHECK(window.map(actual[i].map_index) == whole.maps[expected[i].map_index]);
+      CHECK(window.firstId(actual[i].map_index) == whole.first_id[expected[i].map_index]);
+      CHECK(window.thresholdsOf(actual[i].map_index) == whole.thresholds[expected[i].map_index]);
+    }
+    // It holds the shard's maps and nothing past them.
+    CHECK(window.maps.size() <= whole.maps.size());
+    if (!actual.empty()) CHECK(window.first_map == actual.front().map_index);
   }
 }
 

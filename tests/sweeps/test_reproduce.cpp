@@ -90,7 +90,7 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
     const auto c = test::runCli("compare " + (sweeps / (set + "-octomap-opt.json")).string() + " " +
                                 (sweeps / (set + "-knn-opt.json")).string() + " --force --json " + (checks / "c.json").string());
     REQUIRE(c.exit_code == 0);
-    const json expected = readJsonFile(checks / "c.json").at("rows").at(0);
+    const json expected = readJsonFile(checks / "c.json").at("rows").at(0).at("methods");
     CHECK(row.at("octomap").at("auc") == expected.at("octomap").at("auc"));
     CHECK(row.at("knn").at("auc") == expected.at("knn").at("auc"));
     const double om = row.at("octomap").at("auc"), knn = row.at("knn").at("auc");
@@ -110,7 +110,7 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
       const auto cb = test::runCli("compare " + (sweeps / (set + "-octomap-opt.json")).string() + " " + file.string() +
                                    " --force --json " + (checks / "cb.json").string());
       REQUIRE(cb.exit_code == 0);
-      const json other = readJsonFile(checks / "cb.json").at("rows").at(0).at("others").at(method);
+      const json other = readJsonFile(checks / "cb.json").at("rows").at(0).at("methods").at(method);
       CHECK(b.at("full").at("best").at("auc") == other.at("auc"));
       CHECK(b.at("full").at("improvement_over_octomap_percent") == other.at("improvement_percent"));
       const double base = other.at("auc");
@@ -329,7 +329,7 @@ TEST_CASE("reproduce --steps real-stereo: the Aloe pair with the filter swept, b
                                     (sweeps / (name + "-knn-opt" + suffix)).string() + " --force --json " +
                                     (dir / "c.json").string());
         REQUIRE(c.exit_code == 0);
-        const json expected = readJsonFile(dir / "c.json").at("rows").at(0);
+        const json expected = readJsonFile(dir / "c.json").at("rows").at(0).at("methods");
         CHECK(side.at("octomap").at("auc") == expected.at("octomap").at("auc"));
         CHECK(side.at("knn").at("auc") == expected.at("knn").at("auc"));
         // The ablation: a map of knn-opt with p_u = p_l, so never above k-NN's best.

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/results_export.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 #include "occsweep/sweeps/sweep.hpp"
@@ -135,7 +136,9 @@ TEST_CASE("the golden files round-trip through a store to what writeResults writ
     std::string key, counts;
     for (std::uint64_t v : {t.id, g.maps.back().map_index}) key.append(std::to_string(v)).append(",");
     for (std::uint64_t v : {t.counts.tp, t.counts.fp, t.counts.fn, t.counts.tn}) counts.append(",").append(std::to_string(v));
-    CHECK(last.starts_with(key));
+    CHECK(header.starts_with("dataset,dataset_hash,method,grid,truth,id,map_index,"));
+    CHECK(last.starts_with(g.header.dataset_name + "," + g.header.dataset_hash + "," + g.header.method + "," +
+                           g.header.grid_name + ",full," + key));
     CHECK_THAT(last, Contains(counts + ","));
   }
 }

@@ -181,10 +181,10 @@ TEST_CASE("compare names the best map map --from --best rebuilds, with every par
   CHECK(compare.output.find("p_max=0.98 p_min=0.02 p_h=") != std::string::npos);  // the grid's fixed values too
   const nlohmann::json row = nlohmann::json::parse(occsweep::test::bytesOf(dir / "c.json")).at("rows").at(0);
   const occsweep::ResultsFile knn = occsweep::readResults(dir / "knn-opt.json");
-  CHECK(row.at("knn").at("map_index") == bestOf(knn).map_index);
-  CHECK(row.at("knn").at("parameters").at("p_max") == 0.98);
-  CHECK(row.at("knn").at("parameters").at("k").is_number_integer());  // as results files write it
+  CHECK(row.at("methods").at("knn").at("map_index") == bestOf(knn).map_index);
+  CHECK(row.at("methods").at("knn").at("parameters").at("p_max") == 0.98);
+  CHECK(row.at("methods").at("knn").at("parameters").at("k").is_number_integer());  // as results files write it
   const CommandResult from = occsweep::test::runIn(dir, "map --dataset ds --from knn-opt.json --best --out b.ot");
   INFO(from.output);
-  CHECK(from.output.find("map " + row.at("knn").at("map_index").dump() + " of knn-opt.json") != std::string::npos);
+  CHECK(from.output.find("map " + row.at("methods").at("knn").at("map_index").dump() + " of knn-opt.json") != std::string::npos);
 }

@@ -2,6 +2,8 @@
 // comparison and the results files give, recomputed here by brute force.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -100,4 +102,51 @@ TEST_CASE("plot never replaces a file it did not draw, and refuses a figure kind
   CHECK(r.exit_code == 2);
   CHECK(test::bytesOf(dir / "photo.png") == "\x89PNG not ours");
   CHECK(test::runIn(dir, "plot pie " + goldenFiles() + " --out x.png").exit_code == 2);
+}
+
+TEST_CASE("plot writes PNG, PDF or SVG by --out's ending, refuses any other before drawing, and gives each method "
+          "one colour in every figure") {
+  // Old binary: --out fig.pdf and fig.svg held PNG bytes, exit 0; range-octomap was green in one figure and orange
+  // in another (colours by each figure's sorted methods).
+  if (!haveMatplotlib()) {
+    WARN("no matplotlib: occsweep plot cannot draw here");
+    return;
+  }
+  const auto dir = test::processScratch("plot-formats");
+  REQUIRE(test::runIn(dir, "scene --out ds").exit_code == 0);
+  std::string files;
+  for (const std::string grid : {"octomap-opt", "knn-opt", "range-octomap-opt"}) {
+    REQUIRE(test::runIn(dir, "sweep --dataset ds --quiet --grid " + grid + " --out " + grid + ".json").exit_code == 0);
+    files += " " + grid + ".json";
+  }
+  const std::map<std::string, std::string> magic = {{"png", "\x89PNG"}, {"pdf", "%PDF-"}, {"svg", "<?xml"}};
+  for (const auto& [format, start] : magic) {
+    const auto r = test::runIn(dir, "plot budget" + files + " --out b." + format);
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    CHECK(test::bytesOf(dir / ("b." + format)).starts_with(start));
+  }
+  // Its own PDF is replaced with --force; a user's, however it starts, never.
+  CHECK(test::runIn(dir, "plot budget" + files + " --out b.pdf --force").exit_code == 0);
+  std::ofstream(dir / "mine.pdf") << "%PDF-1.4 occsweep plot, my own";
+  const auto mine = test::runIn(dir, "plot budget" + files + " --out mine.pdf --force");
+  CHECK(mine.exit_code == 2);
+  CHECK(test::bytesOf(dir / "mine.pdf") == "%PDF-1.4 occsweep plot, my own");
+  for (const std::string other : {"b.jpg", "b", "b.png.txt"}) {
+    const auto r = test::runIn(dir, "plot budget" + files + " --out " + other);
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("a figure is PNG, PDF or SVG") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / other));
+  }
+  // One colour per method: range-octomap's (#CC79A7, docs/statistics.md) in each figure that draws it.
+  for (const std::string kind : {"curves", "budget", "improvement"}) {
+    const auto r = test::runIn(dir, "plot " + kind + files + " --out " + kind + ".svg");
+    INFO(kind << ": " << r.output);
+    REQUIRE(r.exit_code == 0);
+    std::string svg = test::bytesOf(dir / (kind + ".svg"));
+    std::transform(svg.begin(), svg.end(), svg.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    CHECK(svg.find("#cc79a7") != std::string::npos);  // range-octomap
+    CHECK(svg.find("#d55e00") != std::string::npos);  // knn
+  }
 }

@@ -15,7 +15,7 @@
 
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
-#include "occsweep/sweeps/merge.hpp"
+
 #include "robust_cli_helpers.hpp"
 
 using namespace occsweep;

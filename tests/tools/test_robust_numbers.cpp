@@ -368,8 +368,8 @@ TEST_CASE("compare refuses results that do not compare, names the file behind ev
     CHECK(has(r.output, fx.octomap.string()));
     CHECK(has(r.output, fx.knn.string()));
     const json j = readJson(fx.dir / "cmp.json");
-    CHECK(j["rows"][0]["octomap"]["file"] == fx.octomap.string());
-    CHECK(j["rows"][0]["knn"]["file"] == fx.knn.string());
+    CHECK(j["rows"][0]["methods"]["octomap"]["file"] == fx.octomap.string());
+    CHECK(j["rows"][0]["methods"]["knn"]["file"] == fx.knn.string());
   }
   SECTION("a shard against a whole grid (old: -16.88 % from a third of the grid)") {
     const fs::path shard = sweep(grid.string(), "--shard 0/2", fx.dir / "shard.json");

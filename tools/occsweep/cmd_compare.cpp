@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <set>
 
 #include "command_registry.hpp"
 #include "limit_options.hpp"
@@ -11,16 +12,14 @@
 #include "compare_tables.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/ownership.hpp"
-#include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/compare.hpp"
 
 namespace occsweep::cli {
 namespace {
 
-nlohmann::json bestJson(const std::optional<BestMap>& b, const std::vector<ResultsFile>& in,
-                        const std::vector<std::string>& names) {
-  if (!b) return nullptr;
-  return {{"auc", b->auc}, {"auc_observed", b->observed}, {"map_index", b->map_index},
-          {"params", bestParametersText(*b, in)}, {"parameters", parameterFields(*b, in)}, {"file", names[b->file]}};
+nlohmann::json bestJson(const BestMap& b, const std::vector<ResultsFile>& in, const std::vector<std::string>& names) {
+  return {{"auc", b.auc}, {"auc_observed", b.observed}, {"map_index", b.map_index},
+          {"params", bestParametersText(b, in)}, {"parameters", parameterFields(b, in)}, {"file", names[b.file]}};
 }
 
 // A number occsweep prints is either right or not printed (docs/robustness.md): "-" where there is none.
@@ -42,58 +41,67 @@ std::vector<std::string> checkMixed(const std::vector<ResultsFile>& in, const Co
   return mixed;
 }
 
-void printHeader(const std::vector<std::string>& others) {
-  std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s", "data set", "pcs", "OctoMap", "k-NN", "improve%",
-              "OctoMap best", "k-NN best", "OctoMap file", "k-NN file");
-  for (const std::string& m : others) std::printf(" | %s AUC, vs OctoMap %%, best", m.c_str());
-  std::printf("\n");
+// The methods in the order compare shows them: the baseline first, then the others by name.
+std::vector<std::string> shownMethods(const std::vector<ResultsFile>& in, const std::string& baseline) {
+  std::set<std::string> names{baseline};
+  for (const ResultsFile& f : in) names.insert(f.header.method);
+  std::vector<std::string> order{baseline};
+  for (const std::string& name : names)
+    if (name != baseline) order.push_back(name);
+  return order;
 }
 
-// Other methods (docs/methods.md) follow the paper's two, each as AUC, improvement over OctoMap and best map.
+// Within kTerminalColumns whatever the parameters: each data set's line, then one line per method with its AUC, its
+// improvement over the baseline and the file and map behind it, then the map's parameters (docs/statistics.md,
+// "In occsweep compare"). Every digit is in --json and --csv.
 void printRow(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
-              const std::vector<std::string>& others) {
-  auto auc = [](const std::optional<BestMap>& b) { return b ? b->auc : std::nan(""); };
-  auto file = [&](const std::optional<BestMap>& b) { return b ? files[b->file] : std::string("-"); };
-  std::printf("%-28s %-8s %9s %9s %9s  %s | %s | %s | %s", r.dataset.c_str(), r.point_cloud_set.c_str(),
-              cell(auc(r.octomap), "%.4f").c_str(), cell(auc(r.knn), "%.4f").c_str(),
-              cell(r.improvementPercent(), "%.2f").c_str(), r.octomap ? bestParametersText(*r.octomap, in).c_str() : "-",
-              r.knn ? bestParametersText(*r.knn, in).c_str() : "-", file(r.octomap).c_str(), file(r.knn).c_str());
-  for (const std::string& m : others) {
-    const auto it = r.others.find(m);
-    std::printf(" | %s %s %s", cell(it == r.others.end() ? std::nan("") : it->second.auc, "%.4f").c_str(),
-                cell(r.improvementPercent(m), "%+.2f").c_str(),
-                it == r.others.end() ? "-" : bestParametersText(it->second, in).c_str());
+              const std::vector<std::string>& methods, const std::string& baseline) {
+  if (r.point_cloud_set == "-") std::printf("%s\n", r.dataset.c_str());
+  else std::printf("%s (point cloud set %s)\n", r.dataset.c_str(), r.point_cloud_set.c_str());
+  for (const std::string& m : methods) {
+    const std::optional<BestMap> best = r.best(m);
+    if (!best && !r.files_of.count(m)) continue;
+    const std::string versus = m == baseline ? "" : cell(r.improvementPercent(m, baseline), "%+.2f %%");
+    std::printf("  %-16s AUC %6s  %10s", m.c_str(), cell(best ? best->auc : NAN, "%.4f").c_str(), versus.c_str());
+    if (!best) {
+      std::printf("\n");
+      continue;
+    }
+    std::printf("  map %llu of %s\n", static_cast<unsigned long long>(best->map_index), files[best->file].c_str());
+    std::printf("%s", wrappedLines(bestParametersText(*best, in), 4, kTerminalColumns).c_str());
   }
-  std::printf("\n");
 }
 
 // Why a row lacks a number: in the row's JSON, and (with its data set) in `notes` for the lines after the table.
 nlohmann::json rowNotes(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
+                        const std::vector<std::string>& methods, const std::string& baseline,
                         std::vector<std::string>& notes) {
   nlohmann::json row_notes = nlohmann::json::array();
-  for (const bool knn : {false, true})
-    if (const std::string why = missingReason(r, knn, in, files); !why.empty()) {
+  for (const std::string& m : methods)
+    if (const std::string why = missingReason(r, m, in, files); !why.empty()) {
       row_notes.push_back(why);
       notes.push_back(r.dataset + ": " + why);
     }
-  if (r.octomap && r.knn && !std::isfinite(r.improvementPercent())) {
-    row_notes.push_back("no improvement: the OctoMap AUC is 0");
-    notes.push_back(r.dataset + ": no improvement in percent: the OctoMap AUC is 0");
+  const std::optional<BestMap> base = r.best(baseline);
+  if (base && !(base->auc > 0) && r.best_of.size() > 1) {
+    row_notes.push_back("no improvement: the " + baseline + " AUC is 0");
+    notes.push_back(r.dataset + ": no improvement in percent: the " + baseline + " AUC is 0");
   }
   return row_notes;
 }
 
+// Each method's best map, and its improvement over the baseline (none for the baseline itself); null for a method
+// whose files hold no AUC (the row's notes say why).
 nlohmann::json rowJson(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
-                       nlohmann::json notes) {
-  nlohmann::json j = {{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
-                      {"octomap", bestJson(r.octomap, in, files)}, {"knn", bestJson(r.knn, in, files)},
-                      {"improvement_percent", finiteNumber(r.improvementPercent())}, {"notes", std::move(notes)}};
-  // The other methods only when given: a comparison of the paper's two stays as it was.
-  for (const auto& [name, best] : r.others) {
-    j["others"][name] = bestJson(best, in, files);
-    j["others"][name]["improvement_percent"] = finiteNumber(r.improvementPercent(name));
+                       const std::string& baseline, nlohmann::json notes) {
+  nlohmann::json methods = nlohmann::json::object();
+  for (const auto& [name, _] : r.files_of) methods[name] = nullptr;
+  for (const auto& [name, best] : r.best_of) {
+    methods[name] = bestJson(best, in, files);
+    if (name != baseline) methods[name]["improvement_percent"] = finiteNumber(r.improvementPercent(name, baseline));
   }
-  return j;
+  return {{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
+          {"methods", std::move(methods)}, {"notes", std::move(notes)}};
 }
 
 void printTruth(TruthMode truth) {
@@ -127,12 +135,16 @@ CompareStatisticsOptions statisticsOptions(const CompareTask& o) {
   return options;
 }
 
-// The statistics against the baseline; none (with a note) when the default baseline was not given at all.
+// The statistics against the baseline; none (with a note) when the default baseline has no best map: no file of it
+// given, or none with an AUC (a data set without truth).
 std::vector<MethodStatistics> statisticsOf(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& in,
                                            const CompareTask& o, std::vector<std::string>& notes) {
   const std::vector<std::string> methods = comparedMethods(rows);
   if (o.baseline == CompareTask{}.baseline && std::find(methods.begin(), methods.end(), o.baseline) == methods.end()) {
-    notes.push_back("no statistics: no results of the baseline " + o.baseline + " given (--baseline names another)");
+    const bool given = std::any_of(in.begin(), in.end(), [&](const ResultsFile& f) { return f.header.method == o.baseline; });
+    notes.push_back("no statistics: " + (given ? "no results file of the baseline " + o.baseline + " holds an AUC"
+                                               : "no results file of the baseline " + o.baseline + " given") +
+                    " (--baseline chooses another)");
     return {};
   }
   for (const std::string& name : pooledDatasetNames(rows))
@@ -168,16 +180,15 @@ int runCompare(const CompareTask& o) {
   const TruthMode truth = in.front().header.truth;
   const auto mixed = checkMixed(in, o);
   const auto rows = compareBest(in);
-  const std::vector<std::string> others = otherMethods(rows);
-  printHeader(others);
+  const std::vector<std::string> shown = shownMethods(in, o.baseline);
   nlohmann::json j = nlohmann::json::array();
   std::vector<std::string> notes;
-  for (const auto& r : rows) {
-    printRow(r, in, o.files, others);
-    j.push_back(rowJson(r, in, o.files, rowNotes(r, in, o.files, notes)));
-  }
+  for (const auto& r : rows)
+    j.push_back(rowJson(r, in, o.files, o.baseline, rowNotes(r, in, o.files, shown, o.baseline, notes)));
+  // Before anything is printed: a --baseline that was not given is refused with no table above the error.
   const std::vector<MethodStatistics> statistics = statisticsOf(rows, in, o, notes);
-  for (const auto& n : notes) std::cout << "note: " << n << '\n';
+  for (const auto& r : rows) printRow(r, in, o.files, shown, o.baseline);
+  for (const auto& n : notes) std::cout << "note: " << wrappedLines(n, 6, kTerminalColumns).substr(6);
   printTruth(truth);
   std::vector<std::string> methods;
   for (const auto& s : statistics) methods.push_back(s.method);

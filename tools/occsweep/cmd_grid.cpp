@@ -50,8 +50,8 @@ GridSpec loadNamedGrid(const GridOptions& o) { return loadGrid(resolveGridPath(o
 
 int runGridCount(const GridOptions& o) {
   const GridSpec g = loadNamedGrid(o);
-  // Eq. 15 counts without allocating; the enumeration, a cross-check, only within the limit. Methods
-  // other than OctoMap and k-NN have no closed form: their maps are counted one by one.
+  // Eq. 15 counts without allocating; the enumeration, a cross-check, only within the limit. A method whose
+  // relations are not a forest has no closed form: its maps are counted one by one (docs/grids.md, "Counting").
   const std::optional<std::uint64_t> eq15 = closedFormCount(g);
   const std::uint64_t closed = eq15 ? *eq15 : combinationCount(g);
   const char* how = eq15 ? "Eq. 15 closed form" : "counted map by map: no closed form for this method";
@@ -86,7 +86,7 @@ int runGridList(const GridOptions& o) {
 }
 
 int runGridShards(const GridOptions& o) {
-  const auto n = enumerateGrid(loadNamedGrid(o)).combinations;
+  const auto n = combinationCount(loadNamedGrid(o));
   for (std::uint64_t i = 0; i < o.groups; ++i) {
     const auto ids = permutationGroup(n, o.seed, o.groups, i);
     std::cout << nlohmann::json{{"group", i}, {"count", ids.size()}, {"ids", ids}}.dump() << '\n';

@@ -22,7 +22,8 @@
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
-#include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/compare.hpp"
+#include "occsweep/sweeps/map_recipe.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
 namespace occsweep::cli {
@@ -214,19 +215,10 @@ MapRecipe recipeFromResults(const MapOptions& o, const std::string& dataset_hash
   if (dataset_hash != header.dataset_hash)
     throw std::invalid_argument("--dataset " + o.dataset + " (content hash " + dataset_hash + ") is not the data set " + o.from +
                                 " was swept on (" + header.dataset_name + ", " + header.dataset_hash + ")");
-  try {
-    r.method = &findMethod(header.method);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument("--from " + o.from + ": " + e.what());
-  }
-  for (const MethodParameter& p : r.method->parameters())
-    r.values.push_back(parameterValue(header.parameters, r.stored->params, p.name));
-  if (auto why = brokenRelation(*r.method, r.values))
-    throw std::invalid_argument("--from " + o.from + ": map " + std::to_string(r.stored->map_index) + ": " + *why);
-  r.context.resolution = header.resolution;
-  r.context.s_c = header.s_c;
-  r.context.variant = parseUpdateVariant(header.variant);
-  r.context.stats = parseStatsMode(header.stats);
+  ScoredMapRecipe scored = scoredMapRecipe(header, *r.stored, "--from " + o.from);
+  r.method = scored.method;
+  r.values = std::move(scored.values);
+  r.context = std::move(scored.context);
   r.truth = header.truth;
   r.thresholds = r.stored->thresholds;
   return r;

@@ -1,7 +1,10 @@
-// occsweep plot curves|budget|improvement|params FILES... --out FIG.png [--json DATA.json]: the figures of a
+// occsweep plot curves|budget|improvement|params FILES... --out FIG.{png,pdf,svg} [--json DATA.json]: the figures of a
 // comparison for the user's own sweeps, drawn by share/occsweep/plot_results.py from the data computed here
 // (docs/statistics.md, "Figures").
+#include <algorithm>
+#include <cctype>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <iostream>
@@ -11,8 +14,10 @@
 #include "compare_tables.hpp"
 #include "figure_script.hpp"
 #include "plot_data.hpp"
+#include "occsweep/core/builtin_methods.hpp"
 #include "occsweep/eval/child_process.hpp"
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/eval/ownership.hpp"
 #include "occsweep/eval/png_text.hpp"
 
 namespace occsweep::cli {
@@ -20,14 +25,35 @@ namespace {
 
 struct PlotOptions {
   std::vector<std::string> files;
-  std::string out, json, baseline = "octomap", method, python;
+  std::string out, json, baseline = kDefaultBaseline, method, python;
   bool force = false;
 };
 
-// A figure occsweep plot drew before: a PNG whose Software text chunk is exactly "occsweep plot" (plot_results.py
-// writes it). A user's PNG that mentions occsweep in a description is not one (docs/robustness.md, "Ownership").
-ReplaceableOutput figureOutput() {
-  return markedPngOutput("figure", "occsweep plot");
+// The figure's format, by --out's name: PNG for the screen, PDF and SVG for print (docs/statistics.md, "Figures").
+std::string figureFormat(const std::string& out) {
+  std::string ending = std::filesystem::path(out).extension().string();
+  std::transform(ending.begin(), ending.end(), ending.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  for (const char* format : {"png", "pdf", "svg"})
+    if (ending == std::string(".") + format) return format;
+  throw std::invalid_argument("--out " + out + ": a figure is PNG, PDF or SVG, chosen by the name's ending (.png, "
+                              ".pdf or .svg)");
+}
+
+// A figure occsweep plot drew before (docs/robustness.md, "Ownership"). A PNG whose Software text chunk is exactly
+// "occsweep plot" (plot_results.py writes it): a user's PNG that mentions occsweep in a description is not one. A
+// PDF or SVG, whose metadata a user could write as easily, by the ledger's record of the bytes occsweep wrote there.
+ReplaceableOutput figureOutput(const std::string& format) {
+  if (format == "png") return markedPngOutput("figure", "occsweep plot");
+  return recordedTextOutput("figure", format == "pdf" ? "%PDF-" : "<?xml");
+}
+
+// Whether the script drew a figure at `file`: the format's first bytes and the script's mark (its Creator, or the
+// PNG's Software chunk). A script that exits 0 without drawing leaves no empty figure behind.
+bool drewFigure(const std::filesystem::path& file, const std::string& format) {
+  if (format == "png") return figureOutput(format).is_own(file);
+  std::ifstream in(file, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return bytes.starts_with(format == "pdf" ? "%PDF-" : "<?xml") && bytes.find("occsweep plot") != std::string::npos;
 }
 
 // The method `params` draws: --method, or the only one given, or the first that is not the baseline.
@@ -40,8 +66,9 @@ std::string paramsMethod(const PlotOptions& o, const std::vector<ComparisonRow>&
 }
 
 int runPlot(const std::string& kind, const PlotOptions& o) {
+  const std::string format = figureFormat(o.out);
   requireSeparateOutputs({{"--out", o.out}, {"--json", o.json}});
-  checkOutputTarget(o.out, o.force, figureOutput());
+  checkOutputTarget(o.out, o.force, figureOutput(format));
   if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("plot data", "occsweep-plot"));
   const std::string python = findPython(o.python, "plot");  // before any work: fail now if it cannot draw
   const std::string script = figureScript("plot_results.py").string();
@@ -50,6 +77,7 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   const PlotInputs inputs{rows, in, o.baseline, kind == "params" ? paramsMethod(o, rows) : ""};
   nlohmann::json data = plotData(kind, inputs);
   data["format"] = "occsweep-plot";
+  data["figure_format"] = format;
   data["files"] = o.files;
   // Both written as registered temporaries (removed on an error or an interrupt) and committed only when the script
   // succeeded; the script draws into the figure's temporary, never beside it.
@@ -61,10 +89,11 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   const int code = runChild({python, script, data_file.temporary().string(), figure.temporary().string()});
   if (code != 0) throw std::runtime_error("plot: " + python + " " + script + " failed (exit code " + std::to_string(code) + ")");
   // A script that exits 0 without drawing (another Python, another script) leaves no empty figure behind.
-  if (!figureOutput().is_own(figure.temporary()))
+  if (!drewFigure(figure.temporary(), format))
     throw std::runtime_error("plot: " + python + " " + script + " exited 0 but drew no figure (nothing written)");
   if (o.json.empty()) figure.commit();
   else OutputFile::commitTogether({&data_file, &figure});  // neither when the other's name was taken meanwhile
+  if (format != "png") recordTextOutput(o.out);  // what a later --force may replace (figureOutput)
   std::cout << "wrote " << o.out << (o.json.empty() ? "" : " and " + o.json) << '\n';
   return 0;
 }
@@ -84,7 +113,7 @@ const RegisterCommand kPlot{"plot", "Figures of a comparison: best curves, budge
     CLI::App* sub = app.add_subcommand(k, what.at(k));
     addExample(*sub, "occsweep plot " + k + " oct.json knn.json --out " + k + ".png");
     sub->add_option("files", o->files, "Complete results files (as for compare)")->required();
-    sub->add_option("--out", o->out, "The figure (PNG)")->required();
+    sub->add_option("--out", o->out, "The figure: PNG, PDF or SVG by the name's ending (.png, .pdf, .svg)")->required();
     sub->add_option("--json", o->json, "Also write the plotted data");
     sub->add_option("--baseline", o->baseline, "Method the others are measured against")->capture_default_str();
     if (k == "params") sub->add_option("--method", o->method, "Method whose grid is drawn (default: the first not the baseline)");

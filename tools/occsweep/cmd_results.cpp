@@ -10,8 +10,9 @@
 #include "limit_options.hpp"
 #include "option_checks.hpp"
 #include "occsweep/eval/ownership.hpp"
-#include "occsweep/sweeps/merge.hpp"
+
 #include "occsweep/sweeps/results_diff.hpp"
+#include "occsweep/sweeps/results_export.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
@@ -68,7 +69,7 @@ int runExport(const std::string& source, const ExportTarget& to) {
     return 0;
   }
   const bool csv = isCsvPath(to.out);
-  checkOutputTarget(to.out, to.force, csv ? recordedTextOutput("CSV export", "id,map_index,") : resultsOutput());
+  checkOutputTarget(to.out, to.force, csv ? recordedTextOutput("CSV export", "dataset,dataset_hash,method,grid,truth,id,map_index,") : resultsOutput());
   (void)checkResultsFile(source, "");  // what `results check` refuses fails before anything is written
   OutputFile out(to.out);
   if (csv) exportCsv(source, out.stream());
@@ -97,6 +98,7 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   auto auc_tolerance = std::make_shared<double>(0.0);
   diff->add_option("golden", *golden, "The results file to match")->required();
   diff->add_option("new", *candidate, "The results file to check")->required();
+  addLimitOptions(*diff, {Limit::Combinations});  // each file's grid is enumerated to check its maps
   diff->add_option("--auc-tolerance", *auc_tolerance, "How far an AUC may move (default 0: exactly)")
       ->check(numberAtLeast(0.0));
   auto auc_only = std::make_shared<bool>(false);
@@ -112,6 +114,7 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   export_->add_option("file", *source, "Results file or store")->required();
   export_->add_option("--out", to->out, "The converted file: .csv, .db/.sqlite or JSON, by its name")->required();
   export_->add_flag("--force", to->force, "Replace occsweep's own output of the same kind at the target");
+  addLimitOptions(*export_, {Limit::Combinations});  // the grid is enumerated to check every map
   app.require_subcommand(1);
   return [=] {
     return runChosen({{check, [=] {

@@ -15,14 +15,19 @@ namespace occsweep::cli {
 namespace {
 
 /// The combinations a sweep writes: the grid's (Eq. 15, not enumerated), or its selection's when that is smaller;
-/// 0 for a grid past --max-combinations, which the sweep refuses by that limit's own message.
+/// 0 for a selection past --max-combinations, which the sweep refuses by that limit's own message.
 std::uint64_t sweptCombinations(const SweepConfig& c) {
   const GridSpec grid = loadGrid(resolveGridPath(c.grid));
   const std::uint64_t all = combinationCount(grid);
-  if (all > limits().combinations) return 0;
-  if (all <= kMaxJsonCombinations || c.selection == SweepSelection{}) return all;
+  if (c.selection == SweepSelection{}) return all > limits().combinations ? 0 : all;
+  if (all <= kMaxJsonCombinations) return all;
   std::uint64_t selected = 0;
-  for (const SweepItem& item : selectWork(grid, enumerateGrid(grid), c.selection)) selected += item.thresholds.size();
+  try {
+    for (const SweepItem& item : selectWork(grid, enumerateSelection(grid, c.selection), c.selection))
+      selected += item.thresholds.size();
+  } catch (const LimitError&) {
+    return 0;
+  }
   return selected;
 }
 

@@ -7,6 +7,8 @@
 #include <sstream>
 #include <string_view>
 
+#include "occsweep/core/method_registry.hpp"
+#include "occsweep/sweeps/csv_text.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
 namespace occsweep::cli {
@@ -21,9 +23,6 @@ std::string cell(double v, const char* format) {
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
 }
-
-// Round-trip precision: a CSV number reads back as the JSON number it stands for.
-std::string exact(double v) { return cell(v, "%.17g"); }
 
 std::string intervalText(const std::optional<stats::BootstrapInterval>& interval) {
   if (!interval) return "-";
@@ -169,23 +168,66 @@ std::string latexEscaped(const std::string& s) {
   return out;
 }
 
-std::string latex(const Cells& c, const std::string& caption) {
+// A method's name as a paper shows it (MappingMethod::displayName); a method this program has not registered keeps
+// its registered name.
+std::string displayNameOf(const std::string& method) {
+  try {
+    return findMethod(method).displayName();
+  } catch (const std::invalid_argument&) {
+    return method;
+  }
+}
+
+// `c` with every method name in it (a row's first cell, a word of a header: "knn AUC", "holds octomap's best")
+// shown by its display name. Data set names, which a user chooses, are cells of their own and stay as they are.
+Cells withDisplayNames(Cells c, const std::vector<std::string>& methods, std::size_t name_columns) {
+  for (std::size_t r = 0; r < c.size(); ++r)
+    for (std::size_t i = r == 0 ? 0 : name_columns; i < c[r].size(); ++i) {
+      std::istringstream words(c[r][i]);
+      std::string shown, word;
+      while (words >> word) {
+        for (const std::string& m : methods)
+          if (word == m || word == m + "'s") word = displayNameOf(m) + word.substr(m.size());
+        shown += (shown.empty() ? "" : " ") + word;
+      }
+      if (!shown.empty()) c[r][i] = shown;
+    }
+  return c;
+}
+
+// The table of `c` (a header line, then the body) within the text width, for a plain article with booktabs and
+// graphicx: names left, numbers right (each column has one number of decimals, so the points align), the whole
+// shrunk to the text width only when it is wider (\resizebox of the natural width or \linewidth, whichever is less).
+std::string latexPerSet(const Cells& c, const std::string& caption) {
   std::ostringstream o;
-  o << "\\begin{table}\n\\centering\n\\caption{" << latexEscaped(caption) << "}\n\\begin{tabular}{"
-    << std::string(c[0].size(), 'l') << "}\n\\toprule\n";
+  o << "\\begin{table}\n\\centering\n\\caption{" << latexEscaped(caption) << "}\n"
+    << "\\resizebox{\\ifdim\\width>\\linewidth\\linewidth\\else\\width\\fi}{!}{%\n\\begin{tabular}{ll"
+    << std::string(c[0].size() - 2, 'r') << "}\n\\toprule\n";
   for (std::size_t r = 0; r < c.size(); ++r) {
     for (std::size_t i = 0; i < c[r].size(); ++i) o << (i ? " & " : "") << latexEscaped(c[r][i]);
     o << " \\\\\n" << (r == 0 ? "\\midrule\n" : "");
   }
-  o << "\\bottomrule\n\\end{tabular}\n\\end{table}\n";
+  o << "\\bottomrule\n\\end{tabular}}\n\\end{table}\n";
   return o.str();
 }
 
-std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char ch : s) out += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-  return out + "\"";
+// The statistics turned on their side, a row per statistic and a column per method, each column a paragraph of its
+// share of the text width (array's p columns, ragged right): however many statistics, it fits the page, and long
+// verdicts wrap within their column.
+std::string latexStatistics(const Cells& c, const std::string& caption) {
+  const std::size_t methods = c.size() - 1;
+  std::ostringstream o;
+  o << "\\begin{table}\n\\centering\n\\caption{" << latexEscaped(caption) << "}\n\\small\n"
+    << "\\begin{tabular}{>{\\raggedright\\arraybackslash}p{\\dimexpr 0.28\\linewidth-2\\tabcolsep\\relax}*{"
+    << methods << "}{>{\\raggedright\\arraybackslash}p{\\dimexpr 0.72\\linewidth/" << methods
+    << "-2\\tabcolsep\\relax}}}\n\\toprule\n";
+  for (std::size_t i = 0; i < c[0].size(); ++i) {
+    o << (i == 0 ? "" : latexEscaped(c[0][i]));
+    for (std::size_t r = 1; r < c.size(); ++r) o << " & " << latexEscaped(c[r][i]);
+    o << " \\\\\n" << (i == 0 ? "\\midrule\n" : "");
+  }
+  o << "\\bottomrule\n\\end{tabular}\n\\end{table}\n";
+  return o.str();
 }
 
 }  // namespace
@@ -198,36 +240,52 @@ std::vector<ResultsFile> readChecked(const std::vector<std::string>& files, MapD
   return in;
 }
 
+// Within 100 columns: a block per method, one labelled line per statistic (the wide table is --csv's, --markdown's
+// and --latex's), then each verdict's basis; a value too long for its line goes on under its label's end.
 std::string statisticsText(const ComparisonTables& t) {
   if (t.statistics.empty()) return "";
   const Cells c = statisticsCells(t.statistics, t.baseline);
-  std::vector<std::size_t> width(c[0].size(), 0);
-  for (const auto& line : c)
-    for (std::size_t i = 0; i < line.size(); ++i) width[i] = std::max(width[i], line[i].size());
+  std::size_t label = 0;
+  for (std::size_t i = 1; i < c[0].size(); ++i) label = std::max(label, c[0][i].size());
   std::ostringstream o;
   o << "statistics against " << t.baseline << " over the sets where both have an AUC (docs/statistics.md):\n";
-  for (const auto& line : c) {
-    for (std::size_t i = 0; i < line.size(); ++i)
-      o << (i ? "  " : "") << line[i] << std::string(i + 1 < line.size() ? width[i] - line[i].size() : 0, ' ');
-    o << '\n';
+  for (std::size_t r = 1; r < c.size(); ++r) {
+    o << c[r][0] << '\n';
+    for (std::size_t i = 1; i < c[r].size(); ++i) {
+      if (c[r][i].empty() || c[r][i] == "-") continue;
+      const std::string lines = wrappedLines(c[r][i], 2 + label + 2, kTerminalColumns);
+      if (lines.empty()) continue;  // blanks only
+      o << "  " << c[0][i] << std::string(label - c[0][i].size() + 2, ' ') << lines.substr(2 + label + 2);
+    }
   }
   const std::vector<std::string> bases = verdictBases(t.statistics);
   if (!bases.empty())
-    o << "verdicts over data sets (exact test after Holm's correction, interval, smallest effect; docs/statistics.md):\n";
-  for (const std::string& line : bases) o << "  " << line << '\n';
+    o << "verdicts over data sets (exact test after Holm's correction, interval, smallest effect):\n";
+  for (const std::string& line : bases) {
+    const std::string lines = wrappedLines(line, 4, kTerminalColumns);
+    if (!lines.empty()) o << "  " << lines.substr(4);  // the first line 2 in, the rest 4
+  }
   return o.str();
 }
 
 std::string bestParametersText(const BestMap& best, const std::vector<ResultsFile>& files) {
   const ParameterLayout& layout = files[best.file].header.parameters;
   std::string text;
-  char buf[64];
-  for (std::size_t i = 0; i < layout.names.size(); ++i) {
-    std::snprintf(buf, sizeof buf, "%s%s=%.10g", text.empty() ? "" : " ", layout.names[i].c_str(),
-                  toDouble(best.params.values[i]));
-    text += buf;
-  }
+  // Every digit (the shortest text that reads back to the value): what `map --NAME` is given reproduces the map.
+  for (std::size_t i = 0; i < layout.names.size(); ++i)
+    text += (text.empty() ? "" : " ") + layout.names[i] + "=" + csvNumber(toDouble(best.params.values[i]));
   return text;
+}
+
+std::string wrappedLines(const std::string& text, std::size_t indent, std::size_t width) {
+  std::istringstream words(text);
+  std::string out, line, word;
+  while (words >> word) {
+    if (!line.empty() && indent + line.size() + 1 + word.size() > width) out += std::string(indent, ' ') + line + '\n', line.clear();
+    line += (line.empty() ? "" : " ") + word;
+  }
+  if (!line.empty()) out += std::string(indent, ' ') + line + '\n';
+  return out;
 }
 
 nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFile>& files) {
@@ -257,10 +315,10 @@ std::string csvTable(const ComparisonTables& t) {
     for (const auto& [m, params] : columns) {
       const auto best = row.best(m);
       const bool base = m == t.baseline;
-      o << ',' << (best ? exact(best->auc) : "") << ',' << (base ? "" : exact(row.improvementPercent(m, t.baseline)))
+      o << ',' << (best ? csvNumber(best->auc) : "") << ',' << (base ? "" : csvNumber(row.improvementPercent(m, t.baseline)))
         << ',' << (best ? csvField(t.names[best->file]) : "");
       const nlohmann::json fields = best ? parameterFields(*best, t.files) : nlohmann::json::object();
-      for (const auto& p : params) o << ',' << (fields.contains(p) ? exact(fields.at(p).get<double>()) : "");
+      for (const auto& p : params) o << ',' << (fields.contains(p) ? csvNumber(fields.at(p).get<double>()) : "");
     }
     o << '\n';
   }
@@ -281,17 +339,19 @@ std::string markdownTables(const ComparisonTables& t) {
 }
 
 std::string latexTables(const ComparisonTables& t) {
-  std::string out = "% occsweep compare --latex: needs \\usepackage{booktabs}; with \\usepackage[T1]{fontenc} every "
-                    "character of a name shows as typed\n" +
-                    latex(perSetCells(t), "Best AUC per set, and the improvement over " + t.baseline + " in percent");
+  std::string out = "% occsweep compare --latex: needs \\usepackage{booktabs}, \\usepackage{graphicx} and "
+                    "\\usepackage{array}; with \\usepackage[T1]{fontenc} every character of a name shows as typed\n" +
+                    latexPerSet(withDisplayNames(perSetCells(t), t.methods, 2),
+                                "Best AUC per set, and the improvement over " + displayNameOf(t.baseline) +
+                                    " in percent");
   if (t.statistics.empty()) return out;
   const stats::VerdictRules& rules = t.rules;
-  out += latex(statisticsCells(t.statistics, t.baseline),
-               "Statistics against " + t.baseline + ", the data set as the unit. Verdicts: gain or loss only when the "
-               "95% BCa interval excludes 0 and the exact test (Wilcoxon signed-rank, or the sign test on ties) "
-               "rejects at alpha " + cell(rules.alpha, "%g") + " after Holm's correction over the methods compared, "
-               "leaning the interval's way; "
-               "negligible when TOST puts the mean within +-" + cell(rules.smallest_effect, "%g") + " %");
+  out += latexStatistics(withDisplayNames(statisticsCells(t.statistics, t.baseline), t.methods, 0),
+               "Statistics against " + displayNameOf(t.baseline) + ", the data set as the unit. Verdicts: gain or "
+               "loss only when the 95% BCa interval excludes 0 and the exact test (Wilcoxon signed-rank, or the sign "
+               "test on ties) rejects at alpha " + cell(rules.alpha, "%g") + " after Holm's correction over the "
+               "methods compared, leaning the interval's way; negligible when TOST puts the mean within +-" +
+               cell(rules.smallest_effect, "%g") + " %");
   // Each verdict's basis (its sample, test and correction) under the tables, as compare prints it.
   const std::vector<std::string> bases = verdictBases(t.statistics);
   if (!bases.empty()) out += "\\begin{itemize}\n";

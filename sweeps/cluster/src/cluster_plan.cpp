@@ -177,9 +177,9 @@ struct LoadedGrid {
 
 /// The plan's sweep shards and merges are JSON results files, which `sweep` refuses past kMaxJsonCombinations; the
 /// merge of an ungrouped grid holds all of it: refused now, not hours later on the cluster.
-void refuseLargeJsonGrid(const PlanGrid& g, const GridEnumeration& e) {
-  if (g.grouped || e.combinations <= kMaxJsonCombinations) return;
-  throw std::invalid_argument("grid " + g.name + ": " + std::to_string(e.combinations) + " combinations, more than " +
+void refuseLargeJsonGrid(const PlanGrid& g, std::uint64_t combinations) {
+  if (g.grouped || combinations <= kMaxJsonCombinations) return;
+  throw std::invalid_argument("grid " + g.name + ": " + std::to_string(combinations) + " combinations, more than " +
                               "the " + std::to_string(kMaxJsonCombinations) + " a JSON results file holds (the " +
                               "plan's shards and merges are JSON): sweep it with `occsweep sweep --out NAME.db`");
 }
@@ -199,12 +199,14 @@ std::vector<LoadedGrid> loadPlanGrids(const PlanConfig& c) {
       throw std::invalid_argument("grids " + it->second + " and " + spec.name + " are both of method " + spec.method +
                                   ": the report compares one result per method and data set (docs/cluster.md); "
                                   "plan them in two plans, or group one of them");
-    const GridEnumeration e = enumerateGrid(spec);
-    const auto maps = e.maps.size();
+    // Counted, not enumerated (docs/grids.md, "Counting"); a group's task enumerates the whole grid (Eq. 16).
+    const std::uint64_t combinations = combinationCount(spec), maps = thresholdedMapCount(spec);
+    if (g.grouped)
+      checkLimit("grid " + spec.name + ": combinations", combinations, limits().combinations, "--max-combinations");
     if (!g.grouped && g.shards > maps)
       throw std::invalid_argument("grid " + g.name + ": " + std::to_string(g.shards) + " shards but only " +
                                   std::to_string(maps) + " maps (a shard is a block of whole maps)");
-    refuseLargeJsonGrid(g, e);
+    refuseLargeJsonGrid(g, combinations);
     // A grid file named relative to here would not be found by the tasks, which run in the plan folder.
     const std::string arg = std::filesystem::is_regular_file(g.name)
                                 ? std::filesystem::absolute(g.name).lexically_normal().string()

@@ -79,8 +79,8 @@ std::vector<MapToCount> mapsToCount(const std::vector<const SweepItem*>& todo, c
   std::vector<MapToCount> maps;
   for (const SweepItem* item : todo) {
     MapToCount& m = maps.emplace_back();
-    m.params = &e.maps[item->map_index];
-    for (std::size_t t : item->thresholds) m.p_t.push_back(toDouble(e.thresholds[item->map_index][t]));
+    m.params = &e.map(item->map_index);
+    for (std::size_t t : item->thresholds) m.p_t.push_back(toDouble(e.thresholdsOf(item->map_index)[t]));
   }
   return maps;
 }
@@ -89,10 +89,10 @@ MapResult mapResult(const SweepItem& item, const GridEnumeration& e, const std::
                     double seconds) {
   MapResult r;
   r.map_index = item.map_index;
-  r.params = e.maps[item.map_index];
+  r.params = e.map(item.map_index);
   for (std::size_t t = 0; t < item.thresholds.size(); ++t)
-    r.thresholds.push_back({e.first_id[item.map_index] + item.thresholds[t],
-                            e.thresholds[item.map_index][item.thresholds[t]], counts[t]});
+    r.thresholds.push_back({e.firstId(item.map_index) + item.thresholds[t],
+                            e.thresholdsOf(item.map_index)[item.thresholds[t]], counts[t]});
   r.area = mapArea(r.thresholds);
   r.seconds = seconds;
   return r;
@@ -137,7 +137,7 @@ GridSweep openGrid(const SweepConfig& c, const Dataset& data, const SweepEngine&
   GridSweep g;
   g.config = &c;
   g.grid = loadGrid(resolveGridPath(c.grid));
-  g.e = enumerateGrid(g.grid);
+  g.e = enumerateSelection(g.grid, c.selection);  // a shard's maps only: its memory is the shard's
   // A results file of no combination is one `results check` refuses: refused here, before anything is written.
   if (g.e.combinations == 0)
     throw std::invalid_argument(c.grid + ": grid " + g.grid.name + " has no combination (the relations between its "

@@ -1,4 +1,5 @@
-// The canonical enumeration of a grid and Eq. 15's closed form for its size.
+// The canonical enumeration of a grid and Eq. 15's closed form for its size (any method whose relations form a
+// forest).
 #include "occsweep/sweeps/grid.hpp"
 
 #include <algorithm>
@@ -14,14 +15,6 @@ std::vector<Fixed> thresholdValues(Fixed p_min, Fixed p_max, Fixed step) {
   ParamRange range;
   range.min = p_min, range.max = p_max, range.step = step;
   return range.values();
-}
-
-// h(T, T', n) of Eq. 14 as "how many values of T' are <= t", floor instead of the paper's ceiling so it is
-// exact when steps do not line up.
-std::int64_t countAtMost(const ParamRange& r, Fixed t) {
-  if (t < r.min) return 0;
-  if (r.step == 0) return 1;
-  return std::min((t - r.min) / r.step, r.count() - 1) + 1;
 }
 
 // g(p_t) for one p_max and p_min.
@@ -124,7 +117,49 @@ GridEnumeration enumerateGrid(const GridSpec& g) {
     e.first_id.push_back(e.combinations);
     e.thresholds.push_back(thresholdValues(m.values[p_min], m.values[p_max], g.p_t_step));
     e.combinations += e.thresholds.back().size();
+    if (!e.thresholds.back().empty()) ++e.thresholded_maps;
   });
+  e.map_count = e.maps.size();
+  return e;
+}
+
+// The combinations of the thresholded maps [begin, end): the closed form for the whole grid, else counted.
+std::uint64_t windowCombinations(const GridSpec& g, std::uint64_t begin, std::uint64_t end) {
+  if (begin == 0 && end >= thresholdedMapCount(g)) return combinationCount(g);
+  const std::size_t p_max = g.layout.index("p_max"), p_min = g.layout.index("p_min");
+  std::uint64_t ordinal = 0, n = 0;
+  forEachMap(g, [&](const MapParams& m) {
+    const auto count = std::uint64_t(thresholdCount(m.values[p_max], m.values[p_min], g.p_t_step));
+    if (count == 0) return;
+    if (ordinal >= begin && ordinal < end) n += count;
+    ++ordinal;
+  });
+  return n;
+}
+
+GridEnumeration enumerateMapRange(const GridSpec& g, std::uint64_t begin, std::uint64_t end) {
+  // Counted before anything is allocated: the window's memory is what the limit bounds (a shard's, not the grid's).
+  const bool whole = begin == 0 && end >= thresholdedMapCount(g);
+  checkLimit("grid " + g.name + ": combinations" +
+                 (whole ? "" : " of its maps " + std::to_string(begin) + " to " + std::to_string(end) + " (a shard)"),
+             windowCombinations(g, begin, end), limits().combinations, "--max-combinations");
+  GridEnumeration e;
+  const std::size_t p_max = g.layout.index("p_max"), p_min = g.layout.index("p_min");
+  forEachMap(g, [&](const MapParams& m) {
+    const auto count = std::uint64_t(thresholdCount(m.values[p_max], m.values[p_min], g.p_t_step));
+    const std::uint64_t ordinal = e.thresholded_maps;  // among the maps with p_t
+    const bool inside = count > 0 ? ordinal >= begin && ordinal < end : !e.maps.empty() && ordinal < end;
+    if (inside) {
+      if (e.maps.empty()) e.first_map = e.map_count, e.thresholded_before = ordinal;
+      e.maps.push_back(m);
+      e.first_id.push_back(e.combinations);
+      e.thresholds.push_back(thresholdValues(m.values[p_min], m.values[p_max], g.p_t_step));
+    }
+    e.combinations += count;
+    e.thresholded_maps += count > 0 ? 1 : 0;
+    ++e.map_count;
+  });
+  if (e.maps.empty()) e.first_map = e.map_count, e.thresholded_before = e.thresholded_maps;
   return e;
 }
 
@@ -143,34 +178,137 @@ std::uint64_t combinationCount(const GridSpec& g) {
   return n;
 }
 
-std::optional<std::uint64_t> closedFormCount(const GridSpec& g) {
-  if (g.method != "knn" && g.method != "octomap") return std::nullopt;
-  const auto p_max = g.range("p_max").values();
-  const auto p_min = g.range("p_min").values();
-  const auto p_m = g.range("p_m").values();
-  std::uint64_t n = 0;
-  if (g.method == "knn") {
-    // Eq. 15: g(k) * sum_i h(p_u, p_l, i) * sum_i sum_j sum_{q <= h(p'_m, p_m, j)} sum_{w <= h(p_m, p_min, q)} g(p_t)
-    std::uint64_t pairs = 0;
-    for (Fixed u : g.range("p_u").values()) pairs += std::uint64_t(countAtMost(g.range("p_l"), u));
-    std::uint64_t nested = 0;
-    for (Fixed max : p_max)
-      for (Fixed out : g.range("p_m_out").values())
-        for (std::int64_t q = 0; q < countAtMost(g.range("p_m"), out); ++q)
-          for (std::int64_t w = 0; w < countAtMost(g.range("p_min"), p_m[std::size_t(q)]); ++w)
-            nested += std::uint64_t(thresholdCount(max, p_min[std::size_t(w)], g.p_t_step));
-    n = std::uint64_t(g.range("k").count()) * pairs * nested;
-  } else {
-    // The same structure for OctoMap: sum_i h(p_max, p_h, i) * sum_j sum_{w <= h(p_m, p_min, j)} g(p_t)
-    for (Fixed max : p_max) {
-      std::uint64_t nested = 0;
-      for (Fixed m : p_m)
-        for (std::int64_t w = 0; w < countAtMost(g.range("p_min"), m); ++w)
-          nested += std::uint64_t(thresholdCount(max, p_min[std::size_t(w)], g.p_t_step));
-      // p_h >= 0.5 holds for the whole range (checked on reading); count those <= p_max.
-      n += std::uint64_t(countAtMost(g.range("p_h"), max)) * nested;
+namespace {
+
+// Eq. 15 for any method whose relations form a forest (no two paths between two parameters): the maps' count
+// factors over the forest's trees, and a tree's count is a sum over its root's values of the product over its
+// children of how many of each child's values keep the relation with the parent's value (Eq. 13-14, h, exact for
+// any steps). The p_t factor g(p_max, p_min) of Eq. 13 ties p_max and p_min, so the count is summed over their
+// pairs of values, each tree counted with the two fixed (docs/grids.md, "Counting").
+class ForestCount {
+ public:
+  ForestCount(const GridSpec& g, const std::vector<ParameterRelation>& relations) : edges_(g.ranges.size()) {
+    for (const ParamRange& r : g.ranges) values_.push_back(r.values());
+    for (const ParameterRelation& r : relations) {
+      const std::size_t a = g.layout.index(r.larger), b = g.layout.index(r.smaller);
+      edges_[a].push_back({b, true, r.strict});
+      edges_[b].push_back({a, false, r.strict});
     }
   }
+
+  /// False when two parameters are joined by more than one path: no closed form then.
+  [[nodiscard]] bool isForest() const {
+    std::vector<int> seen(values_.size(), 0);
+    for (std::size_t root = 0; root < values_.size(); ++root)
+      if (!seen[root] && !acyclicFrom(root, values_.size(), seen)) return false;
+    return true;
+  }
+
+  /// The maps with p_max and p_min fixed at values[p_max][a] and values[p_min][b], saturated at 2^62.
+  [[nodiscard]] std::uint64_t maps(std::size_t p_max, std::size_t a, std::size_t p_min, std::size_t b) const {
+    fixed_ = {{p_max, a}, {p_min, b}};
+    memo_.assign(values_.size(), {});
+    for (std::size_t p = 0; p < values_.size(); ++p) memo_[p].assign(values_[p].size(), kUnknown);
+    std::vector<int> seen(values_.size(), 0);
+    unsigned __int128 product = 1;
+    for (std::size_t root = 0; root < values_.size(); ++root) {
+      if (seen[root]) continue;
+      unsigned __int128 tree = 0;
+      for (std::size_t v = 0; v < values_[root].size(); ++v)
+        if (allowed(root, v)) tree += subtree(root, v, values_.size(), seen);
+      product = saturated(product * saturated(tree));
+    }
+    return std::uint64_t(product);
+  }
+
+  [[nodiscard]] std::size_t valueCount(std::size_t parameter) const { return values_[parameter].size(); }
+  [[nodiscard]] Fixed value(std::size_t parameter, std::size_t i) const { return values_[parameter][i]; }
+
+ private:
+  struct Edge {
+    std::size_t other;
+    bool larger;  ///< this parameter is the relation's larger one
+    bool strict;
+  };
+
+  static unsigned __int128 saturated(unsigned __int128 n) { return std::min<unsigned __int128>(n, 1ULL << 62); }
+
+  bool acyclicFrom(std::size_t node, std::size_t parent, std::vector<int>& seen) const {
+    seen[node] = 1;
+    bool parent_skipped = false;  // one edge back to the parent is the tree's; a second is a cycle
+    for (const Edge& e : edges_[node]) {
+      if (e.other == parent && !parent_skipped) {
+        parent_skipped = true;
+        continue;
+      }
+      if (seen[e.other] || !acyclicFrom(e.other, node, seen)) return false;
+    }
+    return true;
+  }
+
+  bool allowed(std::size_t parameter, std::size_t i) const {
+    for (const auto& [fixed, at] : fixed_)
+      if (fixed == parameter && at != i) return false;
+    return true;
+  }
+
+  static bool holds(const Edge& e, Fixed mine, Fixed theirs) {
+    const Fixed larger = e.larger ? mine : theirs, smaller = e.larger ? theirs : mine;
+    return e.strict ? larger > smaller : larger >= smaller;
+  }
+
+  // Assignments of `node`'s subtree (away from `parent`) with `node` at its i-th value; each computed once per
+  // maps() call (in a tree, a node's subtree is the same whichever of its parent's values asks).
+  unsigned __int128 subtree(std::size_t node, std::size_t i, std::size_t parent, std::vector<int>& seen) const {
+    seen[node] = 1;
+    if (memo_[node][i] != kUnknown) return memo_[node][i];
+    unsigned __int128 product = 1;
+    for (const Edge& e : edges_[node]) {
+      if (e.other == parent) continue;
+      unsigned __int128 sum = 0;
+      for (std::size_t j = 0; j < values_[e.other].size(); ++j)
+        if (allowed(e.other, j) && holds(e, values_[node][i], values_[e.other][j])) sum += subtree(e.other, j, node, seen);
+      product = saturated(product * saturated(sum));
+    }
+    return memo_[node][i] = product;
+  }
+
+  static constexpr unsigned __int128 kUnknown = ~(unsigned __int128)0;
+  std::vector<std::vector<Fixed>> values_;
+  std::vector<std::vector<Edge>> edges_;
+  mutable std::vector<std::pair<std::size_t, std::size_t>> fixed_;
+  mutable std::vector<std::vector<unsigned __int128>> memo_;
+};
+
+// The sum over the grid's maps of weight(p_max, p_min), by the forest count; none when the relations are no forest.
+template <class Weight>
+std::optional<std::uint64_t> forestSum(const GridSpec& g, Weight weight) {
+  const ForestCount forest(g, findMethod(g.method).relations());
+  if (!forest.isForest()) return std::nullopt;
+  const std::size_t p_max = g.layout.index("p_max"), p_min = g.layout.index("p_min");
+  unsigned __int128 n = 0;
+  for (std::size_t a = 0; a < forest.valueCount(p_max); ++a)
+    for (std::size_t b = 0; b < forest.valueCount(p_min); ++b) {
+      const std::uint64_t w = weight(forest.value(p_max, a), forest.value(p_min, b));
+      if (w > 0) n += (unsigned __int128)forest.maps(p_max, a, p_min, b) * w;
+      n = std::min<unsigned __int128>(n, 1ULL << 62);
+    }
+  return std::uint64_t(n);
+}
+
+}  // namespace
+
+std::optional<std::uint64_t> closedFormCount(const GridSpec& g) {
+  return forestSum(g, [&](Fixed p_max, Fixed p_min) { return std::uint64_t(thresholdCount(p_max, p_min, g.p_t_step)); });
+}
+
+std::uint64_t thresholdedMapCount(const GridSpec& g) {
+  const auto has_thresholds = [&](Fixed p_max, Fixed p_min) { return thresholdCount(p_max, p_min, g.p_t_step) > 0; };
+  if (const auto closed = forestSum(g, [&](Fixed a, Fixed b) { return std::uint64_t(has_thresholds(a, b)); }))
+    return *closed;
+  std::uint64_t n = 0;
+  const std::size_t p_max = g.layout.index("p_max"), p_min = g.layout.index("p_min");
+  forEachMap(g, [&](const MapParams& m) { n += has_thresholds(m.values[p_max], m.values[p_min]) ? 1 : 0; });
   return n;
 }
 

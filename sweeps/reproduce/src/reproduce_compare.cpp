@@ -2,7 +2,7 @@
 // (4,050) on the 1st, 800th and 1,600th ranked point cloud sets of each data set (first, median, last at smaller
 // scales), and the improvement of k-NN in percent.
 #include "occsweep/sweeps/compare_statistics.hpp"
-#include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/compare.hpp"
 #include "reproduce_internal.hpp"
 
 namespace occsweep {
@@ -35,8 +35,8 @@ json truthJson(const ResultsFile& om, const ResultsFile& knn) {
   std::uint64_t positives = 0;
   if (!om.maps.empty() && !om.maps.front().thresholds.empty())
     positives = om.maps.front().thresholds.front().counts.tp + om.maps.front().thresholds.front().counts.fn;
-  return {{"octomap", bestJson(row.octomap, om)}, {"knn", bestJson(row.knn, knn)},
-          {"improvement_percent", finiteNumber(row.improvementPercent())}, {"tpr_ceiling", finiteNumber(tprCeiling(om, knn))},
+  return {{"octomap", bestJson(row.best("octomap"), om)}, {"knn", bestJson(row.best("knn"), knn)},
+          {"improvement_percent", finiteNumber(row.improvementPercent("knn", "octomap"))}, {"tpr_ceiling", finiteNumber(tprCeiling(om, knn))},
           {"true_voxels", positives}};
 }
 
@@ -48,7 +48,7 @@ constexpr const char* kBaselineGrids[] = {"sor-octomap-opt", "ror-octomap-opt", 
 json baselineTruthJson(const ResultsFile& om, const ResultsFile& knn, const ResultsFile& baseline) {
   const ComparisonRow row = compareBest({om, knn, baseline}).at(0);
   return {{"best", bestJson(row.best(baseline.header.method), baseline)},
-          {"improvement_over_octomap_percent", finiteNumber(row.improvementPercent(baseline.header.method))},
+          {"improvement_over_octomap_percent", finiteNumber(row.improvementPercent(baseline.header.method, "octomap"))},
           {"knn_improvement_percent", finiteNumber(row.improvementPercent("knn", baseline.header.method))}};
 }
 

@@ -5,13 +5,12 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "occsweep/core/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/log_odds.hpp"
-#include "occsweep/core/octomap_baseline.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/output_file.hpp"
-#include "occsweep/sweeps/merge.hpp"
+
+#include "occsweep/sweeps/map_recipe.hpp"
 #include "reproduce_internal.hpp"
 
 namespace occsweep {
@@ -24,17 +23,19 @@ struct Point {
   double p_t, fdr, tpr;
 };
 
-std::vector<Point> bestCurve(const ResultsFile& f, std::uint64_t map_index, MapParams* params) {
-  for (const auto& m : f.maps) {
-    if (m.map_index != map_index) continue;
-    *params = m.params;
-    std::vector<Point> curve;
-    for (const auto& t : m.thresholds)
-      if (std::isfinite(t.counts.tpr()) && std::isfinite(t.counts.fdr()))
-        curve.push_back({toDouble(t.p_t), t.counts.fdr(), t.counts.tpr()});
-    return curve;
-  }
+const MapResult& mapOf(const ResultsFile& f, std::uint64_t map_index) {
+  for (const MapResult& m : f.maps)
+    if (m.map_index == map_index) return m;
   throw std::runtime_error(f.header.dataset_name + ": best map " + std::to_string(map_index) + " not in results");
+}
+
+// The map's (FDR, TPR) at each p_t where both are defined.
+std::vector<Point> curveOf(const MapResult& m) {
+  std::vector<Point> curve;
+  for (const auto& t : m.thresholds)
+    if (std::isfinite(t.counts.tpr()) && std::isfinite(t.counts.fdr()))
+      curve.push_back({toDouble(t.p_t), t.counts.fdr(), t.counts.tpr()});
+  return curve;
 }
 
 // Two points of similar FDR (Fig. 6): OctoMap's point of largest TPR - FDR (its best trade-off; the paper does
@@ -113,34 +114,28 @@ json runCurvesAndMaps(const ReproduceConfig& c, const std::vector<RankedDataset>
     if (r.at("dataset") == d.name && r.at("rank") == 1) row = &r;
   if (!row || row->at("octomap").is_null() || row->at("knn").is_null())
     throw std::runtime_error("reproduce: no best maps of " + d.name + "'s 1st set in the comparison");
-  MapParams om_params, knn_params;
-  const auto om_curve = bestCurve(reproduce::sweepSet(c, d, 0, "octomap-opt"),
-                                  row->at("octomap").at("map_index").get<std::uint64_t>(), &om_params);
-  const auto knn_curve = bestCurve(reproduce::sweepSet(c, d, 0, "knn-opt"),
-                                   row->at("knn").at("map_index").get<std::uint64_t>(), &knn_params);
+  const ResultsFile om_file = reproduce::sweepSet(c, d, 0, "octomap-opt");
+  const ResultsFile knn_file = reproduce::sweepSet(c, d, 0, "knn-opt");
+  const MapResult& om_map = mapOf(om_file, row->at("octomap").at("map_index").get<std::uint64_t>());
+  const MapResult& knn_map = mapOf(knn_file, row->at("knn").at("map_index").get<std::uint64_t>());
+  const auto om_curve = curveOf(om_map), knn_curve = curveOf(knn_map);
   if (om_curve.empty() || knn_curve.empty()) throw std::runtime_error("reproduce: a best curve has no valid point");
   const auto [a, b] = similarFdr(om_curve, knn_curve);
 
+  // Each map built again as its results file says (method, values, resolution, s_c, variant; map_recipe.hpp),
+  // directly (liboctomap, the k-NN mapper), not replayed: its counts must equal the sweep's, which the report checks.
   const Dataset data = readDataset(d.root / d.folders[0]);
-  const double resolution = 0.1, s_c = 4.0;
-  const GroundTruth truth = makeGroundTruth(data.truth, data.region, resolution);
-  const ParameterLayout om_layout = layoutOf("octomap"), knn_layout = layoutOf("knn");
-  const auto om_value = [&](const char* name) { return parameterValue(om_layout, om_params, name); };
-  const auto knn_value = [&](const char* name) { return parameterValue(knn_layout, knn_params, name); };
-  const OctoMapParams om{om_value("p_h"), om_value("p_m"), om_value("p_max"), om_value("p_min"), om_curve[a].p_t,
-                         resolution, s_c};
-  KnnParams kp;
-  kp.p_u = knn_value("p_u"), kp.p_l = knn_value("p_l"), kp.p_m = knn_value("p_m");
-  kp.p_m_out = knn_value("p_m_out"), kp.p_max = knn_value("p_max");
-  kp.p_min = knn_value("p_min"), kp.p_t = knn_curve[b].p_t, kp.k = int(knn_value("k"));
-  kp.resolution = resolution, kp.s_c = s_c;
+  const ScoredMapRecipe om = scoredMapRecipe(om_file.header, om_map, d.name + " octomap-opt");
+  const ScoredMapRecipe knn = scoredMapRecipe(knn_file.header, knn_map, d.name + " knn-opt");
   const fs::path dir = c.out / "maps";
   fs::create_directories(dir);
-  // The maps are built directly (liboctomap, the k-NN mapper), not replayed: their counts must equal the
-  // sweep's, which the report checks.
-  const ConfusionCounts om_counts = writeClassifiedPly(*buildOctoMap(data.scans, om), truth, om.p_t, dir / "octomap.ply");
+  const double om_p_t = om_curve[a].p_t, knn_p_t = knn_curve[b].p_t;
+  const ConfusionCounts om_counts =
+      writeClassifiedPly(*om.method->buildMap(data.scans, om.values, om.context),
+                         makeGroundTruth(data.truth, data.region, om.context.resolution), om_p_t, dir / "octomap.ply");
   const ConfusionCounts knn_counts =
-      writeClassifiedPly(*KnnInverseSensorModel(kp).buildMap(data.scans), truth, kp.p_t, dir / "knn.ply");
+      writeClassifiedPly(*knn.method->buildMap(data.scans, knn.values, knn.context),
+                         makeGroundTruth(data.truth, data.region, knn.context.resolution), knn_p_t, dir / "knn.ply");
   const bool agree = std::abs(om_counts.fdr() - om_curve[a].fdr) < 1e-12 &&
                      std::abs(om_counts.tpr() - om_curve[a].tpr) < 1e-12 &&
                      std::abs(knn_counts.fdr() - knn_curve[b].fdr) < 1e-12 &&
@@ -148,10 +143,10 @@ json runCurvesAndMaps(const ReproduceConfig& c, const std::vector<RankedDataset>
   return {{"format", "occsweep-reproduce-curves"}, {"figure", "Fig. 6"}, {"dataset", d.name},
           {"point_cloud_set", d.folders[0]}, {"rank", 1},
           {"octomap", {{"params", row->at("octomap").at("params")}, {"auc", row->at("octomap").at("auc")},
-                       {"curve", curveJson(om_curve)}, {"chosen_p_t", om.p_t}, {"map", "maps/octomap.ply"},
+                       {"curve", curveJson(om_curve)}, {"chosen_p_t", om_p_t}, {"map", "maps/octomap.ply"},
                        {"map_counts", countsJson(om_counts)}}},
           {"knn", {{"params", row->at("knn").at("params")}, {"auc", row->at("knn").at("auc")},
-                   {"curve", curveJson(knn_curve)}, {"chosen_p_t", kp.p_t}, {"map", "maps/knn.ply"},
+                   {"curve", curveJson(knn_curve)}, {"chosen_p_t", knn_p_t}, {"map", "maps/knn.ply"},
                    {"map_counts", countsJson(knn_counts)}}},
           {"direct_build_matches_sweep", agree}};
 }

@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "occsweep/sweeps/compare_statistics.hpp"
-#include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/compare.hpp"
 #include "reproduce_internal.hpp"
 
 namespace occsweep {
@@ -49,10 +49,10 @@ std::uint64_t trueVoxels(const ResultsFile& f) {
 json truthJson(const ResultsFile& om, const ResultsFile& knn) {
   const ResultsFile ablation = equalHitProbabilities(knn);
   const ComparisonRow row = compareBest({om, knn}).at(0), equal = compareBest({om, ablation}).at(0);
-  return {{"octomap", bestJson(row.octomap, om)}, {"knn", bestJson(row.knn, knn)},
-          {"knn_equal_hit", bestJson(equal.knn, ablation)}, {"knn_equal_hit_maps", ablation.maps.size()},
-          {"knn_improvement_percent", finiteNumber(row.improvementPercent())},
-          {"knn_equal_hit_improvement_percent", finiteNumber(equal.improvementPercent())},
+  return {{"octomap", bestJson(row.best("octomap"), om)}, {"knn", bestJson(row.best("knn"), knn)},
+          {"knn_equal_hit", bestJson(equal.best("knn"), ablation)}, {"knn_equal_hit_maps", ablation.maps.size()},
+          {"knn_improvement_percent", finiteNumber(row.improvementPercent("knn", "octomap"))},
+          {"knn_equal_hit_improvement_percent", finiteNumber(equal.improvementPercent("knn", "octomap"))},
           {"true_voxels", trueVoxels(om)}};
 }
 

@@ -4,11 +4,9 @@
 #include <set>
 #include <sstream>
 
-#include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/compare.hpp"
 
 namespace occsweep {
-
-double ComparisonRow::improvementPercent() const { return improvementPercent("knn"); }
 
 double ComparisonRow::improvementPercent(const std::string& method, const std::string& baseline) const {
   const auto m = best(method), b = best(baseline);
@@ -17,24 +15,22 @@ double ComparisonRow::improvementPercent(const std::string& method, const std::s
 }
 
 std::optional<BestMap> ComparisonRow::best(const std::string& method) const {
-  if (method == "octomap") return octomap;
-  if (method == "knn") return knn;
-  const auto it = others.find(method);
-  return it == others.end() ? std::nullopt : std::optional<BestMap>(it->second);
+  const auto it = best_of.find(method);
+  return it == best_of.end() ? std::nullopt : std::optional<BestMap>(it->second);
 }
 
-std::vector<std::string> otherMethods(const std::vector<ComparisonRow>& rows) {
+std::vector<std::string> comparedMethods(const std::vector<ComparisonRow>& rows) {
   std::set<std::string> names;
   for (const ComparisonRow& row : rows)
-    for (const auto& [name, _] : row.others) names.insert(name);
+    for (const auto& [name, _] : row.best_of) names.insert(name);
   return {names.begin(), names.end()};
 }
 
 std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files) {
   std::map<std::string, ComparisonRow> rows;  // by data-set content hash: one point cloud set each
   std::vector<std::string> order;
-  for (const auto& f : files) {
-    const auto& h = f.header;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const ResultsHeader& h = files[i].header;
     auto [it, fresh] = rows.try_emplace(h.dataset_hash);
     ComparisonRow& row = it->second;
     if (fresh) {
@@ -44,16 +40,12 @@ std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files) {
       const auto& pcs = h.point_cloud_set;
       row.point_cloud_set = pcs.contains("pcs_id") ? pcs.at("pcs_id").dump() : "-";
     }
-    const bool knn = h.method == "knn";
-    std::optional<BestMap> other;
-    if (h.method != "knn" && h.method != "octomap" && row.others.count(h.method)) other = row.others.at(h.method);
-    auto& best = knn ? row.knn : (h.method == "octomap" ? row.octomap : other);
-    if (knn || h.method == "octomap") (knn ? row.knn_files : row.octomap_files).push_back(std::size_t(&f - files.data()));
-    for (const auto& m : f.maps) {
-      if (!isBetterBest(m.area.anchored, best ? std::optional(best->auc) : std::nullopt)) continue;
-      best = BestMap{m.area.anchored, m.area.observed, m.params, m.map_index, std::size_t(&f - files.data())};
-    }
-    if (other) row.others.insert_or_assign(h.method, *other);
+    row.files_of[h.method].push_back(i);
+    std::optional<BestMap> best = row.best(h.method);
+    for (const MapResult& m : files[i].maps)
+      if (isBetterBest(m.area.anchored, best ? std::optional(best->auc) : std::nullopt))
+        best = BestMap{m.area.anchored, m.area.observed, m.params, m.map_index, i};
+    if (best) row.best_of.insert_or_assign(h.method, *best);
   }
   std::vector<ComparisonRow> out;
   for (const auto& hash : order) out.push_back(rows.at(hash));
@@ -62,10 +54,12 @@ std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files) {
 
 namespace {
 
-std::string settingsText(const ResultsHeader& h) {
+// The settings of a file that two results of one data set must share; with the rule's (variant, statistics mode)
+// where files of one method are set side by side.
+std::string settingsText(const ResultsHeader& h, bool with_rule) {
   std::ostringstream s;
   s << "resolution " << h.resolution << " m, s_c " << h.s_c << " m";
-  if (h.method == "knn") s << ", variant " << h.variant << ", stats " << h.stats;
+  if (with_rule) s << ", variant " << h.variant << ", stats " << h.stats;
   return s.str();
 }
 
@@ -82,7 +76,7 @@ std::string mixedTruths(const std::vector<ResultsFile>& files, const std::vector
 
 std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, const std::vector<std::string>& names) {
   std::vector<std::string> problems;
-  std::map<std::string, std::size_t> first_of_hash, first_knn_of_hash, first_of_method;
+  std::map<std::string, std::size_t> first_of_hash, first_of_method;
   for (std::size_t i = 0; i < files.size(); ++i) {
     const ResultsHeader& h = files[i].header;
     if (h.selection.shard_count != 1)
@@ -98,43 +92,41 @@ std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, co
     const auto [same, fresh] = first_of_hash.try_emplace(h.dataset_hash, i);
     const ResultsHeader& o = files[same->second].header;
     if (!fresh && (o.resolution != h.resolution || o.s_c != h.s_c))
-      problems.push_back(names[i] + " (" + settingsText(h) + ") and " + names[same->second] + " (" + settingsText(o) +
-                         "): another resolution or s_c on the same data set");
-    if (h.method == "knn") {
-      const auto [k, k_fresh] = first_knn_of_hash.try_emplace(h.dataset_hash, i);
-      const ResultsHeader& ko = files[k->second].header;
-      if (!k_fresh && (ko.variant != h.variant || ko.stats != h.stats))
-        problems.push_back(names[i] + " (" + settingsText(h) + ") and " + names[k->second] + " (" + settingsText(ko) +
-                           "): another k-NN variant or statistics mode on the same data set");
-    }
-    // One file per method and set (of two, compareBest would take the better best AUC without a word); after the
-    // reasons above, which say more.
-    if (const auto [j, fresh] = first_of_method.try_emplace(h.dataset_hash + '\n' + h.method, i); !fresh)
+      problems.push_back(names[i] + " (" + settingsText(h, false) + ") and " + names[same->second] + " (" +
+                         settingsText(o, false) + "): another resolution or s_c on the same data set");
+    // One file per method and set (of two, compareBest would take the better best AUC without a word); what else
+    // differs between them first, which says more.
+    if (const auto [j, fresh] = first_of_method.try_emplace(h.dataset_hash + '\n' + h.method, i); !fresh) {
+      const ResultsHeader& mo = files[j->second].header;
+      if (mo.variant != h.variant || mo.stats != h.stats)
+        problems.push_back(names[i] + " (" + settingsText(h, true) + ") and " + names[j->second] + " (" +
+                           settingsText(mo, true) + "): another variant or statistics mode of method " + h.method +
+                           " on the same data set");
       problems.push_back(names[j->second] + " and " + names[i] + ": two results of method " + h.method +
                          " for one data set (" + h.dataset_name + ", hash " + h.dataset_hash + "), " +
                          (names[j->second] == names[i] ? "the same file given twice" : "the better best AUC of "
                                                                                         "the two would be taken"));
+    }
   }
   return problems;
 }
 
-std::string missingReason(const ComparisonRow& row, bool knn, const std::vector<ResultsFile>& files,
+std::string missingReason(const ComparisonRow& row, const std::string& method, const std::vector<ResultsFile>& files,
                           const std::vector<std::string>& names) {
-  if (knn ? row.knn.has_value() : row.octomap.has_value()) return "";
-  const auto& given = knn ? row.knn_files : row.octomap_files;
-  const std::string method = knn ? "k-NN" : "OctoMap";
-  if (given.empty()) {
+  if (row.best(method)) return "";
+  const auto given = row.files_of.find(method);
+  if (given == row.files_of.end()) {
     // Rows are data-set contents (hash): a file of the same name but other scans, region or truth is not compared.
     for (std::size_t i = 0; i < files.size(); ++i) {
       const ResultsHeader& h = files[i].header;
-      if (h.dataset_name == row.dataset && h.dataset_hash != row.dataset_hash && (h.method == (knn ? "knn" : "octomap")))
+      if (h.dataset_name == row.dataset && h.dataset_hash != row.dataset_hash && h.method == method)
         return method + ": " + names[i] + " is of data set " + row.dataset + " with other contents (hash " +
                h.dataset_hash + ", not " + row.dataset_hash + ": other scans, region or truth), so not compared";
     }
     return method + ": no results file of this method given for data set " + row.dataset;
   }
-  std::string why = method + ": no AUC in " + names[given.front()];
-  const ResultsFile& file = files[given.front()];
+  std::string why = method + ": no AUC in " + names[given->second.front()];
+  const ResultsFile& file = files[given->second.front()];
   const bool no_truth = !file.maps.empty() && file.truth_voxels == 0;
   return why + (no_truth ? ": data set " + row.dataset + " has no ground truth (TP+FN = 0), so TPR and AUC are "
                                                          "undefined (add it with occsweep import truth)"

@@ -341,16 +341,6 @@ std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& ro
   return pooled;
 }
 
-std::vector<std::string> comparedMethods(const std::vector<ComparisonRow>& rows) {
-  std::set<std::string> names;
-  for (const ComparisonRow& row : rows) {
-    if (row.octomap) names.insert("octomap");
-    if (row.knn) names.insert("knn");
-    for (const auto& [name, _] : row.others) names.insert(name);
-  }
-  return {names.begin(), names.end()};
-}
-
 std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>& rows,
                                                 const std::vector<ResultsFile>& files,
                                                 const CompareStatisticsOptions& o) {

@@ -179,6 +179,10 @@ namespace {
 [[noreturn]] void missing(const GridChecker::State& s, std::uint64_t map_index) {
   throw std::runtime_error(s.file + ": map " + std::to_string(map_index) + ": missing, though the file says complete");
 }
+[[noreturn]] void notSelected(const GridChecker::State& s, std::uint64_t map_index) {
+  throw std::runtime_error(s.file + ": map " + std::to_string(map_index) + ": not in this file's selection (shard " +
+                           std::to_string(s.h.selection.shard_index) + "/" + std::to_string(s.h.selection.shard_count) + ")");
+}
 }  // namespace
 
 // The grid of the file, when its file is found with the same hash: enumerated, the selection's maps listed.
@@ -191,7 +195,7 @@ GridChecker::GridChecker(const ResultsHeader& header, bool complete, const std::
     return;
   }
   if (s.grid.file_hash != header.grid_hash) return;
-  s.e = enumerateGrid(s.grid);
+  s.e = enumerateSelection(s.grid, header.selection);  // the maps of the file's selection
   if (s.e.combinations != header.grid_combinations)
     throw std::runtime_error(file + ": grid.combinations does not match grid " + s.grid.name);
   if (complete) s.items = selectWork(s.grid, s.e, header.selection);  // only coverage needs the selection's maps
@@ -206,20 +210,19 @@ void GridChecker::add(const MapResult& m) {
   State& s = *state_;
   if (!s.found) return;
   const std::string where = s.file + ": map " + std::to_string(m.map_index);
-  if (m.map_index >= s.e.maps.size()) throw std::runtime_error(where + ": no such map in grid " + s.grid.name);
-  if (s.e.maps[m.map_index] != m.params)
+  if (m.map_index >= s.e.map_count) throw std::runtime_error(where + ": no such map in grid " + s.grid.name);
+  if (!s.e.holds(m.map_index)) notSelected(s, m.map_index);
+  if (s.e.map(m.map_index) != m.params)
     throw std::runtime_error(where + ": parameters differ from the grid's (edited by hand?)");
-  const std::uint64_t first = s.e.first_id[m.map_index];
-  const auto& p_t = s.e.thresholds[m.map_index];
+  const std::uint64_t first = s.e.firstId(m.map_index);
+  const auto& p_t = s.e.thresholdsOf(m.map_index);
   for (const auto& t : m.thresholds)
     if (t.id < first || t.id - first >= p_t.size() || p_t[t.id - first] != t.p_t)
       throw std::runtime_error(where + ": id " + std::to_string(t.id) + " is not this map's or has another p_t");
   if (!s.complete) return;
   const auto item = std::lower_bound(s.items.begin(), s.items.end(), m.map_index,
                                      [](const SweepItem& i, std::uint64_t index) { return i.map_index < index; });
-  if (item == s.items.end() || item->map_index != m.map_index)
-    throw std::runtime_error(s.file + ": map " + std::to_string(m.map_index) + ": not in this file's selection (shard " +
-                             std::to_string(s.h.selection.shard_index) + "/" + std::to_string(s.h.selection.shard_count) + ")");
+  if (item == s.items.end() || item->map_index != m.map_index) notSelected(s, m.map_index);
   if (std::size_t(item - s.items.begin()) != s.seen) missing(s, s.items[s.seen].map_index);
   if (m.thresholds.size() != item->thresholds.size())
     throw std::runtime_error(where + ": holds " + std::to_string(m.thresholds.size()) + " thresholds, its selection " +

@@ -13,10 +13,15 @@
 
 namespace occsweep {
 
+/// The method every other one is compared with unless a command is told otherwise (compare --baseline): OctoMap,
+/// the paper's baseline (docs/statistics.md). OctoMapMethod registers under this name.
+inline const std::string kDefaultBaseline = "octomap";
+
 /// OctoMap (Hornung et al. 2013; Eq. 4-5): l(p_h) per hit voxel, l(p_m) per crossed voxel. Built by liboctomap.
 class OctoMapMethod : public MappingMethod {
  public:
-  std::string name() const override { return "octomap"; }
+  std::string name() const override { return kDefaultBaseline; }
+  std::string displayName() const override { return "OctoMap"; }
   std::string description() const override { return "OctoMap: one l(p_h) per hit voxel, l(p_m) per crossed voxel"; }
   std::string reference() const override { return "Hornung et al., Autonomous Robots 34(3), 2013 (Eq. 4-5)"; }
   std::vector<MethodParameter> parameters() const override;
@@ -34,6 +39,7 @@ class OctoMapMethod : public MappingMethod {
 class KnnMethod final : public MappingMethod {
  public:
   std::string name() const override { return "knn"; }
+  std::string displayName() const override { return "k-NN"; }
   std::string description() const override {
     return "k-NN inverse sensor model: a hit's probability falls with its mean distance to its k nearest neighbours";
   }
@@ -52,6 +58,7 @@ class KnnMethod final : public MappingMethod {
 class SorOctoMapMethod final : public OctoMapMethod {
  public:
   std::string name() const override { return "sor-octomap"; }
+  std::string displayName() const override { return "SOR + OctoMap"; }
   std::string description() const override {
     return "PCL StatisticalOutlierRemoval (mean distance to k neighbours > mean + std_mul stddev) then OctoMap";
   }
@@ -67,6 +74,7 @@ class SorOctoMapMethod final : public OctoMapMethod {
 class RorOctoMapMethod final : public OctoMapMethod {
  public:
   std::string name() const override { return "ror-octomap"; }
+  std::string displayName() const override { return "ROR + OctoMap"; }
   std::string description() const override {
     return "PCL RadiusOutlierRemoval (fewer than min_neighbors points within radius) then OctoMap";
   }
@@ -84,6 +92,7 @@ class RorOctoMapMethod final : public OctoMapMethod {
 class RangeOctoMapMethod final : public MappingMethod {
  public:
   std::string name() const override { return "range-octomap"; }
+  std::string displayName() const override { return "range OctoMap"; }
   std::string description() const override {
     return "OctoMap with p_h falling as (r_0/r)^2 beyond r_0: the stereo depth error grows with the square of depth";
   }

@@ -124,6 +124,8 @@ class MappingMethod {
 
   /// The registered name: grid files' "method", results' grid.method.
   [[nodiscard]] virtual std::string name() const = 0;
+  /// The name a paper's table or figure shows ("k-NN" for knn); by default the registered name.
+  [[nodiscard]] virtual std::string displayName() const { return name(); }
   /// One line for `occsweep methods`.
   [[nodiscard]] virtual std::string description() const = 0;
   /// Where the model comes from (docs/methods.md cites it in full).

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "occsweep/core/builtin_methods.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 
 namespace occsweep {
@@ -23,7 +24,7 @@ struct CompareTask {
   std::vector<std::string> files;  ///< complete results files
   std::string json;                ///< the table as JSON; empty: none
   bool force = false, allow_mixed = false;
-  std::string baseline = "octomap";  ///< every other method's statistics are against it (docs/statistics.md)
+  std::string baseline = kDefaultBaseline;  ///< every other method's statistics are against it (docs/statistics.md)
   std::string csv, markdown, latex;  ///< the table in these formats too; empty: none
   double alpha = 0.05;               ///< of the verdicts, after Holm's correction (docs/statistics.md, "Verdicts")
   double smallest_effect = 0.1;      ///< percent of the baseline's AUC: an interval within +-this is negligible

@@ -39,7 +39,7 @@ struct ParameterLayout {
 /// One grid file: a registered method (docs/methods.md) and a range of values for each of its parameters.
 struct GridSpec {
   std::string name;
-  std::string method = "knn";         ///< a registered method's name (method_registry.hpp)
+  std::string method;                 ///< a registered method's name (method_registry.hpp)
   std::string description;
   ParameterLayout layout;             ///< the method's parameters
   std::vector<ParamRange> ranges;     ///< per parameter of `layout`; integer parameters list their values
@@ -63,13 +63,34 @@ struct MapParams {
   return toDouble(parameter(layout, params, name));
 }
 
-/// The grid enumerated: maps in canonical order, each with its p_t values. A combination's id is its index in
-/// the canonical order (maps in order, p_t innermost), so the ids of one map are contiguous.
+/// The grid enumerated, whole or a window of it: maps in canonical order, each with its p_t values. A
+/// combination's id is its index in the canonical order (maps in order, p_t innermost), so the ids of one map are
+/// contiguous. A window (enumerateMapRange) holds the maps first_map, first_map + 1, ... only; the counts are always
+/// the whole grid's.
 struct GridEnumeration {
   std::vector<MapParams> maps;
   std::vector<std::uint64_t> first_id;          ///< id of each map's first p_t
   std::vector<std::vector<Fixed>> thresholds;   ///< p_t values of each map
-  std::uint64_t combinations = 0;
+  std::uint64_t combinations = 0;               ///< of the whole grid
+  std::uint64_t first_map = 0;                  ///< the map index of maps[0]
+  std::uint64_t map_count = 0;                  ///< maps of the whole grid
+  /// Maps of the whole grid with at least one p_t (a shard is a block of these), and how many come before maps[0].
+  std::uint64_t thresholded_maps = 0, thresholded_before = 0;
+
+  [[nodiscard]] bool holds(std::uint64_t map_index) const {
+    return map_index >= first_map && map_index - first_map < maps.size();
+  }
+  /// The parameters, first id and p_t values of a map it holds (std::out_of_range otherwise).
+  [[nodiscard]] const MapParams& map(std::uint64_t map_index) const { return maps.at(position(map_index)); }
+  [[nodiscard]] std::uint64_t firstId(std::uint64_t map_index) const { return first_id.at(position(map_index)); }
+  [[nodiscard]] const std::vector<Fixed>& thresholdsOf(std::uint64_t map_index) const {
+    return thresholds.at(position(map_index));
+  }
+
+ private:
+  [[nodiscard]] std::size_t position(std::uint64_t map_index) const {
+    return map_index < first_map ? maps.size() : std::size_t(map_index - first_map);
+  }
 };
 
 /// Reads and checks a grid file. Throws std::runtime_error naming the file, the key and the rule: unknown keys,
@@ -85,6 +106,13 @@ struct GridEnumeration {
 void addGridFolder(const std::filesystem::path& folder);
 
 [[nodiscard]] GridEnumeration enumerateGrid(const GridSpec& grid);
+/// The window of the grid holding its thresholded maps (those with at least one p_t) [begin, end), and any map
+/// without p_t between them: memory by the window, checked against the combinations limit for the window's
+/// combinations; time of one walk over the grid's maps, none stored but the window's (docs/grids.md, "Shards").
+[[nodiscard]] GridEnumeration enumerateMapRange(const GridSpec& grid, std::uint64_t begin, std::uint64_t end);
+/// The grid's maps with at least one p_t: by the closed form where there is one (closedFormCount), else counted
+/// map by map without storing them.
+[[nodiscard]] std::uint64_t thresholdedMapCount(const GridSpec& grid);
 
 /// Eq. 15's closed form (Eq. 13-14 with floor so it holds for steps that do not divide the range; the paper's
 /// ceiling over-counts then) for knn and octomap grids; none for other methods. Must equal

@@ -25,10 +25,16 @@ struct SweepSelection {
 /// One work item: a map of the grid and the thresholds of it that the selection asks for.
 struct SweepItem {
   std::uint64_t map_index = 0;
-  std::vector<std::size_t> thresholds;  ///< indices into GridEnumeration::thresholds[map_index]
+  std::vector<std::size_t> thresholds;  ///< indices into the map's p_t values (GridEnumeration::thresholdsOf)
 };
 
-/// The selected maps of a grid in canonical order, cut to the shard (throws for an invalid selection).
+/// The part of the grid a selection needs enumerated: an ungrouped shard's block of maps alone, so that a shard
+/// costs the memory of its maps, not the grid's (enumerateMapRange); an Eq. 16 group's whole grid, since the
+/// permutation spans every id.
+[[nodiscard]] GridEnumeration enumerateSelection(const GridSpec& grid, const SweepSelection& selection);
+
+/// The selected maps of a grid in canonical order, cut to the shard (throws for an invalid selection). `e` is the
+/// whole grid or enumerateSelection's for this selection.
 [[nodiscard]] std::vector<SweepItem> selectWork(const GridSpec& grid, const GridEnumeration& e,
                                                 const SweepSelection& selection);
 

@@ -13,17 +13,18 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/core/builtin_methods.hpp"
 #include "occsweep/stats/bootstrap.hpp"
 #include "occsweep/stats/effect_size.hpp"
 #include "occsweep/stats/sign_test.hpp"
 #include "occsweep/stats/verdict.hpp"
 #include "occsweep/stats/wilcoxon.hpp"
-#include "occsweep/sweeps/merge.hpp"
+#include "occsweep/sweeps/compare.hpp"
 
 namespace occsweep {
 
 struct CompareStatisticsOptions {
-  std::string baseline = "octomap";  ///< every other method is compared with this one
+  std::string baseline = kDefaultBaseline;  ///< every other method is compared with this one
   double level = 0.95;               ///< of the bootstrap interval
   std::size_t resamples = 10000;     ///< bootstrap resamples (BCa)
   std::uint64_t seed = 1;            ///< bootstrap seed: the same files give the same interval
@@ -109,9 +110,6 @@ struct MethodStatistics {
 /// by rows of different contents, or given both alone and with sets (docs/statistics.md, "Verdicts"); compare notes
 /// them.
 [[nodiscard]] std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows);
-
-/// The methods of `rows`, by name.
-[[nodiscard]] std::vector<std::string> comparedMethods(const std::vector<ComparisonRow>& rows);
 
 /// Every method's statistics, the baseline's first. Throws std::invalid_argument naming the baseline and the
 /// methods given when no file of the baseline was given.

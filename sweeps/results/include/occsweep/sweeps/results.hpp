@@ -36,7 +36,7 @@ inline constexpr const char* kReplayEngine = "replay";
 struct ResultsHeader {
   std::string version, commit;                 ///< occsweep that wrote it
   std::string grid_name, grid_hash;            ///< grid file and FNV-1a of its bytes
-  std::string method = "knn";                  ///< the grid's method (docs/methods.md)
+  std::string method;                          ///< the grid's method (docs/methods.md)
   /// The method's parameters as the maps' params hold them: from the registry, or, for a method this program has
   /// not registered, from the first map's keys in name order (results are readable without the method's code).
   ParameterLayout parameters;

@@ -92,12 +92,5 @@ void forEachResultsMap(const std::filesystem::path& file, MapDetail detail, cons
 /// `f` as a new store at `file`, atomically (a temporary beside it, renamed when complete).
 void writeResultsStore(const ResultsFile& f, const std::filesystem::path& file);
 
-/// Writes a results file's JSON form to `out` map by map, byte for byte what writeResults writes for the same
-/// results (the export of a store, however large, in memory bounded by one map). Both exports read the file once
-/// with every check of `results check` (readCheckedResults) and throw on the first failure, part-way through `out`.
-void exportJson(const std::filesystem::path& file, std::ostream& out);
-/// One CSV row per combination: id, map_index, the method's parameters, p_t, TP, FP, FN, TN, TPR, FDR, and the
-/// map's anchored and observed AUC (docs/results-format.md, "Export").
-void exportCsv(const std::filesystem::path& file, std::ostream& out);
 
 }  // namespace occsweep
