@@ -100,10 +100,8 @@ void cleanOnInterrupt() {
     ::kill(pid, SIGKILL);
     ::waitpid(pid, nullptr, 0);
   }
-  for (const auto& [path, claim] : registry()) {
-    removeTemporaryEntry(path);
-    releaseTemporary(claim);
-  }
+  for (const auto& [path, claim] : registry())
+    if (removeTemporaryEntry(path)) releaseTemporary(claim);  // a record stays for what could not be removed
   ::_exit(128 + sig);
 }
 

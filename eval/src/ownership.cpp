@@ -189,7 +189,15 @@ bool removeTemporaryEntry(const fs::path& path) noexcept {
   std::error_code ec, journal_ec;
   // occsweep never makes a temporary (or journal) that is a symbolic link: one there is the user's, and stays.
   if (fs::is_symlink(fs::symlink_status(path, ec))) return false;
-  fs::remove_all(path, ec);  // a folder temporary is occsweep's as a whole: only occsweep wrote into it
+  // A folder temporary is occsweep's as a whole: only occsweep wrote into it. Another thread of the same run may
+  // still be making a file in it (an interrupt's cleaner runs beside the writer): removed again until the folder
+  // itself is gone, which ends such a writer's creations (their folder no longer exists).
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    ec.clear();
+    fs::remove_all(path, ec);
+    std::error_code gone;
+    if (!fs::exists(fs::symlink_status(path, gone))) break;
+  }
   const fs::path journal = path.string() + "-journal";
   if (!fs::is_symlink(fs::symlink_status(journal, journal_ec))) fs::remove(journal, journal_ec);
   return !ec;

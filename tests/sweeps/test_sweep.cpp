@@ -42,6 +42,31 @@ std::size_t lines(const fs::path& file) {
 
 }  // namespace
 
+TEST_CASE("more shards than the selection has maps are refused before anything is written") {
+  // Old binary: shard 20/21 of octomap-opt's 20 maps wrote a store of no map (its header's engine "mixed"), which
+  // results check, merge and the next sweep refused; shard 0/181 wrote a file results check refused.
+  const auto dir = test::scratch("sweep-empty-shards");
+  const auto data = smallScene(dir);
+  for (const std::string out : {"s.db", "s.json"}) {
+    CHECK_THROWS_WITH(sweep(data, "octomap-opt", dir / out, 20, 21),
+                      Contains("21 shards of grid octomap-opt, but its 20 maps") && Contains("at most 20 shards"));
+    CHECK_THROWS_WITH(sweep(data, "octomap-opt", dir / out, 0, 181), Contains("but its 20 maps"));
+    CHECK_FALSE(fs::exists(dir / out));
+  }
+  // An Eq. 16 group counts its own maps: group 19 of 20 holds the 9 ids of at most 9 maps.
+  SweepConfig grouped = test::quietSweep(data, "octomap-opt", dir / "g.json", 0, 10);
+  grouped.selection.group = SweepSelection::Group{19, 20, 5};
+  CHECK_THROWS_WITH(runSweep(grouped), Contains("group holds"));
+  CHECK_FALSE(fs::exists(dir / "g.json"));
+  // As many shards as maps: each holds one, and they merge to the whole.
+  std::vector<fs::path> parts;
+  for (std::uint64_t i = 0; i < 20; ++i) {
+    parts.push_back(dir / ("one" + std::to_string(i) + ".json"));
+    CHECK(sweep(data, "octomap-opt", parts.back(), i, 20).maps.size() == 1);
+  }
+  CHECK(resultDifferences(sweep(data, "octomap-opt", dir / "whole.json"), mergeResults(parts)).empty());
+}
+
 TEST_CASE("shards merge to exactly the unsharded sweep, and merge refuses missing, duplicated and foreign work") {
   const auto dir = test::scratch("sweep-shards");
   const auto data = smallScene(dir);

@@ -67,8 +67,8 @@ void printRow(const ComparisonRow& r, const std::vector<ResultsFile>& in, const 
       std::printf("\n");
       continue;
     }
-    std::printf("  map %llu of %s\n", static_cast<unsigned long long>(best->map_index), files[best->file].c_str());
-    std::printf("%s", wrappedLines(bestParametersText(*best, in), 4, kTerminalColumns).c_str());
+    std::printf("\n%s", wrappedLines("map " + std::to_string(best->map_index) + " of " + files[best->file] + ": " +
+                                          bestParametersText(*best, in), 4, kTerminalColumns).c_str());
   }
 }
 

@@ -55,6 +55,10 @@ int runGridCount(const GridOptions& o) {
   const std::optional<std::uint64_t> eq15 = closedFormCount(g);
   const std::uint64_t closed = eq15 ? *eq15 : combinationCount(g);
   const char* how = eq15 ? "Eq. 15 closed form" : "counted map by map: no closed form for this method";
+  if (closed >= kCountCeiling) {  // saturated: the exact count does not fit, and no group size is known
+    std::cout << g.name << ": at least " << kCountCeiling << " combinations (" << how << "; the count passes 2^62)\n";
+    return 0;
+  }
   const bool enumerate = closed <= limits().combinations;
   const auto enumerated = enumerate ? enumerateGrid(g).combinations : closed;
   if (enumerate)

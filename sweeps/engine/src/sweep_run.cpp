@@ -132,6 +132,21 @@ void requireOneDataSet(const std::vector<SweepConfig>& configs) {
         throw std::invalid_argument("sweep: --out " + configs[i].out.string() + " is given for two grids");
 }
 
+// A shard is a block of whole maps: more shards than the selection has maps would leave some empty, and a file of
+// no map is one `results check` refuses (docs/grids.md, "Sweep shards"). Refused before anything is written.
+void refuseEmptyShards(const GridSpec& grid, const GridEnumeration& e, const SweepConfig& c) {
+  const SweepSelection& s = c.selection;
+  if (s.shard_count <= 1) return;
+  SweepSelection unsharded = s;
+  unsharded.shard_index = 0, unsharded.shard_count = 1;
+  const std::uint64_t maps = s.group ? selectWork(grid, e, unsharded).size() : e.thresholded_maps;
+  if (s.shard_count > maps)
+    throw std::invalid_argument("--shard " + std::to_string(s.shard_index) + "/" + std::to_string(s.shard_count) +
+                                ": " + std::to_string(s.shard_count) + " shards of grid " + grid.name + ", but its " +
+                                (s.group ? "group holds " : "") + std::to_string(maps) + " maps (a shard is a block " +
+                                "of whole maps): use at most " + std::to_string(maps) + " shards");
+}
+
 // The grid, its selection and the header of its results.
 GridSweep openGrid(const SweepConfig& c, const Dataset& data, const SweepEngine& engine) {
   GridSweep g;
@@ -142,6 +157,7 @@ GridSweep openGrid(const SweepConfig& c, const Dataset& data, const SweepEngine&
   if (g.e.combinations == 0)
     throw std::invalid_argument(c.grid + ": grid " + g.grid.name + " has no combination (the relations between its "
                                 "parameters leave none, docs/grids.md): nothing to sweep");
+  refuseEmptyShards(g.grid, g.e, c);
   g.items = selectWork(g.grid, g.e, c.selection);
   g.header = sweepHeader(c, g.grid, g.e, data, engine);
   return g;

@@ -163,13 +163,21 @@ GridEnumeration enumerateMapRange(const GridSpec& g, std::uint64_t begin, std::u
   return e;
 }
 
-std::uint64_t combinationCount(const GridSpec& g) {
-  if (const auto closed = closedFormCount(g)) return *closed;
-  // Maps before the relations prune any: a bound on the work of counting them one by one.
+namespace {
+
+// Maps before the relations prune any: a bound on the work of walking them one by one (no closed form).
+void checkWalkable(const GridSpec& g) {
   std::uint64_t product = 1;
-  for (const ParamRange& r : g.ranges) product = std::min<std::uint64_t>(product * std::uint64_t(r.count()), 1ULL << 62);
+  for (const ParamRange& r : g.ranges) product = std::min<std::uint64_t>(product * std::uint64_t(r.count()), kCountCeiling);
   checkLimit("grid " + g.name + ": parameter combinations before the relations", product, limits().combinations,
              "--max-combinations");
+}
+
+}  // namespace
+
+std::uint64_t combinationCount(const GridSpec& g) {
+  if (const auto closed = closedFormCount(g)) return *closed;
+  checkWalkable(g);
   std::uint64_t n = 0;
   const std::size_t p_max = g.layout.index("p_max"), p_min = g.layout.index("p_min");
   forEachMap(g, [&](const MapParams& m) {
@@ -183,12 +191,19 @@ namespace {
 // Eq. 15 for any method whose relations form a forest (no two paths between two parameters): the maps' count
 // factors over the forest's trees, and a tree's count is a sum over its root's values of the product over its
 // children of how many of each child's values keep the relation with the parent's value (Eq. 13-14, h, exact for
-// any steps). The p_t factor g(p_max, p_min) of Eq. 13 ties p_max and p_min, so the count is summed over their
-// pairs of values, each tree counted with the two fixed (docs/grids.md, "Counting").
+// any steps). The p_t factor g(p_max, p_min) of Eq. 13 ties p_max and p_min: each tree holding one of them is
+// counted once per value of it (rooted there), a tree holding both once per pair, and the products summed over the
+// pairs (docs/grids.md, "Counting"). Counts saturate at kCountCeiling.
 class ForestCount {
  public:
-  ForestCount(const GridSpec& g, const std::vector<ParameterRelation>& relations) : edges_(g.ranges.size()) {
-    for (const ParamRange& r : g.ranges) values_.push_back(r.values());
+  ForestCount(const GridSpec& g, const std::vector<ParameterRelation>& relations)
+      : edges_(g.ranges.size()), p_max_(g.layout.index("p_max")), p_min_(g.layout.index("p_min")) {
+    for (const ParamRange& r : g.ranges) {
+      // The values are held: bounded as the combinations are (a range of 10^12 values would take 8 TB).
+      checkLimit("grid " + g.name + ": values of one parameter", std::uint64_t(r.count()), limits().combinations,
+                 "--max-combinations");
+      values_.push_back(r.values());
+    }
     for (const ParameterRelation& r : relations) {
       const std::size_t a = g.layout.index(r.larger), b = g.layout.index(r.smaller);
       edges_[a].push_back({b, true, r.strict});
@@ -204,25 +219,37 @@ class ForestCount {
     return true;
   }
 
-  /// The maps with p_max and p_min fixed at values[p_max][a] and values[p_min][b], saturated at 2^62.
-  [[nodiscard]] std::uint64_t maps(std::size_t p_max, std::size_t a, std::size_t p_min, std::size_t b) const {
-    fixed_ = {{p_max, a}, {p_min, b}};
-    memo_.assign(values_.size(), {});
-    for (std::size_t p = 0; p < values_.size(); ++p) memo_[p].assign(values_[p].size(), kUnknown);
+  /// The sum over the grid's maps of weight(p_max, p_min), saturated at kCountCeiling.
+  template <class Weight>
+  [[nodiscard]] std::uint64_t sum(const GridSpec& g, Weight weight) const {
+    const std::size_t A = values_[p_max_].size(), B = values_[p_min_].size();
+    if (A * B > kMaxPairs)
+      throw std::invalid_argument("grid " + g.name + ": p_max and p_min take " + std::to_string(A) + " and " +
+                                  std::to_string(B) + " values, more than " + std::to_string(kMaxPairs) +
+                                  " pairs to count (docs/grids.md, \"Counting\"): use coarser steps");
+    std::vector<unsigned __int128> by_max(A, 1), by_min(B, 1), by_pair;  // the trees of p_max, of p_min, of both
+    unsigned __int128 others = 1;
     std::vector<int> seen(values_.size(), 0);
-    unsigned __int128 product = 1;
     for (std::size_t root = 0; root < values_.size(); ++root) {
       if (seen[root]) continue;
-      unsigned __int128 tree = 0;
-      for (std::size_t v = 0; v < values_[root].size(); ++v)
-        if (allowed(root, v)) tree += subtree(root, v, values_.size(), seen);
-      product = saturated(product * saturated(tree));
+      const std::vector<int> tree = treeOf(root);
+      const bool has_max = tree[p_max_] != 0, has_min = tree[p_min_] != 0;
+      for (std::size_t i = 0; i < tree.size(); ++i) seen[i] |= tree[i];
+      if (has_max && has_min) by_pair = pairCounts();
+      else if (has_max) by_max = rootedCounts(p_max_, kNone);
+      else if (has_min) by_min = rootedCounts(p_min_, kNone);
+      else others = saturated(others * saturated(total(rootedCounts(root, kNone))));
     }
-    return std::uint64_t(product);
+    unsigned __int128 n = 0;
+    for (std::size_t a = 0; a < A; ++a)
+      for (std::size_t b = 0; b < B; ++b) {
+        const std::uint64_t w = weight(values_[p_max_][a], values_[p_min_][b]);
+        if (w == 0) continue;
+        const unsigned __int128 pair = by_pair.empty() ? 1 : by_pair[a * B + b];
+        n = saturated(n + saturated(saturated(saturated(by_max[a] * by_min[b]) * pair) * w));
+      }
+    return std::uint64_t(saturated(n * others));
   }
-
-  [[nodiscard]] std::size_t valueCount(std::size_t parameter) const { return values_[parameter].size(); }
-  [[nodiscard]] Fixed value(std::size_t parameter, std::size_t i) const { return values_[parameter][i]; }
 
  private:
   struct Edge {
@@ -230,8 +257,15 @@ class ForestCount {
     bool larger;  ///< this parameter is the relation's larger one
     bool strict;
   };
+  static constexpr std::size_t kNone = ~std::size_t(0);
+  static constexpr std::size_t kMaxPairs = 100'000'000;  // a few seconds of multiplications
 
-  static unsigned __int128 saturated(unsigned __int128 n) { return std::min<unsigned __int128>(n, 1ULL << 62); }
+  static unsigned __int128 saturated(unsigned __int128 n) { return std::min<unsigned __int128>(n, kCountCeiling); }
+  static unsigned __int128 total(const std::vector<unsigned __int128>& counts) {
+    unsigned __int128 t = 0;
+    for (unsigned __int128 c : counts) t = saturated(t + c);
+    return t;
+  }
 
   bool acyclicFrom(std::size_t node, std::size_t parent, std::vector<int>& seen) const {
     seen[node] = 1;
@@ -246,11 +280,44 @@ class ForestCount {
     return true;
   }
 
-  bool allowed(std::size_t parameter, std::size_t i) const {
-    for (const auto& [fixed, at] : fixed_)
-      if (fixed == parameter && at != i) return false;
-    return true;
+  // The parameters of the tree holding `root`, as 0/1 flags.
+  std::vector<int> treeOf(std::size_t root) const {
+    std::vector<int> in(values_.size(), 0);
+    std::vector<std::size_t> todo{root};
+    in[root] = 1;
+    while (!todo.empty()) {
+      const std::size_t node = todo.back();
+      todo.pop_back();
+      for (const Edge& e : edges_[node])
+        if (!in[e.other]) in[e.other] = 1, todo.push_back(e.other);
+    }
+    return in;
   }
+
+  // For each value of `root`, the assignments of its tree rooted there; `fixed` (p_min in a tree with p_max) held
+  // at fixed_value_.
+  std::vector<unsigned __int128> rootedCounts(std::size_t root, std::size_t fixed) const {
+    fixed_ = fixed;
+    memo_.assign(values_.size(), {});
+    for (std::size_t p = 0; p < values_.size(); ++p) memo_[p].assign(values_[p].size(), kUnknown);
+    std::vector<unsigned __int128> counts(values_[root].size());
+    for (std::size_t v = 0; v < counts.size(); ++v) counts[v] = allowed(root, v) ? subtree(root, v, kNone) : 0;
+    return counts;
+  }
+
+  // The tree holding both: for each value of p_min, its counts rooted at p_max; [a * B + b].
+  std::vector<unsigned __int128> pairCounts() const {
+    const std::size_t A = values_[p_max_].size(), B = values_[p_min_].size();
+    std::vector<unsigned __int128> counts(A * B);
+    for (std::size_t b = 0; b < B; ++b) {
+      fixed_value_ = b;
+      const std::vector<unsigned __int128> rooted = rootedCounts(p_max_, p_min_);
+      for (std::size_t a = 0; a < A; ++a) counts[a * B + b] = rooted[a];
+    }
+    return counts;
+  }
+
+  bool allowed(std::size_t parameter, std::size_t i) const { return parameter != fixed_ || i == fixed_value_; }
 
   static bool holds(const Edge& e, Fixed mine, Fixed theirs) {
     const Fixed larger = e.larger ? mine : theirs, smaller = e.larger ? theirs : mine;
@@ -258,17 +325,17 @@ class ForestCount {
   }
 
   // Assignments of `node`'s subtree (away from `parent`) with `node` at its i-th value; each computed once per
-  // maps() call (in a tree, a node's subtree is the same whichever of its parent's values asks).
-  unsigned __int128 subtree(std::size_t node, std::size_t i, std::size_t parent, std::vector<int>& seen) const {
-    seen[node] = 1;
+  // rootedCounts call (rooted at one parameter, a node's subtree is the same whichever of its parent's values asks).
+  unsigned __int128 subtree(std::size_t node, std::size_t i, std::size_t parent) const {
     if (memo_[node][i] != kUnknown) return memo_[node][i];
     unsigned __int128 product = 1;
     for (const Edge& e : edges_[node]) {
       if (e.other == parent) continue;
       unsigned __int128 sum = 0;
       for (std::size_t j = 0; j < values_[e.other].size(); ++j)
-        if (allowed(e.other, j) && holds(e, values_[node][i], values_[e.other][j])) sum += subtree(e.other, j, node, seen);
-      product = saturated(product * saturated(sum));
+        if (allowed(e.other, j) && holds(e, values_[node][i], values_[e.other][j]))
+          sum = saturated(sum + subtree(e.other, j, node));
+      product = saturated(product * sum);
     }
     return memo_[node][i] = product;
   }
@@ -276,7 +343,8 @@ class ForestCount {
   static constexpr unsigned __int128 kUnknown = ~(unsigned __int128)0;
   std::vector<std::vector<Fixed>> values_;
   std::vector<std::vector<Edge>> edges_;
-  mutable std::vector<std::pair<std::size_t, std::size_t>> fixed_;
+  std::size_t p_max_, p_min_;
+  mutable std::size_t fixed_ = kNone, fixed_value_ = 0;
   mutable std::vector<std::vector<unsigned __int128>> memo_;
 };
 
@@ -285,15 +353,7 @@ template <class Weight>
 std::optional<std::uint64_t> forestSum(const GridSpec& g, Weight weight) {
   const ForestCount forest(g, findMethod(g.method).relations());
   if (!forest.isForest()) return std::nullopt;
-  const std::size_t p_max = g.layout.index("p_max"), p_min = g.layout.index("p_min");
-  unsigned __int128 n = 0;
-  for (std::size_t a = 0; a < forest.valueCount(p_max); ++a)
-    for (std::size_t b = 0; b < forest.valueCount(p_min); ++b) {
-      const std::uint64_t w = weight(forest.value(p_max, a), forest.value(p_min, b));
-      if (w > 0) n += (unsigned __int128)forest.maps(p_max, a, p_min, b) * w;
-      n = std::min<unsigned __int128>(n, 1ULL << 62);
-    }
-  return std::uint64_t(n);
+  return forest.sum(g, weight);
 }
 
 }  // namespace
@@ -306,6 +366,7 @@ std::uint64_t thresholdedMapCount(const GridSpec& g) {
   const auto has_thresholds = [&](Fixed p_max, Fixed p_min) { return thresholdCount(p_max, p_min, g.p_t_step) > 0; };
   if (const auto closed = forestSum(g, [&](Fixed a, Fixed b) { return std::uint64_t(has_thresholds(a, b)); }))
     return *closed;
+  checkWalkable(g);
   std::uint64_t n = 0;
   const std::size_t p_max = g.layout.index("p_max"), p_min = g.layout.index("p_min");
   forEachMap(g, [&](const MapParams& m) { n += has_thresholds(m.values[p_max], m.values[p_min]) ? 1 : 0; });

@@ -108,15 +108,20 @@ void addGridFolder(const std::filesystem::path& folder);
 [[nodiscard]] GridEnumeration enumerateGrid(const GridSpec& grid);
 /// The window of the grid holding its thresholded maps (those with at least one p_t) [begin, end), and any map
 /// without p_t between them: memory by the window, checked against the combinations limit for the window's
-/// combinations; time of one walk over the grid's maps, none stored but the window's (docs/grids.md, "Shards").
+/// combinations; time of two walks over the grid's maps (counting the window's combinations, then storing its maps),
+/// none stored but the window's (docs/grids.md, "Sweep shards").
 [[nodiscard]] GridEnumeration enumerateMapRange(const GridSpec& grid, std::uint64_t begin, std::uint64_t end);
 /// The grid's maps with at least one p_t: by the closed form where there is one (closedFormCount), else counted
 /// map by map without storing them.
 [[nodiscard]] std::uint64_t thresholdedMapCount(const GridSpec& grid);
 
+/// Where counts of combinations saturate: a count at this value means "at least this many".
+inline constexpr std::uint64_t kCountCeiling = 1ULL << 62;
+
 /// Eq. 15's closed form (Eq. 13-14 with floor so it holds for steps that do not divide the range; the paper's
-/// ceiling over-counts then) for knn and octomap grids; none for other methods. Must equal
-/// enumerateGrid(grid).combinations for every grid it has.
+/// ceiling over-counts then) for any method whose relations form a forest; none otherwise. Must equal
+/// enumerateGrid(grid).combinations for every grid it has, up to kCountCeiling. Memory: the parameters' values
+/// (each range bounded by the combinations limit); time: the pairs of p_max and p_min values (at most 10^8).
 [[nodiscard]] std::optional<std::uint64_t> closedFormCount(const GridSpec& grid);
 
 /// The grid's combinations without enumerating them: Eq. 15 where it holds, else a count over the maps.
