@@ -186,8 +186,10 @@ Cells withDisplayNames(Cells c, const std::vector<std::string>& methods, std::si
       std::istringstream words(c[r][i]);
       std::string shown, word;
       while (words >> word) {
+        const std::size_t end = word.find_last_not_of(",;:") + 1;  // punctuation after a name stays after it
+        const std::string bare = word.substr(0, end), after = word.substr(end);
         for (const std::string& m : methods)
-          if (word == m || word == m + "'s") word = displayNameOf(m) + word.substr(m.size());
+          if (bare == m || bare == m + "'s") word = displayNameOf(m) + bare.substr(m.size()) + after;
         shown += (shown.empty() ? "" : " ") + word;
       }
       if (!shown.empty()) c[r][i] = shown;
@@ -355,7 +357,8 @@ std::string latexTables(const ComparisonTables& t) {
   // Each verdict's basis (its sample, test and correction) under the tables, as compare prints it.
   const std::vector<std::string> bases = verdictBases(t.statistics);
   if (!bases.empty()) out += "\\begin{itemize}\n";
-  for (const std::string& line : bases) out += "  \\item " + latexEscaped(line) + "\n";
+  for (const std::string& line : bases)  // the methods by the names the tables above show
+    out += "  \\item " + latexEscaped(withDisplayNames({{line}}, t.methods, 0)[0][0]) + "\n";
   if (!bases.empty()) out += "\\end{itemize}\n";
   return out;
 }
