@@ -317,6 +317,22 @@ TEST_CASE("a baseline that was not given is refused, naming the methods that wer
                     Catch::Contains("baseline octomap") && Catch::Contains("base, other"));
 }
 
+namespace {
+
+// `tables` (in `dir`) compiled by pdflatex in a plain article with only booktabs, graphicx and array: a PDF, and no
+// box wider than the text width (TeX reports each as "Overfull \\hbox" in its log).
+void checkFitsPlainArticle(const fs::path& dir, const std::string& tables) {
+  std::ofstream(dir / "doc.tex") << "\\documentclass{article}\n\\usepackage{booktabs}\n\\usepackage{graphicx}\n"
+                                    "\\usepackage{array}\n\\begin{document}\n\\input{" << tables << "}\n\\end{document}\n";
+  const auto tex = test::runShell("cd " + dir.string() + " && pdflatex -interaction=nonstopmode -halt-on-error doc.tex");
+  INFO(tex.output);
+  CHECK(tex.exit_code == 0);
+  CHECK(fs::file_size(dir / "doc.pdf") > 1000);
+  CHECK(test::bytesOf(dir / "doc.log").find("Overfull \\hbox") == std::string::npos);
+}
+
+}  // namespace
+
 TEST_CASE("compare --csv reads back with Python's csv module into the numbers of --json, and --latex is the golden table") {
   const auto dir = test::processScratch("compare-tables");
   const fs::path golden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin";
@@ -346,14 +362,7 @@ print('csv equals json')
   // compiles with booktabs where pdflatex is installed (the test command installs it: tools/setup.sh).
   CHECK(test::bytesOf(dir / "c.tex") == test::bytesOf(golden / "compare.tex"));
   if (test::runShell("command -v pdflatex").exit_code == 0) {
-    std::ofstream(dir / "doc.tex") << "\\documentclass{article}\n\\usepackage{booktabs}\n\\usepackage{graphicx}\n"
-                                      "\\usepackage{array}\n\\begin{document}\n\\input{c.tex}\n\\end{document}\n";
-    const auto tex = test::runShell("cd " + dir.string() + " && pdflatex -interaction=nonstopmode -halt-on-error doc.tex");
-    INFO(tex.output);
-    CHECK(tex.exit_code == 0);
-    CHECK(fs::file_size(dir / "doc.pdf") > 1000);
-    // Within the text width of a plain article: TeX reports any box wider than its line (old: 421 pt and 1,154 pt).
-    CHECK(test::bytesOf(dir / "doc.log").find("Overfull \\hbox") == std::string::npos);
+    checkFitsPlainArticle(dir, "c.tex");  // old: 421 pt and 1,154 pt past the text width
   } else {
     WARN("pdflatex not installed: the LaTeX table is checked against its golden text only");
   }
@@ -382,12 +391,7 @@ TEST_CASE("compare's terminal output fits 100 columns with five methods and name
   REQUIRE(r.exit_code == 0);
   // The LaTeX of five methods fits a plain article's text width too (old: the statistics table ran 1,154 pt past it).
   if (test::runShell("command -v pdflatex").exit_code == 0) {
-    std::ofstream(dir / "doc.tex") << "\\documentclass{article}\n\\usepackage{booktabs}\n\\usepackage{graphicx}\n"
-                                      "\\usepackage{array}\n\\begin{document}\n\\input{t.tex}\n\\end{document}\n";
-    const auto tex = test::runShell("cd " + dir.string() + " && pdflatex -interaction=nonstopmode -halt-on-error doc.tex");
-    INFO(tex.output);
-    CHECK(tex.exit_code == 0);
-    CHECK(test::bytesOf(dir / "doc.log").find("Overfull \\hbox") == std::string::npos);
+    checkFitsPlainArticle(dir, "t.tex");
     CHECK(test::bytesOf(dir / "t.tex").find("range OctoMap") != std::string::npos);  // display names
   }
   std::istringstream lines(r.output);

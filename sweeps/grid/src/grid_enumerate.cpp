@@ -124,8 +124,8 @@ GridEnumeration enumerateGrid(const GridSpec& g) {
 }
 
 // The combinations of the thresholded maps [begin, end): the closed form for the whole grid, else counted.
-std::uint64_t windowCombinations(const GridSpec& g, std::uint64_t begin, std::uint64_t end) {
-  if (begin == 0 && end >= thresholdedMapCount(g)) return combinationCount(g);
+std::uint64_t windowCombinations(const GridSpec& g, std::uint64_t begin, std::uint64_t end, bool whole) {
+  if (whole) return combinationCount(g);
   const std::size_t p_max = g.layout.index("p_max"), p_min = g.layout.index("p_min");
   std::uint64_t ordinal = 0, n = 0;
   forEachMap(g, [&](const MapParams& m) {
@@ -142,7 +142,7 @@ GridEnumeration enumerateMapRange(const GridSpec& g, std::uint64_t begin, std::u
   const bool whole = begin == 0 && end >= thresholdedMapCount(g);
   checkLimit("grid " + g.name + ": combinations" +
                  (whole ? "" : " of its maps " + std::to_string(begin) + " to " + std::to_string(end) + " (a shard)"),
-             windowCombinations(g, begin, end), limits().combinations, "--max-combinations");
+             windowCombinations(g, begin, end, whole), limits().combinations, "--max-combinations");
   GridEnumeration e;
   const std::size_t p_max = g.layout.index("p_max"), p_min = g.layout.index("p_min");
   forEachMap(g, [&](const MapParams& m) {
