@@ -125,7 +125,7 @@ inline std::vector<BadInput> badInputs() {
       {"matrix pose that is not a rotation", "matrix", "shear.txt", "1 1 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n", "rotation"},
       {"pose file with 6 columns", "pose", "cols.txt", "0 0 0 0 0 1\n", "expected 7"},
       {"pose file without a pose", "pose", "none.txt", "# only a comment\n", "no pose"},
-      {"more poses than images", "pose", "two.txt", "0 0 0 0 0 0 1\n0 0 0 0 0 0 1\n", "one pose per image"},
+      {"more poses than images", "pose", "two.txt", "0 0 0 0 0 0 1\n0 0 0 0 0 0 1\n", "one pose per depth image needed"},
       {"empty scan: depth image all zero", "depth", "zero.pgm", "P2 2 1 65535\n0 0\n", "empty scan"},
       {"empty scan: graph node without points", "graph", "empty.graph", graph(0, 0), "no points"},
       {"empty scan: empty x y z file", "cloud", "empty.xyz", "", "empty scan"},

@@ -64,6 +64,12 @@ void unregisterTemporary(const TemporaryClaim& c) {
   releaseTemporary(c);
 }
 
+// What an interrupt prints before the exit (setInterruptMessage); read by the cleaner under the registry's lock.
+std::string& interruptMessage() {
+  static auto* message = new std::string;
+  return *message;
+}
+
 // Children runChild waits for (child_process.hpp): ended before their temporaries are removed.
 std::set<pid_t>& children() {
   static auto* pids = new std::set<pid_t>;
@@ -102,6 +108,12 @@ void cleanOnInterrupt() {
   }
   for (const auto& [path, claim] : registry())
     if (removeTemporaryEntry(path)) releaseTemporary(claim);  // a record stays for what could not be removed
+  const std::string& message = interruptMessage();
+  for (std::size_t done = 0; done < message.size();) {
+    const ssize_t n = ::write(2, message.data() + done, message.size() - done);
+    if (n <= 0 && errno != EINTR) break;
+    done += n > 0 ? std::size_t(n) : 0;
+  }
   ::_exit(128 + sig);
 }
 
@@ -581,6 +593,11 @@ void writeFileChecked(const fs::path& file, std::string_view bytes) {
     done += std::size_t(n);
   }
   if (::close(fd) != 0) fail(file, errno);
+}
+
+void setInterruptMessage(std::string message) {
+  std::lock_guard lock(registryMutex());
+  interruptMessage() = std::move(message);
 }
 
 int interruptSignalReceived() { return g_interrupt_signal.load(); }

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "occsweep/core/splitmix64.hpp"
+#include "occsweep/sweeps/cluster_estimate.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 #include "occsweep/sweeps/grid.hpp"
 
@@ -312,4 +313,222 @@ TEST_CASE("a task whose output leads out of the plan folder through a symbolic l
   CHECK_NOTHROW(requireOutputInside(inside, dir / "plan"));
   CHECK_THROWS_WITH(requireOutputInside(outside, dir / "plan"),
                     Contains("merged/a.json") && Contains("leads out of the plan folder"));
+}
+
+// docs/cluster.md, "A plan a real cluster runs": set-up lines, each stage's --mem and --time, arrays within Slurm's
+// MaxArraySize (a task at array index task - OCCSWEEP_TASK_OFFSET). tests/cluster/slurm_e2e.sh submits such a plan to
+// a real Slurm of MaxArraySize 4.
+TEST_CASE("a stage's script runs the set-up lines first, then the task its array index and offset name") {
+  const auto dir = test::scratch("cluster-setup-lines");
+  const fs::path echo = dir / "print-args.sh";
+  std::ofstream(echo) << "#!/bin/sh\nfor a in \"$@\"; do printf '%s\\n' \"$a\"; done\n";
+  fs::permissions(echo, fs::perms::owner_all);
+  PlanConfig c = sceneConfig({"x"}, {{"octomap-opt", 5, false}});
+  c.experiment = "sweep";
+  c.datasets = {(dir / "ds").string()};
+  c.occsweep = echo.string();
+  c.slurm.setup = {"echo set-up one", "X=$UNSET_BY_SLURM; echo \"set-up two $X\""};  // before set -u
+  c.slurm.mem = "1G";
+  c.slurm.stage_mem = {{"sweep", "3G"}};
+  c.slurm.stage_time = {{"merge", "00:05:00"}};
+  c.slurm.array_throttle = 2;
+  c.slurm.max_array_size = 3;
+  const ClusterPlan p = buildPlan(c);
+  writePlan(p, dir / "plan", false);
+  const ClusterPlan back = readPlan(dir / "plan");
+  CHECK(back.slurm.setup == c.slurm.setup);
+  CHECK(back.slurm.stage_mem == c.slurm.stage_mem);
+  CHECK(back.slurm.stage_time == c.slurm.stage_time);
+  CHECK(back.slurm.array_throttle == 2);
+  CHECK(back.slurm.max_array_size == 3);
+
+  const std::string sweep_script = test::bytesOf(dir / "plan" / "slurm" / "sweep.sbatch");
+  const std::string merge_script = test::bytesOf(dir / "plan" / "slurm" / "merge.sbatch");
+  CHECK_THAT(sweep_script, Catch::Contains("#SBATCH --mem=3G\n#SBATCH --time=01:00:00\n"));
+  CHECK_THAT(merge_script, Catch::Contains("#SBATCH --mem=1G\n#SBATCH --time=00:05:00\n"));
+  CHECK(sweep_script.find("echo set-up one\n") < sweep_script.find("set -euo pipefail"));
+
+  const ClusterStage& sweep = stageNamed(p, "sweep");
+  REQUIRE(sweep.tasks.size() == 5);
+  for (const auto& t : sweep.tasks) {
+    const std::uint64_t offset = t.index - t.index % 3;  // MaxArraySize 3
+    const std::string cmd = "SLURM_ARRAY_TASK_ID=" + std::to_string(t.index - offset) +
+                            " OCCSWEEP_TASK_OFFSET=" + std::to_string(offset) + " bash '" +
+                            (dir / "plan" / "slurm" / "sweep.sbatch").string() + "' 2>&1";
+    std::string expected = "set-up one\nset-up two \noccsweep cluster plan: stage sweep, task " +
+                           std::to_string(t.index) + "\n";
+    for (std::size_t i = 1; i < t.argv.size(); ++i) expected += t.argv[i] + "\n";
+    CHECK(test::runShell(cmd).output == expected);
+  }
+}
+
+TEST_CASE("each stage's --mem and --time are parsed, and a stage the plan lacks or a value Slurm cannot read is refused") {
+  std::string every = "1G";
+  std::map<std::string, std::string> per_stage;
+  parseStageValues({"2G", "sweep=3G", "merge=500M"}, "--mem", every, per_stage);
+  CHECK(every == "2G");
+  CHECK(per_stage == std::map<std::string, std::string>{{"sweep", "3G"}, {"merge", "500M"}});
+  for (const std::vector<std::string>& bad : std::vector<std::vector<std::string>>{
+           {"2G", "4G"}, {"sweep=1G", "sweep=2G"}, {"=3G"}, {"sweep="}, {""}}) {
+    std::string e = "1G";
+    std::map<std::string, std::string> s;
+    CHECK_THROWS_WITH(parseStageValues(bad, "--mem", e, s), Catch::StartsWith("--mem '"));
+  }
+
+  PlanConfig c = sceneConfig({"x"}, {{"octomap-opt", 2, false}});
+  c.experiment = "sweep";
+  c.datasets = {"ds"};
+  c.slurm.stage_time = {{"sweeep", "00:10:00"}};
+  CHECK_THROWS_WITH(buildPlan(c), "--time sweeep=00:10:00: the plan has no stage 'sweeep' (its stages: sweep, merge, "
+                                  "report)");
+  c.slurm.stage_time.clear();
+  c.slurm.mem = "2 G";
+  CHECK_THROWS_WITH(buildPlan(c), Catch::Contains("--mem '2 G': a value may not hold spaces"));
+  c.slurm.mem = "2G";
+  c.slurm.setup = {"module load a\nmodule load b"};
+  CHECK_THROWS_WITH(buildPlan(c), Catch::Contains("one line each"));
+}
+
+TEST_CASE("a path on a machine's own file system is named as local, as stat -f names it") {
+  // Oracle: GNU stat's file system type names.
+  const std::map<std::string, std::string> stat_name = {{"ext2/ext3", "ext2/3/4"}, {"xfs", "xfs"}, {"btrfs", "btrfs"},
+                                                        {"tmpfs", "tmpfs"}, {"overlayfs", "overlay"}, {"zfs", "zfs"}};
+  const auto dir = test::scratch("cluster-local-fs");
+  for (const fs::path& p : {fs::path("/dev/shm"), fs::path("/proc"), fs::path("/"), dir}) {
+    if (!fs::exists(p)) continue;
+    const std::string type = test::runShell("stat -f -c %T " + test::shellQuoted(p)).output;
+    const auto name = stat_name.find(type.substr(0, type.find('\n')));
+    INFO(p << ": stat -f says " << type);
+    if (name == stat_name.end()) CHECK_FALSE(localFileSystemOf(p).has_value());
+    else CHECK(localFileSystemOf(p) == name->second);
+  }
+  CHECK_FALSE(localFileSystemOf("/proc").has_value());
+}
+
+// docs/cluster.md, "Measured tasks": run-local records each task's wall time, CPU time and peak memory, as the kernel
+// counts them for the finished process (wait4). Oracle: a task that holds 150 MB and spins for 0.4 s.
+TEST_CASE("run-local records each task's wall time, CPU time and peak memory, and status sums them per stage") {
+  const auto dir = test::scratch("cluster-measured");
+  const fs::path task = dir / "busy.sh";
+  std::ofstream(task) << "#!/bin/sh\nexec python3 -c \"import time\nb = bytearray(150 * 1024 * 1024)\n"
+                         "t = time.time()\nwhile time.time() - t < 0.4: pass\"\n";
+  fs::permissions(task, fs::perms::owner_all);
+  PlanConfig c = sceneConfig({"x"}, {{"octomap-opt", 3, false}});
+  c.experiment = "sweep";
+  c.datasets = {(dir / "ds").string()};
+  c.occsweep = task.string();
+  const ClusterPlan p = buildPlan(c);
+  writePlan(p, dir / "plan", false);
+  // The tasks write no output, so they fail their checks and the later stages never start: the sweep stage's three
+  // tasks are measured all the same.
+  CHECK(runLocal(p, dir / "plan", 2) == 3);
+  const std::vector<TaskMeasurement> measured = readMeasurements(dir / "plan");
+  REQUIRE(measured.size() == 3);
+  for (const TaskMeasurement& m : measured) {
+    INFO(m.stage << "[" << m.task << "]");
+    CHECK(m.exit_code == 0);
+    CHECK(m.wall_seconds >= 0.4);
+    CHECK(m.cpu_seconds >= 0.3);
+    CHECK(m.cpu_seconds <= m.wall_seconds + 0.1);
+    CHECK(m.peak_bytes >= 150u * 1024 * 1024);
+    CHECK(m.peak_bytes < 400u * 1024 * 1024);
+    CHECK(m.label == stageNamed(p, m.stage).tasks[m.task].label);
+  }
+  const std::vector<MeasuredStage> stages = measuredStages(p, measured);
+  REQUIRE(stages.size() == p.stages.size());
+  for (std::size_t s = 0; s < stages.size(); ++s) {
+    CHECK(stages[s].measured == (stages[s].stage == "sweep" ? 3u : 0u));
+    double cpu = 0;
+    for (const TaskMeasurement& m : measured)
+      if (m.stage == stages[s].stage) cpu += m.cpu_seconds;
+    CHECK(stages[s].cpu_seconds == Approx(cpu));
+    CHECK(stages[s].longest_seconds <= stages[s].wall_seconds);
+  }
+  const auto r = test::runCli("cluster status " + (dir / "plan").string());
+  INFO(r.output);
+  CHECK_THAT(r.output, Catch::Contains("measured by run-local"));
+  CHECK_THAT(r.output, Catch::Contains("  stage sweep: 3 of 3 tasks, wall "));
+}
+
+TEST_CASE("cluster plan warns when the binary or the plan folder is on a file system compute nodes do not share") {
+  const auto dir = test::scratch("cluster-local-warning");
+  fs::create_directories(dir / "ds");
+  const auto r = test::runCli("cluster plan --out " + (dir / "plan").string() + " --experiment sweep --dataset " +
+                              (dir / "ds").string() + " --grid octomap-opt:1");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const bool binary_local = localFileSystemOf(test::cliUnderTest()).has_value();
+  const bool plan_local = localFileSystemOf(dir).has_value();
+  CHECK((r.output.find("warning: the occsweep binary the tasks run, " + test::cliUnderTest()) != std::string::npos) ==
+        binary_local);
+  CHECK((r.output.find("warning: the plan folder, ") != std::string::npos) == plan_local);
+  if (binary_local || plan_local) CHECK_THAT(r.output, Catch::Contains("run-local works as it is."));
+  // /dev/shm is tmpfs wherever it exists: always local.
+  if (fs::is_directory("/dev/shm") && localFileSystemOf("/dev/shm")) {
+    const fs::path shm = fs::path("/dev/shm") / ("occsweep-plan-" + std::to_string(::getpid()));
+    const auto s = test::runCli("cluster plan --out " + shm.string() + " --experiment sweep --dataset " +
+                                (dir / "ds").string() + " --grid octomap-opt:1");
+    fs::remove_all(shm);
+    INFO(s.output);
+    CHECK_THAT(s.output, Catch::Contains("warning: the plan folder, " + shm.string() +
+                                         ", is on a file system local to this machine (tmpfs)"));
+  }
+}
+
+// docs/cluster.md, "Cost estimate": each task of a new plan costs the mean of the measured tasks of its kind (its
+// stage, and its grid), scaled by measured shards / planned shards.
+TEST_CASE("cluster plan --estimate-from carries measured tasks to a new plan and sets its --time and --mem") {
+  const auto dir = test::scratch("cluster-estimate");
+  const fs::path task = dir / "busy.sh";
+  std::ofstream(task) << "#!/bin/sh\nexec python3 -c \"import time\nb = bytearray(100 * 1024 * 1024)\n"
+                         "t = time.time()\nwhile time.time() - t < 0.3: pass\"\n";
+  fs::permissions(task, fs::perms::owner_all);
+  PlanConfig c = sceneConfig({"x"}, {{"octomap-opt", 3, false}});
+  c.experiment = "sweep";
+  c.datasets = {(dir / "ds").string()};
+  c.occsweep = task.string();
+  const ClusterPlan measured_plan = buildPlan(c);
+  writePlan(measured_plan, dir / "measured", false);
+  CHECK(runLocal(measured_plan, dir / "measured", 2) == 3);  // the sweep stage only: its tasks write no results
+  const std::vector<TaskMeasurement> measured = readMeasurements(dir / "measured");
+  REQUIRE(measured.size() == 3);
+  double cpu = 0, wall = 0;
+  std::uint64_t peak = 0;
+  for (const TaskMeasurement& m : measured) cpu += m.cpu_seconds, wall += m.wall_seconds, peak = std::max(peak, m.peak_bytes);
+
+  // Twice the shards of the measured grid, and a grid never measured.
+  c.grids = {{"octomap-opt", 6, false}, {"knn-opt", 2, false}};
+  const ClusterPlan plan = buildPlan(c);
+  const std::vector<StageEstimate> e = estimatePlan(plan, measured_plan, measured);
+  REQUIRE(e.size() == plan.stages.size());
+  CHECK(e[0].stage == "sweep");
+  CHECK(e[0].tasks == 8);
+  CHECK(e[0].modelled == 6);
+  CHECK(e[0].cpu_seconds == Approx(6 * (cpu / 3) * 3.0 / 6.0));  // the grid's CPU time, whatever its shards
+  CHECK(e[0].longest_seconds == Approx((wall / 3) / 2));
+  CHECK(e[0].peak_bytes == peak);
+  for (std::size_t s = 1; s < e.size(); ++s) CHECK(e[s].modelled == 0);  // merge and report never ran
+
+  // The margins, by hand; the wall time of stages in turn, each no shorter than its longest task.
+  CHECK(timeWithMargin(30) == "00:10:00");
+  CHECK(timeWithMargin(400) == "00:14:00");
+  CHECK(timeWithMargin(7200) == "04:00:00");
+  CHECK(memWithMargin(100u << 20) == "256M");
+  CHECK(memWithMargin(1u << 30) == "1536M");
+  const std::vector<StageEstimate> two = {{"a", 10, 10, 3600, 100, 0}, {"b", 1, 1, 50, 50, 0}};
+  CHECK(estimatedWallSeconds(two, 64, 2) == Approx(100 + 50));
+  CHECK(estimatedWallSeconds(two, 8, 2) == Approx(3600.0 / 8 + 50));
+
+  // Through the command: the estimate printed, the modelled stage's limits set, a given one kept.
+  const auto r = test::runCli("cluster plan --out " + (dir / "new").string() + " --experiment sweep --dataset " +
+                              (dir / "ds").string() + " --grid octomap-opt:6 --occsweep " + task.string() +
+                              " --estimate-from " + (dir / "measured").string() + " --mem merge=2G");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.output, Catch::Contains("estimate from the tasks run-local measured in " + (dir / "measured").string()));
+  CHECK_THAT(r.output, Catch::Contains("  stage sweep: 6 tasks, "));
+  CHECK_THAT(r.output, Catch::Contains("  stage merge: 1 tasks, none of a kind measured there"));
+  const std::string script = test::bytesOf(dir / "new" / "slurm" / "sweep.sbatch");
+  CHECK_THAT(script, Catch::Contains("#SBATCH --mem=256M\n#SBATCH --time=00:10:00\n"));
+  CHECK_THAT(test::bytesOf(dir / "new" / "slurm" / "merge.sbatch"), Catch::Contains("#SBATCH --mem=2G\n"));
 }

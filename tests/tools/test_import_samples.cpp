@@ -47,7 +47,7 @@ TEST_CASE("slambook joinMap PGM frames: the book's own OctoMap is reproduced fro
   c.fx = 518, c.fy = 519, c.cx = 325.5, c.cy = 253.5, c.depth_scale = 1000, c.max_depth = 7.0;
   std::vector<fs::path> images;
   for (int i = 1; i <= 5; ++i) images.push_back(dir / "depth" / (std::to_string(i) + ".pgm"));
-  const Dataset d = importDepthSequence(images, dir / "pose.txt", c);
+  const Dataset d = importDepthSequence(images, {dir / "pose.txt"}, c);
   REQUIRE(d.scans.size() == 5);
   // Oracle: the book inserted each frame with OcTree's defaults at 0.05 m and saved octomap_ref.bt.
   octomap::OcTree ours(0.05);
@@ -93,7 +93,7 @@ TEST_CASE("ICL-NUIM 16-bit PNG frames: libpng decode, plausible depths, poses ap
   CHECK(max_m < 13.0);                   // 65535 / 5000: any larger would be a decoding error
   DepthImportConfig c;
   c.fx = 481.2, c.fy = -480, c.cx = 319.5, c.cy = 239.5, c.depth_scale = 5000, c.stride = 2;
-  const Dataset d = importDepthSequence({dir / "depth" / "1.png", dir / "depth" / "2.png"}, dir / "pose_1-2.txt", c);
+  const Dataset d = importDepthSequence({dir / "depth" / "1.png", dir / "depth" / "2.png"}, {dir / "pose_1-2.txt"}, c);
   REQUIRE(d.scans.size() == 2);
   // Camera frame z is the depth: every point's distance to its camera is at least its depth and the origin is
   // the pose's translation.

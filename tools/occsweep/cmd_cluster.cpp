@@ -1,17 +1,40 @@
 // occsweep cluster plan|submit|status|resubmit|run-local: sharded experiments as Slurm job arrays (docs/cluster.md).
+#include <algorithm>
 #include <chrono>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 #include <thread>
 
 #include "command_registry.hpp"
 #include "install_paths.hpp"
 #include "option_checks.hpp"
 #include "task_options.hpp"
+#include "occsweep/sweeps/cluster_estimate.hpp"
 #include "occsweep/sweeps/cluster_select.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
+#include "occsweep/sweeps/progress.hpp"
 
 namespace occsweep::cli {
 namespace {
+
+/// What run-local measured of each stage (docs/cluster.md, "Measured tasks"); nothing when it measured nothing.
+void printMeasured(const std::vector<MeasuredStage>& stages, const std::filesystem::path& dir) {
+  if (std::none_of(stages.begin(), stages.end(), [](const MeasuredStage& s) { return s.measured > 0; })) return;
+  std::cout << "measured by run-local (" << (dir / "measured.jsonl").string()
+            << ", each task's last successful run):\n";
+  for (const MeasuredStage& s : stages) {
+    if (s.measured == 0) continue;
+    std::ostringstream line;
+    line.setf(std::ios::fixed);
+    line.precision(1);
+    line << "  stage " << s.stage << ": " << s.measured << " of " << s.tasks << " tasks, wall " << s.wall_seconds
+         << " s in all (longest " << s.longest_seconds << " s), CPU " << s.cpu_seconds << " s ("
+         << std::setprecision(3) << s.cpu_seconds / 3600.0 << " core-hours), peak memory "
+         << std::setprecision(0) << double(s.peak_bytes) / 1e6 << " MB\n";
+    std::cout << line.str();
+  }
+}
 
 /// Prints the status; returns the number of tasks not done and counts live ones (running, pending that can start).
 std::size_t printStatus(const ClusterPlan& plan, const std::filesystem::path& dir, bool all, bool quiet,
@@ -49,6 +72,7 @@ std::size_t printStatus(const ClusterPlan& plan, const std::filesystem::path& di
                 << (t.detail.empty() ? "" : ": " + t.detail) << '\n';
     }
   }
+  if (!quiet) printMeasured(measuredStages(plan, readMeasurements(dir)), dir);
   return not_done;
 }
 
@@ -58,7 +82,8 @@ using Subcommand = std::pair<CLI::App*, std::function<int()>>;
 struct PlanOptions {
   PlanConfig config;
   std::string dir, kind = "exists";
-  std::vector<std::string> grids, sweep_args;
+  std::vector<std::string> grids, sweep_args, mem, time;  // --mem, --time: VALUE or STAGE=VALUE
+  std::string estimate_from;  // a plan folder run-local has measured
   bool force = false;
   std::vector<std::string> dataset_dirs, dataset_names;
   CLI::Option *blocks = nullptr, *unranked = nullptr, *sets = nullptr, *group_set = nullptr;
@@ -101,8 +126,17 @@ void addPlanRunOptions(CLI::App& plan, PlanOptions& o) {
   plan.add_option("--sweep-args", o.sweep_args, "More `occsweep sweep` settings for every sweep, e.g. --s-c,4")->delimiter(',');
   plan.add_option("--occsweep", c.occsweep, "occsweep binary the tasks run (default: this one)");
   plan.add_option("--cpus-per-task", c.slurm.cpus_per_task, "sbatch --cpus-per-task")->capture_default_str()->check(integerAtLeast<int>(1));
-  plan.add_option("--mem", c.slurm.mem, "sbatch --mem")->capture_default_str();
-  plan.add_option("--time", c.slurm.time, "sbatch --time")->capture_default_str();
+  plan.add_option("--mem", o.mem, "sbatch --mem: VALUE for every stage, or STAGE=VALUE for one (repeatable)")
+      ->default_str(c.slurm.mem);
+  plan.add_option("--time", o.time, "sbatch --time: VALUE for every stage, or STAGE=VALUE for one (repeatable)")
+      ->default_str(c.slurm.time);
+  plan.add_option("--setup", c.slurm.setup, "A shell line every task runs first, e.g. 'module load gcc' (repeatable)");
+  plan.add_option("--array-throttle", c.slurm.array_throttle, "At most this many tasks of an array at once "
+                  "(sbatch --array=...%N; 0: no limit)")->capture_default_str();
+  plan.add_option("--estimate-from", o.estimate_from, "A plan folder run-local ran: print what this plan will cost "
+                  "from its measured tasks, and set each stage's --time and --mem from it unless given");
+  plan.add_option("--max-array-size", c.slurm.max_array_size, "Slurm's MaxArraySize: larger stages are submitted as "
+                  "several arrays (0: read from scontrol show config at submit, else 1001)")->capture_default_str();
   plan.add_option("--partition", c.slurm.partition, "sbatch --partition");
   plan.add_option("--account", c.slurm.account, "sbatch --account");
   plan.add_option("--sbatch", c.slurm.extra, "More #SBATCH options, verbatim (repeatable), e.g. --qos=long");
@@ -121,6 +155,59 @@ std::vector<std::string> plannedDatasets(const PlanOptions& o) {
   return sweep ? o.dataset_dirs : o.dataset_names;
 }
 
+/// Tasks run on compute nodes, which see only shared file systems: a path on a local one (a build folder under /tmp)
+/// is named, with what to do (docs/cluster.md). run-local does not mind.
+void warnIfLocal(const std::filesystem::path& path, const std::string& what, const std::string& fix) {
+  if (const auto fs_name = localFileSystemOf(path))
+    std::cerr << "warning: " << what << ", " << path.string() << ", is on a file system local to this machine ("
+              << *fs_name << "): Slurm's compute nodes may not see it. On a cluster, " << fix
+              << ". run-local works as it is.\n";
+}
+
+/// Whether `given` (--mem or --time as typed) sets every stage's value, or `stage`'s own.
+bool givenFor(const std::vector<std::string>& given, const std::string& stage) {
+  return std::any_of(given.begin(), given.end(), [&](const std::string& v) {
+    return v.find('=') == std::string::npos || v.rfind(stage + "=", 0) == 0;
+  });
+}
+
+/// A stage whose every task the estimate models gets --time and --mem from it, with their margins, unless they were
+/// given (docs/cluster.md, "Cost estimate").
+void applyEstimatedLimits(const std::vector<StageEstimate>& estimate, const PlanOptions& o, SlurmOptions& slurm) {
+  for (const StageEstimate& e : estimate) {
+    if (e.modelled == 0 || e.modelled != e.tasks) continue;
+    if (!givenFor(o.time, e.stage)) slurm.stage_time[e.stage] = timeWithMargin(e.longest_seconds);
+    if (!givenFor(o.mem, e.stage)) slurm.stage_mem[e.stage] = memWithMargin(e.peak_bytes);
+  }
+}
+
+void printEstimate(const std::vector<StageEstimate>& estimate, const std::string& from, const SlurmOptions& slurm) {
+  std::cout << "estimate from the tasks run-local measured in " << from
+            << " (each kind of task costs the mean of its measured runs; docs/cluster.md, \"Cost estimate\"):\n";
+  double cpu = 0;
+  std::size_t unmodelled = 0;
+  for (const StageEstimate& e : estimate) {
+    cpu += e.cpu_seconds;
+    unmodelled += e.tasks - e.modelled;
+    std::cout << "  stage " << e.stage << ": " << e.tasks << " tasks";
+    if (e.modelled == 0) {
+      std::cout << ", none of a kind measured there\n";
+      continue;
+    }
+    if (e.modelled != e.tasks) std::cout << " (" << e.modelled << " of a kind measured)";
+    std::cout << ", " << std::fixed << std::setprecision(2) << e.cpu_seconds / 3600.0 << " core-hours, longest task "
+              << durationText(e.longest_seconds) << ", peak memory " << std::setprecision(0)
+              << double(e.peak_bytes) / 1e6 << " MB; --time " << stageTime(slurm, e.stage) << " --mem "
+              << stageMem(slurm, e.stage) << '\n';
+  }
+  std::cout << std::setprecision(1) << "  in all: " << cpu / 3600.0 << " core-hours";
+  for (const int cores : {64, 256})
+    std::cout << "; on " << cores << " cores about " << durationText(estimatedWallSeconds(estimate, cores,
+                                                                                         slurm.cpus_per_task));
+  std::cout << (unmodelled ? " (without the " + std::to_string(unmodelled) + " tasks of kinds not measured)" : "")
+            << '\n' << std::defaultfloat;
+}
+
 int runPlan(const PlanOptions& o) {
   PlanConfig c = o.config;
   c.ranked = o.unranked->count() == 0;
@@ -135,8 +222,20 @@ int runPlan(const PlanOptions& o) {
   c.occsweep = std::filesystem::absolute(binary).string();
   c.sweep = sharedSweepSettings(o.sweep_args);
   c.generate_kind = kindFromName(o.kind);
-  const ClusterPlan p = buildPlan(c);
+  parseStageValues(o.mem, "--mem", c.slurm.mem, c.slurm.stage_mem);
+  parseStageValues(o.time, "--time", c.slurm.time, c.slurm.stage_time);
+  ClusterPlan p = buildPlan(c);
+  std::vector<StageEstimate> estimate;
+  if (!o.estimate_from.empty()) {
+    estimate = estimatePlan(p, readPlan(o.estimate_from), readMeasurements(o.estimate_from));
+    applyEstimatedLimits(estimate, o, p.slurm);
+  }
   writePlan(p, o.dir, o.force);
+  warnIfLocal(p.occsweep, "the occsweep binary the tasks run",
+              "install occsweep on a shared file system (NFS, Lustre, GPFS, BeeGFS, CephFS) and plan with that "
+              "binary, or give --occsweep PATH");
+  warnIfLocal(o.dir, "the plan folder",
+              "plan into a folder on a shared file system: the tasks run in it and write their outputs under it");
   std::size_t total = 0;
   for (const auto& s : p.stages) {
     std::cout << "stage " << s.name << ": " << s.tasks.size() << " tasks"
@@ -145,6 +244,7 @@ int runPlan(const PlanOptions& o) {
     total += s.tasks.size();
   }
   std::cout << "wrote " << o.dir << "/plan.json: " << total << " tasks\n";
+  if (!o.estimate_from.empty()) printEstimate(estimate, o.estimate_from, p.slurm);
   return 0;
 }
 

@@ -28,7 +28,8 @@ namespace fs = std::filesystem;
 
 struct ImportOptions {
   std::vector<std::string> files;
-  std::string out, name, poses, pose_format = "quaternion", dataset;
+  std::string out, name, pose_format = "quaternion", dataset;
+  std::vector<std::string> poses;  ///< one file of every frame's pose, or one file a frame
   DepthImportConfig depth;
   std::vector<double> origin{0, 0, 0}, region, shift, view_axis;
   std::optional<double> view_half_angle;
@@ -154,7 +155,9 @@ void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
 
 void addDepthOptions(CLI::App& depth, ImportOptions& o) {
   DepthImportConfig& c = o.depth;
-  depth.add_option("--poses", o.poses, "Pose file, camera-to-world, one pose per image")->required();
+  depth.add_option("--poses", o.poses, "Pose file, camera-to-world: one for all images (one pose each, or a TUM "
+                                      "trajectory matched by timestamp), or one per image in order; after the images")
+      ->required();
   addPoseOptions(&depth, o);
   depth.add_option("--depth-scale", c.depth_scale, "Raw units per metre (1000 = mm; TUM/ICL-NUIM 5000)")->capture_default_str();
   depth.add_option("--fx", c.fx, "Focal length x, pixels")->required();
@@ -166,7 +169,8 @@ void addDepthOptions(CLI::App& depth, ImportOptions& o) {
 }
 
 void addCloudOptions(CLI::App& cloud, ImportOptions& o) {
-  cloud.add_option("--poses", o.poses, "Pose file, sensor-to-world, one pose per cloud (default: clouds in world frame)");
+  cloud.add_option("--poses", o.poses, "Pose file, sensor-to-world: one for all clouds, or one per cloud in order; "
+                                      "after the clouds (default: clouds in world frame)");
   addPoseOptions(&cloud, o);
   cloud.add_option("--origin", o.origin, "Sensor origin of every cloud when there is no pose file")->expected(3);
   cloud.add_option("--view-axis", o.view_axis, "X Y Z: the sensor's cone axis, in the sensor frame with --poses "
@@ -220,12 +224,24 @@ ImportCommands addImportOptions(CLI::App& app, ImportOptions& o) {
   return subs;
 }
 
+/// The median measured depth, and a warning when no depth camera would measure it: a wrong --depth-scale puts every
+/// point 5 or 1000 times too far or too near, and the map then scores nothing (docs/import.md, "Depth scale").
+void reportMedianDepth(const Dataset& d, double depth_scale) {
+  const double median = d.source.value("median_depth", 0.0);
+  std::cout << "median depth " << median << " m (raw value / --depth-scale " << depth_scale << ")\n";
+  if (median < kPlausibleDepthMin || median > kPlausibleDepthMax)
+    std::cerr << "warning: a median depth of " << median << " m is outside the " << kPlausibleDepthMin << "-"
+              << kPlausibleDepthMax << " m depth cameras measure: is --depth-scale " << depth_scale
+              << " right? (raw units per metre: 1000 for millimetres, 5000 for TUM and ICL-NUIM)\n";
+}
+
 int runImportDepth(const ImportOptions& o) {
   DepthImportConfig c = o.depth;
   c.pose_format = poseFormatNamed(o.pose_format);
   c.skip_empty = o.skip_empty;
   c.shift = shiftOf(o);
-  Dataset d = importDepthSequence(paths(o.files), o.poses, c);
+  Dataset d = importDepthSequence(paths(o.files), paths(o.poses), c);
+  reportMedianDepth(d, c.depth_scale);
   shiftOrWarn(d, o, true);
   filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
@@ -241,7 +257,7 @@ int runImportGraph(const ImportOptions& o) {
 
 int runImportCloud(const ImportOptions& o) {
   CloudImportConfig cc;
-  if (!o.poses.empty()) cc.pose_file = fs::path(o.poses);
+  cc.pose_files = paths(o.poses);
   cc.pose_format = poseFormatNamed(o.pose_format);
   cc.origin = {o.origin[0], o.origin[1], o.origin[2]};
   cc.skip_empty = o.skip_empty;

@@ -58,7 +58,7 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
                 << " combinations of " << written[i].header.grid_name << " in " << written[i].seconds << " s\n";
     return 0;
   };
-}};
+}, "the maps it finished are kept beside each output (NAME.partial.jsonl or NAME.db.partial)"};
 
 }  // namespace
 }  // namespace occsweep::cli

@@ -17,6 +17,24 @@
 
 namespace occsweep::cli {
 
+namespace {
+
+// `argv` as a shell reads it back: an argument of other than plain characters in single quotes.
+std::string shellCommand(int argc, char** argv) {
+  std::string line;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool plain = !arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                             "0123456789_./=:,+-@%") == std::string::npos;
+    std::string quoted = "'";
+    for (char ch : arg) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    line += (i ? " " : "") + (plain ? arg : quoted + "'");
+  }
+  return line;
+}
+
+}  // namespace
+
 int runCommandLine(int argc, char** argv) {
   removeTemporariesOnInterrupt();  // before any thread: SIGINT/SIGTERM remove unfinished outputs
   // A reader that goes away (`occsweep grid list | head -1`) fails a write with EPIPE instead of killing occsweep
@@ -29,18 +47,22 @@ int runCommandLine(int argc, char** argv) {
   app.set_version_flag("--version", std::string(kVersion) + " (" + kGitCommit + ")");
   auto specs = commandRegistry();
   std::sort(specs.begin(), specs.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
-  std::map<CLI::App*, std::function<int()>> runners;
+  std::map<CLI::App*, std::pair<const CommandSpec*, std::function<int()>>> runners;
   for (const auto& spec : specs) {
     CLI::App* sub = app.add_subcommand(spec.name, spec.help);
-    runners[sub] = spec.setup(*sub);
+    runners[sub] = {&spec, spec.setup(*sub)};
   }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return reportParseError(app, e, argc, argv);
   }
-  for (auto& [sub, run] : runners) {
+  for (auto& [sub, spec_and_run] : runners) {
     if (!sub->parsed()) continue;
+    const auto& [spec, run] = spec_and_run;
+    if (!spec->kept_on_interrupt.empty())
+      setInterruptMessage("occsweep " + spec->name + ": interrupted; " + spec->kept_on_interrupt +
+                          ". The same command resumes:\n  " + shellCommand(argc, argv) + "\n");
     try {
       return run();
     } catch (const CLI::ParseError& e) {

@@ -16,6 +16,9 @@ struct CommandSpec {
   std::string name;
   std::string help;
   CommandSetup setup;
+  /// For a command that resumes where an interrupt stopped it: what it keeps ("its finished maps are kept in ...").
+  /// An interrupt then prints it and the exact command line that resumes (docs/cli.md, "Progress").
+  std::string kept_on_interrupt = {};
 };
 
 inline std::vector<CommandSpec>& commandRegistry() {
@@ -24,8 +27,8 @@ inline std::vector<CommandSpec>& commandRegistry() {
 }
 
 struct RegisterCommand {
-  RegisterCommand(std::string name, std::string help, CommandSetup setup) {
-    commandRegistry().push_back({std::move(name), std::move(help), std::move(setup)});
+  RegisterCommand(std::string name, std::string help, CommandSetup setup, std::string kept_on_interrupt = {}) {
+    commandRegistry().push_back({std::move(name), std::move(help), std::move(setup), std::move(kept_on_interrupt)});
   }
 };
 

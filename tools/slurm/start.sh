@@ -5,6 +5,7 @@
 # Settings measured to work on a 2-core machine without systemd: docs/cluster.md.
 # Usage: tools/slurm/start.sh RUN_DIR     then: export SLURM_CONF=RUN_DIR/slurm.conf (or source RUN_DIR/env)
 # Ports: SLURM_CTLD_PORT / SLURMD_PORT, default the first free ones from 6817 / 6818 (several clusters can run).
+# SLURM_MAX_ARRAY_SIZE: the cluster's MaxArraySize, default 10001 (tests set a small one to make plans split arrays).
 set -euo pipefail
 [[ $# -eq 1 ]] || { echo "usage: $0 RUN_DIR" >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
@@ -72,7 +73,7 @@ DefMemPerCPU=256
 EnforcePartLimits=ALL
 ReturnToService=2
 MinJobAge=600
-MaxArraySize=10001
+MaxArraySize=${SLURM_MAX_ARRAY_SIZE:-10001}
 NodeName=$host $node NodeAddr=127.0.0.1 State=UNKNOWN
 PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP
 CONF

@@ -11,10 +11,13 @@
 #include <memory>
 #include <sys/file.h>
 #include <sys/wait.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
+#include "occsweep/sweeps/progress.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
@@ -154,6 +157,10 @@ void startTaskLog(const fs::path& log, const std::string& label) {
   if (!written) throw std::runtime_error(log.string() + ": cannot write");
 }
 
+double cpuSeconds(const struct rusage& u) {
+  return double(u.ru_utime.tv_sec) + double(u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 /// One stage's tasks while they run: which process runs which task in which stopper slot, and what has finished.
 class StageRun {
  public:
@@ -177,27 +184,33 @@ class StageRun {
     const std::size_t slot = free_slots_.back();
     free_slots_.pop_back();
     stopper_.track(slot, pid);
-    running_[pid] = {t.index, slot};
+    running_[pid] = {t.index, slot, std::chrono::steady_clock::now()};
     std::ofstream(runningMarker(dir_, stage_.name, t.index)) << pid << '\n';
   }
 
   /// Waits for one task to end and checks its output; a signal (EINTR) returns at once.
   void reap() {
     int status = 0;
-    const pid_t pid = ::waitpid(-1, &status, 0);
+    struct rusage usage {};
+    const pid_t pid = ::wait4(-1, &status, 0, &usage);
     if (pid < 0) {
       if (errno == EINTR) return;
-      throw std::runtime_error(std::string("waitpid failed: ") + std::strerror(errno));
+      throw std::runtime_error(std::string("wait4 failed: ") + std::strerror(errno));
     }
     const auto it = running_.find(pid);
     if (it == running_.end()) return;
     const ClusterTask& t = stage_.tasks[it->second.task];
+    const TaskMeasurement measured{stage_.name, t.index, t.label,
+                                   std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                                 it->second.started).count(),
+                                   cpuSeconds(usage), std::uint64_t(usage.ru_maxrss) * 1024, exitCodeOf(status)};
     stopper_.forget(it->second.slot);
     free_slots_.push_back(it->second.slot);
     std::error_code ec;
     fs::remove(runningMarker(dir_, stage_.name, t.index), ec);
     running_.erase(it);
     if (stopper_.signal()) return;  // stopped: the task did not fail, it was ended
+    appendMeasurement(dir_, measured);
     ++finished_;
     const int code = exitCodeOf(status);
     const std::string why = code == 0 ? checkOutput(t, dir_) : "exit code " + std::to_string(code);
@@ -214,13 +227,15 @@ class StageRun {
   void printProgress() {
     const auto now = std::chrono::steady_clock::now();
     if (finished_ != tasks_ && now - last_print_ <= std::chrono::seconds(5)) return;
-    std::cerr << "stage " << stage_.name << ": " << finished_ << "/" << tasks_ << " tasks finished\n";
+    const double seconds = std::chrono::duration<double>(now - start_).count();
+    std::cerr << progressLine("stage " + stage_.name, "tasks", finished_, tasks_, seconds) << '\n';
     last_print_ = now;
   }
 
   struct Running {
     std::uint64_t task;
     std::size_t slot;
+    std::chrono::steady_clock::time_point started;
   };
   const ClusterStage& stage_;
   std::size_t tasks_;
@@ -305,7 +320,8 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
   }
   if (const int signal = stopper.signal()) {
     std::cerr << "run-local: stopped by signal " << signal << " (" << strsignal(signal)
-              << "); its tasks are ended, done tasks are kept: run it again to go on\n";
+              << "); its tasks are ended, done tasks are kept. The rest runs with:\n  occsweep cluster run-local "
+              << plan_dir.string() << " --threads " << jobs << '\n';
     // Die of the same signal, as the shell and a parent expect of a stopped program.
     ::signal(signal, SIG_DFL);
     ::raise(signal);

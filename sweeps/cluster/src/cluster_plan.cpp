@@ -3,6 +3,7 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include "occsweep/sweeps/cluster_plan.hpp"
 #include "occsweep/sweeps/grid.hpp"
@@ -308,6 +309,36 @@ void addSweepStages(const PlanConfig& c, const std::vector<SweptSet>& swept, con
   plan.stages.push_back(std::move(report));
 }
 
+/// The sbatch settings of a built plan: a value is one word (it becomes an `#SBATCH` line), a set-up line one line,
+/// and a stage named in `--mem STAGE=...` or `--time STAGE=...` one of the plan's.
+void checkSlurmOptions(const ClusterPlan& plan) {
+  const SlurmOptions& o = plan.slurm;
+  std::string stages;
+  for (const ClusterStage& st : plan.stages) stages += (stages.empty() ? "" : ", ") + st.name;
+  const auto oneWord = [](const std::string& flag, const std::string& value) {
+    if (value.find_first_of(" \t\r\n\v\f") != std::string::npos)
+      throw std::invalid_argument(flag + " '" + value + "': a value may not hold spaces or line breaks (it is one "
+                                  "#SBATCH option)");
+  };
+  for (const auto& [flag, every, per_stage] : {std::tuple{"--mem", &o.mem, &o.stage_mem},
+                                               std::tuple{"--time", &o.time, &o.stage_time}}) {
+    oneWord(flag, *every);
+    for (const auto& entry : *per_stage) {
+      const std::string &stage = entry.first, &value = entry.second;  // named: clang 14 captures no binding
+      oneWord(flag, value);
+      const bool known = std::any_of(plan.stages.begin(), plan.stages.end(), [&](const ClusterStage& st) {
+        return st.name == stage;
+      });
+      if (!known)
+        throw std::invalid_argument(std::string(flag) + " " + stage + "=" + value + ": the plan has no stage '" + stage +
+                                    "' (its stages: " + stages + ")");
+    }
+  }
+  for (const std::string& line : o.setup)
+    if (line.find_first_of("\r\n") != std::string::npos)
+      throw std::invalid_argument("--setup '" + line + "': one line each; give --setup once per line");
+}
+
 }  // namespace
 
 ClusterPlan buildPlan(const PlanConfig& c) {
@@ -317,6 +348,7 @@ ClusterPlan buildPlan(const PlanConfig& c) {
   const std::vector<SweptSet> swept = c.experiment == "reproduce" ? addGenerationStages(c, keys, plan)
                                                                   : existingSets(c, keys);
   addSweepStages(c, swept, loadPlanGrids(c), plan);
+  checkSlurmOptions(plan);
   return plan;
 }
 

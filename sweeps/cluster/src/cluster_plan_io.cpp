@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
+#include <sys/vfs.h>
 
 #include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/output_file.hpp"
@@ -44,7 +45,9 @@ json planJson(const ClusterPlan& p) {
   const auto& o = p.slurm;
   return {{"format", kPlanFormat}, {"version", 1}, {"experiment", p.experiment}, {"occsweep", p.occsweep},
           {"slurm", {{"cpus_per_task", o.cpus_per_task}, {"mem", o.mem}, {"time", o.time},
-                     {"partition", o.partition}, {"account", o.account}, {"extra", o.extra}}},
+                     {"partition", o.partition}, {"account", o.account}, {"extra", o.extra},
+                     {"stage_mem", o.stage_mem}, {"stage_time", o.stage_time}, {"setup", o.setup},
+                     {"array_throttle", o.array_throttle}, {"max_array_size", o.max_array_size}}},
           {"stages", stages}};
 }
 
@@ -57,6 +60,13 @@ T field(const json& j, const std::string& key, const std::string& file, const st
   } catch (const json::exception&) {
     throw std::runtime_error(file + ": " + where + key + ": wrong type");
   }
+}
+
+/// A value of `j` at `key`, or `otherwise` when the key is missing (a plan written before the field existed).
+template <class T>
+T optionalField(const json& j, const std::string& key, const std::string& file, const std::string& where,
+                T otherwise) {
+  return j.is_object() && j.contains(key) ? field<T>(j, key, file, where) : otherwise;
 }
 
 /// Whether plan.json at `manifest` is occsweep's own plan, proven by its own `format` field; what it is otherwise.
@@ -103,6 +113,12 @@ ClusterPlan parsePlan(const json& j, const std::string& file) {
              field<std::string>(s, "time", file, "slurm."), field<std::string>(s, "partition", file, "slurm."),
              field<std::string>(s, "account", file, "slurm."),
              field<std::vector<std::string>>(s, "extra", file, "slurm.")};
+  using StageValues = std::map<std::string, std::string>;
+  p.slurm.stage_mem = optionalField<StageValues>(s, "stage_mem", file, "slurm.", {});
+  p.slurm.stage_time = optionalField<StageValues>(s, "stage_time", file, "slurm.", {});
+  p.slurm.setup = optionalField<std::vector<std::string>>(s, "setup", file, "slurm.", {});
+  p.slurm.array_throttle = optionalField<std::uint64_t>(s, "array_throttle", file, "slurm.", 0);
+  p.slurm.max_array_size = optionalField<std::uint64_t>(s, "max_array_size", file, "slurm.", 0);
   for (const auto& sj : field<json>(j, "stages", file, "")) {
     ClusterStage st{field<std::string>(sj, "name", file, "stages[]."),
                     field<std::vector<std::string>>(sj, "after", file, "stages[]."), {}};
@@ -156,22 +172,42 @@ std::string sbatchScript(const ClusterPlan& plan, const ClusterStage& stage) {
   std::ostringstream s;
   s << "#!/bin/bash\n# occsweep cluster plan, stage " << stage.name << ": " << stage.tasks.size()
     << " tasks, one occsweep command each. Submitted by `occsweep cluster submit|resubmit`, which adds\n"
-    << "# --array (only the tasks to run), --chdir (the plan folder), --output and --dependency=afterok.\n"
+    << "# --array (only the tasks to run, in arrays within MaxArraySize: task = array index + OCCSWEEP_TASK_OFFSET),\n"
+    << "# --chdir (the plan folder), --output and --dependency=afterok.\n"
     << "#SBATCH --job-name=occsweep-" << stage.name << "\n#SBATCH --cpus-per-task=" << o.cpus_per_task << '\n';
-  if (!o.mem.empty()) s << "#SBATCH --mem=" << o.mem << '\n';
-  if (!o.time.empty()) s << "#SBATCH --time=" << o.time << '\n';
+  if (const std::string mem = stageMem(o, stage.name); !mem.empty()) s << "#SBATCH --mem=" << mem << '\n';
+  if (const std::string time = stageTime(o, stage.name); !time.empty()) s << "#SBATCH --time=" << time << '\n';
   if (!o.partition.empty()) s << "#SBATCH --partition=" << o.partition << '\n';
   if (!o.account.empty()) s << "#SBATCH --account=" << o.account << '\n';
   for (const auto& e : o.extra) s << "#SBATCH " << e << '\n';
   // Requeue after node failure is safe: every output is written atomically and a sweep resumes.
-  s << "#SBATCH --requeue\nset -euo pipefail\ncase \"${SLURM_ARRAY_TASK_ID:?not run as a job array task}\" in\n";
+  s << "#SBATCH --requeue\n";
+  // Set-up lines come before `set -u`: environment-module scripts read variables that may be unset.
+  if (!o.setup.empty()) s << "# set-up (cluster plan --setup)\n";
+  for (const auto& line : o.setup) s << line << '\n';
+  s << "set -euo pipefail\n"
+    << "task=$(( ${SLURM_ARRAY_TASK_ID:?not run as a job array task} + ${OCCSWEEP_TASK_OFFSET:-0} ))\n"
+    << "echo \"occsweep cluster plan: stage " << stage.name << ", task $task\" >&2  # logs are named by array index\n"
+    << "case \"$task\" in\n";
   for (const auto& t : stage.tasks) {
     s << "  " << t.index << ")";
     for (const auto& a : t.argv) s << ' ' << shellQuote(a);
     s << " ;;\n";
   }
-  s << "  *) echo \"stage " << stage.name << " has no task $SLURM_ARRAY_TASK_ID\" >&2; exit 2 ;;\nesac\n";
+  s << "  *) echo \"stage " << stage.name << " has no task $task\" >&2; exit 2 ;;\nesac\n";
   return s.str();
+}
+
+std::optional<std::string> localFileSystemOf(const std::filesystem::path& path) {
+  struct statfs info {};
+  if (::statfs(path.c_str(), &info) != 0) return std::nullopt;
+  // Magic numbers of <linux/magic.h> (and zfs's), for the file systems that never span machines.
+  static const std::map<unsigned long, std::string> local = {
+      {0xEF53, "ext2/3/4"}, {0x58465342, "xfs"}, {0x9123683E, "btrfs"}, {0x01021994, "tmpfs"},
+      {0x794C7630, "overlay"}, {0x2FC12FC1, "zfs"}, {0x4D44, "vfat"}, {0x5346544E, "ntfs"}};
+  const auto it = local.find(static_cast<unsigned long>(info.f_type) & 0xFFFFFFFFUL);
+  if (it == local.end()) return std::nullopt;
+  return it->second;
 }
 
 std::optional<std::string> brokenPlanOutputRule(const std::string& output) {

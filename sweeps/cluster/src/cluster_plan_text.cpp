@@ -1,6 +1,7 @@
 // Small parsers of the plan options: grid specs, command templates, output kinds.
 #include <charconv>
 #include <stdexcept>
+#include <utility>
 
 #include "occsweep/sweeps/cluster_plan.hpp"
 
@@ -70,6 +71,32 @@ std::vector<std::string> splitArgs(const std::string& text) {
   }
   if (!cur.empty()) args.push_back(cur);
   return args;
+}
+
+void parseStageValues(const std::vector<std::string>& given, const std::string& flag, std::string& every,
+                      std::map<std::string, std::string>& per_stage) {
+  bool every_given = false;
+  for (const std::string& text : given) {
+    const auto eq = text.find('=');
+    const std::string stage = eq == std::string::npos ? "" : text.substr(0, eq);
+    const std::string value = eq == std::string::npos ? text : text.substr(eq + 1);
+    if (value.empty() || (eq != std::string::npos && stage.empty()))
+      throw std::invalid_argument(flag + " '" + text + "': expected VALUE for every stage or STAGE=VALUE");
+    if (stage.empty() ? std::exchange(every_given, true) : !per_stage.emplace(stage, value).second)
+      throw std::invalid_argument(flag + " '" + text + "': " + (stage.empty() ? "every stage's" : "stage " + stage + "'s") +
+                                  " value is given twice");
+    if (stage.empty()) every = value;
+  }
+}
+
+std::string stageMem(const SlurmOptions& o, const std::string& stage) {
+  const auto it = o.stage_mem.find(stage);
+  return it == o.stage_mem.end() ? o.mem : it->second;
+}
+
+std::string stageTime(const SlurmOptions& o, const std::string& stage) {
+  const auto it = o.stage_time.find(stage);
+  return it == o.stage_time.end() ? o.time : it->second;
 }
 
 const ClusterStage& stageNamed(const ClusterPlan& plan, const std::string& name) {

@@ -1,4 +1,5 @@
 // Talking to Slurm: reading its records of a plan's array tasks, and submitting stages as chained job arrays.
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -28,6 +29,47 @@ bool numeric(const std::string& s) { return !s.empty() && s.find_first_not_of("0
 
 /// "CANCELLED by 0" -> "CANCELLED".
 std::string firstWord(const std::string& s) { return s.substr(0, s.find(' ')); }
+
+/// Slurm's MaxArraySize (an array index must be below it): the plan's, else what `scontrol show config` says, else
+/// Slurm's default, 1001.
+std::uint64_t maxArraySize(const SlurmOptions& o) {
+  if (o.max_array_size > 0) return o.max_array_size;
+  const auto r = runCapture({"scontrol", "show", "config"}, true);
+  if (r.exit_code == 0)
+    for (const auto& l : lines(r.text)) {
+      std::istringstream words(l);  // "MaxArraySize            = 1001"
+      std::string key, equals, value;
+      if (words >> key >> equals >> value && key == "MaxArraySize" && equals == "=" && numeric(value) &&
+          value.size() < 10 && std::stoull(value) > 0)
+        return std::stoull(value);
+    }
+  return 1001;
+}
+
+/// One array of a stage: its tasks, each at array index task - offset.
+struct ArrayPart {
+  std::uint64_t offset = 0;
+  std::vector<std::uint64_t> tasks;
+};
+
+/// The tasks `ids` (ascending) in arrays whose indices stay below `max_size`: task t goes to the array of offset
+/// t - t % max_size, at index t % max_size. A stage of fewer tasks than MaxArraySize is one array of offset 0.
+std::vector<ArrayPart> splitArrays(const std::vector<std::uint64_t>& ids, std::uint64_t max_size) {
+  std::vector<ArrayPart> parts;
+  for (const std::uint64_t id : ids) {
+    const std::uint64_t offset = id - id % max_size;
+    if (parts.empty() || parts.back().offset != offset) parts.push_back({offset, {}});
+    parts.back().tasks.push_back(id);
+  }
+  return parts;
+}
+
+/// sbatch's --array of one part: its indices, then `%N` under a throttle.
+std::string arrayOption(const ArrayPart& part, std::uint64_t throttle) {
+  std::vector<std::uint64_t> indices;
+  for (const std::uint64_t t : part.tasks) indices.push_back(t - part.offset);
+  return arrayRanges(indices) + (throttle > 0 ? "%" + std::to_string(throttle) : "");
+}
 
 }  // namespace
 
@@ -99,37 +141,41 @@ SubmitReport submitPlan(const ClusterPlan& plan, const fs::path& dir, bool resub
     throw std::runtime_error(std::to_string(live) + " tasks of the plan are still running or pending: wait for them "
                              "(`cluster status DIR --wait`) or scancel them, then resubmit");
   const auto torun = tasksToRun(plan, status);
-  std::map<std::string, std::string> submitted;  // stage -> job id, this round
+  const std::uint64_t max_size = maxArraySize(plan.slurm);
+  std::map<std::string, std::string> submitted;  // stage -> ":JOB:JOB..." of its arrays, this round
   for (std::size_t s = 0; s < plan.stages.size(); ++s) {
     const ClusterStage& stage = plan.stages[s];
     if (torun[s].empty()) continue;
     // An output that is rewritten must not be taken as done meanwhile (a sweep keeps a complete file).
     for (auto t : torun[s]) requireOutputInside(stage.tasks[t], dir);
     for (auto t : torun[s]) removeOwnOutput(stage.tasks[t], dir);
-    std::vector<std::string> argv = {"sbatch", "--parsable", "--array=" + arrayRanges(torun[s]),
-                                     "--chdir=" + fs::absolute(dir).string(),
-                                     "--output=" + (fs::absolute(dir) / "logs" / (stage.name + "-%A_%a.out")).string()};
     std::string deps;
-    for (const auto& a : stage.after)
-      if (submitted.count(a)) deps += ":" + submitted[a];
-    if (!deps.empty()) {
-      argv.push_back("--dependency=afterok" + deps);
-      argv.push_back("--kill-on-invalid-dep=yes");  // a failed dependency cancels this array, not leaves it pending
+    for (const auto& a : stage.after) deps += submitted[a];
+    for (const ArrayPart& part : splitArrays(torun[s], max_size)) {
+      const std::string array = arrayOption(part, plan.slurm.array_throttle);
+      std::vector<std::string> argv = {"sbatch", "--parsable", "--array=" + array,
+                                       "--export=ALL,OCCSWEEP_TASK_OFFSET=" + std::to_string(part.offset),
+                                       "--chdir=" + fs::absolute(dir).string(),
+                                       "--output=" + (fs::absolute(dir) / "logs" / (stage.name + "-%A_%a.out")).string()};
+      if (!deps.empty()) {
+        argv.push_back("--dependency=afterok" + deps);
+        argv.push_back("--kill-on-invalid-dep=yes");  // a failed dependency cancels this array, not leaves it pending
+      }
+      argv.push_back((fs::absolute(dir) / "slurm" / (stage.name + ".sbatch")).string());
+      const auto r = runCapture(argv);
+      const auto got = lines(r.text);
+      const std::string job = got.empty() ? "" : firstWord(splitOn(got.back(), ';')[0]);
+      if (r.exit_code != 0 || !numeric(job))
+        throw std::runtime_error("sbatch of stage " + stage.name + " failed (exit " + std::to_string(r.exit_code) +
+                                 ")" + (report.submitted.empty() ? "" : ": earlier arrays were submitted, see status"));
+      const Submission sub{stage.name, job, part.tasks, part.offset};
+      appendSubmission(dir, sub);
+      submitted[stage.name] += ":" + job;
+      report.submitted.push_back(sub);
+      log << "stage " << stage.name << ": job " << job << ", " << part.tasks.size() << " of " << stage.tasks.size()
+          << " tasks (--array=" << array << (part.offset ? ", tasks from " + std::to_string(part.offset) : "") << ")"
+          << (deps.empty() ? "" : ", after " + deps.substr(1)) << '\n';
     }
-    argv.push_back((fs::absolute(dir) / "slurm" / (stage.name + ".sbatch")).string());
-    const auto r = runCapture(argv);
-    const auto got = lines(r.text);
-    const std::string job = got.empty() ? "" : firstWord(splitOn(got.back(), ';')[0]);
-    if (r.exit_code != 0 || !numeric(job))
-      throw std::runtime_error("sbatch of stage " + stage.name + " failed (exit " + std::to_string(r.exit_code) +
-                               ")" + (report.submitted.empty() ? "" : ": earlier stages were submitted, see status"));
-    const Submission sub{stage.name, job, torun[s]};
-    appendSubmission(dir, sub);
-    submitted[stage.name] = job;
-    report.submitted.push_back(sub);
-    log << "stage " << stage.name << ": job " << job << ", " << torun[s].size() << " of " << stage.tasks.size()
-        << " tasks (--array=" << arrayRanges(torun[s]) << ")" << (deps.empty() ? "" : ", after " + deps.substr(1))
-        << '\n';
   }
   if (report.submitted.empty()) log << "nothing to submit: every task is done\n";
   return report;

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <algorithm>
 #include <fstream>
 #include <set>
 
@@ -138,6 +139,23 @@ bool outputStale(const ClusterTask& task, const fs::path& dir) {
   return false;
 }
 
+namespace {
+
+/// One whole line appended to a plan file, never through a symbolic link at its name (docs/robustness.md,
+/// "Ownership"); O_APPEND: one write, one line.
+void appendLine(const fs::path& file, const std::string& line) {
+  const int fd = ::open(file.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+  if (fd < 0)
+    throw std::runtime_error(file.string() + (errno == ELOOP ? ": is a symbolic link: occsweep never writes through "
+                                                               "one; remove it"
+                                                             : ": cannot open: " + std::string(std::strerror(errno))));
+  const bool written = ::write(fd, line.data(), line.size()) == ssize_t(line.size());
+  ::close(fd);
+  if (!written) throw std::runtime_error(file.string() + ": cannot append");
+}
+
+}  // namespace
+
 std::vector<Submission> readSubmissions(const fs::path& dir) {
   std::vector<Submission> out;
   const std::string file = (dir / "submissions.jsonl").string();
@@ -148,7 +166,9 @@ std::vector<Submission> readSubmissions(const fs::path& dir) {
     try {
       const auto j = nlohmann::json::parse(line);
       out.push_back({j.at("stage").get<std::string>(), j.at("job_id").get<std::string>(),
-                     j.at("tasks").get<std::vector<std::uint64_t>>()});
+                     j.at("tasks").get<std::vector<std::uint64_t>>(), j.value("offset", std::uint64_t(0))});
+      for (const std::uint64_t t : out.back().tasks)
+        if (t < out.back().offset) throw std::runtime_error("task " + std::to_string(t) + " is below the offset");
     } catch (const std::exception& e) {
       throw std::runtime_error(file + ":" + std::to_string(n) + ": not a submission record: " + e.what());
     }
@@ -157,18 +177,64 @@ std::vector<Submission> readSubmissions(const fs::path& dir) {
 }
 
 void appendSubmission(const fs::path& dir, const Submission& s) {
-  const fs::path file = dir / "submissions.jsonl";
-  // O_NOFOLLOW: a symbolic link at the record's name is the user's, never written through (docs/robustness.md,
-  // "Ownership"); O_APPEND: one whole line per write.
-  const int fd = ::open(file.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-  if (fd < 0)
-    throw std::runtime_error(file.string() + (errno == ELOOP ? ": is a symbolic link: occsweep never writes through "
-                                                               "one; remove it"
-                                                             : ": cannot open: " + std::string(std::strerror(errno))));
-  const std::string line = nlohmann::json{{"stage", s.stage}, {"job_id", s.job_id}, {"tasks", s.tasks}}.dump() + '\n';
-  const bool written = ::write(fd, line.data(), line.size()) == ssize_t(line.size());
-  ::close(fd);
-  if (!written) throw std::runtime_error(file.string() + ": cannot append");
+  appendLine(dir / "submissions.jsonl",
+             nlohmann::json{{"stage", s.stage}, {"job_id", s.job_id}, {"tasks", s.tasks}, {"offset", s.offset}}.dump() +
+                 '\n');
+}
+
+void appendMeasurement(const fs::path& dir, const TaskMeasurement& m) {
+  appendLine(dir / "measured.jsonl", nlohmann::json{{"stage", m.stage},
+                                                    {"task", m.task},
+                                                    {"label", m.label},
+                                                    {"wall_seconds", m.wall_seconds},
+                                                    {"cpu_seconds", m.cpu_seconds},
+                                                    {"peak_bytes", m.peak_bytes},
+                                                    {"exit_code", m.exit_code}}
+                                         .dump() +
+                                         '\n');
+}
+
+std::vector<TaskMeasurement> readMeasurements(const fs::path& dir) {
+  std::vector<TaskMeasurement> out;
+  const std::string file = (dir / "measured.jsonl").string();
+  std::ifstream in(file);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    try {
+      const auto j = nlohmann::json::parse(line);
+      out.push_back({j.at("stage").get<std::string>(), j.at("task").get<std::uint64_t>(),
+                     j.at("label").get<std::string>(), j.at("wall_seconds").get<double>(),
+                     j.at("cpu_seconds").get<double>(), j.at("peak_bytes").get<std::uint64_t>(),
+                     j.at("exit_code").get<int>()});
+    } catch (const std::exception& e) {
+      throw std::runtime_error(file + ":" + std::to_string(n) + ": not a task measurement: " + e.what());
+    }
+  }
+  return out;
+}
+
+std::vector<MeasuredStage> measuredStages(const ClusterPlan& plan, const std::vector<TaskMeasurement>& measurements) {
+  std::map<std::pair<std::string, std::uint64_t>, const TaskMeasurement*> last;  // (stage, task) -> its last success
+  for (const TaskMeasurement& m : measurements)
+    if (m.exit_code == 0) last[{m.stage, m.task}] = &m;
+  std::vector<MeasuredStage> out;
+  for (const ClusterStage& stage : plan.stages) {
+    MeasuredStage& row = out.emplace_back();
+    row.stage = stage.name;
+    row.tasks = stage.tasks.size();
+    for (const ClusterTask& task : stage.tasks) {
+      const auto it = last.find({stage.name, task.index});
+      if (it == last.end() || it->second->label != task.label) continue;  // another plan's task at that index
+      const TaskMeasurement& m = *it->second;
+      ++row.measured;
+      row.wall_seconds += m.wall_seconds;
+      row.longest_seconds = std::max(row.longest_seconds, m.wall_seconds);
+      row.cpu_seconds += m.cpu_seconds;
+      row.peak_bytes = std::max(row.peak_bytes, m.peak_bytes);
+    }
+  }
+  return out;
 }
 
 const char* stateName(TaskState s) {
@@ -189,7 +255,7 @@ std::vector<std::vector<TaskStatus>> planStatus(const ClusterPlan& plan, const f
                                                 const std::vector<Submission>& submissions) {
   std::map<std::pair<std::string, std::uint64_t>, std::string> latest;  // (stage, task) -> JOBID_TASK
   for (const auto& s : submissions)
-    for (auto t : s.tasks) latest[{s.stage, t}] = s.job_id + "_" + std::to_string(t);
+    for (auto t : s.tasks) latest[{s.stage, t}] = s.job_id + "_" + std::to_string(t - s.offset);
   static const std::set<std::string> pending = {"PENDING", "REQUEUED", "REQUEUE_HOLD", "REQUEUE_FED", "SUSPENDED"};
   static const std::set<std::string> running = {"RUNNING", "CONFIGURING", "COMPLETING", "RESIZING", "STAGE_OUT",
                                                 "SIGNALING"};

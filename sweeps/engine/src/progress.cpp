@@ -1,12 +1,48 @@
 #include "occsweep/sweeps/progress.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <unistd.h>
 
 namespace occsweep {
 
-Progress::Progress(std::string label, std::uint64_t total, bool quiet)
-    : label_(std::move(label)), total_(total), quiet_(quiet), tty_(::isatty(2) != 0),
+std::string durationText(double seconds) {
+  const long s = std::lround(std::max(0.0, seconds));
+  char text[48];
+  if (s < 60) std::snprintf(text, sizeof text, "%ld s", s);
+  else if (s < 3600) std::snprintf(text, sizeof text, "%ld min %02ld s", s / 60, s % 60);
+  else std::snprintf(text, sizeof text, "%ld h %02ld min", s / 3600, (s % 3600) / 60);
+  return text;
+}
+
+namespace {
+
+std::string rateText(double per_second, const std::string& unit) {
+  char text[64];
+  std::snprintf(text, sizeof text, per_second >= 100 ? "%.0f %s/s" : "%.3g %s/s", per_second, unit.c_str());
+  return text;
+}
+
+}  // namespace
+
+std::string progressLine(const std::string& label, const std::string& unit, std::uint64_t done, std::uint64_t total,
+                         double seconds) {
+  char counts[96];
+  std::snprintf(counts, sizeof counts, "%llu/%llu %s (%.1f %%)", (unsigned long long)done, (unsigned long long)total,
+                unit.c_str(), total ? 100.0 * double(done) / double(total) : 100.0);
+  std::string line = label + ": " + counts;
+  if (done > 0 && seconds > 0) {
+    const double rate = double(done) / seconds;
+    line += ", " + rateText(rate, unit);
+    if (done < total) line += ", " + durationText(double(total - done) / rate) + " left";
+  }
+  return line + ", " + durationText(seconds) + (done >= total ? " in all" : " so far");
+}
+
+Progress::Progress(std::string label, std::uint64_t total, bool quiet, std::string unit)
+    : label_(std::move(label)), unit_(std::move(unit)), total_(total), quiet_(quiet), tty_(::isatty(2) != 0),
       start_(std::chrono::steady_clock::now()), last_(start_) {}
 
 Progress::~Progress() {
@@ -17,7 +53,8 @@ void Progress::advance(std::uint64_t n) {
   done_ += n;
   if (quiet_) return;
   const auto now = std::chrono::steady_clock::now();
-  const auto every = tty_ ? std::chrono::milliseconds(200) : std::chrono::milliseconds(10000);
+  const std::chrono::steady_clock::duration every =
+      tty_ ? std::chrono::steady_clock::duration(std::chrono::milliseconds(200)) : kLogInterval;
   std::unique_lock lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock() || now - last_ < every) return;
   last_ = now;
@@ -27,17 +64,22 @@ void Progress::advance(std::uint64_t n) {
 void Progress::print(bool final) {
   const std::uint64_t done = done_.load();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double fraction = total_ ? double(done) / double(total_) : 1.0;
+  const std::string line = progressLine(label_, unit_, done, total_, seconds);
   if (tty_) {
-    const int width = 30, filled = int(fraction * width);
-    std::fprintf(stderr, "\r%s [%.*s%*s] %llu/%llu %.0f s%s", label_.c_str(), filled,
-                 "##############################", width - filled, "", (unsigned long long)done,
-                 (unsigned long long)total_, seconds, final ? "\n" : "");
+    const double fraction = total_ ? double(done) / double(total_) : 1.0;
+    const int width = 20, filled = int(fraction * width);
+    // \033[K clears what a longer earlier line left on the right
+    std::fprintf(stderr, "\r[%.*s%*s] %s\033[K%s", filled, "####################", width - filled, "", line.c_str(),
+                 final ? "\n" : "");
   } else {
-    std::fprintf(stderr, "%s: %llu/%llu (%.0f%%) after %.0f s\n", label_.c_str(), (unsigned long long)done,
-                 (unsigned long long)total_, fraction * 100.0, seconds);
+    std::fprintf(stderr, "%s\n", line.c_str());
   }
   std::fflush(stderr);
+}
+
+void announcePhase(const std::string& what, bool quiet) {
+  if (quiet) return;
+  std::cerr << what << '\n';
 }
 
 }  // namespace occsweep

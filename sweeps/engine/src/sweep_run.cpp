@@ -7,6 +7,7 @@
 #include <functional>
 #include <iostream>
 #include <optional>
+#include <sstream>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -213,7 +214,7 @@ void countGrid(const SweepEngine& engine, std::size_t slot, GridSweep& g, tbb::t
   const std::vector<std::vector<std::size_t>> batches = engine.batches(slot);
   const bool twin = hasTwin(*g.config);
   Progress progress("sweep " + g.header.grid_name + " on " + g.header.dataset_name + " (" + engine.name() + ")",
-                    g.todo.size(), g.config->quiet);
+                    g.todo.size(), g.config->quiet, "maps");
   arena.execute([&] {
     tbb::parallel_for(std::size_t(0), batches.size(), [&](std::size_t b) {
       const auto t0 = Clock::now();
@@ -238,13 +239,21 @@ struct GridOutcome {
   SweepSummary summary;
 };
 
+std::string metres(double value) {
+  std::ostringstream text;
+  text << value << " m";
+  return text.str();
+}
+
 std::vector<GridOutcome> runGrids(const std::vector<SweepConfig>& configs) {
   const auto start = Clock::now();
   requireOneDataSet(configs);
   const SweepConfig& c = configs.front();
   const std::unique_ptr<SweepEngine> engine = makeSweepEngine(c.engine);
+  announcePhase("reading data set " + c.dataset.string(), c.quiet);
   Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
   requireInKeyRange(data, c.dataset, c.resolution);
+  announcePhase("ground truth of " + data.name + "'s region at resolution " + metres(c.resolution), c.quiet);
   const SweepTruths truths = sweepTruths(c, data);  // before anything is written: a refused region leaves nothing
   std::vector<GridSweep> grids;  // never grown after this loop: outputs and the engine keep pointers into it
   grids.reserve(configs.size());
@@ -254,6 +263,8 @@ std::vector<GridOutcome> runGrids(const std::vector<SweepConfig>& configs) {
 
   tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
   std::vector<std::size_t> slot;
+  announcePhase("preparing the " + engine->name() + " engine: " + std::to_string(data.scans.size()) + " scans for " +
+                    std::to_string(grids.size()) + (grids.size() == 1 ? " grid" : " grids"), c.quiet);
   prepareEngine(*engine, c, data, truths, grids, slot, arena);
   const double shared_seconds = secondsSince(start);  // reading, truth and recording: every grid's
   std::vector<GridOutcome> out;

@@ -95,7 +95,7 @@ void fitJobs(const ReproduceConfig& c, std::vector<NcaJob>& jobs) {
   nc.folds = c.nca_folds;
   nc.lambda_factors = c.nca_lambda_factors;
   nc.seed = c.seed;
-  Progress progress("NCA weights (" + std::to_string(jobs.size()) + " fits)", jobs.size(), c.quiet);
+  Progress progress("NCA weights", jobs.size(), c.quiet, "fits");
   tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t j) {

@@ -119,7 +119,8 @@ json fitsPerK(const ReproduceConfig& c, const std::vector<RuntimeSample>& s_knn)
 json runRuntimeModels(const ReproduceConfig& c, const std::vector<RankedDataset>& all) {
   const std::vector<std::size_t> picked = pickedDatasets(c, all);
   const int fractions = std::max(c.runtime_fractions, 1);
-  Progress progress("timed builds", picked.size() * std::size_t(fractions) * (1 + c.runtime_k.size()), c.quiet);
+  Progress progress("timed builds", picked.size() * std::size_t(fractions) * (1 + c.runtime_k.size()), c.quiet,
+                    "builds");
   TimedBuilds t;
   for (std::size_t i : picked) timeBuilds(c, all[i], fractions, progress, t);
   const RuntimeFit f17 = fitEq17(t.s_om), f18 = fitEq18(t.s_knn);

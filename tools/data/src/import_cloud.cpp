@@ -20,7 +20,8 @@ std::string lowerExtension(const fs::path& file) {
 
 // What a coordinate that overflows float32 went through, for the error (docs/import.md, "Float overflow").
 std::string afterWhat(const CloudImportConfig& c) {
-  std::string what = c.pose_file ? "after the pose of " + c.pose_file->string() : "";
+  std::string what = c.pose_files.empty() ? "" : "after the pose of " + c.pose_files[0].string() +
+                                                     (c.pose_files.size() > 1 ? " (or the others)" : "");
   if (c.shift != std::array<double, 3>{0, 0, 0}) what += std::string(what.empty() ? "after" : " and") + " --shift";
   return what;
 }
@@ -64,26 +65,22 @@ SensorView cloudView(const ConeView& cone, const RigidPose& pose) {
 Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfig& c) {
   if (clouds.empty()) throw std::invalid_argument("no point cloud given");
   if (c.view) (void)cloudView(*c.view, RigidPose{});  // its rules, before any file is read
-  std::vector<RigidPose> poses;
-  if (c.pose_file) {
-    poses = readPoses(*c.pose_file, c.pose_format);
-    if (poses.size() != clouds.size())
-      throw DataError(*c.pose_file, "", "holds " + std::to_string(poses.size()) + " poses for " +
-                                            std::to_string(clouds.size()) + " clouds: one pose per cloud needed");
-  }
+  const bool posed = !c.pose_files.empty();
+  const std::vector<RigidPose> poses = posed ? framePoses(c.pose_files, c.pose_format, clouds, "cloud")
+                                             : std::vector<RigidPose>{};
   PointCloudSet scans;
   std::uint64_t total_points = 0;
   nlohmann::json files = nlohmann::json::array();
   ProgressLine progress("point cloud");
   for (std::size_t i = 0; i < clouds.size(); ++i) {
     progress.show(i + 1, clouds.size());
-    CloudPlacement at{c.pose_file ? poses[i] : RigidPose{}, c.shift};
+    CloudPlacement at{posed ? poses[i] : RigidPose{}, c.shift};
     Scan scan;
     scan.points = readCloud(clouds[i], at);
-    if (!c.pose_file) at.pose.translation = c.origin;  // points in the world frame, the sensor at --origin
+    if (!posed) at.pose.translation = c.origin;  // points in the world frame, the sensor at --origin
     scan.origin = at.placeOrigin();
     files.push_back(clouds[i].filename().string());
-    if (c.view) scan.view = cloudView(*c.view, c.pose_file ? poses[i] : RigidPose{});
+    if (c.view) scan.view = cloudView(*c.view, posed ? poses[i] : RigidPose{});
     if (scan.points.empty() && c.skip_empty) continue;
     requireNonEmpty(scan, clouds[i].string(), "");
     requireFiniteScan(scan, clouds[i].string(), "", afterWhat(c));
@@ -93,8 +90,8 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
   if (scans.empty()) throw std::invalid_argument("every point cloud is empty");
   nlohmann::json source = {{"generator", "occsweep import cloud"}, {"clouds", files}};
   if (c.view) source["view"] = {{"axis", c.view->axis}, {"half_angle_deg", c.view->half_angle_deg}};
-  if (c.pose_file) {
-    source["poses"] = c.pose_file->filename().string();
+  if (posed) {
+    source["poses"] = poseFileNames(c.pose_files);
     source["pose_format"] = poseFormatName(c.pose_format);
   } else {
     source["origin"] = c.origin;

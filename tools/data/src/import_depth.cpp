@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
@@ -52,38 +53,60 @@ Scan depthToScan(const DepthImage& image, const RigidPose& pose, const DepthImpo
   return scan;
 }
 
-Dataset importDepthSequence(const std::vector<fs::path>& images, const fs::path& pose_file,
+namespace {
+
+/// Up to `cap` of an image's measured raw values, evenly spread over its pixels: the sample of the median depth.
+void sampleDepths(const DepthImage& image, std::size_t cap, std::vector<std::uint16_t>& sample) {
+  const std::size_t step = std::max<std::size_t>(1, image.values.size() / std::max<std::size_t>(cap, 1));
+  for (std::size_t i = 0; i < image.values.size(); i += step)
+    if (image.values[i] != 0) sample.push_back(image.values[i]);
+}
+
+double medianMetres(std::vector<std::uint16_t>& sample, double depth_scale) {
+  if (sample.empty()) return 0;
+  const auto middle = sample.begin() + std::ptrdiff_t(sample.size() / 2);
+  std::nth_element(sample.begin(), middle, sample.end());
+  return double(*middle) / depth_scale;
+}
+
+}  // namespace
+
+Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vector<fs::path>& pose_files,
                             const DepthImportConfig& c) {
   validate(c);
   if (images.empty()) throw std::invalid_argument("no depth image given");
-  const auto poses = readPoses(pose_file, c.pose_format);
-  if (poses.size() != images.size())
-    throw DataError(pose_file, "", "holds " + std::to_string(poses.size()) + " poses for " +
-                                       std::to_string(images.size()) + " depth images: one pose per image needed");
+  if (pose_files.empty()) throw std::invalid_argument("no pose file given (--poses)");
+  const auto poses = framePoses(pose_files, c.pose_format, images, "depth image");
+  // At most about a million values in all, for the median depth that shows a wrong --depth-scale.
+  const std::size_t per_image = std::max<std::size_t>(1000, 1'000'000 / images.size());
+  std::vector<std::uint16_t> depth_sample;
   PointCloudSet scans;
   std::uint64_t total_points = 0;
   nlohmann::json files = nlohmann::json::array();
   ProgressLine progress("depth image");
   for (std::size_t i = 0; i < images.size(); ++i) {
     progress.show(i + 1, images.size());
-    Scan scan = depthToScan(readDepthImage(images[i]), poses[i], c);
+    const DepthImage image = readDepthImage(images[i]);
+    sampleDepths(image, per_image, depth_sample);
+    Scan scan = depthToScan(image, poses[i], c);
     files.push_back(images[i].filename().string());
     if (scan.points.empty() && c.skip_empty) continue;
     requireNonEmpty(scan, images[i].string(), "");
     requireFiniteScan(scan, images[i].string(), "",
-                      "check --depth-scale, --fx, --fy, --shift and the pose in " + pose_file.string());
+                      "check --depth-scale, --fx, --fy, --shift and the poses of " + pose_files[0].string());
     countPoints(total_points, scan, images[i].string());
     scans.push_back(std::move(scan));
   }
   if (scans.empty()) throw std::invalid_argument("every depth image is empty");
   nlohmann::json source = {{"generator", "occsweep import depth"},
                            {"images", files},
-                           {"poses", pose_file.filename().string()},
+                           {"poses", poseFileNames(pose_files)},
                            {"pose_format", poseFormatName(c.pose_format)},
                            {"depth_scale", c.depth_scale},
                            {"intrinsics", {c.fx, c.fy, c.cx, c.cy}},
                            {"max_depth", c.max_depth},
-                           {"stride", c.stride}};
+                           {"stride", c.stride},
+                           {"median_depth", medianMetres(depth_sample, c.depth_scale)}};
   return importedDataset(images.front().parent_path().filename().string(), std::move(scans), source);
 }
 

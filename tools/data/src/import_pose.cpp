@@ -1,6 +1,9 @@
 #include "occsweep/data/import_pose.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -23,14 +26,23 @@ namespace {
   return std::abs(det - 1.0) <= kRotationTolerance;  // det -1 is a reflection: a left-handed frame, refused
 }
 
+/// What a line of `values` numbers looks like, when it is another format's: the flag that reads it.
+std::string otherFormatHint(std::size_t values, bool timestamp) {
+  if (values == 4) return " (four numbers a line: a row of a 4x4 matrix? --pose-format matrix)";
+  if (values == 16) return " (16 numbers: a 4x4 matrix on one line? --pose-format matrix)";
+  if (values == 12) return " (12 numbers: KITTI's 3x4 [R|t]? --pose-format kitti)";
+  if (!timestamp && values == 8) return " (a TUM file starts with a timestamp: --pose-format tum)";
+  if (timestamp && values == 7) return " (no timestamp: --pose-format quaternion)";
+  return "";
+}
+
 /// tx ty tz qx qy qz qw, after TUM's timestamp when `timestamp`.
 RigidPose quaternionLine(const TextLines& lines, const std::vector<std::string_view>& tok, bool timestamp) {
   static const char* names[] = {"timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
   const std::size_t skip = timestamp ? 1 : 0, expected = 7 + skip;
   if (tok.size() != expected)
     lines.fail("has " + std::to_string(tok.size()) + " values, expected " + std::to_string(expected) + ": " +
-               (timestamp ? "timestamp " : "") + "tx ty tz qx qy qz qw" +
-               (!timestamp && tok.size() == 8 ? " (a TUM file starts with a timestamp: --pose-format tum)" : ""));
+               (timestamp ? "timestamp " : "") + "tx ty tz qx qy qz qw" + otherFormatHint(tok.size(), timestamp));
   double v[8];
   for (std::size_t i = 0; i < expected; ++i) v[i] = lines.number(tok[i], i, names[i + 1 - skip]);
   const double* q = v + skip;
@@ -154,6 +166,92 @@ PoseFormat poseFormatNamed(const std::string& name) {
 
 std::vector<RigidPose> readPoses(const fs::path& file, PoseFormat format) {
   return decodePoses(readFileBytes(file, std::uint64_t(1) << 30), file, format);
+}
+
+namespace {
+
+std::string seconds(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g s", s);
+  return text;
+}
+
+/// The timestamps of a TUM pose file (its first column), in file order; decodePoses has checked the lines.
+std::vector<double> tumTimestamps(const fs::path& file) {
+  const std::string text = readFileBytes(file, std::uint64_t(1) << 30);
+  TextLines lines(text, file);
+  std::vector<std::string_view> tok;
+  std::vector<double> stamps;
+  while (lines.nextData(tok)) stamps.push_back(lines.number(tok[0], 0, "timestamp"));
+  return stamps;
+}
+
+/// A frame's timestamp when its file name (without extension) is one, as TUM names its images.
+std::optional<double> frameTimestamp(const fs::path& frame) {
+  double t = 0;
+  return parseFiniteDouble(frame.stem().string(), t) ? std::optional<double>(t) : std::nullopt;
+}
+
+/// Each frame's pose: the TUM pose nearest its timestamp, within kTumMaxTimeDifference.
+std::vector<RigidPose> associateByTimestamp(const fs::path& file, const std::vector<RigidPose>& poses,
+                                            const std::vector<fs::path>& frames) {
+  const std::vector<double> stamps = tumTimestamps(file);
+  std::vector<RigidPose> out;
+  for (const fs::path& frame : frames) {
+    const double t = *frameTimestamp(frame);
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < stamps.size(); ++i)
+      if (std::abs(stamps[i] - t) < std::abs(stamps[best] - t)) best = i;
+    const double gap = std::abs(stamps[best] - t);
+    if (gap > kTumMaxTimeDifference)
+      throw DataError(file, "", "no pose within " + seconds(kTumMaxTimeDifference) + " of " +
+                                    frame.filename().string() + " (the nearest is " + seconds(gap) +
+                                    " away): is it the trajectory of these images?");
+    out.push_back(poses[best]);
+  }
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json poseFileNames(const std::vector<fs::path>& pose_files) {
+  if (pose_files.size() == 1) return pose_files[0].filename().string();
+  nlohmann::json names = nlohmann::json::array();
+  for (const fs::path& f : pose_files) names.push_back(f.filename().string());
+  return names;
+}
+
+std::vector<RigidPose> framePoses(const std::vector<fs::path>& pose_files, PoseFormat format,
+                                  const std::vector<fs::path>& frames, const std::string& kind) {
+  if (pose_files.size() > 1) {  // one file per frame
+    if (pose_files.size() != frames.size())
+      throw std::invalid_argument(std::to_string(pose_files.size()) + " pose files for " + std::to_string(frames.size()) +
+                                  " " + kind + "s: give one pose file for all, or one per " + kind + ", in order");
+    std::vector<RigidPose> out;
+    for (const fs::path& file : pose_files) {
+      const std::vector<RigidPose> poses = readPoses(file, format);
+      if (poses.size() != 1)
+        throw DataError(file, "", "holds " + std::to_string(poses.size()) + " poses: with one pose file per " + kind +
+                                      ", each holds its " + kind + "'s pose alone");
+      out.push_back(poses.front());
+    }
+    return out;
+  }
+  const fs::path& file = pose_files.at(0);
+  std::vector<RigidPose> poses = readPoses(file, format);
+  if (poses.size() == frames.size()) return poses;
+  const bool timestamped = std::all_of(frames.begin(), frames.end(), [](const fs::path& f) {
+    return frameTimestamp(f).has_value();
+  });
+  if (format == PoseFormat::Tum && timestamped) return associateByTimestamp(file, poses, frames);
+  const std::string counts = "holds " + std::to_string(poses.size()) + " poses for " + std::to_string(frames.size()) +
+                             " " + kind + "s: one pose per " + kind + " needed";
+  if (poses.size() < frames.size()) throw DataError(file, "", counts);
+  throw DataError(file, "", counts + ". A whole sequence's poses? Give every " + kind + " of the sequence, or a file of " +
+                                "these " + kind + "s' poses in order (the first " + std::to_string(frames.size()) +
+                                ": head -n " + std::to_string(frames.size()) + " for one pose a line); a TUM "
+                                "trajectory (--pose-format tum) is matched by timestamp when each " + kind +
+                                " is named by its own, as TUM names them");
 }
 
 }  // namespace occsweep

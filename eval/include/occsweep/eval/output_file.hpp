@@ -170,6 +170,9 @@ void writeFileChecked(const std::filesystem::path& file, std::string_view bytes)
 /// write error (EFBIG) instead of a kill. Call once at the start of main(). A SIGKILL cannot be caught: the next
 /// run writing the same target removes what it left (removeStaleTemporaries).
 void removeTemporariesOnInterrupt();
+/// What the interrupt's cleaner prints on stderr once the temporaries are removed, before the exit: for a command
+/// that resumes, what it kept and the command that resumes (set by the command line). Empty: nothing.
+void setInterruptMessage(std::string message);
 /// The signal removeTemporariesOnInterrupt's handler has received (0: none). Its cleaning thread exits the process
 /// soon after, however busy the machine: code that starts child processes checks this once its own handlers are
 /// in place, so that no child is started that the exit would leave behind (cluster run-local).

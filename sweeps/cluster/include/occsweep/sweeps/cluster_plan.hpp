@@ -4,8 +4,8 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,12 +56,28 @@ struct ClusterStage {
   std::vector<ClusterTask> tasks;
 };
 
-/// sbatch options passed through to every stage's script. Empty strings are left out.
+/// sbatch options of every stage's script (docs/cluster.md, "A plan a real cluster runs"). Empty strings are left
+/// out.
 struct SlurmOptions {
   int cpus_per_task = 1;
   std::string mem = "1G", time = "01:00:00", partition, account;
   std::vector<std::string> extra;      ///< more `#SBATCH` options, verbatim (e.g. --qos=normal)
+  std::map<std::string, std::string> stage_mem, stage_time;  ///< per stage name, over `mem` and `time`
+  std::vector<std::string> setup;      ///< shell lines every task runs first (`module load ...`, a virtualenv)
+  std::uint64_t array_throttle = 0;    ///< at most this many tasks of an array at once (`--array=...%N`); 0: no limit
+  std::uint64_t max_array_size = 0;    ///< Slurm's MaxArraySize; 0: read from `scontrol show config` at submit
 };
+/// The name of the file system holding `path` when it is one that is local to a machine (ext4, xfs, btrfs, tmpfs,
+/// overlay, zfs): compute nodes would not see a binary or a plan folder there. Nothing for network and cluster file
+/// systems (NFS, Lustre, GPFS, BeeGFS, CephFS, ...) and for any it does not know.
+[[nodiscard]] std::optional<std::string> localFileSystemOf(const std::filesystem::path& path);
+/// A stage's --mem and --time: its own when given, else every stage's.
+[[nodiscard]] std::string stageMem(const SlurmOptions& o, const std::string& stage);
+[[nodiscard]] std::string stageTime(const SlurmOptions& o, const std::string& stage);
+/// `--mem`/`--time` as given on the command line, VALUE for every stage or STAGE=VALUE for one (repeatable), into
+/// `every` and `per_stage`; std::invalid_argument naming `flag` for an empty value or a stage given twice.
+void parseStageValues(const std::vector<std::string>& given, const std::string& flag, std::string& every,
+                      std::map<std::string, std::string>& per_stage);
 
 struct ClusterPlan {
   std::string experiment;              ///< reproduce | sweep

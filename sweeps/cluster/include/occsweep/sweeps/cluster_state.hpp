@@ -50,12 +50,38 @@ void requireOutputInside(const ClusterTask& task, const std::filesystem::path& d
 
 // ---- Slurm records ----
 /// One `sbatch` of a stage's tasks, appended to DIR/submissions.jsonl.
+/// One submitted array of a stage: its tasks, task t at array index t - offset (arrays stay within MaxArraySize).
 struct Submission {
   std::string stage, job_id;
   std::vector<std::uint64_t> tasks;
+  std::uint64_t offset = 0;
 };
 [[nodiscard]] std::vector<Submission> readSubmissions(const std::filesystem::path& dir);
 void appendSubmission(const std::filesystem::path& dir, const Submission& s);
+
+/// What a task cost when run-local ran it (docs/cluster.md, "Measured tasks"): one line of DIR/measured.jsonl.
+struct TaskMeasurement {
+  std::string stage;
+  std::uint64_t task = 0;
+  std::string label;
+  double wall_seconds = 0, cpu_seconds = 0;  ///< CPU: user + system, of the task and the children it waited for
+  std::uint64_t peak_bytes = 0;              ///< peak resident memory (getrusage's ru_maxrss)
+  int exit_code = 0;
+};
+void appendMeasurement(const std::filesystem::path& dir, const TaskMeasurement& m);
+/// DIR/measured.jsonl in file order (none: empty); a broken line is refused naming the file and the line.
+[[nodiscard]] std::vector<TaskMeasurement> readMeasurements(const std::filesystem::path& dir);
+
+/// A stage's cost as run-local measured it: each task's last successful run (exit 0) under the task's label (a
+/// measurement of another plan's task at that index is left out).
+struct MeasuredStage {
+  std::string stage;
+  std::size_t tasks = 0, measured = 0;        ///< the stage's tasks, and how many have a measurement
+  double wall_seconds = 0, longest_seconds = 0, cpu_seconds = 0;  ///< sums but the longest task's wall time
+  std::uint64_t peak_bytes = 0;               ///< the largest task's peak resident memory
+};
+[[nodiscard]] std::vector<MeasuredStage> measuredStages(const ClusterPlan& plan,
+                                                        const std::vector<TaskMeasurement>& measurements);
 
 /// What Slurm says about array tasks, keyed "JOBID_TASK": state (RUNNING, FAILED, ...) and pending reason.
 struct SlurmRecord {

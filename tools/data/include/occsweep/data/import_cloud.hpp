@@ -40,7 +40,7 @@ struct PlyData {
 [[nodiscard]] std::vector<octomap::point3d> readCloud(const std::filesystem::path& file, const CloudPlacement& at = {});
 
 struct CloudImportConfig {
-  std::optional<std::filesystem::path> pose_file;  ///< one pose a cloud, sensor -> world; none: world frame
+  std::vector<std::filesystem::path> pose_files;  ///< sensor -> world, as framePoses reads them; none: world frame
   PoseFormat pose_format = PoseFormat::Quaternion;
   std::array<double, 3> origin{0, 0, 0};           ///< sensor origin of every cloud when there is no pose file
   bool skip_empty = false;

@@ -58,9 +58,14 @@ void validate(const DepthImportConfig& config);
 /// cameraView.
 [[nodiscard]] Scan depthToScan(const DepthImage& image, const RigidPose& pose, const DepthImportConfig& config);
 
-/// Reads `images` in order with one pose each from `pose_file`; progress on stderr. A data set without ground
-/// truth (see importedDataset).
+/// Reads `images` in order, each with its pose from `pose_files` (framePoses: one file, one per image, or a TUM
+/// trajectory matched by timestamp); progress on stderr. A data set without ground truth (see importedDataset); its
+/// source records the median measured depth in metres (`median_depth`, over up to about a million pixels), which
+/// shows a wrong --depth-scale (docs/import.md).
 [[nodiscard]] Dataset importDepthSequence(const std::vector<std::filesystem::path>& images,
-                                          const std::filesystem::path& pose_file, const DepthImportConfig& config);
+                                          const std::vector<std::filesystem::path>& pose_files,
+                                          const DepthImportConfig& config);
+/// Depths a depth camera measures, metres: a median outside is reported as a likely wrong --depth-scale.
+inline constexpr double kPlausibleDepthMin = 0.1, kPlausibleDepthMax = 10.0;
 
 }  // namespace occsweep

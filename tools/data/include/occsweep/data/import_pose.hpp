@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <octomap/octomap_types.h>
 
 namespace occsweep {
@@ -59,5 +60,23 @@ inline constexpr double kRotationTolerance = 1e-3;
 [[nodiscard]] std::vector<RigidPose> decodePoses(std::string_view text, const std::filesystem::path& file,
                                                  PoseFormat format);
 [[nodiscard]] std::vector<RigidPose> readPoses(const std::filesystem::path& file, PoseFormat format);
+
+/// What a data set's source records of its pose files: the file's name, or the list of names of one file per frame.
+[[nodiscard]] nlohmann::json poseFileNames(const std::vector<std::filesystem::path>& pose_files);
+
+/// How far apart (seconds) a frame's timestamp and its TUM pose's may be when frames are associated by timestamp:
+/// TUM's associate.py default.
+inline constexpr double kTumMaxTimeDifference = 0.02;
+
+/// The pose of each frame (`frames`: image or cloud files, in order; `kind`: "depth image", "cloud") from
+/// `pose_files` (docs/import.md, "Poses"):
+/// - one file of one pose per frame, in frame order;
+/// - one file per frame, each of one pose, in frame order (3DMatch's frame-*.pose.txt);
+/// - one TUM file (--pose-format tum) of any number of poses, when every frame's name is its timestamp
+///   (TUM's depth/1305031102.160407.png): each frame takes the pose nearest in time, within kTumMaxTimeDifference.
+/// Otherwise a DataError naming the file, the counts and the fix.
+[[nodiscard]] std::vector<RigidPose> framePoses(const std::vector<std::filesystem::path>& pose_files, PoseFormat format,
+                                                const std::vector<std::filesystem::path>& frames,
+                                                const std::string& kind);
 
 }  // namespace occsweep

@@ -1,0 +1,177 @@
+// The usual mistakes of importing one's own recording (docs/import.md, "Poses" and "Depth scale"), through the
+// command: a pose file in another format's shape, poses one file per frame (3DMatch), a TUM trajectory of more poses
+// than images, and a wrong --depth-scale. OCCSWEEP_TEST_CLI=/path/to/old/occsweep runs them against another build.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <sstream>
+#include <tuple>
+
+#include "occsweep/eval/dataset.hpp"
+#include "test_helpers.hpp"
+
+using namespace occsweep;
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+
+namespace {
+
+constexpr int kWidth = 4, kHeight = 3;
+const std::string kCamera = " --fx 2 --fy 2 --cx 1.5 --cy 1";
+
+// A 16-bit binary PGM of `raw` at every pixel but one, which holds raw + 1 + frame (so that frames differ).
+void writeDepth(const fs::path& file, std::uint16_t raw, int frame) {
+  std::string body;
+  for (int i = 0; i < kWidth * kHeight; ++i) {
+    const auto v = std::uint16_t(i == 5 ? raw + 1 + frame : raw);
+    body += char(v >> 8), body += char(v & 0xff);  // big-endian
+  }
+  std::ofstream(file, std::ios::binary) << "P5\n" << kWidth << ' ' << kHeight << "\n65535\n" << body;
+}
+
+// A camera-to-world pose with identity rotation at (x, y, z), as a 4x4 matrix.
+std::string matrixPose(double x, double y, double z) {
+  std::ostringstream s;
+  s << "1 0 0 " << x << "\n0 1 0 " << y << "\n0 0 1 " << z << "\n0 0 0 1\n";
+  return s.str();
+}
+
+test::CommandResult importDepth(const std::string& images, const std::string& poses, const std::string& more,
+                                const fs::path& out) {
+  return test::runCli("import depth " + images + " --poses " + poses + kCamera + more + " --out " + out.string());
+}
+
+// Two data sets hold the same scans: points, origins, views.
+void requireSameScans(const fs::path& a, const fs::path& b) {
+  const Dataset x = readDataset(a), y = readDataset(b);
+  REQUIRE(x.scans.size() == y.scans.size());
+  for (std::size_t s = 0; s < x.scans.size(); ++s) {
+    INFO("scan " << s);
+    CHECK(x.scans[s].origin == y.scans[s].origin);
+    REQUIRE(x.scans[s].points.size() == y.scans[s].points.size());
+    for (std::size_t i = 0; i < x.scans[s].points.size(); ++i) CHECK(x.scans[s].points[i] == y.scans[s].points[i]);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("a pose file read in the wrong format names the --pose-format that reads it") {
+  const fs::path dir = test::scratch("import-checks-format");
+  writeDepth(dir / "d.pgm", 2000, 0);
+  std::ofstream(dir / "matrix.txt") << matrixPose(1, 2, 3);
+  std::ofstream(dir / "one-line.txt") << "1 0 0 1 0 1 0 2 0 0 1 3 0 0 0 1\n";
+  std::ofstream(dir / "kitti.txt") << "1 0 0 1 0 1 0 2 0 0 1 3\n";
+  std::ofstream(dir / "no-stamp.txt") << "1 2 3 0 0 0 1\n";
+  const std::string image = (dir / "d.pgm").string();
+  for (const auto& [file, format, hint] : {std::tuple{"matrix.txt", "", "--pose-format matrix"},
+                                           std::tuple{"one-line.txt", "", "--pose-format matrix"},
+                                           std::tuple{"kitti.txt", "", "--pose-format kitti"},
+                                           std::tuple{"no-stamp.txt", " --pose-format tum", "--pose-format quaternion"}}) {
+    const auto r = importDepth(image, (dir / file).string(), format, dir / "ds");
+    INFO(file << ": " << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output, Contains((dir / file).string() + ": line 1: "));
+    CHECK_THAT(r.output, Contains(hint));
+    CHECK_FALSE(fs::exists(dir / "ds"));
+  }
+}
+
+TEST_CASE("poses one file per frame, in image order, import as one file of all the poses does") {
+  const fs::path dir = test::scratch("import-checks-per-frame");
+  std::string images, pose_files, all_poses;
+  for (int f = 0; f < 3; ++f) {
+    const std::string frame = "frame-00000" + std::to_string(f);
+    writeDepth(dir / (frame + ".depth.pgm"), std::uint16_t(1500 + 100 * f), f);
+    std::ofstream(dir / (frame + ".pose.txt")) << matrixPose(0.5 * f, -f, 2 + f);
+    all_poses += matrixPose(0.5 * f, -f, 2 + f);
+    images += " " + (dir / (frame + ".depth.pgm")).string();
+    pose_files += " " + (dir / (frame + ".pose.txt")).string();
+  }
+  std::ofstream(dir / "all.txt") << all_poses;
+  const auto per_frame = importDepth(images, pose_files, " --pose-format matrix", dir / "per-frame");
+  INFO(per_frame.output);
+  REQUIRE(per_frame.exit_code == 0);
+  REQUIRE(importDepth(images, (dir / "all.txt").string(), " --pose-format matrix", dir / "one-file").exit_code == 0);
+  requireSameScans(dir / "per-frame", dir / "one-file");
+  CHECK(readDataset(dir / "per-frame").scans[2].origin == octomap::point3d(1.0f, -2.0f, 4.0f));
+
+  // Two pose files for three images; a frame's file of two poses.
+  auto r = importDepth(images, (dir / "frame-000000.pose.txt").string() + " " + (dir / "all.txt").string(),
+                       " --pose-format matrix", dir / "bad");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("2 pose files for 3 depth images"));
+  std::ofstream(dir / "two.txt") << matrixPose(0, 0, 0) << matrixPose(1, 1, 1);
+  r = importDepth(images, (dir / "two.txt").string() + " " + (dir / "frame-000001.pose.txt").string() + " " +
+                              (dir / "frame-000002.pose.txt").string(),
+                  " --pose-format matrix", dir / "bad");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("two.txt: holds 2 poses: with one pose file per depth image, each holds its depth "
+                                "image's pose alone"));
+  CHECK_FALSE(fs::exists(dir / "bad"));
+}
+
+TEST_CASE("a TUM trajectory of more poses than images is matched by the images' timestamps, as associate.py does") {
+  const fs::path dir = test::scratch("import-checks-tum");
+  // Ground truth at 100 Hz from t = 100.000 s: pose i at x = i / 10.
+  std::string trajectory;
+  for (int i = 0; i <= 40; ++i) {
+    std::ostringstream line;
+    line.precision(17);
+    line << 100.0 + 0.01 * i << ' ' << 0.1 * i << " 0 1 0 0 0 1\n";
+    trajectory += line.str();
+  }
+  std::ofstream(dir / "groundtruth.txt") << trajectory;
+  // Depth images at about 30 Hz, named by their timestamps; the nearest poses are 3, 17 and 31.
+  const std::vector<std::pair<std::string, int>> frames = {{"100.031", 3}, {"100.1672", 17}, {"100.3088", 31}};
+  std::string images, matched;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    writeDepth(dir / (frames[f].first + ".pgm"), 2500, int(f));
+    images += " " + (dir / (frames[f].first + ".pgm")).string();
+    std::ostringstream line;
+    line << frames[f].first << ' ' << 0.1 * frames[f].second << " 0 1 0 0 0 1\n";
+    matched += line.str();
+  }
+  std::ofstream(dir / "matched.txt") << matched;
+  const auto r = importDepth(images, (dir / "groundtruth.txt").string(), " --pose-format tum", dir / "associated");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(importDepth(images, (dir / "matched.txt").string(), " --pose-format tum", dir / "by-hand").exit_code == 0);
+  requireSameScans(dir / "associated", dir / "by-hand");
+
+  // An image 0.05 s past the trajectory's end has no pose within 0.02 s.
+  writeDepth(dir / "100.45.pgm", 2500, 0);
+  auto bad = importDepth(images + " " + (dir / "100.45.pgm").string(), (dir / "groundtruth.txt").string(),
+                         " --pose-format tum", dir / "bad");
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.output, Contains("no pose within 0.02 s of 100.45.pgm (the nearest is 0.05 s away)"));
+  // Images without timestamps, and more poses than images: the fix is named.
+  writeDepth(dir / "a.pgm", 2500, 0);
+  bad = importDepth((dir / "a.pgm").string(), (dir / "groundtruth.txt").string(), " --pose-format tum", dir / "bad");
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.output, Contains("holds 41 poses for 1 depth images: one pose per depth image needed. A whole "
+                                  "sequence's poses?"));
+  CHECK_THAT(bad.output, Contains("head -n 1"));
+  CHECK_FALSE(fs::exists(dir / "bad"));
+}
+
+TEST_CASE("import depth prints the median depth after --depth-scale and warns when no depth camera measures it") {
+  const fs::path dir = test::scratch("import-checks-depth-scale");
+  // Three frames: 11 pixels at 3000 and one at 3001 + frame: the median raw value is 3000.
+  std::string images, poses;
+  for (int f = 0; f < 3; ++f) {
+    writeDepth(dir / ("d" + std::to_string(f) + ".pgm"), 3000, f);
+    images += " " + (dir / ("d" + std::to_string(f) + ".pgm")).string();
+    poses += "0 0 0 0 0 0 1\n";
+  }
+  std::ofstream(dir / "poses.txt") << poses;
+  const std::string pose_file = (dir / "poses.txt").string();
+  for (const auto& [scale, median, warned] : {std::tuple{"1000", "3 m", false}, std::tuple{"5000", "0.6 m", false},
+                                              std::tuple{"200", "15 m", true}, std::tuple{"100000", "0.03 m", true}}) {
+    const auto r = importDepth(images, pose_file, std::string(" --force --depth-scale ") + scale, dir / "ds");
+    INFO("--depth-scale " << scale << ": " << r.output);
+    REQUIRE(r.exit_code == 0);
+    CHECK_THAT(r.output, Contains(std::string("median depth ") + median + " (raw value / --depth-scale " + scale + ")"));
+    CHECK((r.output.find("warning: a median depth of") != std::string::npos) == warned);
+    if (warned) CHECK_THAT(r.output, Contains(std::string("is --depth-scale ") + scale + " right?"));
+  }
+}

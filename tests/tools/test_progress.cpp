@@ -1,0 +1,126 @@
+// Progress of long work (docs/cli.md, "Progress"): the line's numbers by hand, a sweep into a log that names its
+// phases and reports rate and time left every few seconds, and an interrupted sweep that prints the command which
+// resumes it. OCCSWEEP_TEST_CLI=/path/to/old/occsweep runs the command cases against another build.
+#include <catch2/catch.hpp>
+
+#include <csignal>
+#include <fstream>
+#include <regex>
+#include <thread>
+
+#include "occsweep/sweeps/progress.hpp"
+#include "robust_cli_helpers.hpp"
+
+using namespace occsweep;
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// The built-in scene at its default size: 24 scans, about 51,000 points.
+fs::path defaultScene() {
+  static const fs::path dir = [] {
+    const fs::path d = test::processScratch("progress-scene") / "scene";
+    REQUIRE(test::runCli("scene --out " + d.string()).exit_code == 0);
+    return d;
+  }();
+  return dir;
+}
+
+// The knn-opt grid (450 maps) swept by the direct engine on one thread: each map built from the scans, which
+// takes over 10 s on this project's machines (the log of the case below prints its time).
+std::string slowSweep(const fs::path& out) {
+  return "sweep --dataset " + defaultScene().string() + " --grid knn-opt --engine direct --threads 1 --out " +
+         out.string();
+}
+
+// `occsweep ARGS` started in the background, stdout and stderr into `log` (not a terminal): its process id.
+pid_t startCli(const std::string& args, const fs::path& log) {
+  return test::startShell("exec " + test::shellQuoted(test::cliUnderTest()) + " " + args + " > " +
+                          test::shellQuoted(log) + " 2>&1");
+}
+
+int exitOf(pid_t child) {
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+}  // namespace
+
+TEST_CASE("a progress line gives counts, percent, rate and time left, by hand") {
+  CHECK(progressLine("sweep g on ds", "maps", 1200, 4050, 14.1) ==
+        "sweep g on ds: 1200/4050 maps (29.6 %), 85.1 maps/s, 33 s left, 14 s so far");  // 2850 / (1200 / 14.1)
+  CHECK(progressLine("stage sweep", "tasks", 0, 7, 3.0) == "stage sweep: 0/7 tasks (0.0 %), 3 s so far");
+  CHECK(progressLine("NCA weights", "fits", 40, 40, 250.4) == "NCA weights: 40/40 fits (100.0 %), 0.16 fits/s, "
+                                                               "4 min 10 s in all");
+  CHECK(progressLine("x", "maps", 30000, 90000, 100.0) == "x: 30000/90000 maps (33.3 %), 300 maps/s, 3 min 20 s left, "
+                                                         "1 min 40 s so far");
+  CHECK(durationText(59.4) == "59 s");
+  CHECK(durationText(185) == "3 min 05 s");
+  CHECK(durationText(7620) == "2 h 07 min");
+  CHECK(durationText(-1) == "0 s");
+}
+
+TEST_CASE("a sweep into a log names every phase and prints a whole line with rate and time left every few seconds") {
+  const fs::path dir = test::scratch("progress-log");
+  const auto started = std::chrono::steady_clock::now();
+  const auto r = test::runCli(slowSweep(dir / "knn.json"));  // stdout and stderr into a pipe, not a terminal
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  INFO(r.output << "(" << seconds << " s)");
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(seconds > 10);  // the case is about long work
+  CHECK(r.output.find('\r') == std::string::npos);
+  for (const char* phase : {"reading data set ", "ground truth of ", "preparing the direct engine: 24 scans for 1 grid"})
+    CHECK_THAT(r.output, Contains(phase));
+  // Lines while it runs: one every 5 s (Progress::kLogInterval), each with its rate and the time left.
+  const std::regex running(R"(sweep knn-opt on [^:]+ \(direct\): (\d+)/450 maps \([0-9.]+ %\), [0-9.]+ maps/s, )"
+                           R"(([0-9]+ s|[0-9]+ min [0-9]{2} s) left, [0-9]+ s so far\n)");
+  const auto lines = std::distance(std::sregex_iterator(r.output.begin(), r.output.end(), running), {});
+  CHECK(lines >= long(seconds / 5.0) - 2);
+  CHECK(lines >= 1);
+  CHECK_THAT(r.output, Contains("450/450 maps (100.0 %)"));
+}
+
+TEST_CASE("an interrupted sweep says what it kept and the command that resumes it, and that command finishes it") {
+  const fs::path dir = test::scratch("progress-interrupt");
+  const std::string args = slowSweep(dir / "knn.json");
+  const pid_t child = startCli(args, dir / "log");
+  // Interrupted once it has written a progress line: some maps are done and kept.
+  for (int i = 0; i < 600 && test::bytesOf(dir / "log").find("maps/s") == std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ::kill(child, SIGINT);
+  REQUIRE(exitOf(child) == 130);
+  const std::string log = test::bytesOf(dir / "log");
+  INFO(log);
+  CHECK_THAT(log, Contains("occsweep sweep: interrupted; the maps it finished are kept beside each output"));
+  const std::smatch resume = [&] {
+    std::smatch m;
+    REQUIRE(std::regex_search(log, m, std::regex("The same command resumes:\n  (.*)\n")));
+    return m;
+  }();
+  CHECK(resume[1].str() == test::cliUnderTest() + " " + args);
+  CHECK(fs::exists(dir / "knn.json.partial.jsonl"));
+
+  const auto again = test::runShell(resume[1].str() + " 2>&1");
+  INFO(again.output);
+  REQUIRE(again.exit_code == 0);
+  CHECK_THAT(again.output, Contains("resuming "));
+  CHECK(test::runCli("results check " + (dir / "knn.json").string()).exit_code == 0);
+}
+
+TEST_CASE("the resume command quotes what the shell would split") {
+  const fs::path dir = test::scratch("progress quoted 'dir'");
+  const fs::path out = dir / "k n.json";
+  const std::string quoted_out = test::shellQuoted(out);  // '...'\''dir'\''/k n.json'
+  const pid_t child = startCli("sweep --dataset " + defaultScene().string() +
+                                   " --grid knn-opt --engine direct --threads 1 --out " + quoted_out,
+                               dir / "log");
+  for (int i = 0; i < 600 && !fs::exists(dir / "k n.json.partial.jsonl"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ::kill(child, SIGINT);
+  REQUIRE(exitOf(child) == 130);
+  const std::string log = test::bytesOf(dir / "log");
+  INFO(log);
+  CHECK_THAT(log, Contains(" --out " + quoted_out + "\n"));
+}
