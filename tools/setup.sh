@@ -35,7 +35,7 @@ fi
 
 # A compiler cache when one is installed (CI installs ccache): paths under the checkout are hashed relative to it,
 # so another clone of the same sources reuses the objects (docs/robustness.md, "CI's time").
-launcher=()
+launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=)  # empty: a build folder configured while ccache was there still builds
 if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
   export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$root}

@@ -318,7 +318,7 @@ TEST_CASE("a task whose output leads out of the plan folder through a symbolic l
 // docs/cluster.md, "A plan a real cluster runs": set-up lines, each stage's --mem and --time, arrays within Slurm's
 // MaxArraySize (a task at array index task - OCCSWEEP_TASK_OFFSET). tests/cluster/slurm_e2e.sh submits such a plan to
 // a real Slurm of MaxArraySize 4.
-TEST_CASE("a stage's script runs the set-up lines first, then the task its array index and offset name") {
+TEST_CASE("a stage's script names its task, runs the set-up lines, then the task its array index and offset name") {
   const auto dir = test::scratch("cluster-setup-lines");
   const fs::path echo = dir / "print-args.sh";
   std::ofstream(echo) << "#!/bin/sh\nfor a in \"$@\"; do printf '%s\\n' \"$a\"; done\n";
@@ -346,7 +346,9 @@ TEST_CASE("a stage's script runs the set-up lines first, then the task its array
   const std::string merge_script = test::bytesOf(dir / "plan" / "slurm" / "merge.sbatch");
   CHECK_THAT(sweep_script, Catch::Contains("#SBATCH --mem=3G\n#SBATCH --time=01:00:00\n"));
   CHECK_THAT(merge_script, Catch::Contains("#SBATCH --mem=1G\n#SBATCH --time=00:05:00\n"));
-  CHECK(sweep_script.find("echo set-up one\n") < sweep_script.find("set -euo pipefail"));
+  // After set -e (a failing line stops the task), before set -u (module scripts read unset variables).
+  CHECK(sweep_script.find("set -eo pipefail\n") < sweep_script.find("echo set-up one\n"));
+  CHECK(sweep_script.find("echo set-up one\n") < sweep_script.find("set -u\n"));
 
   const ClusterStage& sweep = stageNamed(p, "sweep");
   REQUIRE(sweep.tasks.size() == 5);
@@ -355,8 +357,8 @@ TEST_CASE("a stage's script runs the set-up lines first, then the task its array
     const std::string cmd = "SLURM_ARRAY_TASK_ID=" + std::to_string(t.index - offset) +
                             " OCCSWEEP_TASK_OFFSET=" + std::to_string(offset) + " bash '" +
                             (dir / "plan" / "slurm" / "sweep.sbatch").string() + "' 2>&1";
-    std::string expected = "set-up one\nset-up two \noccsweep cluster plan: stage sweep, task " +
-                           std::to_string(t.index) + "\n";
+    std::string expected = "occsweep cluster plan: stage sweep, task " + std::to_string(t.index) +
+                           "\nset-up one\nset-up two \n";
     for (std::size_t i = 1; i < t.argv.size(); ++i) expected += t.argv[i] + "\n";
     CHECK(test::runShell(cmd).output == expected);
   }
@@ -406,48 +408,67 @@ TEST_CASE("a path on a machine's own file system is named as local, as stat -f n
 }
 
 // docs/cluster.md, "Measured tasks": run-local records each task's wall time, CPU time and peak memory, as the kernel
-// counts them for the finished process (wait4). Oracle: a task that holds 150 MB and spins for 0.4 s.
+// counts them for the finished process (wait4). Oracle: generation tasks that hold `mb` MB and spin for `seconds`
+// before they write their output (an `exists` output, so their check passes; the sweeps after them fail theirs).
+namespace {
+
+PlanConfig busyGeneration(const fs::path& dir, std::vector<std::string> datasets, int mb, double seconds) {
+  const fs::path task = dir / "busy.sh";
+  // exec: the task's process is the one that holds the memory (its peak is its own, docs/cluster.md).
+  std::ofstream(task) << "#!/bin/sh\n# busy --out OUT\nexec python3 -c \"import os, sys, time\nb = bytearray(" << mb
+                      << " * 1024 * 1024)\nt = time.time()\nwhile time.time() - t < " << seconds
+                      << ": pass\nos.makedirs(os.path.dirname(sys.argv[3]) or '.', exist_ok=True)\n"
+                         "open(sys.argv[3], 'a').close()\" \"$@\"\n";
+  fs::permissions(task, fs::perms::owner_all);
+  PlanConfig c = sceneConfig(std::move(datasets), {{"octomap-opt", 2, false}});
+  c.occsweep = task.string();
+  c.generate = "busy --out {out}";
+  c.generate_kind = OutputKind::Exists;
+  return c;
+}
+
+}  // namespace
+
 TEST_CASE("run-local records each task's wall time, CPU time and peak memory, and status sums them per stage") {
   const auto dir = test::scratch("cluster-measured");
-  const fs::path task = dir / "busy.sh";
-  std::ofstream(task) << "#!/bin/sh\nexec python3 -c \"import time\nb = bytearray(150 * 1024 * 1024)\n"
-                         "t = time.time()\nwhile time.time() - t < 0.4: pass\"\n";
-  fs::permissions(task, fs::perms::owner_all);
-  PlanConfig c = sceneConfig({"x"}, {{"octomap-opt", 3, false}});
-  c.experiment = "sweep";
-  c.datasets = {(dir / "ds").string()};
-  c.occsweep = task.string();
-  const ClusterPlan p = buildPlan(c);
+  const ClusterPlan p = buildPlan(busyGeneration(dir, {"x", "y", "z"}, 150, 0.4));
   writePlan(p, dir / "plan", false);
-  // The tasks write no output, so they fail their checks and the later stages never start: the sweep stage's three
-  // tasks are measured all the same.
-  CHECK(runLocal(p, dir / "plan", 2) == 3);
+  CHECK(runLocal(p, dir / "plan", 2) > 0);  // the generated "data sets" are empty files: the sweeps fail
   const std::vector<TaskMeasurement> measured = readMeasurements(dir / "plan");
-  REQUIRE(measured.size() == 3);
+  const auto& generate = stageNamed(p, "generate");
+  std::size_t generated = 0;
   for (const TaskMeasurement& m : measured) {
     INFO(m.stage << "[" << m.task << "]");
     CHECK(m.exit_code == 0);
+    CHECK(m.label == stageNamed(p, m.stage).tasks[m.task].label);
+    if (m.stage != "generate") {
+      CHECK_FALSE(m.succeeded);  // exit 0 but no results file: not a success
+      continue;
+    }
+    ++generated;
+    CHECK(m.succeeded);
     CHECK(m.wall_seconds >= 0.4);
     CHECK(m.cpu_seconds >= 0.3);
     CHECK(m.cpu_seconds <= m.wall_seconds + 0.1);
     CHECK(m.peak_bytes >= 150u * 1024 * 1024);
     CHECK(m.peak_bytes < 400u * 1024 * 1024);
-    CHECK(m.label == stageNamed(p, m.stage).tasks[m.task].label);
   }
+  CHECK(generated == generate.tasks.size());
   const std::vector<MeasuredStage> stages = measuredStages(p, measured);
   REQUIRE(stages.size() == p.stages.size());
-  for (std::size_t s = 0; s < stages.size(); ++s) {
-    CHECK(stages[s].measured == (stages[s].stage == "sweep" ? 3u : 0u));
+  for (const MeasuredStage& st : stages) {
+    CHECK(st.measured == (st.stage == "generate" ? 3u : 0u));  // failed sweeps are not measured successes
     double cpu = 0;
     for (const TaskMeasurement& m : measured)
-      if (m.stage == stages[s].stage) cpu += m.cpu_seconds;
-    CHECK(stages[s].cpu_seconds == Approx(cpu));
-    CHECK(stages[s].longest_seconds <= stages[s].wall_seconds);
+      if (m.stage == st.stage && m.succeeded) cpu += m.cpu_seconds;
+    CHECK(st.cpu_seconds == Approx(cpu));
+    CHECK(st.longest_seconds <= st.wall_seconds);
   }
   const auto r = test::runCli("cluster status " + (dir / "plan").string());
   INFO(r.output);
   CHECK_THAT(r.output, Catch::Contains("measured by run-local"));
-  CHECK_THAT(r.output, Catch::Contains("  stage sweep: 3 of 3 tasks, wall "));
+  CHECK_THAT(r.output, Catch::Contains("  stage generate: 3 of 3 tasks, wall "));
+  CHECK_THAT(r.output, !Catch::Contains("  stage sweep: "));
 }
 
 TEST_CASE("cluster plan warns when the binary or the plan folder is on a file system compute nodes do not share") {
@@ -475,39 +496,39 @@ TEST_CASE("cluster plan warns when the binary or the plan folder is on a file sy
   }
 }
 
-// docs/cluster.md, "Cost estimate": each task of a new plan costs the mean of the measured tasks of its kind (its
-// stage, and its grid), scaled by measured shards / planned shards.
+// docs/cluster.md, "Cost estimate": each task of a new plan costs the mean of the measured tasks of its kind.
 TEST_CASE("cluster plan --estimate-from carries measured tasks to a new plan and sets its --time and --mem") {
   const auto dir = test::scratch("cluster-estimate");
-  const fs::path task = dir / "busy.sh";
-  std::ofstream(task) << "#!/bin/sh\nexec python3 -c \"import time\nb = bytearray(100 * 1024 * 1024)\n"
-                         "t = time.time()\nwhile time.time() - t < 0.3: pass\"\n";
-  fs::permissions(task, fs::perms::owner_all);
-  PlanConfig c = sceneConfig({"x"}, {{"octomap-opt", 3, false}});
-  c.experiment = "sweep";
-  c.datasets = {(dir / "ds").string()};
-  c.occsweep = task.string();
-  const ClusterPlan measured_plan = buildPlan(c);
+  const PlanConfig measured_config = busyGeneration(dir, {"x", "y"}, 100, 0.3);
+  const ClusterPlan measured_plan = buildPlan(measured_config);
   writePlan(measured_plan, dir / "measured", false);
-  CHECK(runLocal(measured_plan, dir / "measured", 2) == 3);  // the sweep stage only: its tasks write no results
+  CHECK(runLocal(measured_plan, dir / "measured", 2) > 0);  // generation succeeds, the sweeps fail
   const std::vector<TaskMeasurement> measured = readMeasurements(dir / "measured");
-  REQUIRE(measured.size() == 3);
   double cpu = 0, wall = 0;
   std::uint64_t peak = 0;
-  for (const TaskMeasurement& m : measured) cpu += m.cpu_seconds, wall += m.wall_seconds, peak = std::max(peak, m.peak_bytes);
+  std::size_t generated = 0;
+  for (const TaskMeasurement& m : measured)
+    if (m.stage == "generate")
+      cpu += m.cpu_seconds, wall += m.wall_seconds, peak = std::max(peak, m.peak_bytes), ++generated;
+  REQUIRE(generated == 2);
 
-  // Twice the shards of the measured grid, and a grid never measured.
-  c.grids = {{"octomap-opt", 6, false}, {"knn-opt", 2, false}};
+  // Five data sets: five generation tasks of the measured kind; sweeps of a kind never run to success.
+  PlanConfig c = measured_config;
+  c.datasets = {"a", "b", "c", "d", "e"};
   const ClusterPlan plan = buildPlan(c);
   const std::vector<StageEstimate> e = estimatePlan(plan, measured_plan, measured);
   REQUIRE(e.size() == plan.stages.size());
-  CHECK(e[0].stage == "sweep");
-  CHECK(e[0].tasks == 8);
-  CHECK(e[0].modelled == 6);
-  CHECK(e[0].cpu_seconds == Approx(6 * (cpu / 3) * 3.0 / 6.0));  // the grid's CPU time, whatever its shards
-  CHECK(e[0].longest_seconds == Approx((wall / 3) / 2));
+  CHECK(e[0].stage == "generate");
+  CHECK(e[0].tasks == 5);
+  CHECK(e[0].modelled == 5);
+  CHECK(e[0].cpu_seconds == Approx(5 * cpu / 2));
+  CHECK(e[0].longest_seconds == Approx(wall / 2));
   CHECK(e[0].peak_bytes == peak);
-  for (std::size_t s = 1; s < e.size(); ++s) CHECK(e[s].modelled == 0);  // merge and report never ran
+  for (std::size_t s = 1; s < e.size(); ++s) CHECK(e[s].modelled == 0);
+  // Another shard count is another kind: never scaled from the measured one.
+  c.grids = {{"octomap-opt", 4, false}};
+  for (const StageEstimate& s : estimatePlan(buildPlan(c), measured_plan, measured))
+    if (s.stage == "sweep") CHECK(s.modelled == 0);
 
   // The margins, by hand; the wall time of stages in turn, each no shorter than its longest task.
   CHECK(timeWithMargin(30) == "00:10:00");
@@ -520,15 +541,47 @@ TEST_CASE("cluster plan --estimate-from carries measured tasks to a new plan and
   CHECK(estimatedWallSeconds(two, 8, 2) == Approx(3600.0 / 8 + 50));
 
   // Through the command: the estimate printed, the modelled stage's limits set, a given one kept.
-  const auto r = test::runCli("cluster plan --out " + (dir / "new").string() + " --experiment sweep --dataset " +
-                              (dir / "ds").string() + " --grid octomap-opt:6 --occsweep " + task.string() +
-                              " --estimate-from " + (dir / "measured").string() + " --mem merge=2G");
+  std::string names;
+  for (const std::string& n : c.datasets) names += " --name " + n;
+  const std::string plan_args = "cluster plan --unranked --blocks 1 --generate 'busy --out {out}' --generate-out "
+                                "'data/{dataset}' --grid octomap-opt:2 --occsweep " + (dir / "busy.sh").string() + names;
+  const auto r = test::runCli(plan_args + " --out " + (dir / "new").string() + " --estimate-from " +
+                              (dir / "measured").string() + " --mem merge=2G");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.output, Catch::Contains("estimate from the tasks run-local measured in " + (dir / "measured").string()));
-  CHECK_THAT(r.output, Catch::Contains("  stage sweep: 6 tasks, "));
-  CHECK_THAT(r.output, Catch::Contains("  stage merge: 1 tasks, none of a kind measured there"));
-  const std::string script = test::bytesOf(dir / "new" / "slurm" / "sweep.sbatch");
-  CHECK_THAT(script, Catch::Contains("#SBATCH --mem=256M\n#SBATCH --time=00:10:00\n"));
+  CHECK_THAT(r.output, Catch::Contains("  stage generate: 5 tasks, "));
+  CHECK_THAT(r.output, Catch::Contains("  stage merge: 5 tasks, none of a kind measured there"));
+  CHECK_THAT(test::bytesOf(dir / "new" / "slurm" / "generate.sbatch"),
+             Catch::Contains("#SBATCH --mem=256M\n#SBATCH --time=00:10:00\n"));
   CHECK_THAT(test::bytesOf(dir / "new" / "slurm" / "merge.sbatch"), Catch::Contains("#SBATCH --mem=2G\n"));
+  // A folder where nothing ran: refused, saying what to do.
+  fs::create_directories(dir / "unrun");
+  writePlan(measured_plan, dir / "unrun", false);
+  const auto none = test::runCli(plan_args + " --out " + (dir / "new2").string() + " --estimate-from " +
+                                 (dir / "unrun").string());
+  CHECK(none.exit_code == 2);
+  CHECK_THAT(none.output, Catch::Contains("run `occsweep cluster run-local " + (dir / "unrun").string() + "` first"));
+}
+
+TEST_CASE("status finds the tasks of an array submitted at an offset by their array index") {
+  const auto dir = test::scratch("cluster-status-offset");
+  PlanConfig c = sceneConfig({"x"}, {{"octomap-opt", 6, false}});
+  c.experiment = "sweep";
+  c.datasets = {(dir / "ds").string()};
+  const ClusterPlan p = buildPlan(c);
+  // Tasks 4 and 5 of the sweep stage went as indices 0 and 1 of job 77 (MaxArraySize 4), and a record without an
+  // offset (an earlier occsweep's) for task 2 of job 70.
+  const std::vector<Submission> subs = {{"sweep", "70", {2}, 0}, {"sweep", "77", {4, 5}, 4}};
+  const std::map<std::string, SlurmRecord> records = {
+      {"70_2", {"RUNNING", ""}}, {"77_0", {"RUNNING", ""}}, {"77_1", {"PENDING", "Priority"}}};
+  const auto status = planStatus(p, dir, records, subs);
+  const auto& sweep = status[0];
+  REQUIRE(sweep.size() == 6);
+  CHECK(sweep[2].state == TaskState::Running);
+  CHECK(sweep[4].state == TaskState::Running);
+  CHECK(sweep[4].slurm_id == "77_0");
+  CHECK(sweep[5].state == TaskState::Pending);
+  CHECK(sweep[5].slurm_id == "77_1");
+  for (const std::size_t t : {0, 1, 3}) CHECK(sweep[t].state == TaskState::Missing);
 }

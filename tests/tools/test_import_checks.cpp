@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <tuple>
 
@@ -174,4 +175,52 @@ TEST_CASE("import depth prints the median depth after --depth-scale and warns wh
     CHECK((r.output.find("warning: a median depth of") != std::string::npos) == warned);
     if (warned) CHECK_THAT(r.output, Contains(std::string("is --depth-scale ") + scale + " right?"));
   }
+}
+
+TEST_CASE("the median depth is the median of a sample spread over every image, not of its first pixels") {
+  // Two 1200 x 1000 images (past the million-pixel sample, so every other pixel is read), raw values spread evenly
+  // over 1000-5000 in a scrambled order: the median is 3000 raw, 3 m at --depth-scale 1000; the smallest and the
+  // most common value are not.
+  const fs::path dir = test::scratch("import-checks-median");
+  constexpr int kW = 1200, kH = 1000;
+  std::string images, poses;
+  for (int f = 0; f < 2; ++f) {
+    std::string body;
+    body.reserve(std::size_t(kW) * kH * 2);
+    for (std::uint64_t i = 0; i < std::uint64_t(kW) * kH; ++i) {
+      const auto v = std::uint16_t(1000 + (i * 7919 + std::uint64_t(f)) % 4001);
+      body += char(v >> 8), body += char(v & 0xff);
+    }
+    const fs::path image = dir / ("big" + std::to_string(f) + ".pgm");
+    std::ofstream(image, std::ios::binary) << "P5\n" << kW << ' ' << kH << "\n65535\n" << body;
+    images += " " + image.string();
+    poses += "0 0 0 0 0 0 1\n";
+  }
+  std::ofstream(dir / "poses.txt") << poses;
+  const auto r = importDepth(images, (dir / "poses.txt").string(), " --stride 50", dir / "ds");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  std::smatch m;
+  REQUIRE(std::regex_search(r.output, m, std::regex("median depth ([0-9.]+) m")));
+  CHECK(std::stod(m[1].str()) == Approx(3.0).margin(0.002));
+}
+
+TEST_CASE("import names the order when --poses comes before the images, and a TUM file matches by timestamp even at "
+          "equal counts") {
+  const fs::path dir = test::scratch("import-checks-order");
+  writeDepth(dir / "d.pgm", 2000, 0);
+  std::ofstream(dir / "p.txt") << "0 0 0 0 0 0 1\n";
+  auto r = test::runCli("import depth --poses " + (dir / "p.txt").string() + " " + (dir / "d.pgm").string() +
+                        kCamera + " --out " + (dir / "ds").string());
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("no depth images given: --poses takes every file up to the next option, so give the "
+                                "depth images before --poses"));
+  // As many poses as images, but years away from them: refused, not paired in order.
+  writeDepth(dir / "1305031102.160407.pgm", 2000, 0);
+  std::ofstream(dir / "far.txt") << "1400000000.0 7 0 0 0 0 0 1\n";
+  r = importDepth((dir / "1305031102.160407.pgm").string(), (dir / "far.txt").string(), " --pose-format tum",
+                  dir / "ds");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("no pose within 0.02 s of 1305031102.160407.pgm"));
+  CHECK_FALSE(fs::exists(dir / "ds"));
 }

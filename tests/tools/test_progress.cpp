@@ -27,11 +27,18 @@ fs::path defaultScene() {
   return dir;
 }
 
-// The knn-opt grid (450 maps) swept by the direct engine on one thread: each map built from the scans, which
-// takes over 10 s on this project's machines (the log of the case below prints its time).
-std::string slowSweep(const fs::path& out) {
-  return "sweep --dataset " + defaultScene().string() + " --grid knn-opt --engine direct --threads 1 --out " +
-         out.string();
+// The knn-opt grid (450 maps) and octomap-opt (20 maps, liboctomap) swept by the direct engine on one thread: each map
+// built from the scans, about 20 s on this project's machines (the log of the case below prints its time).
+std::string slowSweep(const fs::path& dir) {
+  return "sweep --dataset " + defaultScene().string() + " --grid knn-opt --grid octomap-opt --engine direct " +
+         "--threads 1 --out " + (dir / "knn.json").string() + " --out " + (dir / "oct.json").string();
+}
+
+// The command line an interrupt printed: "cd FOLDER && COMMAND".
+std::string resumeLine(const std::string& log) {
+  std::smatch m;
+  REQUIRE(std::regex_search(log, m, std::regex("The same command in the same folder resumes it:\n  (cd .*)\n")));
+  return m[1].str();
 }
 
 // `occsweep ARGS` started in the background, stdout and stderr into `log` (not a terminal): its process id.
@@ -65,13 +72,13 @@ TEST_CASE("a progress line gives counts, percent, rate and time left, by hand") 
 TEST_CASE("a sweep into a log names every phase and prints a whole line with rate and time left every few seconds") {
   const fs::path dir = test::scratch("progress-log");
   const auto started = std::chrono::steady_clock::now();
-  const auto r = test::runCli(slowSweep(dir / "knn.json"));  // stdout and stderr into a pipe, not a terminal
+  const auto r = test::runCli(slowSweep(dir));  // stdout and stderr into a pipe, not a terminal
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   INFO(r.output << "(" << seconds << " s)");
   REQUIRE(r.exit_code == 0);
   REQUIRE(seconds > 10);  // the case is about long work
   CHECK(r.output.find('\r') == std::string::npos);
-  for (const char* phase : {"reading data set ", "ground truth of ", "preparing the direct engine: 24 scans for 1 grid"})
+  for (const char* phase : {"reading data set ", "ground truth of ", "preparing the direct engine: 24 scans for 2 grids"})
     CHECK_THAT(r.output, Contains(phase));
   // Lines while it runs: one every 5 s (Progress::kLogInterval), each with its rate and the time left.
   const std::regex running(R"(sweep knn-opt on [^:]+ \(direct\): (\d+)/450 maps \([0-9.]+ %\), [0-9.]+ maps/s, )"
@@ -84,7 +91,7 @@ TEST_CASE("a sweep into a log names every phase and prints a whole line with rat
 
 TEST_CASE("an interrupted sweep says what it kept and the command that resumes it, and that command finishes it") {
   const fs::path dir = test::scratch("progress-interrupt");
-  const std::string args = slowSweep(dir / "knn.json");
+  const std::string args = slowSweep(dir);
   const pid_t child = startCli(args, dir / "log");
   // Interrupted once it has written a progress line: some maps are done and kept.
   for (int i = 0; i < 600 && test::bytesOf(dir / "log").find("maps/s") == std::string::npos; ++i)
@@ -94,33 +101,40 @@ TEST_CASE("an interrupted sweep says what it kept and the command that resumes i
   const std::string log = test::bytesOf(dir / "log");
   INFO(log);
   CHECK_THAT(log, Contains("occsweep sweep: interrupted; the maps it finished are kept beside each output"));
-  const std::smatch resume = [&] {
-    std::smatch m;
-    REQUIRE(std::regex_search(log, m, std::regex("The same command resumes:\n  (.*)\n")));
-    return m;
-  }();
-  CHECK(resume[1].str() == test::cliUnderTest() + " " + args);
+  const std::string resume = resumeLine(log);
+  CHECK_THAT(resume, Catch::EndsWith(" && " + test::cliUnderTest() + " " + args));
   CHECK(fs::exists(dir / "knn.json.partial.jsonl"));
 
-  const auto again = test::runShell(resume[1].str() + " 2>&1");
+  // Run from another folder, as pasted into another terminal: it resumes all the same.
+  const auto again = test::runShell("cd / && " + resume + " 2>&1");
   INFO(again.output);
   REQUIRE(again.exit_code == 0);
   CHECK_THAT(again.output, Contains("resuming "));
-  CHECK(test::runCli("results check " + (dir / "knn.json").string()).exit_code == 0);
+  for (const char* out : {"knn.json", "oct.json"})
+    CHECK(test::runCli("results check " + (dir / out).string()).exit_code == 0);
 }
 
-TEST_CASE("the resume command quotes what the shell would split") {
-  const fs::path dir = test::scratch("progress quoted 'dir'");
-  const fs::path out = dir / "k n.json";
-  const std::string quoted_out = test::shellQuoted(out);  // '...'\''dir'\''/k n.json'
-  const pid_t child = startCli("sweep --dataset " + defaultScene().string() +
-                                   " --grid knn-opt --engine direct --threads 1 --out " + quoted_out,
-                               dir / "log");
-  for (int i = 0; i < 600 && !fs::exists(dir / "k n.json.partial.jsonl"); ++i)
+TEST_CASE("the resume command reads back, through the shell, as the arguments the sweep was given") {
+  // Oracle: the shell itself. The printed line with the binary swapped for printf gives back each argument.
+  const fs::path dir = test::scratch("progress quoted 'dir' $HOME");
+  const std::vector<std::string> args = {"sweep", "--dataset", defaultScene().string(), "--grid", "knn-opt",
+                                         "--engine", "direct", "--threads", "1", "--out",
+                                         (dir / "k n \"$(x)\" `y` \\z.json").string()};
+  std::string typed;
+  for (const std::string& a : args) typed += " " + test::shellQuoted(a);
+  const pid_t child = startCli(typed.substr(1), dir / "log");
+  for (int i = 0; i < 600 && test::bytesOf(dir / "log").find("maps/s") == std::string::npos; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   ::kill(child, SIGINT);
   REQUIRE(exitOf(child) == 130);
   const std::string log = test::bytesOf(dir / "log");
   INFO(log);
-  CHECK_THAT(log, Contains(" --out " + quoted_out + "\n"));
+  std::string line = resumeLine(log);
+  const std::string binary = " && " + test::cliUnderTest() + " ";
+  const auto at = line.find(binary);
+  REQUIRE(at != std::string::npos);
+  line.replace(at, binary.size(), " && printf '%s\\n' ");
+  std::string expected;
+  for (const std::string& a : args) expected += a + "\n";
+  CHECK(test::runShell(line).output == expected);
 }

@@ -34,13 +34,12 @@ fs::path inputs(const std::string& name) {
   std::ofstream cloud(dir / "a.xyz");
   for (int i = 0; i < 50; ++i) cloud << 1 + 0.01 * i << ' ' << 0.5 << ' ' << 0.02 * i << '\n';
   std::ofstream(dir / "truth.json") << R"([{"min": [0, 0, 0], "max": [1, 1, 1]}])";
-  // One pose of slambook's joinMap (its first line), for its first depth image; two ci point cloud sets to rank.
+  // One pose of slambook's joinMap (its first line), for its first depth image; a ci data set to rank and reproduce.
   std::ifstream poses(fs::path(OCCSWEEP_SOURCE_DIR) / "tests/data/real/slambook_joinMap/pose.txt");
   std::string first;
   std::getline(poses, first);
   std::ofstream(dir / "pose1.txt") << first << '\n';
-  REQUIRE(runIn(dir, "dataset generate --name building-plain-I --scale ci --pcs 0,1 --no-preview --quiet --out gen")
-              .exit_code == 0);
+  REQUIRE(runIn(dir, "dataset generate --name building-plain-I --scale ci --no-preview --quiet --out gen").exit_code == 0);
   return dir;
 }
 
@@ -58,8 +57,8 @@ std::string hexToken(SplitMix64& rng) {
   return t;
 }
 
-// Every writing command but reproduce (minutes at its smallest scale), as (arguments with OUT for the output's name,
-// output name, outputs it writes).
+// Every writing command, as (arguments with OUT for the output's name, output name, outputs it writes); reproduce
+// runs its quickest step on a data set generated once.
 struct Writer {
   std::string args, target;
   std::vector<std::string> outputs;
@@ -93,6 +92,8 @@ std::vector<Writer> writers(const fs::path& in) {
        "--cx 325.5 --cy 253.5 --stride 16 --out OUT", "w", {"w"}},
       {"dataset generate --name building-plain-I --scale ci --pcs 0 --no-preview --quiet --out OUT", "g", {"g"}},
       {"cluster select " + s + "gen/building-plain-I/ranking.json --out OUT", "sets", {"sets"}},
+      {"reproduce --scale ci --name building-plain-I --steps fits --no-figures --quiet --data-root " + s + "gen --out OUT",
+       "rep", {"rep"}},
   };
 }
 

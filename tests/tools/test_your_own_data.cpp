@@ -33,6 +33,7 @@ const std::vector<Box> kScene = {{{-0.4, -0.4, 0.0}, {0.4, 0.4, 0.8}}, {{-3, -3,
 struct Camera {
   int width, height;
   double fx, fy, cx, cy, depth_scale;
+  double invalid = 0;  // the raw value of a pixel without depth: 0, or 65535 in 7-Scenes and 3DMatch
 };
 
 // Camera-to-world rotation (columns: image right, image down, viewing direction) and position.
@@ -90,7 +91,7 @@ void writeDepthPng(const fs::path& file, const Pose& p, const Camera& c) {
   for (int v = 0; v < c.height; ++v) {
     for (int u = 0; u < c.width; ++u) {
       const auto z = depthAt(p, c, u, v);
-      const double raw = z ? std::min(65535.0, std::round(*z * c.depth_scale)) : 0.0;
+      const double raw = z ? std::min(65535.0, std::round(*z * c.depth_scale)) : c.invalid;
       row[std::size_t(2 * u)] = png_byte(unsigned(raw) >> 8);  // PNG is big-endian
       row[std::size_t(2 * u + 1)] = png_byte(unsigned(raw) & 0xff);
     }
@@ -167,7 +168,7 @@ void writeRecording(const std::string& layout, const fs::path& rec) {
       writeDepthPng(rec / "depth" / name.str(), orbitPose(f), c);
     }
   } else if (layout == "3dmatch") {
-    const Camera c{640, 480, 585, 585, 320, 240, 1000};
+    const Camera c{640, 480, 585, 585, 320, 240, 1000, 65535};
     fs::create_directories(rec / "seq-01");
     for (int f = 0; f < 4; ++f) {
       const std::string frame = "frame-00000" + std::to_string(f);

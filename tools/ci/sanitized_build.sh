@@ -24,31 +24,26 @@ if ! command -v clang++-14 >/dev/null || ! have_fuzzer_lib; then
   $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq clang-14 libclang-rt-14-dev >/dev/null
 fi
 
-# The compiler cache (ccache, when installed; .ci/run installs it): a unity file includes its sources by absolute
-# path, so the build is configured from a fixed link to the checkout, BUILD.src, and a clean clone anywhere hits the
-# objects an earlier build of the same sources left (docs/robustness.md, "CI's time"). The link is replaced only when
-# it is a link; anything else at that name stops the script.
-link="$BUILD.src"
-if [ -e "$link" ] && [ ! -L "$link" ]; then
-  echo "sanitized_build.sh: $link exists and is not a link; move it away" >&2; exit 2
-fi
-ln -sfn "$SRC" "$link"
-# The folder is started afresh when an earlier call built it from another checkout: it holds this script's marker
-# naming that checkout, or (made before the marker) its configure log beside a cache of OCCSWEEP_SANITIZE=ON. Any
-# other non-empty folder is not this script's and stops it.
+# The folder is started afresh when an earlier call built it from another checkout (its marker names the checkout's
+# real path), so a clean clone gets a clean build, and only the compiler cache carries objects over. A non-empty folder
+# without the marker is not this script's and stops it (made before the marker: its configure log beside a cache of
+# OCCSWEEP_SANITIZE=ON counts as the marker).
 marker="$BUILD/occsweep-sanitized-build.txt"
+checkout=$(cd "$SRC" && pwd -P)
 made_here() {
   [ -f "$marker" ] || { [ -f "$BUILD/ci-cmake.log" ] && grep -qx "OCCSWEEP_SANITIZE:BOOL=ON" "$BUILD/CMakeCache.txt" 2>/dev/null; }
 }
 if [ -e "$BUILD" ] && [ -n "$(ls -A "$BUILD")" ]; then
   made_here || { echo "sanitized_build.sh: $BUILD is not a folder this script made; choose another" >&2; exit 2; }
-  [ -f "$marker" ] && [ "$(cat "$marker")" == "$SRC" ] || rm -rf "$BUILD"
+  [ -f "$marker" ] && [ "$(cat "$marker")" == "$checkout" ] || rm -rf "$BUILD"
 fi
 mkdir -p "$BUILD"
-echo "$SRC" >"$marker"
-launcher=()
+echo "$checkout" >"$marker"
+# ccache when installed (docs/robustness.md, "CI's time"); an empty launcher otherwise, so that a folder configured
+# while ccache was there still builds once it is gone.
+launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=)
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-cmake -S "$link" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
+cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
   -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" "${launcher[@]}" \
   -DOCCSWEEP_SANITIZE=ON -DOCCSWEEP_FUZZ=ON -DOCCSWEEP_STEREO="${OCCSWEEP_SANITIZE_STEREO:-ON}" -DCMAKE_UNITY_BUILD=ON \
   -DBUILD_TESTING=ON >"$BUILD/ci-cmake.log" 2>&1 || { cat "$BUILD/ci-cmake.log"; exit 1; }

@@ -1,6 +1,8 @@
 // occsweep cluster plan|submit|status|resubmit|run-local: sharded experiments as Slurm job arrays (docs/cluster.md).
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -18,6 +20,14 @@
 namespace occsweep::cli {
 namespace {
 
+/// Core-hours of `cpu_seconds`, to three significant digits (0.00436, 39.2, 1234).
+std::string coreHours(double cpu_seconds) {
+  const double hours = cpu_seconds / 3600.0;
+  char text[32];
+  std::snprintf(text, sizeof text, hours >= 100 ? "%.0f" : "%.3g", hours);
+  return text;
+}
+
 /// What run-local measured of each stage (docs/cluster.md, "Measured tasks"); nothing when it measured nothing.
 void printMeasured(const std::vector<MeasuredStage>& stages, const std::filesystem::path& dir) {
   if (std::none_of(stages.begin(), stages.end(), [](const MeasuredStage& s) { return s.measured > 0; })) return;
@@ -30,8 +40,8 @@ void printMeasured(const std::vector<MeasuredStage>& stages, const std::filesyst
     line.precision(1);
     line << "  stage " << s.stage << ": " << s.measured << " of " << s.tasks << " tasks, wall " << s.wall_seconds
          << " s in all (longest " << s.longest_seconds << " s), CPU " << s.cpu_seconds << " s ("
-         << std::setprecision(3) << s.cpu_seconds / 3600.0 << " core-hours), peak memory "
-         << std::setprecision(0) << double(s.peak_bytes) / 1e6 << " MB\n";
+         << coreHours(s.cpu_seconds) << " core-hours), peak memory " << std::setprecision(0)
+         << double(s.peak_bytes) / 1e6 << " MB\n";
     std::cout << line.str();
   }
 }
@@ -72,7 +82,13 @@ std::size_t printStatus(const ClusterPlan& plan, const std::filesystem::path& di
                 << (t.detail.empty() ? "" : ": " + t.detail) << '\n';
     }
   }
-  if (!quiet) printMeasured(measuredStages(plan, readMeasurements(dir)), dir);
+  if (!quiet) {
+    try {
+      printMeasured(measuredStages(plan, readMeasurements(dir)), dir);
+    } catch (const std::exception& e) {  // the status stands without them
+      std::cerr << "warning: " << e.what() << ": measurements not shown\n";
+    }
+  }
   return not_done;
 }
 
@@ -132,11 +148,13 @@ void addPlanRunOptions(CLI::App& plan, PlanOptions& o) {
       ->default_str(c.slurm.time);
   plan.add_option("--setup", c.slurm.setup, "A shell line every task runs first, e.g. 'module load gcc' (repeatable)");
   plan.add_option("--array-throttle", c.slurm.array_throttle, "At most this many tasks of an array at once "
-                  "(sbatch --array=...%N; 0: no limit)")->capture_default_str();
+                  "(sbatch --array=...%N; 0: no limit)")->capture_default_str()
+      ->check(integerIn<std::uint64_t>(0, kMaxArrayThrottle));
   plan.add_option("--estimate-from", o.estimate_from, "A plan folder run-local ran: print what this plan will cost "
                   "from its measured tasks, and set each stage's --time and --mem from it unless given");
   plan.add_option("--max-array-size", c.slurm.max_array_size, "Slurm's MaxArraySize: larger stages are submitted as "
-                  "several arrays (0: read from scontrol show config at submit, else 1001)")->capture_default_str();
+                  "several arrays (0: read from scontrol show config at submit, else 1001)")->capture_default_str()
+      ->check(integerIn<std::uint64_t>(0, kMaxArraySizeLimit));
   plan.add_option("--partition", c.slurm.partition, "sbatch --partition");
   plan.add_option("--account", c.slurm.account, "sbatch --account");
   plan.add_option("--sbatch", c.slurm.extra, "More #SBATCH options, verbatim (repeatable), e.g. --qos=long");
@@ -195,17 +213,16 @@ void printEstimate(const std::vector<StageEstimate>& estimate, const std::string
       continue;
     }
     if (e.modelled != e.tasks) std::cout << " (" << e.modelled << " of a kind measured)";
-    std::cout << ", " << std::fixed << std::setprecision(2) << e.cpu_seconds / 3600.0 << " core-hours, longest task "
-              << durationText(e.longest_seconds) << ", peak memory " << std::setprecision(0)
-              << double(e.peak_bytes) / 1e6 << " MB; --time " << stageTime(slurm, e.stage) << " --mem "
-              << stageMem(slurm, e.stage) << '\n';
+    std::cout << ", " << coreHours(e.cpu_seconds) << " core-hours, longest task " << durationText(e.longest_seconds)
+              << ", peak memory " << long(std::lround(double(e.peak_bytes) / 1e6)) << " MB; --time "
+              << stageTime(slurm, e.stage) << " --mem " << stageMem(slurm, e.stage) << '\n';
   }
-  std::cout << std::setprecision(1) << "  in all: " << cpu / 3600.0 << " core-hours";
+  std::cout << "  in all: " << coreHours(cpu) << " core-hours";
   for (const int cores : {64, 256})
     std::cout << "; on " << cores << " cores about " << durationText(estimatedWallSeconds(estimate, cores,
                                                                                          slurm.cpus_per_task));
   std::cout << (unmodelled ? " (without the " + std::to_string(unmodelled) + " tasks of kinds not measured)" : "")
-            << '\n' << std::defaultfloat;
+            << '\n';
 }
 
 int runPlan(const PlanOptions& o) {
@@ -227,7 +244,17 @@ int runPlan(const PlanOptions& o) {
   ClusterPlan p = buildPlan(c);
   std::vector<StageEstimate> estimate;
   if (!o.estimate_from.empty()) {
-    estimate = estimatePlan(p, readPlan(o.estimate_from), readMeasurements(o.estimate_from));
+    const ClusterPlan measured_plan = readPlan(o.estimate_from);
+    const std::vector<TaskMeasurement> measured = readMeasurements(o.estimate_from);
+    if (std::none_of(measured.begin(), measured.end(), [](const TaskMeasurement& m) { return m.succeeded; }))
+      throw std::invalid_argument("--estimate-from " + o.estimate_from + ": no task of that plan has run to success "
+                                  "under run-local (" + o.estimate_from + "/measured.jsonl): run `occsweep cluster "
+                                  "run-local " + o.estimate_from + "` first");
+    if (measured_plan.slurm.cpus_per_task != p.slurm.cpus_per_task)
+      std::cerr << "warning: --estimate-from " << o.estimate_from << " ran its tasks with --cpus-per-task "
+                << measured_plan.slurm.cpus_per_task << ", this plan with " << p.slurm.cpus_per_task
+                << ": the times carried over are that plan's\n";
+    estimate = estimatePlan(p, measured_plan, measured);
     applyEstimatedLimits(estimate, o, p.slurm);
   }
   writePlan(p, o.dir, o.force);

@@ -134,7 +134,9 @@ struct ImportCommands {
 /// Options every import has; scan imports name the data set from --name, truth keeps the data set's name.
 void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
   for (CLI::App* sub : {subs.depth, subs.graph, subs.cloud, subs.truth}) {
-    sub->add_option("files", o.files, "Input files, in scan order")->required();
+    CLI::Option* files = sub->add_option("files", o.files, "Input files, in scan order");
+    // depth and cloud check it themselves (requireFramesBeforePoses): a --poses before the frames takes them all
+    if (sub == subs.graph || sub == subs.truth) files->required();
     sub->add_option("--out", o.out, "Output data-set folder (written atomically; a new one, or occsweep's own with --force)")->required();
     sub->add_flag("--force", o.force, "Replace occsweep's own previous data set at --out (nothing else)");
     if (sub != subs.truth) sub->add_option("--name", o.name, "Data-set name (default: the output folder's name)");
@@ -235,7 +237,17 @@ void reportMedianDepth(const Dataset& d, double depth_scale) {
               << " right? (raw units per metre: 1000 for millimetres, 5000 for TUM and ICL-NUIM)\n";
 }
 
+/// --poses takes every file up to the next option, so `--poses P FRAME...` leaves no frame: said so, with the order.
+void requireFramesBeforePoses(const ImportOptions& o, const std::string& frames) {
+  if (!o.files.empty()) return;
+  throw CLI::ValidationError("files", "no " + frames + " given" +
+                                          (o.poses.size() > 1 ? ": --poses takes every file up to the next option, "
+                                                                "so give the " + frames + " before --poses"
+                                                              : ""));
+}
+
 int runImportDepth(const ImportOptions& o) {
+  requireFramesBeforePoses(o, "depth images");
   DepthImportConfig c = o.depth;
   c.pose_format = poseFormatNamed(o.pose_format);
   c.skip_empty = o.skip_empty;
@@ -256,6 +268,7 @@ int runImportGraph(const ImportOptions& o) {
 }
 
 int runImportCloud(const ImportOptions& o) {
+  requireFramesBeforePoses(o, "point clouds");
   CloudImportConfig cc;
   cc.pose_files = paths(o.poses);
   cc.pose_format = poseFormatNamed(o.pose_format);

@@ -2,14 +2,17 @@
 #include "command_line.hpp"
 
 #include <csignal>
+#include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <new>
 
 #include "command_registry.hpp"
 #include "install_paths.hpp"
+#include "occsweep/eval/child_process.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/grid.hpp"
 #include "occsweep/sweeps/version.hpp"
@@ -19,18 +22,21 @@ namespace occsweep::cli {
 
 namespace {
 
-// `argv` as a shell reads it back: an argument of other than plain characters in single quotes.
+// `argv` as a shell reads it back (shellWord: plain arguments as they are, others in single quotes).
 std::string shellCommand(int argc, char** argv) {
   std::string line;
-  for (int i = 0; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool plain = !arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                             "0123456789_./=:,+-@%") == std::string::npos;
-    std::string quoted = "'";
-    for (char ch : arg) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-    line += (i ? " " : "") + (plain ? arg : quoted + "'");
-  }
+  for (int i = 0; i < argc; ++i) line += (i ? " " : "") + shellWord(argv[i]);
   return line;
+}
+
+// What an interrupt of a command that resumes prints: what it kept, and the command in its folder (a relative path
+// in it means that folder). On a terminal it starts on a line of its own, below the progress bar.
+std::string resumeMessage(const CommandSpec& spec, int argc, char** argv) {
+  std::error_code ec;
+  const std::filesystem::path folder = std::filesystem::current_path(ec);
+  return std::string(::isatty(STDERR_FILENO) ? "\n" : "") + "occsweep " + spec.name + ": interrupted; " +
+         spec.kept_on_interrupt + ". The same command in the same folder resumes it:\n  " +
+         (ec ? "" : "cd " + shellWord(folder.string()) + " && ") + shellCommand(argc, argv) + "\n";
 }
 
 }  // namespace
@@ -61,8 +67,7 @@ int runCommandLine(int argc, char** argv) {
     if (!sub->parsed()) continue;
     const auto& [spec, run] = spec_and_run;
     if (!spec->kept_on_interrupt.empty())
-      setInterruptMessage("occsweep " + spec->name + ": interrupted; " + spec->kept_on_interrupt +
-                          ". The same command resumes:\n  " + shellCommand(argc, argv) + "\n");
+      setInterruptMessage(resumeMessage(*spec, argc, argv));
     try {
       return run();
     } catch (const CLI::ParseError& e) {

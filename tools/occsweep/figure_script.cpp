@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "install_paths.hpp"
-#include "occsweep/sweeps/cluster_state.hpp"
+#include "occsweep/eval/child_process.hpp"
 
 namespace occsweep::cli {
 

@@ -5,19 +5,54 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <sstream>
+
+#include "occsweep/eval/observable_truth.hpp"
 
 namespace occsweep {
 namespace {
 
-/// A kind of task: its stage and, for a results task, its grid.
-std::string kindOf(const std::string& stage, const ClusterTask& task) {
-  return task.expect_grid.empty() ? stage : stage + " " + task.expect_grid;
+/// `arg` with the data set's key, as the whole argument or as a path component, written as {dataset}, and a list of
+/// ids (point cloud parameter ids) as its count.
+std::string shapeOf(const std::string& arg, const std::string& key) {
+  if (!arg.empty() && arg.find_first_not_of("0123456789,") == std::string::npos)
+    return "{" + std::to_string(std::count(arg.begin(), arg.end(), ',') + 1) + " ids}";
+  std::string out;
+  std::size_t start = 0;
+  for (std::size_t slash; (slash = arg.find('/', start)) != std::string::npos; start = slash + 1) {
+    const std::string part = arg.substr(start, slash - start);
+    out += (part == key ? "{dataset}" : part) + "/";
+  }
+  const std::string last = arg.substr(start);
+  return out + (last == key ? "{dataset}" : last);
 }
 
-/// What the measured tasks of one kind cost, per task of `shards` shards.
+/// A kind of task: tasks of one kind cost alike, whatever their data set.
+/// - a results task (sweep, merge): its stage, grid, shard count and sweep settings (resolution, s_c, variant,
+///   statistics, truth; an Eq. 16 group's count and seed): a shard's fixed costs do not shrink with more shards, and a
+///   group of 1/20 is not the whole grid, so no kind is scaled to another;
+/// - any other (generation, select, report): its stage and command, with its data set and its ids left out.
+std::string kindOf(const std::string& stage, const ClusterTask& task) {
+  std::ostringstream k;
+  k << stage;
+  if (!task.expect_grid.empty()) {
+    k << " grid " << task.expect_grid << " shards " << task.expect_shards;
+    if (const auto& w = task.expect_work) {
+      k << " resolution " << w->resolution << " s_c " << w->s_c << " variant " << w->variant << " stats " << w->stats
+        << " truth " << truthModeName(w->truth);
+      if (w->group) k << " group of " << w->group->count << " seed " << w->group->seed;
+    }
+    return k.str();
+  }
+  const std::string key = task.label.substr(0, task.label.find(' '));
+  for (std::size_t i = 1; i < task.argv.size(); ++i) k << ' ' << shapeOf(task.argv[i], key);
+  return k.str();
+}
+
+/// What the measured tasks of one kind cost, per task.
 struct KindCost {
   double cpu_seconds = 0, wall_seconds = 0;
-  std::uint64_t peak_bytes = 0, shards = 1;
+  std::uint64_t peak_bytes = 0;
   std::size_t tasks = 0;
 };
 
@@ -25,17 +60,16 @@ std::map<std::string, KindCost> kindCosts(const ClusterPlan& measured_plan,
                                           const std::vector<TaskMeasurement>& measured) {
   std::map<std::pair<std::string, std::uint64_t>, const TaskMeasurement*> last;  // each task's last success
   for (const TaskMeasurement& m : measured)
-    if (m.exit_code == 0) last[{m.stage, m.task}] = &m;
+    if (m.succeeded) last[{m.stage, m.task}] = &m;
   std::map<std::string, KindCost> kinds;
   for (const ClusterStage& stage : measured_plan.stages)
     for (const ClusterTask& task : stage.tasks) {
       const auto it = last.find({stage.name, task.index});
-      if (it == last.end() || it->second->label != task.label) continue;
+      if (it == last.end() || it->second->argv != task.argv) continue;  // another command at that index
       KindCost& k = kinds[kindOf(stage.name, task)];
       k.cpu_seconds += it->second->cpu_seconds;
       k.wall_seconds += it->second->wall_seconds;
       k.peak_bytes = std::max(k.peak_bytes, it->second->peak_bytes);
-      k.shards = task.expect_shards;
       ++k.tasks;
     }
   for (auto& [name, k] : kinds) k.cpu_seconds /= double(k.tasks), k.wall_seconds /= double(k.tasks);
@@ -56,10 +90,9 @@ std::vector<StageEstimate> estimatePlan(const ClusterPlan& plan, const ClusterPl
       const auto it = kinds.find(kindOf(stage.name, task));
       if (it == kinds.end()) continue;
       const KindCost& k = it->second;
-      const double share = double(k.shards) / double(std::max<std::uint64_t>(task.expect_shards, 1));
       ++e.modelled;
-      e.cpu_seconds += k.cpu_seconds * share;
-      e.longest_seconds = std::max(e.longest_seconds, k.wall_seconds * share);
+      e.cpu_seconds += k.cpu_seconds;
+      e.longest_seconds = std::max(e.longest_seconds, k.wall_seconds);
       e.peak_bytes = std::max(e.peak_bytes, k.peak_bytes);
     }
   }

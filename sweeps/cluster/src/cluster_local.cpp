@@ -10,12 +10,12 @@
 #include <map>
 #include <memory>
 #include <sys/file.h>
-#include <sys/wait.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/eval/process_stat.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 #include "occsweep/sweeps/progress.hpp"
 
@@ -188,32 +188,48 @@ class StageRun {
     std::ofstream(runningMarker(dir_, stage_.name, t.index)) << pid << '\n';
   }
 
-  /// Waits for one task to end and checks its output; a signal (EINTR) returns at once.
+  /// Waits for one task to end and checks its output, reading the running tasks' peak memory meanwhile; a signal
+  /// returns at once.
   void reap() {
-    int status = 0;
-    struct rusage usage {};
-    const pid_t pid = ::wait4(-1, &status, 0, &usage);
-    if (pid < 0) {
-      if (errno == EINTR) return;
-      throw std::runtime_error(std::string("wait4 failed: ") + std::strerror(errno));
+    for (;;) {
+      int status = 0;
+      struct rusage usage {};
+      const pid_t pid = ::wait4(-1, &status, WNOHANG, &usage);
+      if (pid < 0 && errno != EINTR) throw std::runtime_error(std::string("wait4 failed: ") + std::strerror(errno));
+      if (pid > 0) return finish(pid, status, usage);
+      sampleMemory();
+      if (pid < 0 || ::usleep(kMemorySampleMicroseconds) != 0) return;  // interrupted: the caller sees the signal
     }
+  }
+
+ private:
+  // How often a running task's peak memory is read (/proc/PID/status VmHWM: its own, since its exec).
+  static constexpr useconds_t kMemorySampleMicroseconds = 50'000;
+
+  void sampleMemory() {
+    for (auto& [pid, task] : running_) task.peak_bytes = std::max(task.peak_bytes, peakResidentBytes(pid));
+  }
+
+  void finish(pid_t pid, int status, const struct rusage& usage) {
     const auto it = running_.find(pid);
     if (it == running_.end()) return;
     const ClusterTask& t = stage_.tasks[it->second.task];
-    const TaskMeasurement measured{stage_.name, t.index, t.label,
+    // A task too short for a sample: getrusage's peak, which also counts run-local's pages at the fork.
+    const std::uint64_t peak = it->second.peak_bytes > 0 ? it->second.peak_bytes : std::uint64_t(usage.ru_maxrss) * 1024;
+    const TaskMeasurement measured{stage_.name, t.index, t.label, t.argv,
                                    std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                                                  it->second.started).count(),
-                                   cpuSeconds(usage), std::uint64_t(usage.ru_maxrss) * 1024, exitCodeOf(status)};
+                                   cpuSeconds(usage), peak, exitCodeOf(status), false};
     stopper_.forget(it->second.slot);
     free_slots_.push_back(it->second.slot);
     std::error_code ec;
     fs::remove(runningMarker(dir_, stage_.name, t.index), ec);
     running_.erase(it);
     if (stopper_.signal()) return;  // stopped: the task did not fail, it was ended
-    appendMeasurement(dir_, measured);
     ++finished_;
     const int code = exitCodeOf(status);
     const std::string why = code == 0 ? checkOutput(t, dir_) : "exit code " + std::to_string(code);
+    record(measured, why.empty());
     if (!why.empty()) {
       ++failed_;
       std::cerr << "stage " << stage_.name << ": task " << t.index << " (" << t.label << ") failed: " << why
@@ -222,8 +238,18 @@ class StageRun {
     printProgress();
   }
 
- private:
-  // A line every few seconds, not one per task: paper-scale stages have hundreds.
+  // A measurement that cannot be written costs a warning, never the tasks still running.
+  void record(TaskMeasurement m, bool succeeded) {
+    m.succeeded = succeeded;
+    try {
+      appendMeasurement(dir_, m);
+    } catch (const std::exception& e) {
+      if (!measure_warned_) std::cerr << "warning: " << e.what() << ": task measurements are not recorded\n";
+      measure_warned_ = true;
+    }
+  }
+
+  // A line at most every few seconds, as tasks finish, not one per task: paper-scale stages have hundreds.
   void printProgress() {
     const auto now = std::chrono::steady_clock::now();
     if (finished_ != tasks_ && now - last_print_ <= std::chrono::seconds(5)) return;
@@ -236,6 +262,7 @@ class StageRun {
     std::uint64_t task;
     std::size_t slot;
     std::chrono::steady_clock::time_point started;
+    std::uint64_t peak_bytes = 0;  ///< the largest VmHWM read while it ran
   };
   const ClusterStage& stage_;
   std::size_t tasks_;
@@ -245,6 +272,7 @@ class StageRun {
   std::map<pid_t, Running> running_;
   std::vector<std::size_t> free_slots_;
   std::size_t finished_ = 0, failed_ = 0;
+  bool measure_warned_ = false;
 };
 
 /// Runs the tasks `ids` of one stage, `jobs` at a time; returns how many failed (none counted once stopped).
@@ -301,6 +329,9 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
   // Otherwise what is done is what is on disk.
   const auto torun = tasksToRun(plan, planStatus(plan, dir, {}, {}));
   requireOwnTaskLogs(plan, torun, dir);
+  if (fs::is_symlink(fs::symlink_status(dir / "measured.jsonl")))  // before any task starts
+    throw std::runtime_error((dir / "measured.jsonl").string() + ": is a symbolic link: occsweep never writes through "
+                             "one; remove it");
   TaskStopper stopper{std::size_t(jobs)};
   std::size_t failed = 0;
   for (std::size_t s = 0; s < plan.stages.size() && !stopper.signal(); ++s) {
@@ -321,7 +352,7 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
   if (const int signal = stopper.signal()) {
     std::cerr << "run-local: stopped by signal " << signal << " (" << strsignal(signal)
               << "); its tasks are ended, done tasks are kept. The rest runs with:\n  occsweep cluster run-local "
-              << plan_dir.string() << " --threads " << jobs << '\n';
+              << shellWord(plan_dir.string()) << " --threads " << jobs << '\n';
     // Die of the same signal, as the shell and a parent expect of a stopped program.
     ::signal(signal, SIG_DFL);
     ::raise(signal);

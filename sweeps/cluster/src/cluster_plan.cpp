@@ -309,8 +309,8 @@ void addSweepStages(const PlanConfig& c, const std::vector<SweptSet>& swept, con
   plan.stages.push_back(std::move(report));
 }
 
-/// The sbatch settings of a built plan: a value is one word (it becomes an `#SBATCH` line), a set-up line one line,
-/// and a stage named in `--mem STAGE=...` or `--time STAGE=...` one of the plan's.
+}  // namespace
+
 void checkSlurmOptions(const ClusterPlan& plan) {
   const SlurmOptions& o = plan.slurm;
   std::string stages;
@@ -334,12 +334,26 @@ void checkSlurmOptions(const ClusterPlan& plan) {
                                     "' (its stages: " + stages + ")");
     }
   }
-  for (const std::string& line : o.setup)
-    if (line.find_first_of("\r\n") != std::string::npos)
-      throw std::invalid_argument("--setup '" + line + "': one line each; give --setup once per line");
+  oneWord("--partition", o.partition);
+  oneWord("--account", o.account);
+  const auto oneLine = [](const std::string& flag, const std::string& text, const std::string& advice) {
+    if (text.find_first_of("\r\n\v\f") != std::string::npos)
+      throw std::invalid_argument(flag + " '" + text + "': " + advice);
+  };
+  for (const std::string& line : o.setup) {
+    oneLine("--setup", line, "one line each; give --setup once per line");
+    if (!line.empty() && line.back() == '\\')
+      throw std::invalid_argument("--setup '" + line + "': ends with a backslash, which would join the script's next "
+                                  "line to it");
+  }
+  if (o.array_throttle > kMaxArrayThrottle)
+    throw std::invalid_argument("--array-throttle " + std::to_string(o.array_throttle) + ": at most " +
+                                std::to_string(kMaxArrayThrottle));
+  if (o.max_array_size > kMaxArraySizeLimit)
+    throw std::invalid_argument("--max-array-size " + std::to_string(o.max_array_size) + ": at most " +
+                                std::to_string(kMaxArraySizeLimit) + " (Slurm's own limit)");
+  for (const std::string& option : o.extra) oneLine("--sbatch", option, "one #SBATCH option each, without a line break");
 }
-
-}  // namespace
 
 ClusterPlan buildPlan(const PlanConfig& c) {
   checkPlanConfig(c);

@@ -1,4 +1,5 @@
 // The plan's files: DIR/plan.json (the manifest of every shard) and one sbatch script per stage.
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -9,6 +10,7 @@
 #include <sys/vfs.h>
 
 #include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/eval/child_process.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/cluster_plan.hpp"
 #include "occsweep/sweeps/results.hpp"
@@ -117,6 +119,9 @@ ClusterPlan parsePlan(const json& j, const std::string& file) {
   p.slurm.stage_mem = optionalField<StageValues>(s, "stage_mem", file, "slurm.", {});
   p.slurm.stage_time = optionalField<StageValues>(s, "stage_time", file, "slurm.", {});
   p.slurm.setup = optionalField<std::vector<std::string>>(s, "setup", file, "slurm.", {});
+  for (const char* key : {"array_throttle", "max_array_size"})  // not 2.7, not -1: whole numbers only
+    if (s.contains(key) && !s.at(key).is_number_unsigned())
+      throw std::runtime_error(file + ": slurm." + key + ": expected a whole number >= 0");
   p.slurm.array_throttle = optionalField<std::uint64_t>(s, "array_throttle", file, "slurm.", 0);
   p.slurm.max_array_size = optionalField<std::uint64_t>(s, "max_array_size", file, "slurm.", 0);
   for (const auto& sj : field<json>(j, "stages", file, "")) {
@@ -153,16 +158,38 @@ ClusterPlan parsePlan(const json& j, const std::string& file) {
     }
     p.stages.push_back(std::move(st));
   }
+  try {
+    checkSlurmOptions(p);  // a hand-edited plan.json writes no other script than `cluster plan` would
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(file + ": slurm: " + e.what());
+  }
   return p;
 }
 
-std::string shellQuote(const std::string& a) {
-  if (!a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-./=:,+@%") ==
-                        std::string::npos)
-    return a;
-  std::string q = "'";
-  for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
+
+}  // namespace
+
+namespace {
+
+void writeSbatchOptions(std::ostream& s, const SlurmOptions& o, const std::string& mem, const std::string& time,
+                        const std::string& stage) {
+  s << "#SBATCH --job-name=occsweep-" << stage << "\n#SBATCH --cpus-per-task=" << o.cpus_per_task << '\n';
+  if (!mem.empty()) s << "#SBATCH --mem=" << mem << '\n';
+  if (!time.empty()) s << "#SBATCH --time=" << time << '\n';
+  if (!o.partition.empty()) s << "#SBATCH --partition=" << o.partition << '\n';
+  if (!o.account.empty()) s << "#SBATCH --account=" << o.account << '\n';
+  for (const auto& e : o.extra) s << "#SBATCH " << e << '\n';
+  // Requeue after node failure is safe: every output is written atomically and a sweep resumes.
+  s << "#SBATCH --requeue\n";
+}
+
+void writeTaskCases(std::ostream& s, const ClusterStage& stage, const std::string& id) {
+  for (const auto& t : stage.tasks) {
+    s << "  " << t.index << ")";
+    for (const auto& a : t.argv) s << ' ' << shellWord(a);
+    s << " ;;\n";
+  }
+  s << "  *) echo \"stage " << stage.name << " has no task " << id << "\" >&2; exit 2 ;;\nesac\n";
 }
 
 }  // namespace
@@ -173,28 +200,28 @@ std::string sbatchScript(const ClusterPlan& plan, const ClusterStage& stage) {
   s << "#!/bin/bash\n# occsweep cluster plan, stage " << stage.name << ": " << stage.tasks.size()
     << " tasks, one occsweep command each. Submitted by `occsweep cluster submit|resubmit`, which adds\n"
     << "# --array (only the tasks to run, in arrays within MaxArraySize: task = array index + OCCSWEEP_TASK_OFFSET),\n"
-    << "# --chdir (the plan folder), --output and --dependency=afterok.\n"
-    << "#SBATCH --job-name=occsweep-" << stage.name << "\n#SBATCH --cpus-per-task=" << o.cpus_per_task << '\n';
-  if (const std::string mem = stageMem(o, stage.name); !mem.empty()) s << "#SBATCH --mem=" << mem << '\n';
-  if (const std::string time = stageTime(o, stage.name); !time.empty()) s << "#SBATCH --time=" << time << '\n';
-  if (!o.partition.empty()) s << "#SBATCH --partition=" << o.partition << '\n';
-  if (!o.account.empty()) s << "#SBATCH --account=" << o.account << '\n';
-  for (const auto& e : o.extra) s << "#SBATCH " << e << '\n';
-  // Requeue after node failure is safe: every output is written atomically and a sweep resumes.
-  s << "#SBATCH --requeue\n";
-  // Set-up lines come before `set -u`: environment-module scripts read variables that may be unset.
+    << "# --chdir (the plan folder), --output and --dependency=afterok.\n";
+  writeSbatchOptions(s, o, stageMem(o, stage.name), stageTime(o, stage.name), stage.name);
+  s << "set -eo pipefail\n"
+    << "task=$(( ${SLURM_ARRAY_TASK_ID:?not run as a job array task} + ${OCCSWEEP_TASK_OFFSET:-0} ))\n"
+    << "echo \"occsweep cluster plan: stage " << stage.name << ", task $task\" >&2  # logs are named by array index\n";
+  // Set-up lines before `set -u`, which environment-module scripts break; after `set -e`, so a failing one stops the task.
   if (!o.setup.empty()) s << "# set-up (cluster plan --setup)\n";
   for (const auto& line : o.setup) s << line << '\n';
-  s << "set -euo pipefail\n"
-    << "task=$(( ${SLURM_ARRAY_TASK_ID:?not run as a job array task} + ${OCCSWEEP_TASK_OFFSET:-0} ))\n"
-    << "echo \"occsweep cluster plan: stage " << stage.name << ", task $task\" >&2  # logs are named by array index\n"
-    << "case \"$task\" in\n";
-  for (const auto& t : stage.tasks) {
-    s << "  " << t.index << ")";
-    for (const auto& a : t.argv) s << ' ' << shellQuote(a);
-    s << " ;;\n";
-  }
-  s << "  *) echo \"stage " << stage.name << " has no task $task\" >&2; exit 2 ;;\nesac\n";
+  s << "set -u\ncase \"$task\" in\n";
+  writeTaskCases(s, stage, "$task");
+  return s.str();
+}
+
+std::string sbatchScriptBeforeOffsets(const ClusterPlan& plan, const ClusterStage& stage) {
+  const auto& o = plan.slurm;
+  std::ostringstream s;
+  s << "#!/bin/bash\n# occsweep cluster plan, stage " << stage.name << ": " << stage.tasks.size()
+    << " tasks, one occsweep command each. Submitted by `occsweep cluster submit|resubmit`, which adds\n"
+    << "# --array (only the tasks to run), --chdir (the plan folder), --output and --dependency=afterok.\n";
+  writeSbatchOptions(s, o, o.mem, o.time, stage.name);
+  s << "set -euo pipefail\ncase \"${SLURM_ARRAY_TASK_ID:?not run as a job array task}\" in\n";
+  writeTaskCases(s, stage, "$SLURM_ARRAY_TASK_ID");
   return s.str();
 }
 
@@ -262,12 +289,13 @@ std::optional<ClusterPlan> replacedPlan(const std::filesystem::path& dir, const 
   return old;
 }
 
-// The script occsweep wrote for `stage_name` in the plan `old` (nothing when it has no such stage).
-std::optional<std::string> ownScript(const std::optional<ClusterPlan>& old, const std::string& stage_name) {
+// The scripts occsweep may have written for `stage_name` in the plan `old`: today's, and the one of an occsweep before
+// array offsets (none when it has no such stage).
+std::vector<std::string> ownScripts(const std::optional<ClusterPlan>& old, const std::string& stage_name) {
   if (old)
     for (const ClusterStage& st : old->stages)
-      if (st.name == stage_name) return sbatchScript(*old, st);
-  return std::nullopt;
+      if (st.name == stage_name) return {sbatchScript(*old, st), sbatchScriptBeforeOffsets(*old, st)};
+  return {};
 }
 
 // The plan's own files and folders are never reached through a symbolic link: a link is the user's entry, and
@@ -296,11 +324,17 @@ void refuseOtherScripts(const std::filesystem::path& dir, const ClusterPlan& pla
     const fs::path script = dir / "slurm" / (st.name + ".sbatch");
     std::error_code ec;
     if (!fs::exists(fs::symlink_status(script, ec))) continue;
-    const std::optional<std::string> own = ownScript(old, st.name);
+    const std::vector<std::string> own = ownScripts(old, st.name);
     const ReplaceableOutput own_script{"Slurm script of the plan", [own](const fs::path& file) {
                                          std::error_code ec;
-                                         return own && fs::is_regular_file(fs::symlink_status(file, ec)) &&
-                                                fs::file_size(file, ec) == own->size() && readFileBytes(file) == *own;
+                                         if (!fs::is_regular_file(fs::symlink_status(file, ec))) return false;
+                                         const std::uint64_t size = fs::file_size(file, ec);
+                                         if (ec || std::none_of(own.begin(), own.end(), [&](const std::string& o) {
+                                               return o.size() == size;
+                                             }))
+                                           return false;
+                                         const std::string bytes = readFileBytes(file);
+                                         return std::find(own.begin(), own.end(), bytes) != own.end();
                                        }};
     if (!own_script.is_own(script))
       throw std::runtime_error(script.string() + ": not the script occsweep wrote for the plan there (a file of "

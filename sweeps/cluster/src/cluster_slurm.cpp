@@ -1,4 +1,6 @@
 // Talking to Slurm: reading its records of a plan's array tasks, and submitting stages as chained job arrays.
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -29,6 +31,20 @@ bool numeric(const std::string& s) { return !s.empty() && s.find_first_not_of("0
 
 /// "CANCELLED by 0" -> "CANCELLED".
 std::string firstWord(const std::string& s) { return s.substr(0, s.find(' ')); }
+
+/// The stage's script on disk is the one this occsweep writes for the plan: a script of an earlier occsweep would run
+/// task = array index, ignoring the offset of a split array, and one edited by hand is not the plan's.
+void requireCurrentScript(const ClusterPlan& plan, const ClusterStage& stage, const fs::path& dir) {
+  const fs::path script = dir / "slurm" / (stage.name + ".sbatch");
+  std::ifstream in(script, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw std::runtime_error(script.string() + ": cannot read the stage's script");
+  if (bytes != sbatchScript(plan, stage))
+    throw std::runtime_error(script.string() + ": not the script this occsweep writes for the plan (one an earlier "
+                             "occsweep wrote, or edited by hand): write the plan again with the same `occsweep "
+                             "cluster plan` command, which replaces occsweep's own scripts, then submit (nothing "
+                             "was submitted)");
+}
 
 /// Slurm's MaxArraySize (an array index must be below it): the plan's, else what `scontrol show config` says, else
 /// Slurm's default, 1001.
@@ -121,6 +137,7 @@ std::map<std::string, SlurmRecord> querySlurm(const std::vector<Submission>& sub
 
 SubmitReport submitPlan(const ClusterPlan& plan, const fs::path& dir, bool resubmit, std::ostream& log) {
   SubmitReport report;
+  for (const ClusterStage& stage : plan.stages) requireCurrentScript(plan, stage, dir);  // before anything is sent
   const auto subs = readSubmissions(dir);
   if (!resubmit && !subs.empty())
     throw std::runtime_error((dir / "submissions.jsonl").string() + ": the plan was submitted already (" +

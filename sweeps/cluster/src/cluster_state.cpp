@@ -4,7 +4,9 @@
 
 #include <cstring>
 #include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <sstream>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -158,8 +160,11 @@ void appendLine(const fs::path& file, const std::string& line) {
 
 std::vector<Submission> readSubmissions(const fs::path& dir) {
   std::vector<Submission> out;
-  const std::string file = (dir / "submissions.jsonl").string();
-  std::ifstream in(file);
+  const fs::path path = dir / "submissions.jsonl";
+  const std::string file = path.string();
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(path, ec))) return out;
+  std::istringstream in(readFileBytes(path, std::uint64_t(1) << 30));  // a FIFO or a device is refused, not read
   std::string line;
   for (int n = 1; std::getline(in, line); ++n) {
     if (line.empty()) continue;
@@ -186,27 +191,39 @@ void appendMeasurement(const fs::path& dir, const TaskMeasurement& m) {
   appendLine(dir / "measured.jsonl", nlohmann::json{{"stage", m.stage},
                                                     {"task", m.task},
                                                     {"label", m.label},
+                                                    {"argv", m.argv},
                                                     {"wall_seconds", m.wall_seconds},
                                                     {"cpu_seconds", m.cpu_seconds},
                                                     {"peak_bytes", m.peak_bytes},
-                                                    {"exit_code", m.exit_code}}
+                                                    {"exit_code", m.exit_code},
+                                                    {"succeeded", m.succeeded}}
                                          .dump() +
                                          '\n');
 }
 
 std::vector<TaskMeasurement> readMeasurements(const fs::path& dir) {
   std::vector<TaskMeasurement> out;
-  const std::string file = (dir / "measured.jsonl").string();
-  std::ifstream in(file);
+  const fs::path path = dir / "measured.jsonl";
+  const std::string file = path.string();
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(path, ec))) return out;
+  std::istringstream in(readFileBytes(path, std::uint64_t(1) << 30));  // a FIFO or a device is refused, not read
   std::string line;
   for (int n = 1; std::getline(in, line); ++n) {
     if (line.empty()) continue;
     try {
       const auto j = nlohmann::json::parse(line);
-      out.push_back({j.at("stage").get<std::string>(), j.at("task").get<std::uint64_t>(),
-                     j.at("label").get<std::string>(), j.at("wall_seconds").get<double>(),
-                     j.at("cpu_seconds").get<double>(), j.at("peak_bytes").get<std::uint64_t>(),
-                     j.at("exit_code").get<int>()});
+      TaskMeasurement m{j.at("stage").get<std::string>(), j.at("task").get<std::uint64_t>(),
+                        j.at("label").get<std::string>(), j.at("argv").get<std::vector<std::string>>(),
+                        j.at("wall_seconds").get<double>(), j.at("cpu_seconds").get<double>(),
+                        j.at("peak_bytes").get<std::uint64_t>(), j.at("exit_code").get<int>(),
+                        j.at("succeeded").get<bool>()};
+      for (const double seconds : {m.wall_seconds, m.cpu_seconds})
+        if (!std::isfinite(seconds) || seconds < 0 || seconds > 1e9)
+          throw std::invalid_argument("a time outside 0 to 10^9 s");
+      if (!j.at("peak_bytes").is_number_unsigned() || m.peak_bytes >= (std::uint64_t(1) << 50))
+        throw std::invalid_argument("peak_bytes outside 0 to 2^50");
+      out.push_back(std::move(m));
     } catch (const std::exception& e) {
       throw std::runtime_error(file + ":" + std::to_string(n) + ": not a task measurement: " + e.what());
     }
@@ -217,7 +234,7 @@ std::vector<TaskMeasurement> readMeasurements(const fs::path& dir) {
 std::vector<MeasuredStage> measuredStages(const ClusterPlan& plan, const std::vector<TaskMeasurement>& measurements) {
   std::map<std::pair<std::string, std::uint64_t>, const TaskMeasurement*> last;  // (stage, task) -> its last success
   for (const TaskMeasurement& m : measurements)
-    if (m.exit_code == 0) last[{m.stage, m.task}] = &m;
+    if (m.succeeded) last[{m.stage, m.task}] = &m;
   std::vector<MeasuredStage> out;
   for (const ClusterStage& stage : plan.stages) {
     MeasuredStage& row = out.emplace_back();
@@ -225,7 +242,7 @@ std::vector<MeasuredStage> measuredStages(const ClusterPlan& plan, const std::ve
     row.tasks = stage.tasks.size();
     for (const ClusterTask& task : stage.tasks) {
       const auto it = last.find({stage.name, task.index});
-      if (it == last.end() || it->second->label != task.label) continue;  // another plan's task at that index
+      if (it == last.end() || it->second->argv != task.argv) continue;  // another command at that index
       const TaskMeasurement& m = *it->second;
       ++row.measured;
       row.wall_seconds += m.wall_seconds;

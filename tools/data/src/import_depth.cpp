@@ -55,11 +55,15 @@ Scan depthToScan(const DepthImage& image, const RigidPose& pose, const DepthImpo
 
 namespace {
 
-/// Up to `cap` of an image's measured raw values, evenly spread over its pixels: the sample of the median depth.
-void sampleDepths(const DepthImage& image, std::size_t cap, std::vector<std::uint16_t>& sample) {
+/// About `cap` of an image's raw values that become points (measured, nearer than --max-depth), evenly spread over
+/// its pixels: the sample of the median depth.
+void sampleDepths(const DepthImage& image, std::size_t cap, const DepthImportConfig& c,
+                  std::vector<std::uint16_t>& sample) {
   const std::size_t step = std::max<std::size_t>(1, image.values.size() / std::max<std::size_t>(cap, 1));
-  for (std::size_t i = 0; i < image.values.size(); i += step)
-    if (image.values[i] != 0) sample.push_back(image.values[i]);
+  for (std::size_t i = 0; i < image.values.size(); i += step) {
+    const std::uint16_t raw = image.values[i];
+    if (raw != 0 && (c.max_depth <= 0 || raw / c.depth_scale < c.max_depth)) sample.push_back(raw);
+  }
 }
 
 double medianMetres(std::vector<std::uint16_t>& sample, double depth_scale) {
@@ -77,8 +81,8 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
   if (images.empty()) throw std::invalid_argument("no depth image given");
   if (pose_files.empty()) throw std::invalid_argument("no pose file given (--poses)");
   const auto poses = framePoses(pose_files, c.pose_format, images, "depth image");
-  // At most about a million values in all, for the median depth that shows a wrong --depth-scale.
-  const std::size_t per_image = std::max<std::size_t>(1000, 1'000'000 / images.size());
+  // About a million values in all (at least one an image), for the median depth that shows a wrong --depth-scale.
+  const std::size_t per_image = std::max<std::size_t>(1, 1'000'000 / images.size());
   std::vector<std::uint16_t> depth_sample;
   PointCloudSet scans;
   std::uint64_t total_points = 0;
@@ -87,7 +91,7 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
   for (std::size_t i = 0; i < images.size(); ++i) {
     progress.show(i + 1, images.size());
     const DepthImage image = readDepthImage(images[i]);
-    sampleDepths(image, per_image, depth_sample);
+    sampleDepths(image, per_image, c, depth_sample);
     Scan scan = depthToScan(image, poses[i], c);
     files.push_back(images[i].filename().string());
     if (scan.points.empty() && c.skip_empty) continue;

@@ -239,11 +239,13 @@ std::vector<RigidPose> framePoses(const std::vector<fs::path>& pose_files, PoseF
   }
   const fs::path& file = pose_files.at(0);
   std::vector<RigidPose> poses = readPoses(file, format);
-  if (poses.size() == frames.size()) return poses;
   const bool timestamped = std::all_of(frames.begin(), frames.end(), [](const fs::path& f) {
     return frameTimestamp(f).has_value();
   });
+  // By timestamp whenever both sides have them, even at equal counts: a trajectory of as many poses as images need not
+  // pair them in order.
   if (format == PoseFormat::Tum && timestamped) return associateByTimestamp(file, poses, frames);
+  if (poses.size() == frames.size()) return poses;
   const std::string counts = "holds " + std::to_string(poses.size()) + " poses for " + std::to_string(frames.size()) +
                              " " + kind + "s: one pose per " + kind + " needed";
   if (poses.size() < frames.size()) throw DataError(file, "", counts);

@@ -35,6 +35,20 @@ struct ChildSetup {
 /// process may only make system calls).
 [[nodiscard]] std::vector<char*> execArgv(const std::vector<std::string>& argv);
 
+/// What runCapture read of a program.
+struct ProcessOutput {
+  int exit_code = -1;  ///< 127 when the program is not found, 128 + signal when killed
+  std::string text;    ///< stdout
+};
+/// Runs argv (searched on PATH, no shell) and captures its stdout; stderr passes through, or goes to /dev/null when
+/// `quiet` (Slurm's status queries: sacct without accounting complains on every call; a Python probe). For short
+/// queries only: the child is not registered with the interrupt handler.
+[[nodiscard]] ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet = false);
+
+/// One argument as a shell reads it back: as it is when it holds only plain characters (letters, digits, _-./=:,+@%),
+/// otherwise in single quotes (a quote inside as '\''). For the command lines occsweep prints or writes into scripts.
+[[nodiscard]] std::string shellWord(const std::string& arg);
+
 /// A finished child's exit code from its wait status: its own, 128 + signal when a signal ended it, else -1.
 [[nodiscard]] int exitCodeOf(int wait_status);
 

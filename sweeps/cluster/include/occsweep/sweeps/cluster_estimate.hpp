@@ -21,10 +21,10 @@ struct StageEstimate {
   std::uint64_t peak_bytes = 0;         ///< the largest measured peak memory of the stage's kinds
 };
 
-/// The model, per kind of task: a kind is the stage and, for a results task, its grid. A kind's CPU and wall time per
-/// task are the means over its measured tasks (each task's last successful run) times measured shards / planned
-/// shards (a grid's maps split evenly over its shards); its peak memory is the largest measured. A task whose kind
-/// was never measured is not modelled (StageEstimate::modelled counts the others).
+/// The model, per kind of task: a kind is the stage and, for a results task, its grid and shard count. A kind's CPU and
+/// wall time per task are the means over its measured tasks (each task's last successful run: exit 0, output
+/// checked); its peak memory is the largest measured. A task of a kind never measured is not modelled
+/// (StageEstimate::modelled counts the others): the model does not extrapolate to other shard counts.
 [[nodiscard]] std::vector<StageEstimate> estimatePlan(const ClusterPlan& plan, const ClusterPlan& measured_plan,
                                                       const std::vector<TaskMeasurement>& measured);
 

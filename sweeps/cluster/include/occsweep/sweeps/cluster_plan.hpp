@@ -56,6 +56,9 @@ struct ClusterStage {
   std::vector<ClusterTask> tasks;
 };
 
+/// The largest --array-throttle and --max-array-size (Slurm's own MaxArraySize limit is 4,000,001).
+inline constexpr std::uint64_t kMaxArrayThrottle = 1'000'000, kMaxArraySizeLimit = 4'000'001;
+
 /// sbatch options of every stage's script (docs/cluster.md, "A plan a real cluster runs"). Empty strings are left
 /// out.
 struct SlurmOptions {
@@ -85,6 +88,11 @@ struct ClusterPlan {
   SlurmOptions slurm;
   std::vector<ClusterStage> stages;    ///< in dependency order
 };
+
+/// The sbatch settings of a plan, built or read back: a --mem, --time, --partition or --account value is one word (it
+/// becomes an `#SBATCH` line), a set-up line or an --sbatch option one line, and a stage named in `--mem STAGE=...`
+/// or `--time STAGE=...` one of the plan's; std::invalid_argument naming the flag and the rule.
+void checkSlurmOptions(const ClusterPlan& plan);
 
 /// One grid of a plan: NAME[:SHARDS[:grouped]]. Grouped: data set i of n sweeps only Eq. 16 group i/n.
 struct PlanGrid {
@@ -159,8 +167,12 @@ void writePlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool f
 /// Reads DIR/plan.json; std::runtime_error naming the file and field for anything malformed.
 [[nodiscard]] ClusterPlan readPlan(const std::filesystem::path& dir);
 
-/// The sbatch script of one stage: a bash `case` on SLURM_ARRAY_TASK_ID, one occsweep command per task.
+/// The sbatch script of one stage: a bash `case` on the task, SLURM_ARRAY_TASK_ID + OCCSWEEP_TASK_OFFSET, one occsweep
+/// command per task.
 [[nodiscard]] std::string sbatchScript(const ClusterPlan& plan, const ClusterStage& stage);
+/// The script an occsweep before array offsets wrote for the stage (one --mem and --time, no set-up lines, the task the
+/// array index): occsweep's own when its plan is written again, which replaces it; never submitted.
+[[nodiscard]] std::string sbatchScriptBeforeOffsets(const ClusterPlan& plan, const ClusterStage& stage);
 /// The stage's task list; std::out_of_range for an unknown stage.
 [[nodiscard]] const ClusterStage& stageNamed(const ClusterPlan& plan, const std::string& name);
 

@@ -7,19 +7,12 @@
 #include <sys/types.h>
 #include <vector>
 
-#include "occsweep/eval/child_process.hpp"  // exitCodeOf, for the callers of spawnLogged
+#include "occsweep/eval/child_process.hpp"  // exitCodeOf and runCapture, for the callers of spawnLogged
 #include "occsweep/sweeps/cluster_plan.hpp"
 
 namespace occsweep {
 
-// ---- processes (cluster_exec.cpp) ----
-struct ProcessOutput {
-  int exit_code = -1;  ///< 127 when the program is not found, 128 + signal when killed
-  std::string text;    ///< stdout
-};
-/// Runs argv (searched on PATH), captures stdout; stderr passes through, or goes to /dev/null when `quiet`
-/// (status queries: sacct without accounting complains on every call).
-[[nodiscard]] ProcessOutput runCapture(const std::vector<std::string>& argv, bool quiet = false);
+// ---- run-local's tasks (cluster_exec.cpp; Slurm's clients run through eval's runCapture) ----
 /// Starts argv in `cwd` with stdout and stderr appended to `log`; returns the pid (std::runtime_error on failure).
 /// The child gets SIGTERM when this process dies, even by SIGKILL (PR_SET_PDEATHSIG): run-local's tasks never
 /// outlive it (docs/cluster.md); an argv[0] that cannot be started is exit code 127 with the reason in the log.
@@ -49,8 +42,8 @@ void requireOutputInside(const ClusterTask& task, const std::filesystem::path& d
 [[nodiscard]] bool outputStale(const ClusterTask& task, const std::filesystem::path& dir);
 
 // ---- Slurm records ----
-/// One `sbatch` of a stage's tasks, appended to DIR/submissions.jsonl.
-/// One submitted array of a stage: its tasks, task t at array index t - offset (arrays stay within MaxArraySize).
+/// One `sbatch` of a stage's tasks, an array, appended to DIR/submissions.jsonl: its tasks, task t at array index
+/// t - offset (a stage's arrays stay within MaxArraySize). A record without an offset (an earlier occsweep's) has 0.
 struct Submission {
   std::string stage, job_id;
   std::vector<std::uint64_t> tasks;
@@ -64,16 +57,21 @@ struct TaskMeasurement {
   std::string stage;
   std::uint64_t task = 0;
   std::string label;
+  std::vector<std::string> argv;             ///< the command it ran: a measurement counts for this command only
   double wall_seconds = 0, cpu_seconds = 0;  ///< CPU: user + system, of the task and the children it waited for
-  std::uint64_t peak_bytes = 0;              ///< peak resident memory (getrusage's ru_maxrss)
+  std::uint64_t peak_bytes = 0;              ///< peak resident memory of the task's process (VmHWM, read every 50 ms)
   int exit_code = 0;
+  bool succeeded = false;                    ///< exit 0 and an output that passes the task's check
 };
+/// Appends `m` to DIR/measured.jsonl (never through a symbolic link at its name; std::runtime_error otherwise).
 void appendMeasurement(const std::filesystem::path& dir, const TaskMeasurement& m);
-/// DIR/measured.jsonl in file order (none: empty); a broken line is refused naming the file and the line.
+/// DIR/measured.jsonl in file order (none: empty); a broken line, or a number out of its range (times finite and
+/// from 0 to 10^9 s, memory below 2^50 bytes), is refused naming the file and the line, and so is a file that is not
+/// a regular file or larger than 1 GB.
 [[nodiscard]] std::vector<TaskMeasurement> readMeasurements(const std::filesystem::path& dir);
 
-/// A stage's cost as run-local measured it: each task's last successful run (exit 0) under the task's label (a
-/// measurement of another plan's task at that index is left out).
+/// A stage's cost as run-local measured it: each task's last successful run (exit 0, its output checked) of the
+/// task's own command (a measurement of another command at that index, an earlier plan's, is left out).
 struct MeasuredStage {
   std::string stage;
   std::size_t tasks = 0, measured = 0;        ///< the stage's tasks, and how many have a measurement

@@ -73,7 +73,8 @@ inline constexpr double kTumMaxTimeDifference = 0.02;
 /// - one file of one pose per frame, in frame order;
 /// - one file per frame, each of one pose, in frame order (3DMatch's frame-*.pose.txt);
 /// - one TUM file (--pose-format tum) of any number of poses, when every frame's name is its timestamp
-///   (TUM's depth/1305031102.160407.png): each frame takes the pose nearest in time, within kTumMaxTimeDifference.
+///   (TUM's depth/1305031102.160407.png): each frame takes the pose nearest in time, within kTumMaxTimeDifference
+///   (a pose may serve two frames; a frame without one is refused, where associate.py would drop it).
 /// Otherwise a DataError naming the file, the counts and the fix.
 [[nodiscard]] std::vector<RigidPose> framePoses(const std::vector<std::filesystem::path>& pose_files, PoseFormat format,
                                                 const std::vector<std::filesystem::path>& frames,
