@@ -87,6 +87,35 @@ std::string arrayOption(const ArrayPart& part, std::uint64_t throttle) {
   return arrayRanges(indices) + (throttle > 0 ? "%" + std::to_string(throttle) : "");
 }
 
+/// One sbatch of `part` of a stage, after the arrays of `deps` (":JOB:JOB..."): recorded in submissions.jsonl and
+/// the report, said on `log`. Returns its job id.
+std::string submitArray(const ClusterPlan& plan, const ClusterStage& stage, const ArrayPart& part,
+                        const std::string& deps, const fs::path& dir, SubmitReport& report, std::ostream& log) {
+  const std::string array = arrayOption(part, plan.slurm.array_throttle);
+  std::vector<std::string> argv = {"sbatch", "--parsable", "--array=" + array,
+                                   "--export=ALL,OCCSWEEP_TASK_OFFSET=" + std::to_string(part.offset),
+                                   "--chdir=" + fs::absolute(dir).string(),
+                                   "--output=" + (fs::absolute(dir) / "logs" / (stage.name + "-%A_%a.out")).string()};
+  if (!deps.empty()) {
+    argv.push_back("--dependency=afterok" + deps);
+    argv.push_back("--kill-on-invalid-dep=yes");  // a failed dependency cancels this array, not leaves it pending
+  }
+  argv.push_back((fs::absolute(dir) / "slurm" / (stage.name + ".sbatch")).string());
+  const auto r = runCapture(argv);
+  const auto got = lines(r.text);
+  const std::string job = got.empty() ? "" : firstWord(splitOn(got.back(), ';')[0]);
+  if (r.exit_code != 0 || !numeric(job))
+    throw std::runtime_error("sbatch of stage " + stage.name + " failed (exit " + std::to_string(r.exit_code) + ")" +
+                             (report.submitted.empty() ? "" : ": earlier arrays were submitted, see status"));
+  const Submission sub{stage.name, job, part.tasks, part.offset};
+  appendSubmission(dir, sub);
+  report.submitted.push_back(sub);
+  log << "stage " << stage.name << ": job " << job << ", " << part.tasks.size() << " of " << stage.tasks.size()
+      << " tasks (--array=" << array << (part.offset ? ", tasks from " + std::to_string(part.offset) : "") << ")"
+      << (deps.empty() ? "" : ", after " + deps.substr(1)) << '\n';
+  return job;
+}
+
 }  // namespace
 
 std::map<std::string, SlurmRecord> querySlurm(const std::vector<Submission>& submissions) {
@@ -168,31 +197,8 @@ SubmitReport submitPlan(const ClusterPlan& plan, const fs::path& dir, bool resub
     for (auto t : torun[s]) removeOwnOutput(stage.tasks[t], dir);
     std::string deps;
     for (const auto& a : stage.after) deps += submitted[a];
-    for (const ArrayPart& part : splitArrays(torun[s], max_size)) {
-      const std::string array = arrayOption(part, plan.slurm.array_throttle);
-      std::vector<std::string> argv = {"sbatch", "--parsable", "--array=" + array,
-                                       "--export=ALL,OCCSWEEP_TASK_OFFSET=" + std::to_string(part.offset),
-                                       "--chdir=" + fs::absolute(dir).string(),
-                                       "--output=" + (fs::absolute(dir) / "logs" / (stage.name + "-%A_%a.out")).string()};
-      if (!deps.empty()) {
-        argv.push_back("--dependency=afterok" + deps);
-        argv.push_back("--kill-on-invalid-dep=yes");  // a failed dependency cancels this array, not leaves it pending
-      }
-      argv.push_back((fs::absolute(dir) / "slurm" / (stage.name + ".sbatch")).string());
-      const auto r = runCapture(argv);
-      const auto got = lines(r.text);
-      const std::string job = got.empty() ? "" : firstWord(splitOn(got.back(), ';')[0]);
-      if (r.exit_code != 0 || !numeric(job))
-        throw std::runtime_error("sbatch of stage " + stage.name + " failed (exit " + std::to_string(r.exit_code) +
-                                 ")" + (report.submitted.empty() ? "" : ": earlier arrays were submitted, see status"));
-      const Submission sub{stage.name, job, part.tasks, part.offset};
-      appendSubmission(dir, sub);
-      submitted[stage.name] += ":" + job;
-      report.submitted.push_back(sub);
-      log << "stage " << stage.name << ": job " << job << ", " << part.tasks.size() << " of " << stage.tasks.size()
-          << " tasks (--array=" << array << (part.offset ? ", tasks from " + std::to_string(part.offset) : "") << ")"
-          << (deps.empty() ? "" : ", after " + deps.substr(1)) << '\n';
-    }
+    for (const ArrayPart& part : splitArrays(torun[s], max_size))
+      submitted[stage.name] += ":" + submitArray(plan, stage, part, deps, dir, report, log);
   }
   if (report.submitted.empty()) log << "nothing to submit: every task is done\n";
   return report;
