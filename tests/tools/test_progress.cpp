@@ -53,6 +53,17 @@ int exitOf(pid_t child) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
 }
 
+// `occsweep ARGS` (a sweep) started with its output into `log`, sent SIGINT once it has written a progress line (some
+// maps are done and kept), and ended with 130: its log.
+std::string interruptedSweepLog(const std::string& args, const fs::path& log) {
+  const pid_t child = startCli(args, log);
+  for (int i = 0; i < 600 && test::bytesOf(log).find("maps/s") == std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ::kill(child, SIGINT);
+  REQUIRE(exitOf(child) == 130);
+  return test::bytesOf(log);
+}
+
 }  // namespace
 
 TEST_CASE("a progress line gives counts, percent, rate and time left, by hand") {
@@ -94,13 +105,7 @@ TEST_CASE("a sweep into a log names every phase and prints a whole line with rat
 TEST_CASE("an interrupted sweep says what it kept and the command that resumes it, and that command finishes it") {
   const fs::path dir = test::scratch("progress-interrupt");
   const std::string args = slowSweep(dir);
-  const pid_t child = startCli(args, dir / "log");
-  // Interrupted once it has written a progress line: some maps are done and kept.
-  for (int i = 0; i < 600 && test::bytesOf(dir / "log").find("maps/s") == std::string::npos; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  ::kill(child, SIGINT);
-  REQUIRE(exitOf(child) == 130);
-  const std::string log = test::bytesOf(dir / "log");
+  const std::string log = interruptedSweepLog(args, dir / "log");
   INFO(log);
   CHECK_THAT(log, Contains("occsweep sweep: interrupted; the maps it finished are kept beside each output"));
   const std::string resume = resumeLine(log);
@@ -124,12 +129,7 @@ TEST_CASE("the resume command reads back, through the shell, as the arguments th
                                          (dir / "k n \"$(x)\" `y` \\z.json").string()};
   std::string typed;
   for (const std::string& a : args) typed += " " + test::shellQuoted(a);
-  const pid_t child = startCli(typed.substr(1), dir / "log");
-  for (int i = 0; i < 600 && test::bytesOf(dir / "log").find("maps/s") == std::string::npos; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  ::kill(child, SIGINT);
-  REQUIRE(exitOf(child) == 130);
-  const std::string log = test::bytesOf(dir / "log");
+  const std::string log = interruptedSweepLog(typed.substr(1), dir / "log");
   INFO(log);
   std::string line = resumeLine(log);
   const std::string binary = " && " + test::cliUnderTest() + " ";

@@ -58,18 +58,16 @@ struct KindCost {
 
 std::map<std::string, KindCost> kindCosts(const ClusterPlan& measured_plan,
                                           const std::vector<TaskMeasurement>& measured) {
-  std::map<std::pair<std::string, std::uint64_t>, const TaskMeasurement*> last;  // each task's last success
-  for (const TaskMeasurement& m : measured)
-    if (m.succeeded) last[{m.stage, m.task}] = &m;
+  const LastSuccesses last(measured);
   std::map<std::string, KindCost> kinds;
   for (const ClusterStage& stage : measured_plan.stages)
     for (const ClusterTask& task : stage.tasks) {
-      const auto it = last.find({stage.name, task.index});
-      if (it == last.end() || it->second->argv != task.argv) continue;  // another command at that index
+      const TaskMeasurement* m = last.of(stage.name, task);
+      if (!m) continue;
       KindCost& k = kinds[kindOf(stage.name, task)];
-      k.cpu_seconds += it->second->cpu_seconds;
-      k.wall_seconds += it->second->wall_seconds;
-      k.peak_bytes = std::max(k.peak_bytes, it->second->peak_bytes);
+      k.cpu_seconds += m->cpu_seconds;
+      k.wall_seconds += m->wall_seconds;
+      k.peak_bytes = std::max(k.peak_bytes, m->peak_bytes);
       ++k.tasks;
     }
   for (auto& [name, k] : kinds) k.cpu_seconds /= double(k.tasks), k.wall_seconds /= double(k.tasks);

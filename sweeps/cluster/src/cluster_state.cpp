@@ -156,28 +156,36 @@ void appendLine(const fs::path& file, const std::string& line) {
   if (!written) throw std::runtime_error(file.string() + ": cannot append");
 }
 
-}  // namespace
-
-std::vector<Submission> readSubmissions(const fs::path& dir) {
-  std::vector<Submission> out;
-  const fs::path path = dir / "submissions.jsonl";
-  const std::string file = path.string();
+/// Each line of the plan file `name` in DIR (none: nothing), parsed as JSON and handed to `read`; a line it refuses
+/// (or that is not JSON) is refused naming the file, the line and `what` it should be. Read whole as a bounded
+/// regular file: a FIFO or a device is refused, not read.
+template <class Read>
+void readJsonLines(const fs::path& dir, const std::string& name, const std::string& what, Read read) {
+  const fs::path path = dir / name;
   std::error_code ec;
-  if (!fs::exists(fs::symlink_status(path, ec))) return out;
-  std::istringstream in(readFileBytes(path, std::uint64_t(1) << 30));  // a FIFO or a device is refused, not read
+  if (!fs::exists(fs::symlink_status(path, ec))) return;
+  std::istringstream in(readFileBytes(path, std::uint64_t(1) << 30));
   std::string line;
   for (int n = 1; std::getline(in, line); ++n) {
     if (line.empty()) continue;
     try {
-      const auto j = nlohmann::json::parse(line);
-      out.push_back({j.at("stage").get<std::string>(), j.at("job_id").get<std::string>(),
-                     j.at("tasks").get<std::vector<std::uint64_t>>(), j.value("offset", std::uint64_t(0))});
-      for (const std::uint64_t t : out.back().tasks)
-        if (t < out.back().offset) throw std::runtime_error("task " + std::to_string(t) + " is below the offset");
+      read(nlohmann::json::parse(line));
     } catch (const std::exception& e) {
-      throw std::runtime_error(file + ":" + std::to_string(n) + ": not a submission record: " + e.what());
+      throw std::runtime_error(path.string() + ":" + std::to_string(n) + ": not " + what + ": " + e.what());
     }
   }
+}
+
+}  // namespace
+
+std::vector<Submission> readSubmissions(const fs::path& dir) {
+  std::vector<Submission> out;
+  readJsonLines(dir, "submissions.jsonl", "a submission record", [&](const nlohmann::json& j) {
+    out.push_back({j.at("stage").get<std::string>(), j.at("job_id").get<std::string>(),
+                   j.at("tasks").get<std::vector<std::uint64_t>>(), j.value("offset", std::uint64_t(0))});
+    for (const std::uint64_t t : out.back().tasks)
+      if (t < out.back().offset) throw std::runtime_error("task " + std::to_string(t) + " is below the offset");
+  });
   return out;
 }
 
@@ -203,47 +211,43 @@ void appendMeasurement(const fs::path& dir, const TaskMeasurement& m) {
 
 std::vector<TaskMeasurement> readMeasurements(const fs::path& dir) {
   std::vector<TaskMeasurement> out;
-  const fs::path path = dir / "measured.jsonl";
-  const std::string file = path.string();
-  std::error_code ec;
-  if (!fs::exists(fs::symlink_status(path, ec))) return out;
-  std::istringstream in(readFileBytes(path, std::uint64_t(1) << 30));  // a FIFO or a device is refused, not read
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.empty()) continue;
-    try {
-      const auto j = nlohmann::json::parse(line);
-      TaskMeasurement m{j.at("stage").get<std::string>(), j.at("task").get<std::uint64_t>(),
-                        j.at("label").get<std::string>(), j.at("argv").get<std::vector<std::string>>(),
-                        j.at("wall_seconds").get<double>(), j.at("cpu_seconds").get<double>(),
-                        j.at("peak_bytes").get<std::uint64_t>(), j.at("exit_code").get<int>(),
-                        j.at("succeeded").get<bool>()};
-      for (const double seconds : {m.wall_seconds, m.cpu_seconds})
-        if (!std::isfinite(seconds) || seconds < 0 || seconds > 1e9)
-          throw std::invalid_argument("a time outside 0 to 10^9 s");
-      if (!j.at("peak_bytes").is_number_unsigned() || m.peak_bytes >= (std::uint64_t(1) << 50))
-        throw std::invalid_argument("peak_bytes outside 0 to 2^50");
-      out.push_back(std::move(m));
-    } catch (const std::exception& e) {
-      throw std::runtime_error(file + ":" + std::to_string(n) + ": not a task measurement: " + e.what());
-    }
-  }
+  readJsonLines(dir, "measured.jsonl", "a task measurement", [&](const nlohmann::json& j) {
+    TaskMeasurement m{j.at("stage").get<std::string>(), j.at("task").get<std::uint64_t>(),
+                      j.at("label").get<std::string>(), j.at("argv").get<std::vector<std::string>>(),
+                      j.at("wall_seconds").get<double>(), j.at("cpu_seconds").get<double>(),
+                      j.at("peak_bytes").get<std::uint64_t>(), j.at("exit_code").get<int>(),
+                      j.at("succeeded").get<bool>()};
+    for (const double seconds : {m.wall_seconds, m.cpu_seconds})
+      if (!std::isfinite(seconds) || seconds < 0 || seconds > 1e9)
+        throw std::invalid_argument("a time outside 0 to 10^9 s");
+    if (!j.at("peak_bytes").is_number_unsigned() || m.peak_bytes >= (std::uint64_t(1) << 50))
+      throw std::invalid_argument("peak_bytes outside 0 to 2^50");
+    out.push_back(std::move(m));
+  });
   return out;
 }
 
-std::vector<MeasuredStage> measuredStages(const ClusterPlan& plan, const std::vector<TaskMeasurement>& measurements) {
-  std::map<std::pair<std::string, std::uint64_t>, const TaskMeasurement*> last;  // (stage, task) -> its last success
+LastSuccesses::LastSuccesses(const std::vector<TaskMeasurement>& measurements) {
   for (const TaskMeasurement& m : measurements)
-    if (m.succeeded) last[{m.stage, m.task}] = &m;
+    if (m.succeeded) last_[{m.stage, m.task}] = &m;
+}
+
+const TaskMeasurement* LastSuccesses::of(const std::string& stage, const ClusterTask& task) const {
+  const auto it = last_.find({stage, task.index});
+  return it == last_.end() || it->second->argv != task.argv ? nullptr : it->second;  // another command at that index
+}
+
+std::vector<MeasuredStage> measuredStages(const ClusterPlan& plan, const std::vector<TaskMeasurement>& measurements) {
+  const LastSuccesses last(measurements);
   std::vector<MeasuredStage> out;
   for (const ClusterStage& stage : plan.stages) {
     MeasuredStage& row = out.emplace_back();
     row.stage = stage.name;
     row.tasks = stage.tasks.size();
     for (const ClusterTask& task : stage.tasks) {
-      const auto it = last.find({stage.name, task.index});
-      if (it == last.end() || it->second->argv != task.argv) continue;  // another command at that index
-      const TaskMeasurement& m = *it->second;
+      const TaskMeasurement* measured = last.of(stage.name, task);
+      if (!measured) continue;
+      const TaskMeasurement& m = *measured;
       ++row.measured;
       row.wall_seconds += m.wall_seconds;
       row.longest_seconds = std::max(row.longest_seconds, m.wall_seconds);

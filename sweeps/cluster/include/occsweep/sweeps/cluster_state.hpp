@@ -70,6 +70,18 @@ void appendMeasurement(const std::filesystem::path& dir, const TaskMeasurement& 
 /// a regular file or larger than 1 GB.
 [[nodiscard]] std::vector<TaskMeasurement> readMeasurements(const std::filesystem::path& dir);
 
+/// Each task's last successful run (exit 0, its output checked) in `measurements`, found for a task of a plan only
+/// when it ran that task's own command (a line of another command at that index, an earlier plan's, is not its).
+class LastSuccesses {
+ public:
+  explicit LastSuccesses(const std::vector<TaskMeasurement>& measurements);
+  /// The measurement of `task` of `stage`; nullptr when none.
+  [[nodiscard]] const TaskMeasurement* of(const std::string& stage, const ClusterTask& task) const;
+
+ private:
+  std::map<std::pair<std::string, std::uint64_t>, const TaskMeasurement*> last_;  // (stage, task) -> its last success
+};
+
 /// A stage's cost as run-local measured it: each task's last successful run (exit 0, its output checked) of the
 /// task's own command (a measurement of another command at that index, an earlier plan's, is left out).
 struct MeasuredStage {
