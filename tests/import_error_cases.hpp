@@ -11,6 +11,8 @@
 
 #include <zlib.h>
 
+#include "test_paths.hpp"
+
 namespace occsweep::test {
 
 struct BadInput {
@@ -83,7 +85,7 @@ inline std::vector<BadInput> badInputs() {
   std::string ply_nan = ply;
   for (float v : {1.f, 2.f, 3.f, std::numeric_limits<float>::quiet_NaN(), 0.f, 0.f}) append(ply_nan, v);
   const std::string pcd = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary\n";
-  const std::string results = fileBytes(std::filesystem::path(OCCSWEEP_SOURCE_DIR) / "results/builtin/octomap-opt.json");
+  const std::string results = fileBytes(occsweep::test::sourceTree() / "results/builtin/octomap-opt.json");
   std::string results_edited = results;
   if (auto at = results_edited.find("\"tp\""); at != std::string::npos) results_edited.replace(at, 4, "\"tq\"");
   std::string results_count = results;

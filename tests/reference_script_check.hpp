@@ -17,7 +17,7 @@ namespace occsweep::test {
 /// skips: the committed values are then what the other tests use.
 inline void requireReferenceScriptUnchanged(const std::string& script, const std::string& python_requirement,
                                             const std::string& packages) {
-  const auto source = std::filesystem::path(OCCSWEEP_SOURCE_DIR);
+  const auto source = occsweep::test::sourceTree();
   if (std::system(("/usr/bin/python3 -c '" + python_requirement + "' 2>/dev/null").c_str()) != 0) {
     WARN("skipped: /usr/bin/python3 with " + packages + " is not installed (the committed values are used above)");
     return;

@@ -17,6 +17,7 @@
 #include <octomap/octomap_types.h>
 
 #include "occsweep/core/splitmix64.hpp"
+#include "test_paths.hpp"
 
 namespace occsweep::test {
 
@@ -40,7 +41,7 @@ inline std::vector<std::filesystem::path> filesUnder(const std::filesystem::path
 
 /// A fresh folder under the build tree, removed first if it exists.
 inline std::filesystem::path scratch(const std::string& name) {
-  const auto dir = std::filesystem::path(OCCSWEEP_BINARY_DIR) / "test-scratch" / name;
+  const auto dir = occsweep::test::buildTree() / "test-scratch" / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
@@ -69,7 +70,7 @@ struct CommandResult {
 /// on it), else this build's.
 inline std::string cliUnderTest() {
   const char* other = std::getenv("OCCSWEEP_TEST_CLI");
-  return other && *other ? std::string(other) : std::string(OCCSWEEP_CLI);
+  return other && *other ? std::string(other) : occsweep::test::builtCli();
 }
 
 /// `p` in single quotes for the shell.

@@ -118,7 +118,8 @@ def fig6(out):
     cv = load(out, "curves.json")
     fig = plt.figure(figsize=(15, 4.8))
     ax = fig.add_subplot(1, 3, 1)
-    for key, label, colour in [("octomap", "OctoMap", "tab:blue"), ("knn", "k-NN", "tab:red")]:
+    # The two methods' colours of every occsweep figure (docs/statistics.md, "Figures": Okabe and Ito's palette).
+    for key, label, colour in [("octomap", "OctoMap", "#000000"), ("knn", "k-NN", "#D55E00")]:
         m = cv[key]
         ax.plot([p["fdr"] for p in m["curve"]], [p["tpr"] for p in m["curve"]], "o-", color=colour, ms=4,
                 label=f"{label} best, AUC {m['auc']:.3f}")

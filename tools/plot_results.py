@@ -7,27 +7,87 @@ usage: plot_results.py DATA.json FIG
 import json
 import math
 import sys
+import textwrap
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-plt.rcParams.update({"font.size": 10, "axes.titlesize": 10, "legend.fontsize": 8})
 AUC = "AUC (area under the TPR-FDR curve, anchored)"
 
 
 # The mark occsweep checks to know the script drew (PNG: its Software chunk; PDF and SVG: their Creator).
 MARK = {"png": {"Software": "occsweep plot"}, "pdf": {"Creator": "occsweep plot"}, "svg": {"Creator": "occsweep plot"}}
 
+# The line styles a style may name (tools/occsweep/method_style.hpp), as matplotlib draws them.
+LINES = {"solid": "-", "dashed": "--", "dashdot": "-.", "dotted": ":", "densely dashed": (0, (5, 1)),
+         "dashdotdotted": (0, (3, 1, 1, 1, 1, 1)), "densely dotted": (0, (1, 1)), "long dashed": (0, (8, 2))}
 
-def save(fig, path, figure_format):
-    # `path` is occsweep's temporary for the figure: occsweep renames it into place once this script succeeded.
-    fig.savefig(path, format=figure_format, dpi=150, bbox_inches="tight", metadata=MARK[figure_format])
+
+class Style:
+    """DATA.json's "style": the print width (None: each figure's screen size), the font size, and each method's
+    display name, colour, marker and line style, the same in every figure (occsweep computed them)."""
+
+    def __init__(self, d):
+        s = d["style"]
+        self.width, self.font_size, self.methods = s["width_in"], s["font_size"], s["methods"]
+        plt.rcParams.update({"font.size": self.font_size, "axes.titlesize": self.font_size,
+                             "legend.fontsize": self.font_size - 1, "xtick.labelsize": self.font_size - 1,
+                             "ytick.labelsize": self.font_size - 1, "svg.fonttype": "none", "pdf.fonttype": 42})
+
+    def name(self, m):
+        return self.methods[m]["name"] if m in self.methods else m
+
+    def colour(self, m):
+        return self.methods[m]["colour"]
+
+    def marker(self, m):
+        return self.methods[m]["marker"]
+
+    def line(self, m):
+        return LINES[self.methods[m]["line"]]
+
+    def size(self, screen_width, screen_height, rows=1):
+        """The figure's size: the screen size, or the print width at the screen size's proportions, at least 2.4
+        inches a row of panels (the axes, their labels and the legend's share of the height)."""
+        if self.width is None:
+            return screen_width, screen_height
+        return self.width, max(self.width * screen_height / screen_width, 2.4 * rows)
+
+    def panels(self, count, screen_columns=3):
+        """Columns of small multiples: three on a screen or a page, fewer in a narrow column (1.7 in each at least)."""
+        fit = screen_columns if self.width is None else max(1, int(self.width // 1.7))
+        return max(1, min(screen_columns, fit, count))
+
+    def title(self, setter, text):
+        """A title on a screen; none in print, where the caption says it."""
+        if self.width is None:
+            setter(text)
+
+    def legend_columns(self, count):
+        return count if self.width is None else max(1, min(count, int(self.width // 1.7)))
+
+    def label(self, text, inches):
+        """An axis label in print, broken into lines that fit `inches` (about 0.55 em a character)."""
+        if self.width is None:
+            return text
+        return textwrap.fill(text, max(12, int(inches * 72 / (0.55 * self.font_size))))
+
+
+def save(fig, path, figure_format, style):
+    # `path` is occsweep's temporary for the figure: occsweep renames it into place once this script succeeded. At a
+    # print width the figure keeps that width (no crop: the layout already fits every label inside it), so its text
+    # prints at the font size asked for.
+    tight = "tight" if style.width is None else None
+    fig.savefig(path, format=figure_format, dpi=150 if style.width is None else 300, bbox_inches=tight,
+                metadata=MARK[figure_format])
     plt.close(fig)
 
 
-def legend_below(fig, ax_or_axes, ncol=3):
+def legend_below(fig, ax_or_axes, ncol):
+    """The legend below the axes, off the data: the axes, their labels and any title are laid out above the
+    legend's rows (tight_layout within the rest of the figure)."""
     axes = ax_or_axes if isinstance(ax_or_axes, list) else [ax_or_axes]
     handles, labels = [], []
     for ax in axes:
@@ -35,132 +95,108 @@ def legend_below(fig, ax_or_axes, ncol=3):
             if l not in labels:
                 handles.append(h)
                 labels.append(l)
-    # About 0.8 inch for the axis labels and the legend, whatever the figure's height.
-    bottom = min(0.2, 0.8 / fig.get_figheight())
-    fig.subplots_adjust(bottom=bottom)
+    rows = math.ceil(len(labels) / max(1, ncol))
+    legend_in = (rows * 1.5 + 0.6) * plt.rcParams["legend.fontsize"] / 72
+    fig.tight_layout(rect=(0, min(0.5, legend_in / fig.get_figheight()), 1, 1), pad=0.3)
     fig.legend(handles, labels, loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, 0.0), frameon=False)
 
 
-# One colour, marker and line style per method in every figure (docs/statistics.md, "Figures"): Okabe and Ito's
-# palette, which readers with any common colour-vision deficiency tell apart. The shipped methods keep theirs; any
-# other method takes one by its name, so that it too keeps it from figure to figure.
-OKABE_ITO = ["#000000", "#D55E00", "#0072B2", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442"]
-SHIPPED = {"octomap": 0, "knn": 1, "sor-octomap": 2, "ror-octomap": 3, "range-octomap": 4}
-MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*"]
-LINES = ["-", "--", "-.", ":", (0, (5, 1)), (0, (3, 1, 1, 1, 1, 1)), (0, (1, 1)), (0, (8, 2))]
-
-
-def style_index(method):
-    if method in SHIPPED:
-        return SHIPPED[method]
-    return 5 + sum(method.encode()) % (len(OKABE_ITO) - 5)
-
-
-def colours(methods):
-    return {m: OKABE_ITO[style_index(m)] for m in methods}
-
-
-def marker(method):
-    return MARKERS[style_index(method)]
-
-
-def line(method):
-    return LINES[style_index(method)]
-
-
-def curves(d):
+def curves(d, st):
     sets = d["sets"]
-    cols = min(3, len(sets))
+    cols = st.panels(len(sets))
     rows = math.ceil(len(sets) / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False)
-    col = colours({m["method"] for s in sets for m in s["methods"]})
+    fig, axes = plt.subplots(rows, cols, figsize=st.size(4.2 * cols, 3.6 * rows, rows), squeeze=False)
+    panel_in = fig.get_figwidth() / cols
+    methods = sorted({m["method"] for s in sets for m in s["methods"]})
     for ax, s in zip(axes.flat, sets):
         for m in s["methods"]:
+            name = m["method"]
             xs, ys = zip(*m["points"]) if m["points"] else ([], [])
             # Each its own line style and marker, hollow markers and thin lines: a curve under another shows.
-            ax.plot(xs, ys, linestyle=line(m["method"]), marker=marker(m["method"]), ms=4, mfc="none", lw=1.2,
-                    color=col[m["method"]], label=m["method"])
-            ax.annotate(f"{m['method']}: AUC {m['auc']:.4f}" if m["auc"] is not None else m["method"],
+            ax.plot(xs, ys, linestyle=st.line(name), marker=st.marker(name), ms=4, mfc="none", lw=1.2,
+                    color=st.colour(name), label=st.name(name))
+            ax.annotate(f"{st.name(name)}: AUC {m['auc']:.4f}" if m["auc"] is not None else st.name(name),
                         xy=(0.98, 0.03 + 0.08 * s["methods"].index(m)), xycoords="axes fraction", ha="right",
-                        fontsize=7, color=col[m["method"]])
-        ax.set_title(s["set"], fontsize=9)
-        ax.set_xlabel("FDR (false discovery rate)")
-        ax.set_ylabel("TPR (true positive rate)")
+                        fontsize=st.font_size - 3, color=st.colour(name))
+        ax.set_title(s["set"], fontsize=st.font_size - 1)
+        ax.set_xlabel(st.label("FDR (false discovery rate)", panel_in))
+        ax.set_ylabel(st.label("TPR (true positive rate)", fig.get_figheight() / rows * 0.8))
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[len(sets):]:
         ax.axis("off")
     shown = f"{len(sets)} of {d['sets_given']} sets" if d["sets_given"] > len(sets) else f"{len(sets)} sets"
-    fig.suptitle(f"Best map of each method: TPR against FDR over p_t ({shown})")
-    fig.tight_layout()
-    legend_below(fig, list(axes.flat), ncol=len(col))
+    st.title(fig.suptitle, f"Best map of each method: TPR against FDR over p_t ({shown})")
+    legend_below(fig, list(axes.flat), ncol=st.legend_columns(len(methods)))
     return fig
 
 
-def budget(d):
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    col = colours({m["method"] for m in d["methods"]})
+def budget(d, st):
+    fig, ax = plt.subplots(figsize=st.size(7, 4.5))
     for m in d["methods"]:
+        name = m["method"]
         n = list(range(1, m["maps"] + 1))
-        ax.plot(n, m["curve"], color=col[m["method"]], linestyle=line(m["method"]), lw=1.4,
-                label=f"{m['method']} ({m['maps']} maps)")
+        ax.plot(n, m["curve"], color=st.colour(name), linestyle=st.line(name), lw=1.4,
+                label=f"{st.name(name)} ({m['maps']} maps)")
     if d["baseline_best"] is not None:
-        ax.axhline(d["baseline_best"], color="k", ls="--", lw=1, label=f"{d['baseline']}: best of its whole grid")
+        ax.axhline(d["baseline_best"], color="k", ls="--", lw=1,
+                   label=f"{st.name(d['baseline'])}: best of its whole grid")
     ax.set_xscale("log")
-    ax.set_xlabel("maps tried at random from the method's grid (n, log scale)")
-    ax.set_ylabel("expected best AUC, mean over sets")
-    ax.set_title(f"Budget curves over {d['sets']} sets: the expected best of n maps (docs/statistics.md)")
+    ax.set_xlabel(st.label("maps tried at random from the method's grid (n, log scale)", fig.get_figwidth() * 0.8))
+    ax.set_ylabel(st.label("expected best AUC, mean over sets", fig.get_figheight() * 0.6))
+    st.title(ax.set_title, f"Budget curves over {d['sets']} set{'' if d['sets'] == 1 else 's'}: the expected best of n maps "
+                              "(docs/statistics.md)")
     ax.grid(alpha=0.3, which="both")
-    legend_below(fig, ax)
+    legend_below(fig, ax, ncol=st.legend_columns(3))
     return fig
 
 
-def improvement(d):
-    fig, (ax, right) = plt.subplots(1, 2, figsize=(8.5, 4.5), sharey=True, gridspec_kw={"width_ratios": [4, 1.2]})
-    col = colours({m["method"] for m in d["methods"]})
+def improvement(d, st):
+    fig, (ax, right) = plt.subplots(1, 2, figsize=st.size(8.5, 4.5), sharey=True,
+                                    gridspec_kw={"width_ratios": [4, 1.2]})
     for m in d["methods"]:
+        name = m["method"]
         if m["points"]:
-            ax.scatter([p[0] for p in m["points"]], [p[1] for p in m["points"]], s=22, color=col[m["method"]],
-                       marker=marker(m["method"]), edgecolors="k", linewidths=0.3, label=m["method"], alpha=0.8)
-    names = [m["method"] for m in d["methods"]]
+            ax.scatter([p[0] for p in m["points"]], [p[1] for p in m["points"]], s=22, color=st.colour(name),
+                       marker=st.marker(name), edgecolors="k", linewidths=0.3, label=st.name(name), alpha=0.8)
+    names = [st.name(m["method"]) for m in d["methods"]]
     for i, m in enumerate(d["methods"]):  # the mean's 95 % interval, one column per method
         iv = m["interval"]
         if iv is not None:
             right.errorbar([i], [iv["mean"]], yerr=[[iv["mean"] - iv["lower"]], [iv["upper"] - iv["mean"]]],
-                           fmt=marker(m["method"]), color=col[m["method"]], capsize=3, ms=5)
+                           fmt=st.marker(m["method"]), color=st.colour(m["method"]), capsize=3, ms=5)
     for a in (ax, right):
         a.axhline(0, color="k", lw=0.8)
         a.grid(alpha=0.3)
-    ax.set_xlabel(f"best AUC of {d['baseline']} on the set")
-    ax.set_ylabel(f"improvement over {d['baseline']} (%)")
-    ax.set_title("Per set: the best of each method against the baseline's best")
+    baseline = st.name(d["baseline"])
+    ax.set_xlabel(st.label(f"best AUC of {baseline} on the set", fig.get_figwidth() * 0.6))
+    ax.set_ylabel(st.label(f"improvement over {baseline} (%)", fig.get_figheight() * 0.6))
+    st.title(ax.set_title, "Per set: the best of each method against the baseline's best")
     right.set_xticks(range(len(names)))
-    right.set_xticklabels(names, rotation=45, ha="right", fontsize=8)
+    right.set_xticklabels(names, rotation=45, ha="right", fontsize=st.font_size - 2)
     right.set_xlim(-0.6, len(names) - 0.4)
-    right.set_title("mean, 95 % interval")
-    legend_below(fig, ax, ncol=4)
-    fig.subplots_adjust(bottom=0.32)
+    st.title(right.set_title, "mean, 95 % interval")
+    legend_below(fig, ax, ncol=st.legend_columns(4))
     return fig
 
 
-def params(d):
+def params(d, st):
     ps = d["parameters"]
     if not ps:
         sys.exit("plot_results.py: no parameter of " + d["method"] + " takes more than one value in these files")
-    cols = min(3, len(ps))
+    cols = st.panels(len(ps))
     rows = math.ceil(len(ps) / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.4 * rows), squeeze=False, sharey=True)
+    fig, axes = plt.subplots(rows, cols, figsize=st.size(4.2 * cols, 3.4 * rows, rows), squeeze=False, sharey=True)
     for ax, p in zip(axes.flat, ps):
-        ax.plot(p["values"], p["mean"], "-o", ms=3, color="tab:blue", label="mean over the maps with this value")
-        ax.plot(p["values"], p["best"], "-s", ms=3, color="tab:red", label="best of the maps with this value")
+        ax.plot(p["values"], p["mean"], "-o", ms=3, color="#0072B2", label="mean over the maps with this value")
+        ax.plot(p["values"], p["best"], "--s", ms=3, color="#D55E00", label="best of the maps with this value")
         ax.set_xlabel(p["name"])
         ax.grid(alpha=0.3)
     for ax in axes[:, 0]:
         ax.set_ylabel("AUC")
     for ax in list(axes.flat)[len(ps):]:
         ax.axis("off")
-    fig.suptitle(f"{d['method']}: AUC against each parameter, over every map and set given")
-    fig.tight_layout()
-    legend_below(fig, list(axes.flat), ncol=2)
+    st.title(fig.suptitle, f"{st.name(d['method'])}: AUC against each parameter, over every map and set given")
+    legend_below(fig, list(axes.flat), ncol=st.legend_columns(2))
     return fig
 
 
@@ -181,7 +217,8 @@ def main():
     if figure_format not in MARK:
         sys.exit(f"plot_results.py: {sys.argv[1]}: unknown figure_format {figure_format!r}")
     try:
-        save(FIGURES[d["kind"]](d), sys.argv[2], figure_format)
+        style = Style(d)
+        save(FIGURES[d["kind"]](d, style), sys.argv[2], figure_format, style)
     except Exception as e:  # one line, never a traceback: occsweep reports the failure and writes nothing
         sys.exit(f"plot_results.py: cannot draw the {d['kind']} figure: {type(e).__name__}: {e}")
 

@@ -9,6 +9,7 @@
 #include <optional>
 #include <random>
 #include <sstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace occsweep {
@@ -63,6 +64,17 @@ const Machine& thisMachine() {
 
 std::string machineLine(const Machine& m) { return m.host + " " + m.boot + " " + m.pid_namespace; }
 
+// Which entry `path` names, whatever way its path is spelt (through a symbolic link, `..`, relative): the device
+// and inode of the folder holding it, and its name. A folder replaced by a copy at the same path is another folder.
+// "" when that folder cannot be read.
+std::string entryIdentity(const fs::path& path) {
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(path, ec).lexically_normal();
+  struct stat folder {};
+  if (ec || ::stat(absolute.parent_path().c_str(), &folder) != 0) return "";
+  return std::to_string(folder.st_dev) + " " + std::to_string(folder.st_ino) + " " + absolute.filename().string();
+}
+
 // `.NAME.tmp-PID-TOKEN` parsed: the PID and TOKEN, or pid -1.
 struct TemporaryName {
   long pid = -1;
@@ -90,12 +102,13 @@ TemporaryName parseTemporary(const std::string& component, const std::string& ou
   return {std::stol(rest.substr(0, dash)), rest.substr(dash + 1)};
 }
 
-// A record: the process identity on the first line, the temporary's absolute path on the second, the machine
-// (machineLine) on the third.
+// A record: the process identity on the first line, the temporary's absolute path on the second (as it was spelt,
+// for a person reading the ledger), the machine (machineLine) on the third, the temporary's entryIdentity on the
+// fourth: what proves an entry is that temporary.
 struct LedgerRecord {
   std::string process;
   fs::path path;
-  std::string machine;
+  std::string machine, entry;
 };
 
 std::optional<LedgerRecord> readRecord(const fs::path& ledger, const std::string& token) {
@@ -103,6 +116,7 @@ std::optional<LedgerRecord> readRecord(const fs::path& ledger, const std::string
   LedgerRecord r;
   std::string path;
   if (!std::getline(in, r.process) || !std::getline(in, path) || !std::getline(in, r.machine)) return std::nullopt;
+  std::getline(in, r.entry);  // "" in a record of an occsweep that kept no identity: it proves nothing
   r.path = path;
   return r;
 }
@@ -123,14 +137,16 @@ bool recordedProcessGone(const LedgerRecord& r) {
   return process >> pid && processIdentity(pid) != r.process;
 }
 
-// Drops records whose process is gone and whose temporary no longer exists (removed by hand, or its folder
-// deleted): what a kill leaves in the ledger when nothing writes that target again.
+// Drops records whose process is gone and whose temporary is no longer where it was made (removed by hand, or its
+// folder deleted or replaced): what a kill leaves in the ledger when nothing writes that target again.
 void pruneLedger(const fs::path& ledger) {
   std::error_code ec;
   for (fs::directory_iterator it(ledger, ec), end; !ec && it != end; it.increment(ec)) {
     const std::optional<LedgerRecord> r = readRecord(ledger, it->path().filename().string());
     std::error_code missing;
-    if (r && recordedProcessGone(*r) && !fs::exists(fs::symlink_status(r->path, missing))) fs::remove(it->path(), missing);
+    if (!r || !recordedProcessGone(*r)) continue;
+    const bool still_there = fs::exists(fs::symlink_status(r->path, missing)) && entryIdentity(r->path) == r->entry;
+    if (!still_there) fs::remove(it->path(), missing);
   }
 }
 
@@ -160,9 +176,12 @@ TemporaryClaim claimTemporary(const fs::path& target) {
   std::error_code ec;
   if (ledger.empty() || (fs::create_directories(ledger, ec), ec)) return c;
   const fs::path absolute = fs::absolute(c.path, ec).lexically_normal();
+  const std::string identity = entryIdentity(absolute);
+  if (identity.empty()) return c;  // its folder cannot be read: nothing would prove the temporary occsweep's later
   pruneLedger(ledger);
   std::ofstream out(ledger / c.token, std::ios::trunc);
-  out << processIdentity(::getpid()) << '\n' << absolute.string() << '\n' << machineLine(thisMachine()) << '\n';
+  out << processIdentity(::getpid()) << '\n' << absolute.string() << '\n' << machineLine(thisMachine()) << '\n'
+      << identity << '\n';
   out.flush();
   c.recorded = bool(out);
   return c;
@@ -217,8 +236,7 @@ std::optional<std::string> staleRecord(const fs::path& entry, const fs::path& ta
   const fs::path ledger = ownershipLedger();
   if (t.pid <= 0 || ledger.empty()) return std::nullopt;
   const std::optional<LedgerRecord> record = readRecord(ledger, t.token);
-  std::error_code ec;
-  if (!record || record->path != fs::absolute(entry, ec).lexically_normal()) return std::nullopt;  // not made here
+  if (!record || record->entry.empty() || record->entry != entryIdentity(entry)) return std::nullopt;  // made elsewhere
   if (!record->process.starts_with(std::to_string(t.pid) + " ")) return std::nullopt;
   if (!recordedProcessGone(*record)) return std::nullopt;  // it still runs, or runs where this process cannot see
   return t.token;
@@ -228,23 +246,25 @@ std::optional<std::string> staleRecord(const fs::path& entry, const fs::path& ta
 namespace {
 struct TextOutputRecord {
   fs::path file;  ///< the record's own file in the ledger
-  std::string path, size, hash;
+  std::string identity, size, hash;
 };
 
-// The record of `file`, named by the hash of its absolute path, and what the file is now.
+// The record of `file`, named by the hash of its entryIdentity (so any spelling of its path finds it), and what the
+// file is now.
 std::optional<TextOutputRecord> textOutputRecord(const fs::path& file) {
   const fs::path ledger = ownershipLedger();
   std::error_code ec;
   if (ledger.empty() || !fs::is_regular_file(fs::symlink_status(file, ec))) return std::nullopt;
-  const std::string absolute = fs::absolute(file, ec).lexically_normal().string();
+  const std::string identity = entryIdentity(file);
+  if (identity.empty()) return std::nullopt;
   Fnv1a name, content;
-  name.feed(absolute);
+  name.feed(identity);
   try {
     content.feedFile(file);
   } catch (const std::exception&) {
     return std::nullopt;
   }
-  return TextOutputRecord{ledger.parent_path() / "outputs" / name.hex(), absolute,
+  return TextOutputRecord{ledger.parent_path() / "outputs" / name.hex(), identity,
                           std::to_string(fs::file_size(file, ec)), content.hex()};
 }
 }  // namespace
@@ -254,15 +274,15 @@ void recordTextOutput(const fs::path& file) {
   if (!r) return;
   std::error_code ec;
   fs::create_directories(r->file.parent_path(), ec);
-  std::ofstream(r->file, std::ios::trunc) << r->path << '\n' << r->size << '\n' << r->hash << '\n';
+  std::ofstream(r->file, std::ios::trunc) << r->identity << '\n' << r->size << '\n' << r->hash << '\n';
 }
 
 bool isRecordedTextOutput(const fs::path& file) {
   const std::optional<TextOutputRecord> now = textOutputRecord(file);
   if (!now) return false;
   std::ifstream in(now->file);
-  std::string path, size, hash;
-  return std::getline(in, path) && std::getline(in, size) && std::getline(in, hash) && path == now->path &&
+  std::string identity, size, hash;
+  return std::getline(in, identity) && std::getline(in, size) && std::getline(in, hash) && identity == now->identity &&
          size == now->size && hash == now->hash;
 }
 

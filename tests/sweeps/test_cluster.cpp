@@ -35,7 +35,7 @@ std::vector<std::uint64_t> expandRanges(const std::string& text) {
 
 PlanConfig sceneConfig(std::vector<std::string> datasets, std::vector<PlanGrid> grids) {
   PlanConfig c;
-  c.occsweep = OCCSWEEP_CLI;
+  c.occsweep = occsweep::test::builtCli();
   c.datasets = std::move(datasets);
   c.generate = "scene --out {out} --seed {seed}";
   c.generate_kind = OutputKind::Dataset;
@@ -84,7 +84,7 @@ TEST_CASE("plan option parsers refuse what they cannot read and name it") {
   // Two ungrouped grids of one method: the report (compare) takes one result per method and set.
   const fs::path mine = test::scratch("cluster-plan-methods") / "knn-mine.json";
   {
-    std::ifstream in(std::string(OCCSWEEP_SOURCE_DIR) + "/sweeps/grids/knn-opt.json");
+    std::ifstream in(occsweep::test::sourceTree().string() + "/sweeps/grids/knn-opt.json");
     nlohmann::json g = nlohmann::json::parse(in);
     g["name"] = "knn-mine";
     std::ofstream(mine) << g.dump();

@@ -16,8 +16,8 @@ namespace fs = std::filesystem;
 TEST_CASE("a plan run by Slurm with one task failed and resubmitted merges to exactly run-local's results") {
   if (::geteuid() != 0) FAIL("the one-node Slurm test runs as root (it installs Slurm and runs its daemons)");
   const fs::path work = test::scratch("cluster-slurm");
-  const std::string script = std::string(OCCSWEEP_SOURCE_DIR) + "/tests/cluster/slurm_e2e.sh";
-  const std::string cmd = "bash '" + script + "' '" + OCCSWEEP_CLI + "' '" + (work / "run").string() + "' > '" +
+  const std::string script = occsweep::test::sourceTree().string() + "/tests/cluster/slurm_e2e.sh";
+  const std::string cmd = "bash '" + script + "' '" + occsweep::test::builtCli() + "' '" + (work / "run").string() + "' > '" +
                           (work / "e2e.log").string() + "' 2>&1";
   const int status = std::system(cmd.c_str());
   const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -335,7 +335,7 @@ void checkFitsPlainArticle(const fs::path& dir, const std::string& tables) {
 
 TEST_CASE("compare --csv reads back with Python's csv module into the numbers of --json, and --latex is the golden table") {
   const auto dir = test::processScratch("compare-tables");
-  const fs::path golden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin";
+  const fs::path golden = occsweep::test::sourceTree() / "results" / "builtin";
   const std::string files = (golden / "octomap-opt.json").string() + " " + (golden / "knn-opt.json").string();
   const auto r = test::runIn(dir, "compare " + files + " --json c.json --csv c.csv --latex c.tex --markdown c.md");
   INFO(r.output);
@@ -415,7 +415,7 @@ TEST_CASE("compare --csv and results export write numbers alike, and the exports
   // Old binary: compare wrote p_max as 0.97999999999999998 and export as 0.98; the export had no data-set or method
   // column, so rows of two files could not be told apart once concatenated.
   const auto dir = test::processScratch("csv-alike");
-  const fs::path golden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin";
+  const fs::path golden = occsweep::test::sourceTree() / "results" / "builtin";
   const std::string om = (golden / "octomap-opt.json").string(), knn = (golden / "knn-opt.json").string();
   REQUIRE(test::runIn(dir, "compare " + om + " " + knn + " --csv c.csv").exit_code == 0);
   REQUIRE(test::runIn(dir, "results export " + om + " --out o.csv").exit_code == 0);

@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kGolden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin";
+const fs::path kGolden = occsweep::test::sourceTree() / "results" / "builtin";
 
 fs::path builtinScene(const std::string& test_name) {
   const auto dir = test::scratch(test_name) / "scene";  // one folder per test: ctest runs them in parallel

@@ -266,7 +266,7 @@ TEST_CASE("the Eq. 16 permutation is a fixed, portable function of n and seed") 
 TEST_CASE("an independent program reproduces the permutation from the documented algorithm") {
   // tools/shard_reference.py implements docs/grids.md's description in Python; it must agree id for id.
   const auto dir = test::scratch("shard-reference");
-  const std::string py = std::string("/usr/bin/python3 ") + OCCSWEEP_SOURCE_DIR + "/tools/shard_reference.py";
+  const std::string py = "/usr/bin/python3 " + (occsweep::test::sourceTree() / "tools").string() + "/shard_reference.py";
   const std::string ours = test::runCli("grid shards octomap-opt --groups 7 --seed 99").output;
   FILE* pipe = ::popen((py + " 180 99 7").c_str(), "r");
   REQUIRE(pipe);

@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kGolden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin" / "octomap-opt.json";
+const fs::path kGolden = occsweep::test::sourceTree() / "results" / "builtin" / "octomap-opt.json";
 
 // The combination every case below changes: map 7 of octomap-opt (p_h 0.62, p_m 0.38), its threshold p_t = 0.38.
 constexpr std::size_t kMap = 7, kThreshold = 3;

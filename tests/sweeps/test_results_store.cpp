@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kGolden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin";
+const fs::path kGolden = occsweep::test::sourceTree() / "results" / "builtin";
 
 using test::smallScene;
 using test::quietSweep;
@@ -74,9 +74,10 @@ std::uint64_t storedMaps(const fs::path& partial) {
 
 // `occsweep sweep --grid reduction --threads 1` into `out`, in a child process: 18,000 maps, several commits.
 pid_t startReductionSweep(const fs::path& data, const fs::path& out) {
+  const std::string cli = occsweep::test::builtCli();
   const pid_t child = ::fork();
   if (child == 0) {
-    ::execl(OCCSWEEP_CLI, OCCSWEEP_CLI, "sweep", "--dataset", data.c_str(), "--grid", "reduction", "--out", out.c_str(),
+    ::execl(cli.c_str(), cli.c_str(), "sweep", "--dataset", data.c_str(), "--grid", "reduction", "--out", out.c_str(),
             "--threads", "1", "--quiet", static_cast<char*>(nullptr));
     std::_Exit(127);
   }

@@ -99,9 +99,10 @@ TEST_CASE("a sweep killed part-way resumes and gives the same merged result as a
   const auto data = smallScene(dir);
   const ResultsFile reference = sweep(data, "knn-opt", dir / "reference.json");
   const fs::path out = dir / "killed.json", partial = dir / "killed.json.partial.jsonl";
+  const std::string cli = occsweep::test::builtCli();
   const pid_t child = ::fork();
   if (child == 0) {
-    ::execl(OCCSWEEP_CLI, OCCSWEEP_CLI, "sweep", "--dataset", data.c_str(), "--grid", "knn-opt", "--out", out.c_str(),
+    ::execl(cli.c_str(), cli.c_str(), "sweep", "--dataset", data.c_str(), "--grid", "knn-opt", "--out", out.c_str(),
             "--threads", "1", "--quiet", static_cast<char*>(nullptr));
     std::_Exit(127);
   }

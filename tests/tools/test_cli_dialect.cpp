@@ -9,13 +9,14 @@
 #include <sstream>
 
 #include "cli_help.hpp"
+#include "test_paths.hpp"
 
 namespace {
 
 using Flags = std::map<std::string, std::set<std::string>>;  // flag -> leaf commands that take it
 
 std::string docsCli() {
-  std::ifstream in(std::string(OCCSWEEP_SOURCE_DIR) + "/docs/cli.md");
+  std::ifstream in(occsweep::test::sourceTree().string() + "/docs/cli.md");
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "cli_help.hpp"
+#include "test_paths.hpp"
 
 namespace fs = std::filesystem;
 
@@ -30,7 +31,7 @@ TEST_CASE("every leaf command's --help has an example, and every example runs") 
   for (const auto& [command, help] : leaves) walked.insert(command);
   REQUIRE(walked == ordered);  // a new command needs an example, and a place in kOrder
   const fs::path dir = occsweep::test::scratch("help-examples");
-  fs::create_directory_symlink(fs::path(OCCSWEEP_SOURCE_DIR) / "tests", dir / "tests");
+  fs::create_directory_symlink(occsweep::test::sourceTree() / "tests", dir / "tests");
   const bool slurm = slurmAnswers();
   for (const std::string& command : kOrder) {
     INFO(command);

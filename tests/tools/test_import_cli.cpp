@@ -13,7 +13,7 @@ using namespace occsweep;
 namespace fs = std::filesystem;
 
 namespace {
-const fs::path kReal = fs::path(OCCSWEEP_SOURCE_DIR) / "tests" / "data" / "real";
+const fs::path kReal = occsweep::test::sourceTree() / "tests" / "data" / "real";
 }
 
 TEST_CASE("import commands write data sets equal to the library readers, truth is added, maps compared") {

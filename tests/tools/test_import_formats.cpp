@@ -193,7 +193,7 @@ TEST_CASE("PCD: a header ending without a newline after DATA (fuzz_pcd finding: 
 }
 
 TEST_CASE("Every fuzz seed of the import readers is a valid file (so that fuzzing starts deep in each reader)") {
-  const auto corpus = std::filesystem::path(OCCSWEEP_SOURCE_DIR) / "tests" / "fuzz" / "corpus";
+  const auto corpus = occsweep::test::sourceTree() / "tests" / "fuzz" / "corpus";
   std::size_t seeds = 0;
   for (const auto& e : std::filesystem::recursive_directory_iterator(corpus)) {
     if (!e.is_regular_file()) continue;

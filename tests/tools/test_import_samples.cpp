@@ -12,12 +12,13 @@
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_depth.hpp"
 #include "occsweep/data/import_graph.hpp"
+#include "test_paths.hpp"
 
 using namespace occsweep;
 namespace fs = std::filesystem;
 
 namespace {
-const fs::path kReal = fs::path(OCCSWEEP_SOURCE_DIR) / "tests" / "data" / "real";
+const fs::path kReal = occsweep::test::sourceTree() / "tests" / "data" / "real";
 }
 
 TEST_CASE("spherical_scan.graph: 1 node, 10,201 points, equal to liboctomap's own reader") {

@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kJoinMap = fs::path(OCCSWEEP_SOURCE_DIR) / "tests" / "data" / "real" / "slambook_joinMap";
+const fs::path kJoinMap = occsweep::test::sourceTree() / "tests" / "data" / "real" / "slambook_joinMap";
 
 std::string q(const fs::path& p) { return test::shellQuoted(p); }
 

@@ -30,7 +30,7 @@ TEST_CASE("without OCCSWEEP_GRIDS the command finds its grids beside itself, fro
 
 TEST_CASE("a grid of OCCSWEEP_GRIDS wins over the shipped grid of the same name") {
   const fs::path mine = processScratch("install_paths_grids");
-  std::ifstream shipped(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "octomap-opt.json");
+  std::ifstream shipped(occsweep::test::sourceTree() / "sweeps" / "grids" / "octomap-opt.json");
   std::ofstream(mine / "knn-opt.json") << shipped.rdbuf();  // an OctoMap grid under the k-NN grid's name
   const CommandResult r = runWithEnvironment("OCCSWEEP_GRIDS=" + shellQuoted(mine), "grid count knn-opt");
   INFO(r.output);
@@ -58,5 +58,5 @@ TEST_CASE("the command carries no path of the source tree") {
     WARN("the command has debug information (which names the source files): not checked in this build");
     return;
   }
-  CHECK(binary.find(std::string(OCCSWEEP_SOURCE_DIR) + '\0') == std::string::npos);
+  CHECK(binary.find(occsweep::test::sourceTree().string() + '\0') == std::string::npos);
 }

@@ -99,9 +99,9 @@ TEST_CASE("map builds every shipped method with the counts its replayed sweep st
 
 TEST_CASE("map builds a method a program registers from outside the library, as its replayed sweep counted") {
   const fs::path dir = sceneIn("map-outside-method");
-  fs::copy_file(fs::path(OCCSWEEP_SOURCE_DIR) / "examples/occupancy_method/density-octomap-opt.json",
+  fs::copy_file(occsweep::test::sourceTree() / "examples/occupancy_method/density-octomap-opt.json",
                 dir / "density-octomap-opt.json");
-  const Program with_method{OCCSWEEP_CLI_WITH_EXAMPLE_METHOD};
+  const Program with_method{(occsweep::test::buildTree() / "tests/tools/occsweep_with_example_method").string()};
   checkMapAgainstReplay(with_method, dir, "density-octomap-opt.json");
   // The program without the method does not know it.
   const CommandResult plain = occsweep::test::runIn(dir, "map --dataset ds --method density-octomap --out d.ot");
@@ -146,7 +146,7 @@ TEST_CASE("map --from says so when the rebuilt map's counts differ from the stor
   // A grid of the user's, changed after the sweep: its hash no longer matches, so no check can hold the maps'
   // parameters against it and the edit below reads as a valid file; only the rebuild can tell.
   nlohmann::json grid = nlohmann::json::parse(
-      occsweep::test::bytesOf(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps/grids/octomap-opt.json"));
+      occsweep::test::bytesOf(occsweep::test::sourceTree() / "sweeps/grids/octomap-opt.json"));
   grid["name"] = "mine";
   std::ofstream(dir / "mine.json") << grid.dump();
   REQUIRE(occsweep::test::runIn(dir, "sweep --dataset ds --quiet --grid mine.json --out oct.json").exit_code == 0);

@@ -20,7 +20,7 @@ namespace {
 
 bool haveMatplotlib() { return std::system("/usr/bin/python3 -c 'import matplotlib, numpy' >/dev/null 2>&1") == 0; }
 
-const fs::path kGolden = fs::path(OCCSWEEP_SOURCE_DIR) / "results" / "builtin";
+const fs::path kGolden = occsweep::test::sourceTree() / "results" / "builtin";
 
 std::string goldenFiles() {
   return (kGolden / "octomap-opt.json").string() + " " + (kGolden / "knn-opt.json").string();
@@ -148,5 +148,66 @@ TEST_CASE("plot writes PNG, PDF or SVG by --out's ending, refuses any other befo
     std::transform(svg.begin(), svg.end(), svg.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     CHECK(svg.find("#cc79a7") != std::string::npos);  // range-octomap
     CHECK(svg.find("#d55e00") != std::string::npos);  // knn
+  }
+}
+
+TEST_CASE("a style file names, colours, marks and lines a method alike in every figure, --print-width prints at that "
+          "width, and a bad style is refused naming its field") {
+  // Old binary: no --style, --print-width or --font-size, and figures named methods by their identifiers.
+  if (!haveMatplotlib()) {
+    WARN("no matplotlib: occsweep plot cannot draw here");
+    return;
+  }
+  const auto dir = test::processScratch("plot-style");
+  std::ofstream(dir / "style.json")
+      << R"json({"methods": {"knn": {"name": "k-NN (ours)", "colour": "#112233", "marker": "D", "line": "dotted"}}})json";
+  for (const std::string kind : {"curves", "budget", "improvement"}) {
+    const auto r = test::runIn(dir, "plot " + kind + " " + goldenFiles() + " --style style.json --print-width column --out " +
+                                        kind + ".svg --json " + kind + ".json");
+    INFO(kind << ": " << r.output);
+    REQUIRE(r.exit_code == 0);
+    const std::string svg = test::bytesOf(dir / (kind + ".svg"));
+    CHECK(svg.find("width=\"252pt\"") != std::string::npos);  // 3.5 in, a column: the size it prints at
+    CHECK(svg.find("k-NN (ours)") != std::string::npos);      // text stays text, under its display name
+    CHECK(svg.find("#112233") != std::string::npos);
+    CHECK(svg.find("OctoMap") != std::string::npos);          // the registry's display name of octomap
+    const json style = readJsonFile(dir / (kind + ".json")).at("style");
+    CHECK(style.at("width_in") == 3.5);
+    CHECK(style.at("font_size") == 8.0);
+    CHECK(style.at("methods").at("knn") ==
+          json{{"name", "k-NN (ours)"}, {"colour", "#112233"}, {"marker", "D"}, {"line", "dotted"}});
+    CHECK(style.at("methods").at("octomap") ==
+          json{{"name", "OctoMap"}, {"colour", "#000000"}, {"marker", "o"}, {"line", "solid"}});
+  }
+  // A page wide, at the screen's size without --print-width.
+  const std::string page = " --print-width page --font-size 9 --out page.svg";
+  REQUIRE(test::runIn(dir, "plot budget " + goldenFiles() + page).exit_code == 0);
+  CHECK(test::bytesOf(dir / "page.svg").find("width=\"515.52pt\"") != std::string::npos);  // 7.16 in
+  // Each bad style or size: exit 2, the file and field named with the rule, nothing written.
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {R"({"methods": {"knn": {"colour": "red"}}})", "bad.json: methods.knn.colour: must be a colour #RRGGBB, got 'red'"},
+      {R"({"methods": {"knn": {"shape": "o"}}})", "bad.json: methods.knn.shape: unknown field"},
+      {R"({"methods": {"knn": {"marker": "q"}}})", "bad.json: methods.knn.marker: must be one of 'o', 's'"},
+      {R"({"methods": {"knn": {"line": "wavy"}}})", "bad.json: methods.knn.line: must be one of 'solid'"},
+      {R"({"methods": {"knn": {"name": ""}}})", "bad.json: methods.knn.name: must be 1 to 60 characters"},
+      {R"({"methods": {"knn": {"name": 3}}})", "bad.json: methods.knn.name: must be a string"},
+      {R"({"colours": {}})", "bad.json: colours: unknown field"},
+      {R"({"methods": [1]})", "bad.json: methods: must be an object"},
+      {R"({"methods": )", "bad.json: not valid JSON"}};
+  for (const auto& [text, message] : bad) {
+    std::ofstream(dir / "bad.json", std::ios::trunc) << text;
+    const auto r = test::runIn(dir, "plot budget " + goldenFiles() + " --style bad.json --out bad.png");
+    INFO(text << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find(message) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "bad.png"));
+  }
+  for (const std::string width : {"0.5", "21", "wide", "3in"}) {
+    const auto r = test::runIn(dir, "plot budget " + goldenFiles() + " --print-width " + width + " --out bad.png");
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("--print-width must be column, page or a width in inches from 1.5 to 20, got " + width) !=
+          std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "bad.png"));
   }
 }

@@ -133,7 +133,7 @@ void writeText(const fs::path& file, const std::string& text) { std::ofstream(fi
 
 /// knn-opt with k = 1..100000: 405 M combinations from a 1 MB file (old: 3.9 GB, then bad_alloc naming no file).
 void writeManyKGrid(const fs::path& file) {
-  json g = readJson(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "knn-opt.json");
+  json g = readJson(occsweep::test::sourceTree() / "sweeps" / "grids" / "knn-opt.json");
   g["name"] = "many-k";
   std::vector<int> k(100000);
   for (int i = 0; i < 100000; ++i) k[std::size_t(i)] = i + 1;
@@ -153,7 +153,7 @@ fs::path editedScene(const fs::path& dir, const std::function<void(json&)>& edit
 
 /// A grid file: octomap-opt with one parameter replaced.
 fs::path gridFile(const fs::path& dir, const std::string& name, const std::function<void(json&)>& edit) {
-  json g = readJson(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "octomap-opt.json");
+  json g = readJson(occsweep::test::sourceTree() / "sweeps" / "grids" / "octomap-opt.json");
   g["name"] = name;
   edit(g);
   const fs::path file = dir / (name + ".json");
@@ -214,7 +214,7 @@ TEST_CASE("k-NN maps with a large s_c or a fine resolution: a correct map or a r
   CHECK(leftovers(dir).empty());
 
   // The same through sweep --engine direct on a one-map k-NN grid.
-  json g = readJson(fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "knn-opt.json");
+  json g = readJson(occsweep::test::sourceTree() / "sweeps" / "grids" / "knn-opt.json");
   g["name"] = "knn-one";
   for (const char* p : {"p_m", "p_m_out"}) g["parameters"][p] = {{"value", 0.38}};
   for (const char* p : {"p_u", "p_l"}) g["parameters"][p] = {{"value", 0.5}};
@@ -471,7 +471,7 @@ TEST_CASE("worker threads are bounded on every command that takes them: a refusa
   // results), and --threads 1000000 cost 550 MB on the built-in scene before any work.
   const fs::path dir = occsweep::test::processScratch("limits_threads");
   const std::string data = " --dataset " + scene().string();
-  const std::string grid = (fs::path(OCCSWEEP_SOURCE_DIR) / "sweeps" / "grids" / "octomap-opt.json").string();
+  const std::string grid = (occsweep::test::sourceTree() / "sweeps" / "grids" / "octomap-opt.json").string();
   for (const char* threads : {"1025", "1000000", "1073741824", "2147483647", "99999999999"}) {
     const std::string t = threads;
     const struct {

@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kSource = OCCSWEEP_SOURCE_DIR;
+const fs::path kSource = occsweep::test::sourceTree();
 
 test::CommandResult run(const std::string& args) { return test::runCli(args); }
 

@@ -8,6 +8,7 @@
 
 #include "occsweep/sweeps/results.hpp"
 #include "robust_outputs_helpers.hpp"
+#include "test_paths.hpp"
 
 namespace fs = std::filesystem;
 using namespace occsweep;
@@ -259,7 +260,7 @@ TEST_CASE("compare's CSV, Markdown and LaTeX show 24 names of random printable c
     WARN("pdflatex, pdftotext or markdown-it-py missing (the test command installs them: tools/setup.sh): "
          "the CSV alone is read back");
   const CommandResult read = runShell("/usr/bin/python3 " +
-                                      shellQuoted(fs::path(OCCSWEEP_SOURCE_DIR) / "tests/reference/read_tables.py") +
+                                      shellQuoted(occsweep::test::sourceTree() / "tests/reference/read_tables.py") +
                                       " " + shellQuoted(dir) + (readers ? "" : " --csv-only") + " 2>&1");
   INFO(read.output);
   CHECK(read.exit_code == 0);

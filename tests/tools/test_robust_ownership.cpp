@@ -15,6 +15,7 @@
 #include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "robust_outputs_helpers.hpp"
+#include "test_paths.hpp"
 
 using namespace occsweep;
 using namespace occsweep::test;
@@ -35,7 +36,7 @@ fs::path inputs(const std::string& name) {
   for (int i = 0; i < 50; ++i) cloud << 1 + 0.01 * i << ' ' << 0.5 << ' ' << 0.02 * i << '\n';
   std::ofstream(dir / "truth.json") << R"([{"min": [0, 0, 0], "max": [1, 1, 1]}])";
   // One pose of slambook's joinMap (its first line), for its first depth image; a ci data set to rank and reproduce.
-  std::ifstream poses(fs::path(OCCSWEEP_SOURCE_DIR) / "tests/data/real/slambook_joinMap/pose.txt");
+  std::ifstream poses(occsweep::test::sourceTree() / "tests/data/real/slambook_joinMap/pose.txt");
   std::string first;
   std::getline(poses, first);
   std::ofstream(dir / "pose1.txt") << first << '\n';
@@ -66,7 +67,7 @@ struct Writer {
 
 std::vector<Writer> writers(const fs::path& in) {
   const std::string s = shellQuoted(in) + "/";
-  const std::string real = shellQuoted(fs::path(OCCSWEEP_SOURCE_DIR) / "tests/data/real") + "/";
+  const std::string real = shellQuoted(occsweep::test::sourceTree() / "tests/data/real") + "/";
   return {
       {"scene --scans 2 --width 8 --height 6 --out OUT", "w", {"w"}},
       {"import cloud " + s + "a.xyz --out OUT", "w", {"w"}},
@@ -195,6 +196,7 @@ TEST_CASE("entries named like temporaries but recorded by no occsweep run surviv
 // A run killed while writing `target` in `dir`: a child claims a temporary there, in the ledger of `state`, makes a
 // folder at it and dies without cleaning up. Returns the temporary.
 fs::path killedRunsTemporary(const fs::path& dir, const std::string& target, const fs::path& state) {
+  fs::create_directories(dir);  // as every writer has made its output's folder before it claims a temporary there
   int pipe_fds[2];
   REQUIRE(::pipe(pipe_fds) == 0);
   const pid_t child = ::fork();
@@ -225,7 +227,7 @@ TEST_CASE("a temporary that a killed run recorded is removed by the next run wri
   const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(state);
   const fs::path left = killedRunsTemporary(dir / "a", "w", state);
   REQUIRE(entriesOf(ledger).size() == 1);
-  // A copy of it elsewhere, under the same name: its record names the other path, so it is not occsweep's.
+  // A copy of it elsewhere, under the same name: its record names the other folder, so it is not occsweep's.
   fs::create_directories(dir / "b");
   fs::copy(left, dir / "b" / left.filename(), fs::copy_options::recursive);
   const CommandResult b = runIn(dir / "b", std::string(kTinyScene) + " --out w", env);
@@ -254,6 +256,55 @@ TEST_CASE("a temporary that a killed run recorded is removed by the next run wri
   REQUIRE(runIn(dir / "c", std::string(kTinyScene) + " --out w", env).exit_code == 0);
   CHECK(fs::is_symlink(fs::symlink_status(again)));
   CHECK(fileBytes(dir / "c" / "victim") == "the user's file\n");
+}
+
+TEST_CASE("a killed run's temporary is known by its folder's identity, never by how its path was spelt",
+          "[ownership]") {
+  const fs::path dir = scratch("ownership/identity");
+  const fs::path state = dir / "state", ledger = state / "temporaries";
+  const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(state);
+  fs::create_directories(dir / "real");
+  fs::create_directory_symlink("real", dir / "link");
+  // Made through a link to the folder, written again through the folder itself: the same entry (old binary: kept,
+  // its record spelt the path through the link).
+  const fs::path through_link = killedRunsTemporary(dir / "link", "w", state);
+  const CommandResult r = runIn(dir / "real", std::string(kTinyScene) + " --out w", env);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(!fs::exists(fs::symlink_status(dir / "real" / through_link.filename())));
+  CHECK(entriesOf(ledger).empty());
+  // Made in a folder that was then moved away and replaced by a copy: the same path, another folder. The copy is not
+  // what that run made, and stays (old binary: removed, the path matched); so does the moved original, whose record
+  // no longer matches where it is.
+  const fs::path in_replaced = killedRunsTemporary(dir / "old", "w", state);
+  fs::rename(dir / "old", dir / "moved");
+  fs::copy(dir / "moved", dir / "old", fs::copy_options::recursive);
+  REQUIRE(runIn(dir / "old", std::string(kTinyScene) + " --out w", env).exit_code == 0);
+  CHECK(fs::exists(in_replaced / "manifest.json"));
+  CHECK(fs::exists(dir / "moved" / in_replaced.filename() / "manifest.json"));
+}
+
+TEST_CASE("a table occsweep wrote is its own to replace through any spelling of its path, and no copy of it is",
+          "[ownership]") {
+  const fs::path in = inputs("ownership/tables-identity");
+  const std::string s = shellQuoted(in) + "/";
+  const fs::path dir = scratch("ownership/tables-identity-out");
+  fs::create_directories(dir / "real");
+  fs::create_directory_symlink("real", dir / "link");
+  const std::string compare = "compare " + s + "oct.json " + s + "knn.json --force --csv ";
+  REQUIRE(runIn(dir, compare + "link/t.csv").exit_code == 0);
+  // Written through the link, replaced through the folder (old binary: refused, the record named the other spelling).
+  const CommandResult r = runIn(dir, compare + "real/t.csv");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(runIn(dir, compare + "./link/../real/t.csv").exit_code == 0);
+  // The same bytes in a folder that replaced the first one are a copy the user made: refused.
+  fs::rename(dir / "real", dir / "moved");
+  fs::create_directories(dir / "real");
+  fs::copy_file(dir / "moved/t.csv", dir / "real/t.csv");
+  const std::string before = fileBytes(dir / "real/t.csv");
+  CHECK(runIn(dir, compare + "real/t.csv").exit_code == 2);
+  CHECK(fileBytes(dir / "real/t.csv") == before);
 }
 
 TEST_CASE("SQLite's journal beside a recorded temporary a killed run left goes with it, and only then",
@@ -498,11 +549,15 @@ TEST_CASE("plot killed at 20 seeded moments: its figure script ends with it and 
     int status = 0;
     ::waitpid(pid, &status, 0);
     bool finished = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-    INFO("seed " << seed << ", signal " << sig << ", exit " << (WIFEXITED(status) ? WEXITSTATUS(status) : -1));
+    INFO("seed " << seed << ", signal " << sig << ", exit " << (WIFEXITED(status) ? WEXITSTATUS(status) : -1)
+                  << ", ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0));
+    // A SIGINT or SIGTERM that lands before occsweep has set its handler (a slow start, as under ASan) ends it the
+    // default way; it has started nothing then: no script, and the entries below hold no temporary.
+    const bool ended_before_handler = WIFSIGNALED(status) && WTERMSIG(status) == sig && !fs::exists(dir / "pids");
     if (sig == SIGKILL)
       CHECK((finished || (WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)));
     else
-      CHECK((finished || (WIFEXITED(status) && WEXITSTATUS(status) == 128 + sig)));
+      CHECK((finished || ended_before_handler || (WIFEXITED(status) && WEXITSTATUS(status) == 128 + sig)));
     // No script survives: each PID it wrote is gone within 2 s (PR_SET_PDEATHSIG, or killed and reaped).
     std::ifstream pids(dir / "pids");
     for (long child; pids >> child;) {

@@ -191,7 +191,7 @@ void writeRecording(const std::string& layout, const fs::path& rec) {
 // The shell commands of the page's block `name` (between `<!-- walkthrough: NAME -->` and the next end marker),
 // continuation lines joined.
 std::vector<std::string> walkthroughCommands(const std::string& name) {
-  std::ifstream in(fs::path(OCCSWEEP_SOURCE_DIR) / "docs" / "your-own-data.md");
+  std::ifstream in(occsweep::test::sourceTree() / "docs" / "your-own-data.md");
   std::vector<std::string> commands;
   bool inside = false;
   std::string pending;

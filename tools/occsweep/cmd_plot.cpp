@@ -13,6 +13,8 @@
 #include "limit_options.hpp"
 #include "compare_tables.hpp"
 #include "figure_script.hpp"
+#include "method_style.hpp"
+#include "option_checks.hpp"
 #include "plot_data.hpp"
 #include "occsweep/core/builtin_methods.hpp"
 #include "occsweep/eval/child_process.hpp"
@@ -25,9 +27,40 @@ namespace {
 
 struct PlotOptions {
   std::vector<std::string> files;
-  std::string out, json, baseline = kDefaultBaseline, method, python;
+  std::string out, json, baseline = kDefaultBaseline, method, python, style, width;
+  double font_size = 0;  ///< 0: 8 pt at a --print-width, else 10 pt
   bool force = false;
 };
+
+// Print widths (docs/statistics.md, "Figures"): a column and a page of the common two-column layouts (IEEE, ACM:
+// 3.5 in and 7.16 in); any other width in inches.
+constexpr double kColumnInches = 3.5, kPageInches = 7.16, kMinWidthInches = 1.5, kMaxWidthInches = 20;
+
+// --print-width as inches; 0 without one (the screen sizes of each figure).
+double figureWidthInches(const std::string& width) {
+  if (width.empty()) return 0;
+  if (width == "column") return kColumnInches;
+  if (width == "page") return kPageInches;
+  std::size_t used = 0;
+  double inches = 0;
+  try {
+    inches = std::stod(width, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != width.size() || !(inches >= kMinWidthInches && inches <= kMaxWidthInches))
+    throw std::invalid_argument("--print-width must be column, page or a width in inches from 1.5 to 20, got " + width);
+  return inches;
+}
+
+// How the figure is laid out and each method drawn: the print width, the font size and every method's style.
+nlohmann::json figureStyle(const PlotOptions& o, const std::vector<ComparisonRow>& rows) {
+  const double width = figureWidthInches(o.width);
+  const StyleOverrides overrides = o.style.empty() ? StyleOverrides{} : readStyleFile(o.style);
+  return {{"width_in", width > 0 ? nlohmann::json(width) : nlohmann::json(nullptr)},
+          {"font_size", o.font_size > 0 ? o.font_size : width > 0 ? 8.0 : 10.0},
+          {"methods", methodStyles(comparedMethods(rows), overrides)}};
+}
 
 // The figure's format, by --out's name: PNG for the screen, PDF and SVG for print (docs/statistics.md, "Figures").
 std::string figureFormat(const std::string& out) {
@@ -67,6 +100,8 @@ std::string paramsMethod(const PlotOptions& o, const std::vector<ComparisonRow>&
 
 int runPlot(const std::string& kind, const PlotOptions& o) {
   const std::string format = figureFormat(o.out);
+  figureWidthInches(o.width);  // refused before anything is read
+  if (!o.style.empty()) readStyleFile(o.style);
   requireSeparateOutputs({{"--out", o.out}, {"--json", o.json}});
   checkOutputTarget(o.out, o.force, figureOutput(format));
   if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("plot data", "occsweep-plot"));
@@ -78,6 +113,7 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   nlohmann::json data = plotData(kind, inputs);
   data["format"] = "occsweep-plot";
   data["figure_format"] = format;
+  data["style"] = figureStyle(o, rows);
   data["files"] = o.files;
   // Both written as registered temporaries (removed on an error or an interrupt) and committed only when the script
   // succeeded; the script draws into the figure's temporary, never beside it.
@@ -111,12 +147,19 @@ const RegisterCommand kPlot{"plot", "Figures of a comparison: best curves, budge
       {"params", "AUC against each parameter: mean and best over the maps with each value (the grid's marginal)"}};
   for (const std::string& k : kPlotKinds) {
     CLI::App* sub = app.add_subcommand(k, what.at(k));
-    addExample(*sub, "occsweep plot " + k + " oct.json knn.json --out " + k + ".png");
+    addExample(*sub, "occsweep plot " + k + " oct.json knn.json --out " + k + ".png\n"
+                     "occsweep plot " + k + " oct.json knn.json --print-width column --out " + k + ".pdf");
     sub->add_option("files", o->files, "Complete results files (as for compare)")->required();
     sub->add_option("--out", o->out, "The figure: PNG, PDF or SVG by the name's ending (.png, .pdf, .svg)")->required();
     sub->add_option("--json", o->json, "Also write the plotted data");
     sub->add_option("--baseline", o->baseline, "Method the others are measured against")->capture_default_str();
     if (k == "params") sub->add_option("--method", o->method, "Method whose grid is drawn (default: the first not the baseline)");
+    sub->add_option("--style", o->style, "A style file: each method's display name, colour, marker and line "
+                                         "(docs/statistics.md, \"Figures\")");
+    sub->add_option("--print-width", o->width, "Width in print: column (3.5 in), page (7.16 in) or inches; no "
+                                               "title then, the caption says it (default: a screen size)");
+    sub->add_option("--font-size", o->font_size, "Text size, points (default 8 at a --print-width, else 10)")
+        ->check(numberIn(5, 24));
     sub->add_option("--python", o->python, "Python 3 with matplotlib (default $OCCSWEEP_PYTHON, /usr/bin/python3)");
     sub->add_flag("--force", o->force, "Replace occsweep's own previous figure or data (nothing else)");
     addLimitOptions(*sub, {Limit::Combinations});

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string_view>
 
-#include "occsweep/core/method_registry.hpp"
+#include "method_style.hpp"
 #include "occsweep/sweeps/csv_text.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
@@ -168,15 +168,6 @@ std::string latexEscaped(const std::string& s) {
   return out;
 }
 
-// A method's name as a paper shows it (MappingMethod::displayName); a method this program has not registered keeps
-// its registered name.
-std::string displayNameOf(const std::string& method) {
-  try {
-    return findMethod(method).displayName();
-  } catch (const std::invalid_argument&) {
-    return method;
-  }
-}
 
 // `c` with every method name in it (a row's first cell, a word of a header: "knn AUC", "holds octomap's best")
 // shown by its display name. Data set names, which a user chooses, are cells of their own and stay as they are.

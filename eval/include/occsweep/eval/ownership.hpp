@@ -1,7 +1,7 @@
 // Proof that an entry beside an output is occsweep's to remove (docs/robustness.md, "Ownership"). A name alone
 // proves nothing (a user may keep `r.json.old-2023`), nor do bytes a user could write. A temporary is occsweep's
 // when its name carries a random token that the run which made it recorded in occsweep's ledger, beside the
-// temporary's absolute path, before creating it.
+// temporary's entry (its folder's device and inode, and its name), before creating it.
 #pragma once
 
 #include <cstddef>
@@ -34,7 +34,7 @@ void releaseTemporary(const TemporaryClaim& claim);
 /// The name a user knows for a temporary's component (`.NAME.tmp-PID-TOKEN` is `NAME`); other names unchanged.
 [[nodiscard]] std::string outputNameOf(const std::string& component);
 
-/// True when `entry`, beside output `target`, is a temporary of `target` that occsweep recorded at that path and
+/// True when `entry`, beside output `target`, is a temporary of `target` that occsweep recorded as that entry and
 /// whose process is gone: on this host, another boot, or this boot and PID namespace and no process of its PID
 /// and start time. A record of another host or PID namespace (a shared home folder) never proves it gone.
 [[nodiscard]] bool isStaleTemporaryOf(const std::filesystem::path& entry, const std::filesystem::path& target);
@@ -47,12 +47,13 @@ bool removeTemporaryEntry(const std::filesystem::path& path) noexcept;
 bool removeStaleTemporary(const std::filesystem::path& entry, const std::filesystem::path& target);
 
 /// Records an output occsweep has just committed whose format has no field of its own to carry a mark (CSV, Markdown
-/// and LaTeX tables): its absolute path, size and FNV-1a hash of its bytes, in the ledger's `outputs/` folder.
+/// and LaTeX tables): its entry (its folder's device and inode, and its name), size and FNV-1a hash of its bytes, in
+/// the ledger's `outputs/` folder.
 /// Nothing is recorded where the ledger cannot be written; such a file is then never replaced (--force refuses it).
 void recordTextOutput(const std::filesystem::path& file);
 
-/// True when `file` holds exactly the bytes occsweep recorded at this path (recordTextOutput): a file a user wrote,
-/// or occsweep's edited by hand, is not occsweep's to replace.
+/// True when `file` holds exactly the bytes occsweep recorded for this entry (recordTextOutput), whatever way its path
+/// is spelt: a file a user wrote, a copy of occsweep's, or occsweep's edited by hand, is not occsweep's to replace.
 [[nodiscard]] bool isRecordedTextOutput(const std::filesystem::path& file);
 
 }  // namespace occsweep
