@@ -8,6 +8,7 @@ import json
 import math
 import sys
 import textwrap
+import warnings
 
 import matplotlib
 
@@ -20,24 +21,21 @@ AUC = "AUC (area under the TPR-FDR curve, anchored)"
 # The mark occsweep checks to know the script drew (PNG: its Software chunk; PDF and SVG: their Creator).
 MARK = {"png": {"Software": "occsweep plot"}, "pdf": {"Creator": "occsweep plot"}, "svg": {"Creator": "occsweep plot"}}
 
-# The line styles a style may name (tools/occsweep/method_style.hpp), as matplotlib draws them.
-LINES = {"solid": "-", "dashed": "--", "dashdot": "-.", "dotted": ":", "densely dashed": (0, (5, 1)),
-         "dashdotdotted": (0, (3, 1, 1, 1, 1, 1)), "densely dotted": (0, (1, 1)), "long dashed": (0, (8, 2))}
-
-
 class Style:
     """DATA.json's "style": the print width (None: each figure's screen size), the font size, and each method's
-    display name, colour, marker and line style, the same in every figure (occsweep computed them)."""
+    display name, colour, marker and dash pattern, the same in every figure (occsweep computed them all)."""
 
     def __init__(self, d):
         s = d["style"]
         self.width, self.font_size, self.methods = s["width_in"], s["font_size"], s["methods"]
+        self.small = max(6, self.font_size - 1)  # tick labels, legend entries and notes: never under 6 points
         plt.rcParams.update({"font.size": self.font_size, "axes.titlesize": self.font_size,
-                             "legend.fontsize": self.font_size - 1, "xtick.labelsize": self.font_size - 1,
-                             "ytick.labelsize": self.font_size - 1, "svg.fonttype": "none", "pdf.fonttype": 42})
+                             "legend.fontsize": self.small, "xtick.labelsize": self.small,
+                             "ytick.labelsize": self.small, "svg.fonttype": "none", "pdf.fonttype": 42})
 
     def name(self, m):
-        return self.methods[m]["name"] if m in self.methods else m
+        """A method's display name as text: a "$" is a dollar sign, not the start of matplotlib's mathtext."""
+        return text(self.methods[m]["name"] if m in self.methods else m)
 
     def colour(self, m):
         return self.methods[m]["colour"]
@@ -46,7 +44,8 @@ class Style:
         return self.methods[m]["marker"]
 
     def line(self, m):
-        return LINES[self.methods[m]["line"]]
+        dash = self.methods[m]["dash"]
+        return (0, tuple(dash)) if dash else "-"
 
     def size(self, screen_width, screen_height, rows=1):
         """The figure's size: the screen size, or the print width at the screen size's proportions, at least 2.4
@@ -60,19 +59,25 @@ class Style:
         fit = screen_columns if self.width is None else max(1, int(self.width // 1.7))
         return max(1, min(screen_columns, fit, count))
 
-    def title(self, setter, text):
+    def title(self, setter, words):
         """A title on a screen; none in print, where the caption says it."""
         if self.width is None:
-            setter(text)
+            setter(words)
 
-    def legend_columns(self, count):
-        return count if self.width is None else max(1, min(count, int(self.width // 1.7)))
-
-    def label(self, text, inches):
+    def label(self, words, inches):
         """An axis label in print, broken into lines that fit `inches` (about 0.55 em a character)."""
         if self.width is None:
-            return text
-        return textwrap.fill(text, max(12, int(inches * 72 / (0.55 * self.font_size))))
+            return words
+        return textwrap.fill(words, max(12, int(inches * 72 / (0.55 * self.font_size))))
+
+
+def text(words):
+    """Words drawn as they are: matplotlib reads a pair of "$" as mathtext."""
+    return words.replace("$", r"\$")
+
+
+class DoesNotFit(Exception):
+    pass
 
 
 def save(fig, path, figure_format, style):
@@ -86,8 +91,8 @@ def save(fig, path, figure_format, style):
 
 
 def legend_below(fig, ax_or_axes, ncol):
-    """The legend below the axes, off the data: the axes, their labels and any title are laid out above the
-    legend's rows (tight_layout within the rest of the figure)."""
+    """The legend below the axes, off the data, in as many of `ncol` columns as fit the figure's width; the axes,
+    their labels and any title are laid out above it (tight_layout within the rest of the figure)."""
     axes = ax_or_axes if isinstance(ax_or_axes, list) else [ax_or_axes]
     handles, labels = [], []
     for ax in axes:
@@ -95,10 +100,16 @@ def legend_below(fig, ax_or_axes, ncol):
             if l not in labels:
                 handles.append(h)
                 labels.append(l)
-    rows = math.ceil(len(labels) / max(1, ncol))
-    legend_in = (rows * 1.5 + 0.6) * plt.rcParams["legend.fontsize"] / 72
-    fig.tight_layout(rect=(0, min(0.5, legend_in / fig.get_figheight()), 1, 1), pad=0.3)
-    fig.legend(handles, labels, loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, 0.0), frameon=False)
+    renderer = fig.canvas.get_renderer()
+    for n in range(max(1, min(ncol, len(labels))), 0, -1):
+        legend = fig.legend(handles, labels, loc="lower center", ncol=n, bbox_to_anchor=(0.5, 0.0), frameon=False)
+        if legend.get_window_extent(renderer).width <= fig.bbox.width:
+            break
+        legend.remove()
+    else:
+        raise DoesNotFit("a legend entry is wider than the figure")
+    legend_in = legend.get_window_extent(renderer).height / fig.dpi + 0.05
+    fig.tight_layout(rect=(0, min(0.6, legend_in / fig.get_figheight()), 1, 1), pad=0.3)
 
 
 def curves(d, st):
@@ -117,8 +128,8 @@ def curves(d, st):
                     color=st.colour(name), label=st.name(name))
             ax.annotate(f"{st.name(name)}: AUC {m['auc']:.4f}" if m["auc"] is not None else st.name(name),
                         xy=(0.98, 0.03 + 0.08 * s["methods"].index(m)), xycoords="axes fraction", ha="right",
-                        fontsize=st.font_size - 3, color=st.colour(name))
-        ax.set_title(s["set"], fontsize=st.font_size - 1)
+                        fontsize=st.small, color=st.colour(name))
+        ax.set_title(text(s["set"]), fontsize=st.small)
         ax.set_xlabel(st.label("FDR (false discovery rate)", panel_in))
         ax.set_ylabel(st.label("TPR (true positive rate)", fig.get_figheight() / rows * 0.8))
         ax.grid(alpha=0.3)
@@ -126,7 +137,7 @@ def curves(d, st):
         ax.axis("off")
     shown = f"{len(sets)} of {d['sets_given']} sets" if d["sets_given"] > len(sets) else f"{len(sets)} sets"
     st.title(fig.suptitle, f"Best map of each method: TPR against FDR over p_t ({shown})")
-    legend_below(fig, list(axes.flat), ncol=st.legend_columns(len(methods)))
+    legend_below(fig, list(axes.flat), ncol=len(methods))
     return fig
 
 
@@ -142,11 +153,11 @@ def budget(d, st):
                    label=f"{st.name(d['baseline'])}: best of its whole grid")
     ax.set_xscale("log")
     ax.set_xlabel(st.label("maps tried at random from the method's grid (n, log scale)", fig.get_figwidth() * 0.8))
-    ax.set_ylabel(st.label("expected best AUC, mean over sets", fig.get_figheight() * 0.6))
+    ax.set_ylabel(st.label("expected best AUC, mean over sets", fig.get_figheight() * 0.45))
     st.title(ax.set_title, f"Budget curves over {d['sets']} set{'' if d['sets'] == 1 else 's'}: the expected best of n maps "
                               "(docs/statistics.md)")
     ax.grid(alpha=0.3, which="both")
-    legend_below(fig, ax, ncol=st.legend_columns(3))
+    legend_below(fig, ax, ncol=3)
     return fig
 
 
@@ -169,13 +180,13 @@ def improvement(d, st):
         a.grid(alpha=0.3)
     baseline = st.name(d["baseline"])
     ax.set_xlabel(st.label(f"best AUC of {baseline} on the set", fig.get_figwidth() * 0.6))
-    ax.set_ylabel(st.label(f"improvement over {baseline} (%)", fig.get_figheight() * 0.6))
+    ax.set_ylabel(st.label(f"improvement over {baseline} (%)", fig.get_figheight() * 0.45))
     st.title(ax.set_title, "Per set: the best of each method against the baseline's best")
     right.set_xticks(range(len(names)))
-    right.set_xticklabels(names, rotation=45, ha="right", fontsize=st.font_size - 2)
+    right.set_xticklabels(names, rotation=45, ha="right", fontsize=st.small)
     right.set_xlim(-0.6, len(names) - 0.4)
     st.title(right.set_title, "mean, 95 % interval")
-    legend_below(fig, ax, ncol=st.legend_columns(4))
+    legend_below(fig, ax, ncol=4)
     return fig
 
 
@@ -187,16 +198,17 @@ def params(d, st):
     rows = math.ceil(len(ps) / cols)
     fig, axes = plt.subplots(rows, cols, figsize=st.size(4.2 * cols, 3.4 * rows, rows), squeeze=False, sharey=True)
     for ax, p in zip(axes.flat, ps):
-        ax.plot(p["values"], p["mean"], "-o", ms=3, color="#0072B2", label="mean over the maps with this value")
-        ax.plot(p["values"], p["best"], "--s", ms=3, color="#D55E00", label="best of the maps with this value")
-        ax.set_xlabel(p["name"])
+        # Black and grey, set apart by line and marker: no method's colour, which would read as that method.
+        ax.plot(p["values"], p["mean"], "-o", ms=3, color="#000000", label="mean over the maps with this value")
+        ax.plot(p["values"], p["best"], "--s", ms=3, color="#777777", label="best of the maps with this value")
+        ax.set_xlabel(text(p["name"]))
         ax.grid(alpha=0.3)
     for ax in axes[:, 0]:
         ax.set_ylabel("AUC")
     for ax in list(axes.flat)[len(ps):]:
         ax.axis("off")
     st.title(fig.suptitle, f"{st.name(d['method'])}: AUC against each parameter, over every map and set given")
-    legend_below(fig, list(axes.flat), ncol=st.legend_columns(2))
+    legend_below(fig, list(axes.flat), ncol=2)
     return fig
 
 
@@ -216,11 +228,19 @@ def main():
     figure_format = d.get("figure_format", "png")
     if figure_format not in MARK:
         sys.exit(f"plot_results.py: {sys.argv[1]}: unknown figure_format {figure_format!r}")
+    # What would leave a figure unfit for print is an error, not a warning on stderr: text that does not fit, a
+    # character the font cannot draw.
+    warnings.filterwarnings("error", message="Tight layout not applied")
+    warnings.filterwarnings("error", message="Glyph .* missing from")
     try:
         style = Style(d)
         save(FIGURES[d["kind"]](d, style), sys.argv[2], figure_format, style)
+    except (DoesNotFit, UserWarning) as e:
+        sys.exit(f"plot_results.py: the {d['kind']} figure's text does not fit or cannot be drawn: {e}; choose a "
+                 "wider --print-width, a smaller --font-size or shorter display names (--style)")
     except Exception as e:  # one line, never a traceback: occsweep reports the failure and writes nothing
-        sys.exit(f"plot_results.py: cannot draw the {d['kind']} figure: {type(e).__name__}: {e}")
+        first = str(e).splitlines()[0] if str(e) else ""
+        sys.exit(f"plot_results.py: cannot draw the {d['kind']} figure: {type(e).__name__}: {first}")
 
 
 if __name__ == "__main__":

@@ -315,7 +315,12 @@ ReplaceableOutput jsonOutput(const std::string& name, const std::string& format)
           }};
 }
 
+namespace {
+void requireOneReading(const fs::path& output);
+}  // namespace
+
 void checkOutputTarget(const fs::path& target, bool force, const ReplaceableOutput& kind) {
+  requireOneReading(target);
   const fs::path t = outputTarget(target);
   std::error_code ec;
   const fs::path here = fs::weakly_canonical(fs::current_path(), ec), there = fs::weakly_canonical(t, ec);
@@ -355,6 +360,19 @@ OutputReadings outputReadings(const fs::path& output) {
   std::error_code ec;
   const fs::path resolved = dropTrailingSlash(fs::weakly_canonical(fs::absolute(output), ec));
   return {lexical, ec ? lexical : resolved};
+}
+
+// An output whose ".." follows a symbolic link reads two ways: the writer's (lexical: "link/.." is the link's own
+// folder) and the system's ("link/.." is the link target's parent). Every check and the write must mean one file,
+// so such a path is refused (docs/robustness.md, "Ownership").
+void requireOneReading(const fs::path& output) {
+  const OutputReadings r = outputReadings(output);
+  std::error_code ec;
+  const fs::path lexical_resolved = fs::weakly_canonical(r.lexical, ec);
+  if (ec || lexical_resolved == r.resolved) return;
+  throw OutputError(output.string() + ": '..' after a symbolic link names " + r.resolved.string() +
+                    " to the system but " + lexical_resolved.string() +
+                    " read as written: give the path without '..' (nothing was changed)");
 }
 
 // `inner` is `outer` or lies under it.
@@ -406,6 +424,7 @@ void requireSeparateOutputs(const std::vector<std::pair<std::string, fs::path>>&
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const auto& [flag, path] = outputs[i];
     if (path.empty()) continue;
+    requireOneReading(path);
     if (const fs::path entry = blockingEntry(path); !entry.empty())
       throw OutputError(flag + " " + path.string() + ": " + entry.string() + " is not a folder");
     for (std::size_t j = i + 1; j < outputs.size(); ++j)

@@ -9,6 +9,7 @@
 #include <optional>
 #include <random>
 #include <sstream>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -64,15 +65,30 @@ const Machine& thisMachine() {
 
 std::string machineLine(const Machine& m) { return m.host + " " + m.boot + " " + m.pid_namespace; }
 
-// Which entry `path` names, whatever way its path is spelt (through a symbolic link, `..`, relative): the device
-// and inode of the folder holding it, and its name. A folder replaced by a copy at the same path is another folder.
-// "" when that folder cannot be read.
-std::string entryIdentity(const fs::path& path) {
+// Where the entry `path` names sits, whatever way its path is spelt (through a symbolic link, `..`, relative): its
+// folder's canonical path (links resolved) and the entry's name. `path` itself as spelt when the folder is gone.
+fs::path canonicalEntry(const fs::path& path) {
   std::error_code ec;
   const fs::path absolute = fs::absolute(path, ec).lexically_normal();
-  struct stat folder {};
-  if (ec || ::stat(absolute.parent_path().c_str(), &folder) != 0) return "";
-  return std::to_string(folder.st_dev) + " " + std::to_string(folder.st_ino) + " " + absolute.filename().string();
+  const fs::path folder = fs::canonical(absolute.parent_path(), ec);
+  return ec ? absolute : folder / absolute.filename();
+}
+
+// Which entry `path` names: its canonicalEntry, and the folder's inode and birth time (statx), so that a folder
+// removed and made again at the same path, even one that reuses the inode, is another folder. The device number is
+// left out: NFS, btrfs and overlayfs give it out anew at each mount. One line, the path by its FNV-1a hash (a path
+// may hold a line break). "" when the folder cannot be read.
+std::string entryIdentity(const fs::path& path) {
+  const fs::path entry = canonicalEntry(path);
+  struct statx folder {};
+  if (::statx(AT_FDCWD, entry.parent_path().c_str(), 0, STATX_INO | STATX_BTIME, &folder) != 0) return "";
+  // Where a file system keeps no birth time, the inode alone: documented in docs/robustness.md, "Ownership".
+  const std::string born = (folder.stx_mask & STATX_BTIME) != 0
+                               ? std::to_string(folder.stx_btime.tv_sec) + "." + std::to_string(folder.stx_btime.tv_nsec)
+                               : "-";
+  Fnv1a where;
+  where.feed(entry.string());
+  return std::to_string(folder.stx_ino) + " " + born + " " + where.hex();
 }
 
 // `.NAME.tmp-PID-TOKEN` parsed: the PID and TOKEN, or pid -1.
@@ -102,9 +118,9 @@ TemporaryName parseTemporary(const std::string& component, const std::string& ou
   return {std::stol(rest.substr(0, dash)), rest.substr(dash + 1)};
 }
 
-// A record: the process identity on the first line, the temporary's absolute path on the second (as it was spelt,
-// for a person reading the ledger), the machine (machineLine) on the third, the temporary's entryIdentity on the
-// fourth: what proves an entry is that temporary.
+// A record: the process identity on the first line, the temporary's canonicalEntry on the second (where pruning looks
+// for it, and what a person reading the ledger sees), the machine (machineLine) on the third, the temporary's
+// entryIdentity on the fourth: what proves an entry is that temporary.
 struct LedgerRecord {
   std::string process;
   fs::path path;
@@ -175,13 +191,12 @@ TemporaryClaim claimTemporary(const fs::path& target) {
   const fs::path ledger = ownershipLedger();
   std::error_code ec;
   if (ledger.empty() || (fs::create_directories(ledger, ec), ec)) return c;
-  const fs::path absolute = fs::absolute(c.path, ec).lexically_normal();
-  const std::string identity = entryIdentity(absolute);
+  const std::string identity = entryIdentity(c.path);
   if (identity.empty()) return c;  // its folder cannot be read: nothing would prove the temporary occsweep's later
   pruneLedger(ledger);
   std::ofstream out(ledger / c.token, std::ios::trunc);
-  out << processIdentity(::getpid()) << '\n' << absolute.string() << '\n' << machineLine(thisMachine()) << '\n'
-      << identity << '\n';
+  out << processIdentity(::getpid()) << '\n' << canonicalEntry(c.path).string() << '\n' << machineLine(thisMachine())
+      << '\n' << identity << '\n';
   out.flush();
   c.recorded = bool(out);
   return c;
@@ -244,17 +259,31 @@ std::optional<std::string> staleRecord(const fs::path& entry, const fs::path& ta
 }  // namespace
 
 namespace {
+// A text output's record (recordTextOutput), a file of four lines: its entryIdentity, size, FNV-1a hash of its bytes
+// and canonicalEntry. Named by the hash of the identity, so that any spelling of the output's path finds it.
 struct TextOutputRecord {
   fs::path file;  ///< the record's own file in the ledger
-  std::string identity, size, hash;
+  std::string identity, size, hash, path;
 };
 
-// The record of `file`, named by the hash of its entryIdentity (so any spelling of its path finds it), and what the
-// file is now.
-std::optional<TextOutputRecord> textOutputRecord(const fs::path& file) {
+fs::path outputsLedger() {
   const fs::path ledger = ownershipLedger();
+  return ledger.empty() ? ledger : ledger.parent_path() / "outputs";
+}
+
+std::optional<TextOutputRecord> readTextOutputRecord(const fs::path& record) {
+  std::ifstream in(record);
+  TextOutputRecord r{record, {}, {}, {}, {}};
+  if (!std::getline(in, r.identity) || !std::getline(in, r.size) || !std::getline(in, r.hash)) return std::nullopt;
+  std::getline(in, r.path);  // "" in a record of an occsweep that named outputs by path (legacyRecordHolds)
+  return r;
+}
+
+// What `file` is now, as a record would hold it, with the name of its record.
+std::optional<TextOutputRecord> textOutputNow(const fs::path& file) {
+  const fs::path outputs = outputsLedger();
   std::error_code ec;
-  if (ledger.empty() || !fs::is_regular_file(fs::symlink_status(file, ec))) return std::nullopt;
+  if (outputs.empty() || !fs::is_regular_file(fs::symlink_status(file, ec))) return std::nullopt;
   const std::string identity = entryIdentity(file);
   if (identity.empty()) return std::nullopt;
   Fnv1a name, content;
@@ -264,26 +293,51 @@ std::optional<TextOutputRecord> textOutputRecord(const fs::path& file) {
   } catch (const std::exception&) {
     return std::nullopt;
   }
-  return TextOutputRecord{ledger.parent_path() / "outputs" / name.hex(), identity,
-                          std::to_string(fs::file_size(file, ec)), content.hex()};
+  return TextOutputRecord{outputs / name.hex(), identity, std::to_string(fs::file_size(file, ec)), content.hex(),
+                          canonicalEntry(file).string()};
+}
+
+// A record an occsweep before entry identities wrote: named by the hash of the output's absolute path, whose first
+// line is that path. It proves the same bytes at that same spelling, as it did then.
+bool legacyRecordHolds(const fs::path& file, const TextOutputRecord& now) {
+  std::error_code ec;
+  const std::string absolute = fs::absolute(file, ec).lexically_normal().string();
+  Fnv1a name;
+  name.feed(absolute);
+  const std::optional<TextOutputRecord> old = readTextOutputRecord(outputsLedger() / name.hex());
+  return old && old->identity == absolute && old->size == now.size && old->hash == now.hash;
+}
+
+// Drops the records of outputs no longer where they were written, or no longer that entry (removed, replaced).
+void pruneTextOutputs(const fs::path& outputs) {
+  std::error_code ec;
+  for (fs::directory_iterator it(outputs, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::optional<TextOutputRecord> r = readTextOutputRecord(it->path());
+    if (!r) continue;
+    const fs::path where = r->path.empty() ? fs::path(r->identity) : fs::path(r->path);  // a legacy record: its path
+    std::error_code missing;
+    const bool gone = !fs::exists(fs::symlink_status(where, missing));
+    if (gone || (!r->path.empty() && entryIdentity(where) != r->identity)) fs::remove(it->path(), missing);
+  }
 }
 }  // namespace
 
 void recordTextOutput(const fs::path& file) {
-  const std::optional<TextOutputRecord> r = textOutputRecord(file);
+  const std::optional<TextOutputRecord> r = textOutputNow(file);
   if (!r) return;
   std::error_code ec;
   fs::create_directories(r->file.parent_path(), ec);
-  std::ofstream(r->file, std::ios::trunc) << r->identity << '\n' << r->size << '\n' << r->hash << '\n';
+  pruneTextOutputs(r->file.parent_path());
+  std::ofstream(r->file, std::ios::trunc) << r->identity << '\n' << r->size << '\n' << r->hash << '\n' << r->path
+                                          << '\n';
 }
 
 bool isRecordedTextOutput(const fs::path& file) {
-  const std::optional<TextOutputRecord> now = textOutputRecord(file);
+  const std::optional<TextOutputRecord> now = textOutputNow(file);
   if (!now) return false;
-  std::ifstream in(now->file);
-  std::string identity, size, hash;
-  return std::getline(in, identity) && std::getline(in, size) && std::getline(in, hash) && identity == now->identity &&
-         size == now->size && hash == now->hash;
+  const std::optional<TextOutputRecord> recorded = readTextOutputRecord(now->file);
+  if (!recorded) return legacyRecordHolds(file, *now);
+  return recorded->identity == now->identity && recorded->size == now->size && recorded->hash == now->hash;
 }
 
 }  // namespace occsweep

@@ -174,10 +174,10 @@ TEST_CASE("a style file names, colours, marks and lines a method alike in every 
     const json style = readJsonFile(dir / (kind + ".json")).at("style");
     CHECK(style.at("width_in") == 3.5);
     CHECK(style.at("font_size") == 8.0);
-    CHECK(style.at("methods").at("knn") ==
-          json{{"name", "k-NN (ours)"}, {"colour", "#112233"}, {"marker", "D"}, {"line", "dotted"}});
-    CHECK(style.at("methods").at("octomap") ==
-          json{{"name", "OctoMap"}, {"colour", "#000000"}, {"marker", "o"}, {"line", "solid"}});
+    CHECK(style.at("methods").at("knn") == json{{"name", "k-NN (ours)"}, {"colour", "#112233"}, {"marker", "D"},
+                                                 {"line", "dotted"}, {"dash", {1, 1.65}}});
+    CHECK(style.at("methods").at("octomap") == json{{"name", "OctoMap"}, {"colour", "#000000"}, {"marker", "o"},
+                                                    {"line", "solid"}, {"dash", json::array()}});
   }
   // A page wide, at the screen's size without --print-width.
   const std::string page = " --print-width page --font-size 9 --out page.svg";
@@ -190,7 +190,12 @@ TEST_CASE("a style file names, colours, marks and lines a method alike in every 
       {R"({"methods": {"knn": {"marker": "q"}}})", "bad.json: methods.knn.marker: must be one of 'o', 's'"},
       {R"({"methods": {"knn": {"line": "wavy"}}})", "bad.json: methods.knn.line: must be one of 'solid'"},
       {R"({"methods": {"knn": {"name": ""}}})", "bad.json: methods.knn.name: must be 1 to 60 characters"},
+      {R"({"methods": {"knn": {"name": "ab\u202ecd"}}})", "bad.json: methods.knn.name: must be 1 to 60 characters"},
       {R"({"methods": {"knn": {"name": 3}}})", "bad.json: methods.knn.name: must be a string"},
+      {R"({"methods": {"knn": {"name": "OctoMap"}}})", "bad.json: methods knn and octomap would both be shown as "
+                                                       "'OctoMap'"},
+      {R"({"methods": {"knn": {"colour": "#000000", "marker": "o", "line": "solid"}}})",
+       "bad.json: methods knn and octomap would be drawn alike"},
       {R"({"colours": {}})", "bad.json: colours: unknown field"},
       {R"({"methods": [1]})", "bad.json: methods: must be an object"},
       {R"({"methods": )", "bad.json: not valid JSON"}};
@@ -202,12 +207,28 @@ TEST_CASE("a style file names, colours, marks and lines a method alike in every 
     CHECK(r.output.find(message) != std::string::npos);
     CHECK_FALSE(fs::exists(dir / "bad.png"));
   }
-  for (const std::string width : {"0.5", "21", "wide", "3in"}) {
+  // A name of 60 characters of two bytes each is a name of 60 characters; a "$" is a dollar, not mathtext.
+  std::string sixty;
+  for (int i = 0; i < 60; ++i) sixty += "\xc3\xa9";  // é
+  std::ofstream(dir / "wide.json", std::ios::trunc) << R"({"methods": {"knn": {"name": ")" + sixty + R"("}}})";
+  CHECK(test::runIn(dir, "plot budget " + goldenFiles() + " --style wide.json --out wide.svg").exit_code == 0);
+  std::ofstream(dir / "dollar.json", std::ios::trunc) << R"({"methods": {"knn": {"name": "$\\frac{a$ x"}}})";
+  const auto dollar = test::runIn(dir, "plot budget " + goldenFiles() + " --style dollar.json --out dollar.svg");
+  INFO(dollar.output);
+  CHECK(dollar.exit_code == 0);
+  CHECK(test::bytesOf(dir / "dollar.svg").find("$\\frac{a$ x") != std::string::npos);
+  // A legend entry wider than the figure: refused, never clipped.
+  const auto narrow = test::runIn(dir, "plot budget " + goldenFiles() + " --style wide.json --print-width 1.5 "
+                                       "--font-size 24 --out narrow.png");
+  CHECK(narrow.exit_code == 2);
+  CHECK(narrow.output.find("a legend entry is wider than the figure") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "narrow.png"));
+  for (const std::string width : {"0.5", "21", "wide", "3in", "0x4", "''"}) {
     const auto r = test::runIn(dir, "plot budget " + goldenFiles() + " --print-width " + width + " --out bad.png");
     INFO(r.output);
     CHECK(r.exit_code == 2);
-    CHECK(r.output.find("--print-width must be column, page or a width in inches from 1.5 to 20, got " + width) !=
-          std::string::npos);
+    CHECK(r.output.find("--print-width must be column, page or a width in inches from 1.5 to 20, got " +
+                        (width == "''" ? "" : width)) != std::string::npos);
     CHECK_FALSE(fs::exists(dir / "bad.png"));
   }
 }

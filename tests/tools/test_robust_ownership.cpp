@@ -282,6 +282,15 @@ TEST_CASE("a killed run's temporary is known by its folder's identity, never by 
   REQUIRE(runIn(dir / "old", std::string(kTinyScene) + " --out w", env).exit_code == 0);
   CHECK(fs::exists(in_replaced / "manifest.json"));
   CHECK(fs::exists(dir / "moved" / in_replaced.filename() / "manifest.json"));
+  // Made in a folder that was then removed and made again at the same path (ext4 often gives it the same inode: its
+  // birth time tells them apart), the temporary restored into it from a backup: the user's copy, and it stays.
+  const fs::path in_remade = killedRunsTemporary(dir / "remade", "w", state);
+  fs::copy(in_remade, dir / "backup", fs::copy_options::recursive);
+  fs::remove_all(dir / "remade");
+  fs::create_directories(dir / "remade");
+  fs::copy(dir / "backup", in_remade, fs::copy_options::recursive);
+  REQUIRE(runIn(dir / "remade", std::string(kTinyScene) + " --out w", env).exit_code == 0);
+  CHECK(fs::exists(in_remade / "manifest.json"));
 }
 
 TEST_CASE("a table occsweep wrote is its own to replace through any spelling of its path, and no copy of it is",
@@ -298,13 +307,45 @@ TEST_CASE("a table occsweep wrote is its own to replace through any spelling of 
   INFO(r.output);
   CHECK(r.exit_code == 0);
   CHECK(runIn(dir, compare + "./link/../real/t.csv").exit_code == 0);
-  // The same bytes in a folder that replaced the first one are a copy the user made: refused.
+  // The same bytes in a folder that replaced the first one, moved away or removed and made again at the same path,
+  // are a copy the user made: refused.
   fs::rename(dir / "real", dir / "moved");
   fs::create_directories(dir / "real");
   fs::copy_file(dir / "moved/t.csv", dir / "real/t.csv");
   const std::string before = fileBytes(dir / "real/t.csv");
-  CHECK(runIn(dir, compare + "real/t.csv").exit_code == 2);
+  const CommandResult moved = runIn(dir, compare + "real/t.csv");
+  CHECK(moved.exit_code == 2);
+  CHECK(mentions(moved, "real/t.csv: exists and is not occsweep's"));
   CHECK(fileBytes(dir / "real/t.csv") == before);
+  REQUIRE(runIn(dir, compare + "remade/t.csv").exit_code == 0);
+  fs::copy_file(dir / "remade/t.csv", dir / "backup.csv");
+  fs::remove_all(dir / "remade");
+  fs::create_directories(dir / "remade");
+  fs::copy_file(dir / "backup.csv", dir / "remade/t.csv");
+  CHECK(runIn(dir, compare + "remade/t.csv").exit_code == 2);
+  CHECK(fileBytes(dir / "remade/t.csv") == fileBytes(dir / "backup.csv"));
+}
+
+TEST_CASE("an output whose '..' follows a symbolic link is refused before anything is read or written",
+          "[ownership]") {
+  // Old binary: `sweep --out deep/l5/../l5/o.json`, deep/l5 a link to k5, checked the system's reading (l5/o.json
+  // beside k5, absent) and wrote the lexical one (k5/o.json): a user's results of another grid replaced, exit 0.
+  const fs::path in = inputs("ownership/dotdot");
+  const fs::path dir = scratch("ownership/dotdot-out");
+  fs::create_directories(dir / "k5");
+  fs::create_directories(dir / "deep");
+  fs::copy_file(in / "oct.json", dir / "k5/o.json");
+  fs::create_directory_symlink("../k5", dir / "deep/l5");
+  const auto before = snapshot(dir);
+  const std::vector<std::string> commands = {"sweep --dataset " + shellQuoted(in / "scene") + " --grid knn-opt --quiet",
+                                             "merge " + shellQuoted(in / "knn.json"), "scene --scans 2 --width 8 --height 6"};
+  for (const std::string& command : commands) {
+    const CommandResult r = runIn(dir, command + " --out deep/l5/../l5/o.json");
+    INFO(command << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "deep/l5/../l5/o.json: '..' after a symbolic link names"));
+    CHECK(snapshot(dir) == before);
+  }
 }
 
 TEST_CASE("SQLite's journal beside a recorded temporary a killed run left goes with it, and only then",
@@ -579,6 +620,15 @@ TEST_CASE("plot killed at 20 seeded moments: its figure script ends with it and 
     std::set<std::string> expected = {"py.sh", "pids"};
     if (finished) expected.insert("fig.png");
     if (!fs::exists(dir / "pids")) expected.erase("pids");
+    // What the ledger holds for any entry left, to tell a missing record from one that does not match.
+    std::string ledger_now;
+    for (const std::string& entry : entriesOf(dir))
+      if (!expected.contains(entry)) {
+        ledger_now += entry + (isStaleTemporaryOf(dir / entry, dir / "fig.png") ? " stale" : " not stale") + "\n";
+        for (const auto& record : fs::directory_iterator(ownershipLedger()))
+          if (entry.ends_with(record.path().filename().string())) ledger_now += fileBytes(record.path());
+      }
+    INFO("ledger of what is left:\n" << ledger_now);
     CHECK(entriesOf(dir) == expected);  // no temporary, no data file, no half figure
   }
   CHECK(killed_while_drawing >= 3);  // the seeds do hit the script at work, not only before or after it

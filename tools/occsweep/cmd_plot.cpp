@@ -2,6 +2,8 @@
 // comparison for the user's own sweeps, drawn by share/occsweep/plot_results.py from the data computed here
 // (docs/statistics.md, "Figures").
 #include <algorithm>
+#include <charconv>
+#include <optional>
 #include <cctype>
 #include <cstdint>
 #include <filesystem>
@@ -27,7 +29,8 @@ namespace {
 
 struct PlotOptions {
   std::vector<std::string> files;
-  std::string out, json, baseline = kDefaultBaseline, method, python, style, width;
+  std::string out, json, baseline = kDefaultBaseline, method, python, style;
+  std::optional<std::string> width;  ///< --print-width as given
   double font_size = 0;  ///< 0: 8 pt at a --print-width, else 10 pt
   bool force = false;
 };
@@ -37,29 +40,25 @@ struct PlotOptions {
 constexpr double kColumnInches = 3.5, kPageInches = 7.16, kMinWidthInches = 1.5, kMaxWidthInches = 20;
 
 // --print-width as inches; 0 without one (the screen sizes of each figure).
-double figureWidthInches(const std::string& width) {
-  if (width.empty()) return 0;
+double figureWidthInches(const std::optional<std::string>& given) {
+  if (!given) return 0;
+  const std::string& width = *given;
   if (width == "column") return kColumnInches;
   if (width == "page") return kPageInches;
-  std::size_t used = 0;
   double inches = 0;
-  try {
-    inches = std::stod(width, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != width.size() || !(inches >= kMinWidthInches && inches <= kMaxWidthInches))
+  const auto [end, error] = std::from_chars(width.data(), width.data() + width.size(), inches);  // no sign, hex, space
+  if (error != std::errc() || end != width.data() + width.size() || !(inches >= kMinWidthInches && inches <= kMaxWidthInches))
     throw std::invalid_argument("--print-width must be column, page or a width in inches from 1.5 to 20, got " + width);
   return inches;
 }
 
 // How the figure is laid out and each method drawn: the print width, the font size and every method's style.
-nlohmann::json figureStyle(const PlotOptions& o, const std::vector<ComparisonRow>& rows) {
+nlohmann::json figureStyle(const PlotOptions& o, const StyleOverrides& overrides,
+                           const std::vector<ComparisonRow>& rows) {
   const double width = figureWidthInches(o.width);
-  const StyleOverrides overrides = o.style.empty() ? StyleOverrides{} : readStyleFile(o.style);
   return {{"width_in", width > 0 ? nlohmann::json(width) : nlohmann::json(nullptr)},
           {"font_size", o.font_size > 0 ? o.font_size : width > 0 ? 8.0 : 10.0},
-          {"methods", methodStyles(comparedMethods(rows), overrides)}};
+          {"methods", methodStyles(comparedMethods(rows), overrides, o.style)}};
 }
 
 // The figure's format, by --out's name: PNG for the screen, PDF and SVG for print (docs/statistics.md, "Figures").
@@ -101,7 +100,7 @@ std::string paramsMethod(const PlotOptions& o, const std::vector<ComparisonRow>&
 int runPlot(const std::string& kind, const PlotOptions& o) {
   const std::string format = figureFormat(o.out);
   figureWidthInches(o.width);  // refused before anything is read
-  if (!o.style.empty()) readStyleFile(o.style);
+  const StyleOverrides overrides = o.style.empty() ? StyleOverrides{} : readStyleFile(o.style);
   requireSeparateOutputs({{"--out", o.out}, {"--json", o.json}});
   checkOutputTarget(o.out, o.force, figureOutput(format));
   if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("plot data", "occsweep-plot"));
@@ -113,7 +112,7 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   nlohmann::json data = plotData(kind, inputs);
   data["format"] = "occsweep-plot";
   data["figure_format"] = format;
-  data["style"] = figureStyle(o, rows);
+  data["style"] = figureStyle(o, overrides, rows);
   data["files"] = o.files;
   // Both written as registered temporaries (removed on an error or an interrupt) and committed only when the script
   // succeeded; the script draws into the figure's temporary, never beside it.
@@ -159,7 +158,7 @@ const RegisterCommand kPlot{"plot", "Figures of a comparison: best curves, budge
     sub->add_option("--print-width", o->width, "Width in print: column (3.5 in), page (7.16 in) or inches; no "
                                                "title then, the caption says it (default: a screen size)");
     sub->add_option("--font-size", o->font_size, "Text size, points (default 8 at a --print-width, else 10)")
-        ->check(numberIn(5, 24));
+        ->check(numberIn(6, 24));
     sub->add_option("--python", o->python, "Python 3 with matplotlib (default $OCCSWEEP_PYTHON, /usr/bin/python3)");
     sub->add_flag("--force", o->force, "Replace occsweep's own previous figure or data (nothing else)");
     addLimitOptions(*sub, {Limit::Combinations});

@@ -168,7 +168,6 @@ std::string latexEscaped(const std::string& s) {
   return out;
 }
 
-
 // `c` with every method name in it (a row's first cell, a word of a header: "knn AUC", "holds octomap's best")
 // shown by its display name. Data set names, which a user chooses, are cells of their own and stay as they are.
 Cells withDisplayNames(Cells c, const std::vector<std::string>& methods, std::size_t name_columns) {

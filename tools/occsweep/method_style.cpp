@@ -2,6 +2,7 @@
 #include "method_style.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <numeric>
 
 #include "occsweep/core/method_registry.hpp"
@@ -26,9 +27,38 @@ bool isColour(const std::string& s) {
          });
 }
 
+// The code points of UTF-8 text (the style file is valid UTF-8: the JSON reader refused it otherwise).
+std::vector<char32_t> codePoints(const std::string& s) {
+  std::vector<char32_t> out;
+  for (std::size_t i = 0; i < s.size();) {
+    const auto lead = static_cast<unsigned char>(s[i]);
+    const std::size_t n = lead < 0x80 ? 1 : lead < 0xE0 ? 2 : lead < 0xF0 ? 3 : 4;
+    char32_t c = n == 1 ? lead : lead & (0x7F >> n);
+    for (std::size_t k = 1; k < n && i + k < s.size(); ++k) c = (c << 6) | (static_cast<unsigned char>(s[i + k]) & 0x3F);
+    out.push_back(c);
+    i += n;
+  }
+  return out;
+}
+
+// A control character (C0, DEL, C1) or a bidirectional control, which would hide or reorder the name's text.
+bool isControl(char32_t c) {
+  return c < 0x20 || (c >= 0x7F && c <= 0x9F) || (c >= 0x202A && c <= 0x202E) || (c >= 0x2066 && c <= 0x2069);
+}
+
 bool isDisplayName(const std::string& s) {
-  return !s.empty() && s.size() <= kMaxDisplayName &&
-         std::none_of(s.begin(), s.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; });
+  const std::vector<char32_t> characters = codePoints(s);
+  return !characters.empty() && characters.size() <= kMaxDisplayName && std::none_of(characters.begin(), characters.end(), isControl);
+}
+
+const LineStyle& lineStyle(const std::string& name) {
+  return *std::find_if(kLineStyles.begin(), kLineStyles.end(), [&](const LineStyle& l) { return l.name == name; });
+}
+
+std::vector<std::string> lineStyleNames() {
+  std::vector<std::string> names;
+  for (const LineStyle& l : kLineStyles) names.push_back(l.name);
+  return names;
 }
 
 // One method's fields, checked: each a string that its rule allows.
@@ -42,7 +72,8 @@ void checkMethodFields(const std::filesystem::path& file, const std::string& met
     if (!value.is_string()) throw DataError(file, field, "must be a string");
     const std::string v = value.get<std::string>();
     if (key == "name" && !isDisplayName(v))
-      throw DataError(file, field, "must be 1 to " + std::to_string(kMaxDisplayName) + " characters, no control character");
+      throw DataError(file, field, "must be 1 to " + std::to_string(kMaxDisplayName) +
+                                       " characters, no control or bidirectional-control character");
     if (key == "colour" && !isColour(v)) throw DataError(file, field, "must be a colour #RRGGBB, got '" + v + "'");
     auto oneOf = [&](const std::vector<std::string>& allowed) {
       if (std::find(allowed.begin(), allowed.end(), v) != allowed.end()) return;
@@ -51,8 +82,24 @@ void checkMethodFields(const std::filesystem::path& file, const std::string& met
       throw DataError(file, field, "must be one of " + list + ", got '" + v + "'");
     };
     if (key == "marker") oneOf(kMarkers);
-    if (key == "line") oneOf(kLineStyles);
+    if (key == "line") oneOf(lineStyleNames());
   }
+}
+
+// Two methods a reader could not tell apart in a figure: one display name, or one colour, marker and line.
+void requireDistinctStyles(const nlohmann::json& styles, const std::filesystem::path& style_file) {
+  const std::string where = style_file.empty() ? "" : style_file.string() + ": ";
+  const std::string fix = style_file.empty() ? "give them styles of their own with --style"
+                                             : "give them styles of their own in " + style_file.string();
+  for (auto a = styles.begin(); a != styles.end(); ++a)
+    for (auto b = std::next(a); b != styles.end(); ++b) {
+      if ((*a)["name"] == (*b)["name"])
+        throw std::invalid_argument(where + "methods " + a.key() + " and " + b.key() + " would both be shown as '" +
+                                    (*a)["name"].get<std::string>() + "': " + fix);
+      if ((*a)["colour"] == (*b)["colour"] && (*a)["marker"] == (*b)["marker"] && (*a)["line"] == (*b)["line"])
+        throw std::invalid_argument(where + "methods " + a.key() + " and " + b.key() +
+                                    " would be drawn alike (one colour, marker and line): " + fix);
+    }
 }
 
 }  // namespace
@@ -66,15 +113,22 @@ std::string displayNameOf(const std::string& method) {
 }
 
 MethodStyle defaultStyle(const std::string& method) {
-  std::size_t index = 0;
   if (const auto shipped = kShipped.find(method); shipped != kShipped.end()) {
-    index = shipped->second;
-  } else {  // the three colours no shipped method takes, by the sum of the name's bytes: stable from run to run
-    const unsigned sum = std::accumulate(method.begin(), method.end(), 0u,
-                                         [](unsigned s, char c) { return s + static_cast<unsigned char>(c); });
-    index = kShipped.size() + sum % (kOkabeIto.size() - kShipped.size());
+    const std::size_t i = shipped->second;
+    return {displayNameOf(method), kOkabeIto[i], kMarkers[i], kLineStyles[i].name};
   }
-  return {displayNameOf(method), kOkabeIto[index], kMarkers[index], kLineStyles[index]};
+  // Any other method: the colours, markers and lines no shipped method takes, each chosen by the sum of the name's
+  // bytes (stable from run to run): 3 x 7 x 3 combinations, so two such methods are drawn alike once in 63
+  // (requireDistinctStyles then asks for --style).
+  const std::size_t first = kShipped.size();
+  std::size_t h = std::accumulate(method.begin(), method.end(), std::size_t{0},
+                                  [](std::size_t s, char c) { return s * 31 + static_cast<unsigned char>(c); });
+  const std::size_t colour = first + h % (kOkabeIto.size() - first);
+  h /= kOkabeIto.size() - first;
+  const std::size_t marker = first + h % (kMarkers.size() - first);
+  h /= kMarkers.size() - first;
+  const std::size_t line = first + h % (kLineStyles.size() - first);
+  return {displayNameOf(method), kOkabeIto[colour], kMarkers[marker], kLineStyles[line].name};
 }
 
 StyleOverrides readStyleFile(const std::filesystem::path& file) {
@@ -93,14 +147,17 @@ StyleOverrides readStyleFile(const std::filesystem::path& file) {
   return overrides;
 }
 
-nlohmann::json methodStyles(const std::vector<std::string>& methods, const StyleOverrides& overrides) {
+nlohmann::json methodStyles(const std::vector<std::string>& methods, const StyleOverrides& overrides,
+                            const std::filesystem::path& style_file) {
   nlohmann::json styles = nlohmann::json::object();
   for (const std::string& m : methods) {
     const MethodStyle d = defaultStyle(m);
     nlohmann::json s = {{"name", d.name}, {"colour", d.colour}, {"marker", d.marker}, {"line", d.line}};
     if (const auto o = overrides.find(m); o != overrides.end()) s.update(o->second);
+    s["dash"] = lineStyle(s["line"].get<std::string>()).dash;
     styles[m] = s;
   }
+  requireDistinctStyles(styles, style_file);
   return styles;
 }
 

@@ -22,10 +22,19 @@ struct MethodStyle {
   std::string line;    ///< one of kLineStyles
 };
 
-/// The markers and line styles a style may name: each is drawn distinct from the others in print.
+/// The markers a style may name: each is drawn distinct from the others in print.
 inline const std::vector<std::string> kMarkers = {"o", "s", "^", "D", "v", "P", "X", "*", "<", ">", "p", "h"};
-inline const std::vector<std::string> kLineStyles = {"solid",          "dashed",        "dashdot",        "dotted",
-                                                     "densely dashed", "dashdotdotted", "densely dotted", "long dashed"};
+
+/// The line styles a style may name, each with its dash pattern (on, off, ... in line widths; empty: solid), which
+/// the figure's JSON carries to the drawing script.
+struct LineStyle {
+  std::string name;
+  std::vector<double> dash;
+};
+inline const std::vector<LineStyle> kLineStyles = {
+    {"solid", {}},          {"dashed", {3.7, 1.6}},          {"dashdot", {6.4, 1.6, 1, 1.6}}, {"dotted", {1, 1.65}},
+    {"densely dashed", {5, 1}}, {"dashdotdotted", {3, 1, 1, 1, 1, 1}}, {"densely dotted", {1, 1}},
+    {"long dashed", {8, 2}}};
 
 /// The default style: Okabe and Ito's palette, which readers with the common colour-vision deficiencies tell apart.
 /// The shipped methods keep theirs; any other method takes one by its name, so it too keeps it in every figure.
@@ -36,7 +45,10 @@ inline const std::vector<std::string> kLineStyles = {"solid",          "dashed",
 using StyleOverrides = std::map<std::string, nlohmann::json>;
 [[nodiscard]] StyleOverrides readStyleFile(const std::filesystem::path& file);
 
-/// The style of each of `methods`: the default, with the style file's fields over it.
-[[nodiscard]] nlohmann::json methodStyles(const std::vector<std::string>& methods, const StyleOverrides& overrides);
+/// The style of each of `methods`, as the drawing script reads it (name, colour, marker, line and its dash): the
+/// default, with the style file's fields over it. Two of them with one display name, or one colour, marker and line,
+/// would read as one method: DataError naming both (and `style_file`).
+[[nodiscard]] nlohmann::json methodStyles(const std::vector<std::string>& methods, const StyleOverrides& overrides,
+                                          const std::filesystem::path& style_file);
 
 }  // namespace occsweep::cli
