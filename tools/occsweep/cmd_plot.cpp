@@ -46,16 +46,17 @@ double figureWidthInches(const std::optional<std::string>& given) {
   if (width == "column") return kColumnInches;
   if (width == "page") return kPageInches;
   double inches = 0;
-  const auto [end, error] = std::from_chars(width.data(), width.data() + width.size(), inches);  // no sign, hex, space
-  if (error != std::errc() || end != width.data() + width.size() || !(inches >= kMinWidthInches && inches <= kMaxWidthInches))
+  const char* const last = width.data() + width.size();
+  const auto [end, error] = std::from_chars(width.data(), last, inches);  // no sign, hex or space
+  if (error != std::errc() || end != last || !(inches >= kMinWidthInches && inches <= kMaxWidthInches))
     throw std::invalid_argument("--print-width must be column, page or a width in inches from 1.5 to 20, got " + width);
   return inches;
 }
 
-// How the figure is laid out and each method drawn: the print width, the font size and every method's style.
-nlohmann::json figureStyle(const PlotOptions& o, const StyleOverrides& overrides,
+// How the figure is laid out and each method drawn: the print width (figureWidthInches), the font size and every
+// method's style.
+nlohmann::json figureStyle(const PlotOptions& o, double width, const StyleOverrides& overrides,
                            const std::vector<ComparisonRow>& rows) {
-  const double width = figureWidthInches(o.width);
   return {{"width_in", width > 0 ? nlohmann::json(width) : nlohmann::json(nullptr)},
           {"font_size", o.font_size > 0 ? o.font_size : width > 0 ? 8.0 : 10.0},
           {"methods", methodStyles(comparedMethods(rows), overrides, o.style)}};
@@ -99,7 +100,7 @@ std::string paramsMethod(const PlotOptions& o, const std::vector<ComparisonRow>&
 
 int runPlot(const std::string& kind, const PlotOptions& o) {
   const std::string format = figureFormat(o.out);
-  figureWidthInches(o.width);  // refused before anything is read
+  const double width = figureWidthInches(o.width);  // refused before anything is read
   const StyleOverrides overrides = o.style.empty() ? StyleOverrides{} : readStyleFile(o.style);
   requireSeparateOutputs({{"--out", o.out}, {"--json", o.json}});
   checkOutputTarget(o.out, o.force, figureOutput(format));
@@ -112,7 +113,7 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   nlohmann::json data = plotData(kind, inputs);
   data["format"] = "occsweep-plot";
   data["figure_format"] = format;
-  data["style"] = figureStyle(o, overrides, rows);
+  data["style"] = figureStyle(o, width, overrides, rows);
   data["files"] = o.files;
   // Both written as registered temporaries (removed on an error or an interrupt) and committed only when the script
   // succeeded; the script draws into the figure's temporary, never beside it.
