@@ -24,6 +24,7 @@
 
 #include "occsweep/stereo/generate.hpp"
 #include "occsweep/sweeps/grid.hpp"
+#include "bench_process.hpp"
 
 using namespace occsweep;
 using namespace occsweep::stereo;
@@ -156,7 +157,7 @@ void benchScale(const BenchOptions& o, const std::string& scale, const PointClou
   std::vector<std::uint64_t> before_ids;
   for (const std::uint64_t i : evenSubset(after_ids.size(), o.before_sets.at(scale))) before_ids.push_back(after_ids[i]);
 
-  const fs::path root = fs::path(OCCSWEEP_BENCH_DIR) / "dataset-bench";
+  const fs::path root = occsweep::bench::scratchDir() / "dataset-bench";
   const DatasetName name = parseDatasetName(o.name);
   const double render_cpu = renderCpuSeconds(name, c);
   const PathTiming before = timeGeneration(name, c, grid, before_ids, false, root / "before");
@@ -195,7 +196,7 @@ std::string loadAverage() {
 
 int main(int argc, char** argv) {
   const BenchOptions options = parseArguments(argc, argv);
-  occsweep::addGridFolder(OCCSWEEP_BENCH_GRIDS);  // the build tree's copy of the grids (docs/install.md)
+  occsweep::addGridFolder(occsweep::bench::builtGrids());  // the build tree's copy of the grids (docs/install.md)
   const PointCloudGrid grid = loadPointCloudGrid(resolveGridPath("pointcloud"));
   std::printf("occsweep bench_dataset: build type %s, g++ %d.%d, OpenCV %s, oneTBB %d.%d, %u hardware threads, "
               "load average %s at start; data set %s, all %llu point cloud sets per scale (extrapolated from the "

@@ -2,11 +2,14 @@
 #pragma once
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "test_paths.hpp"
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -14,6 +17,12 @@
 #include <unistd.h>
 
 namespace occsweep::bench {
+
+/// Where a benchmark writes its scratch data: the build tree's bench/ folder.
+inline std::filesystem::path scratchDir() { return test::buildTree() / "bench"; }
+
+/// The build tree's copy of the shipped grids (docs/install.md).
+inline std::filesystem::path builtGrids() { return test::buildTree() / OCCSWEEP_SHARE_SUBDIR / "grids"; }
 
 struct ProcessRun {
   double seconds = 0.0;
@@ -31,7 +40,8 @@ double seconds(Fn&& fn) {
 /// child's VmHWM counts this large process's pages until it execs, and polling could read that; posix_spawn
 /// returns only once the child runs the new program. Throws when it fails.
 inline ProcessRun runOccsweep(const std::vector<std::string>& args) {
-  std::vector<char*> argv{const_cast<char*>(OCCSWEEP_CLI)};
+  const std::string cli = test::builtCli();
+  std::vector<char*> argv{const_cast<char*>(cli.c_str())};
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   posix_spawn_file_actions_t quiet;
@@ -39,7 +49,7 @@ inline ProcessRun runOccsweep(const std::vector<std::string>& args) {
   posix_spawn_file_actions_addopen(&quiet, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
   const auto t0 = std::chrono::steady_clock::now();
   pid_t child = 0;
-  const int failed = ::posix_spawn(&child, OCCSWEEP_CLI, &quiet, nullptr, argv.data(), environ);
+  const int failed = ::posix_spawn(&child, cli.c_str(), &quiet, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&quiet);
   if (failed) throw std::runtime_error("cannot start occsweep");
   ProcessRun run;

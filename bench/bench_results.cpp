@@ -56,7 +56,7 @@ void row(const char* what, const Runs& store, const Runs* json, const bench::Pro
 }  // namespace
 
 int main(int argc, char** argv) {
-  fs::path grid = fs::path(OCCSWEEP_SOURCE_DIR) / "bench" / "grids" / "knn-fine-3m.json";
+  fs::path grid = occsweep::test::sourceTree() / "bench" / "grids" / "knn-fine-3m.json";
   // Its name (the file's stem) must be the grid's name for the lookup below.
   bool with_json = true;
   for (int i = 1; i < argc; ++i) {
@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
   }
   // The grid found by name, as a user's grid folder: `results check` and `compare` then check every map against it.
   ::setenv("OCCSWEEP_GRIDS", grid.parent_path().c_str(), 1);
-  const fs::path dir = fs::path(OCCSWEEP_BENCH_DIR) / "results-scale";
+  const fs::path dir = occsweep::bench::scratchDir() / "results-scale";
   fs::remove_all(dir);
   fs::create_directories(dir);
   const fs::path scene = dir / "scene";

@@ -53,7 +53,7 @@ double sweepPeakBytes(const std::string& dataset, const std::string& grid, const
 // The default set: what the paper maps (a stereo camera's clouds, voxel-filtered at 0.1 m, about 140 keyframes),
 // deterministic from the generator's seed. Generated on first use and kept beside this program.
 std::string paperScaleSet() {
-  const std::filesystem::path out = std::filesystem::path(OCCSWEEP_BENCH_DIR) / "paper-set";
+  const std::filesystem::path out = occsweep::bench::scratchDir() / "paper-set";
   const std::filesystem::path set = out / "building-voronoi-I" / "pcs-0800";
   if (!std::filesystem::exists(set / "manifest.json")) {
     std::printf("generating the paper-scale set once (about 5 minutes on 2 cores) into %s\n", out.c_str());
@@ -357,7 +357,7 @@ std::string cpuModel() {
 
 int main(int argc, char** argv) {
   BenchOptions options = parseArguments(argc, argv);
-  occsweep::addGridFolder(OCCSWEEP_BENCH_GRIDS);  // the build tree's copy of the grids (docs/install.md)
+  occsweep::addGridFolder(occsweep::bench::builtGrids());  // the build tree's copy of the grids (docs/install.md)
   std::printf("occsweep bench_sweep: build type %s, g++ %d.%d, liboctomap %s, oneTBB %d.%d, nanoflann %x.%x.%x, "
               "%u hardware threads, %s\n",
               OCCSWEEP_BUILD_TYPE, __GNUC__, __GNUC_MINOR__, OCCSWEEP_OCTOMAP_VERSION, TBB_VERSION_MAJOR, TBB_VERSION_MINOR,

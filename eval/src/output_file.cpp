@@ -53,7 +53,9 @@ int registerAndCreate(const TemporaryClaim& c, TemporaryKind kind) {
   std::lock_guard lock(registryMutex());
   const int fd = kind == TemporaryKind::File ? ::open(c.path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666)
                                              : ::mkdir(c.path.c_str(), 0777);
-  if (fd >= 0) registry()[c.path] = c;
+  if (fd < 0) return fd;
+  registry()[c.path] = c;
+  recordTemporaryMade(c);
   return fd;
 }
 

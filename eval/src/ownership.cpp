@@ -3,6 +3,7 @@
 #include "occsweep/eval/fnv1a.hpp"
 #include "occsweep/eval/process_stat.hpp"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -91,6 +92,17 @@ std::string entryIdentity(const fs::path& path) {
   return std::to_string(folder.stx_ino) + " " + born + " " + where.hex();
 }
 
+// The entry itself (not what a link there points to): its inode and birth time, as the fifth line of its record
+// holds them. "" when it cannot be read.
+std::string madeIdentity(const fs::path& path) {
+  struct statx made {};
+  if (::statx(AT_FDCWD, path.c_str(), AT_SYMLINK_NOFOLLOW, STATX_INO | STATX_BTIME, &made) != 0) return "";
+  const std::string born = (made.stx_mask & STATX_BTIME) != 0
+                               ? std::to_string(made.stx_btime.tv_sec) + "." + std::to_string(made.stx_btime.tv_nsec)
+                               : "-";
+  return "made " + std::to_string(made.stx_ino) + " " + born;
+}
+
 // `.NAME.tmp-PID-TOKEN` parsed: the PID and TOKEN, or pid -1.
 struct TemporaryName {
   long pid = -1;
@@ -120,11 +132,12 @@ TemporaryName parseTemporary(const std::string& component, const std::string& ou
 
 // A record: the process identity on the first line, the temporary's canonicalEntry on the second (where pruning looks
 // for it, and what a person reading the ledger sees), the machine (machineLine) on the third, the temporary's
-// entryIdentity on the fourth: what proves an entry is that temporary.
+// entryIdentity on the fourth: what proves an entry is that temporary, with the made entry's madeIdentity on the
+// fifth once it exists (recordTemporaryMade).
 struct LedgerRecord {
   std::string process;
   fs::path path;
-  std::string machine, entry;
+  std::string machine, entry, made;
 };
 
 std::optional<LedgerRecord> readRecord(const fs::path& ledger, const std::string& token) {
@@ -133,6 +146,7 @@ std::optional<LedgerRecord> readRecord(const fs::path& ledger, const std::string
   std::string path;
   if (!std::getline(in, r.process) || !std::getline(in, path) || !std::getline(in, r.machine)) return std::nullopt;
   std::getline(in, r.entry);  // "" in a record of an occsweep that kept no identity: it proves nothing
+  std::getline(in, r.made);   // "" when a kill came between the making and its record, or from an older occsweep
   r.path = path;
   return r;
 }
@@ -153,15 +167,31 @@ bool recordedProcessGone(const LedgerRecord& r) {
   return process >> pid && processIdentity(pid) != r.process;
 }
 
-// Drops records whose process is gone and whose temporary is no longer where it was made (removed by hand, or its
-// folder deleted or replaced): what a kill leaves in the ledger when nothing writes that target again.
+// A record that cannot be read this long after it was written was cut short by a kill while being written (a record
+// is a few bytes, written at once). Dropping one only makes a temporary the user's, never the reverse.
+constexpr auto kUnfinishedRecordAge = std::chrono::hours(1);
+
+bool unfinishedRecord(const fs::path& record) {
+  std::error_code ec;
+  const auto written = fs::last_write_time(record, ec);
+  return !ec && fs::file_time_type::clock::now() - written > kUnfinishedRecordAge;
+}
+
+// Drops records whose process is gone and whose temporary is no longer where it was made (removed by hand, its
+// folder deleted or replaced, another entry put at its name), and records a kill cut short: what a kill leaves in
+// the ledger when nothing writes that target again.
 void pruneLedger(const fs::path& ledger) {
   std::error_code ec;
   for (fs::directory_iterator it(ledger, ec), end; !ec && it != end; it.increment(ec)) {
     const std::optional<LedgerRecord> r = readRecord(ledger, it->path().filename().string());
     std::error_code missing;
-    if (!r || !recordedProcessGone(*r)) continue;
-    const bool still_there = fs::exists(fs::symlink_status(r->path, missing)) && entryIdentity(r->path) == r->entry;
+    if (!r) {
+      if (unfinishedRecord(it->path())) fs::remove(it->path(), missing);
+      continue;
+    }
+    if (!recordedProcessGone(*r)) continue;
+    const bool still_there = fs::exists(fs::symlink_status(r->path, missing)) && entryIdentity(r->path) == r->entry &&
+                             (r->made.empty() || madeIdentity(r->path) == r->made);
     if (!still_there) fs::remove(it->path(), missing);
   }
 }
@@ -200,6 +230,14 @@ TemporaryClaim claimTemporary(const fs::path& target) {
   out.flush();
   c.recorded = bool(out);
   return c;
+}
+
+void recordTemporaryMade(const TemporaryClaim& claim) {
+  if (!claim.recorded) return;
+  const std::string made = madeIdentity(claim.path);
+  if (made.empty()) return;
+  std::ofstream out(ownershipLedger() / claim.token, std::ios::app);
+  out << made << '\n';
 }
 
 void releaseTemporary(const TemporaryClaim& claim) {
@@ -252,6 +290,7 @@ std::optional<std::string> staleRecord(const fs::path& entry, const fs::path& ta
   if (t.pid <= 0 || ledger.empty()) return std::nullopt;
   const std::optional<LedgerRecord> record = readRecord(ledger, t.token);
   if (!record || record->entry.empty() || record->entry != entryIdentity(entry)) return std::nullopt;  // made elsewhere
+  if (!record->made.empty() && record->made != madeIdentity(entry)) return std::nullopt;  // another entry put there
   if (!record->process.starts_with(std::to_string(t.pid) + " ")) return std::nullopt;
   if (!recordedProcessGone(*record)) return std::nullopt;  // it still runs, or runs where this process cannot see
   return t.token;
@@ -313,9 +352,12 @@ void pruneTextOutputs(const fs::path& outputs) {
   std::error_code ec;
   for (fs::directory_iterator it(outputs, ec), end; !ec && it != end; it.increment(ec)) {
     const std::optional<TextOutputRecord> r = readTextOutputRecord(it->path());
-    if (!r) continue;
-    const fs::path where = r->path.empty() ? fs::path(r->identity) : fs::path(r->path);  // a legacy record: its path
     std::error_code missing;
+    if (!r) {
+      if (unfinishedRecord(it->path())) fs::remove(it->path(), missing);  // it proves nothing: the file is the user's
+      continue;
+    }
+    const fs::path where = r->path.empty() ? fs::path(r->identity) : fs::path(r->path);  // a legacy record: its path
     const bool gone = !fs::exists(fs::symlink_status(where, missing));
     if (gone || (!r->path.empty() && entryIdentity(where) != r->identity)) fs::remove(it->path(), missing);
   }

@@ -151,6 +151,26 @@ TEST_CASE("plot writes PNG, PDF or SVG by --out's ending, refuses any other befo
   }
 }
 
+TEST_CASE("a style file's misspelt method is named in a warning; a registered method the figure does not draw is not") {
+  // Old binary: the misspelt method's style was silently not used.
+  if (!haveMatplotlib()) {
+    WARN("no matplotlib: occsweep plot cannot draw here");
+    return;
+  }
+  const auto dir = test::processScratch("plot-style-unknown");
+  std::ofstream(dir / "style.json") << R"json({"methods": {"kmn": {"colour": "#112233"},
+      "sor-octomap": {"colour": "#445566"}, "knn": {"colour": "#778899"}}})json";
+  const auto r = test::runIn(dir, "plot budget " + goldenFiles() + " --style style.json --out budget.svg");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("occsweep plot: warning: style.json: methods.kmn: no method of that name is registered or in "
+                      "this figure (registered: ") != std::string::npos);
+  CHECK(r.output.find("methods.sor-octomap") == std::string::npos);  // registered, drawn in other figures
+  CHECK(r.output.find("methods.knn") == std::string::npos);
+  const std::string svg = test::bytesOf(dir / "budget.svg");
+  CHECK(svg.find("#778899") != std::string::npos);  // the other entries still apply
+}
+
 TEST_CASE("a style file names, colours, marks and lines a method alike in every figure, --print-width prints at that "
           "width, and a bad style is refused naming its field") {
   // Old binary: no --style, --print-width or --font-size, and figures named methods by their identifiers.

@@ -19,6 +19,7 @@
 #include "option_checks.hpp"
 #include "plot_data.hpp"
 #include "occsweep/core/builtin_methods.hpp"
+#include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/child_process.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/ownership.hpp"
@@ -57,6 +58,9 @@ double figureWidthInches(const std::optional<std::string>& given) {
 // method's style.
 nlohmann::json figureStyle(const PlotOptions& o, double width, const StyleOverrides& overrides,
                            const std::vector<ComparisonRow>& rows) {
+  for (const std::string& m : unknownStyledMethods(overrides, comparedMethods(rows)))
+    std::cerr << "occsweep plot: warning: " << o.style << ": methods." << m << ": no method of that name is registered "
+              << "or in this figure (registered: " << registeredMethodNames() << "); its style is not used\n";
   return {{"width_in", width > 0 ? nlohmann::json(width) : nlohmann::json(nullptr)},
           {"font_size", o.font_size > 0 ? o.font_size : width > 0 ? 8.0 : 10.0},
           {"methods", methodStyles(comparedMethods(rows), overrides, o.style)}};

@@ -161,4 +161,16 @@ nlohmann::json methodStyles(const std::vector<std::string>& methods, const Style
   return styles;
 }
 
+std::vector<std::string> unknownStyledMethods(const StyleOverrides& overrides,
+                                              const std::vector<std::string>& methods) {
+  const auto registered = registeredMethods();
+  std::vector<std::string> unknown;
+  for (const auto& [method, _] : overrides) {
+    const bool drawn = std::find(methods.begin(), methods.end(), method) != methods.end();
+    const bool known = std::any_of(registered.begin(), registered.end(), [&](const auto& m) { return m->name() == method; });
+    if (!drawn && !known) unknown.push_back(method);
+  }
+  return unknown;
+}
+
 }  // namespace occsweep::cli

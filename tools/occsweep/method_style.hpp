@@ -51,4 +51,10 @@ using StyleOverrides = std::map<std::string, nlohmann::json>;
 [[nodiscard]] nlohmann::json methodStyles(const std::vector<std::string>& methods, const StyleOverrides& overrides,
                                           const std::filesystem::path& style_file);
 
+/// The style file's methods that are neither registered nor among `methods` (the figure's): a misspelt name, whose
+/// style would silently not apply. A method the figure does not draw but that is registered is not one: one style
+/// file serves every figure.
+[[nodiscard]] std::vector<std::string> unknownStyledMethods(const StyleOverrides& overrides,
+                                                            const std::vector<std::string>& methods);
+
 }  // namespace occsweep::cli

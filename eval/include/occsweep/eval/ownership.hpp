@@ -1,7 +1,8 @@
 // Proof that an entry beside an output is occsweep's to remove (docs/robustness.md, "Ownership"). A name alone
 // proves nothing (a user may keep `r.json.old-2023`), nor do bytes a user could write. A temporary is occsweep's
 // when its name carries a random token that the run which made it recorded in occsweep's ledger, beside the
-// temporary's entry (its folder's device and inode, and its name), before creating it.
+// temporary's entry (its folder's inode and birth time, and its name) before creating it, and the entry's own inode
+// and birth time once made.
 #pragma once
 
 #include <cstddef>
@@ -27,6 +28,11 @@ struct TemporaryClaim {
 
 /// Chooses a temporary's name for `target` (a clean absolute or relative path) and records it in the ledger.
 [[nodiscard]] TemporaryClaim claimTemporary(const std::filesystem::path& target);
+
+/// Adds to a temporary's record, once it is made, the entry's own inode and birth time: an entry a user puts at that
+/// name later (a backup restored after a kill) is another entry, and stays. A kill between the making and this
+/// leaves a record without them, which proves the folder and the name only.
+void recordTemporaryMade(const TemporaryClaim& claim);
 
 /// Drops the ledger record of a temporary that was committed or removed.
 void releaseTemporary(const TemporaryClaim& claim);
