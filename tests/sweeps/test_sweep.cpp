@@ -210,7 +210,22 @@ TEST_CASE("several grids swept in one process give each grid's results as its ow
   std::vector<SweepConfig> other_resolution = together;
   other_resolution[1].resolution = 0.2;
   CHECK_THROWS_WITH(sweepGrids(other_resolution), Contains("share the data set and every map setting"));
-  std::vector<SweepConfig> one_out = together;
-  one_out[1].out = one_out[0].out;
-  CHECK_THROWS_WITH(sweepGrids(one_out), Contains("given for two grids"));
+  // Two spellings of one file, or one through a folder's symbolic link, are one output (old library: compared as
+  // spelt, so `./x` and `x` swept both grids into one file and the first grid's results were lost).
+  fs::create_directory_symlink(".", dir / "here");
+  for (const fs::path& other : {dir / "same.json", dir / "." / "same.json", dir / "here" / "same.json"}) {
+    std::vector<SweepConfig> one_out = together;
+    one_out[0].out = dir / "same.json";
+    one_out[1].out = other;
+    INFO(other);
+    CHECK_THROWS_WITH(sweepGrids(one_out), Contains("name one file"));
+    CHECK_FALSE(fs::exists(dir / "same.json"));
+  }
+  // A user's file at an output is refused before the data set is read: the refusal costs no read and no recording.
+  std::ofstream(dir / "users.json") << "the user's file\n";
+  std::vector<SweepConfig> users = together;
+  users[1].out = dir / "users.json";
+  for (SweepConfig& c : users) c.dataset = dir / "no-such-data-set";
+  CHECK_THROWS_WITH(sweepGrids(users), Contains("users.json: exists and is not occsweep's results file"));
+  CHECK(test::bytesOf(dir / "users.json") == "the user's file\n");
 }

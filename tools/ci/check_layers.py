@@ -28,7 +28,7 @@ ALLOWED = {
     "data": ["core", "eval"],
     "stereo": ["core", "eval", "data"],
     "cli": LIBRARY + ["data", "stereo"],
-    "bench": LIBRARY + ["data", "stereo"],
+    "bench": LIBRARY + ["data", "stereo", "tests"],  # the tests' helpers: where the built command is
     "examples": LIBRARY,
     "tests": ["core"],  # helpers shared by the test groups
     "tests/core": ["core", "tests"],

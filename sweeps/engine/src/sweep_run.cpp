@@ -15,6 +15,7 @@
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
+#include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/sweep.hpp"
@@ -127,10 +128,19 @@ void requireOneDataSet(const std::vector<SweepConfig>& configs) {
         b.stats != a.stats || b.engine != a.engine || b.truth != a.truth || b.threads != a.threads ||
         b.observable_out.empty() != a.observable_out.empty())
       throw std::invalid_argument("sweep: grids swept together share the data set and every map setting");
-  for (std::size_t i = 0; i < configs.size(); ++i)
-    for (std::size_t j = 0; j < i; ++j)
-      if (fs::absolute(configs[i].out) == fs::absolute(configs[j].out))
-        throw std::invalid_argument("sweep: --out " + configs[i].out.string() + " is given for two grids");
+}
+
+// Every output refused now that would be refused once the data set is read (a user's file, two names of one file,
+// a path whose `..` follows a link), so that a refusal costs no read, no truth and no recording. What a results file
+// of the same work decides (resume, or other work) waits for the header, which needs the data set.
+void refuseForeignOutputs(const std::vector<SweepConfig>& configs) {
+  std::vector<std::pair<std::string, fs::path>> outputs;
+  for (const SweepConfig& c : configs) {
+    outputs.emplace_back("--out", c.out);
+    if (!c.observable_out.empty()) outputs.emplace_back("--out (observable truth)", c.observable_out);
+  }
+  requireSeparateOutputs(outputs);  // by entry, however spelt (docs/robustness.md, "Ownership")
+  for (const auto& [_, out] : outputs) checkOutputTarget(out, true, resultsOutput());
 }
 
 // A shard is a block of whole maps: more shards than the selection has maps would leave some empty, and a file of
@@ -248,6 +258,7 @@ std::string metres(double value) {
 std::vector<GridOutcome> runGrids(const std::vector<SweepConfig>& configs) {
   const auto start = Clock::now();
   requireOneDataSet(configs);
+  refuseForeignOutputs(configs);
   const SweepConfig& c = configs.front();
   const std::unique_ptr<SweepEngine> engine = makeSweepEngine(c.engine);
   announcePhase("reading data set " + c.dataset.string(), c.quiet);
