@@ -7,7 +7,7 @@
 #include "command_registry.hpp"
 #include "limit_options.hpp"
 #include "task_options.hpp"
-#include "occsweep/sweeps/results_store.hpp"
+#include "occsweep/sweeps/results_file.hpp"
 #include "occsweep/sweeps/selection.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "occsweep/sweeps/compare_statistics.hpp"
-#include "occsweep/sweeps/results_store.hpp"
+#include "occsweep/sweeps/results_file.hpp"
 
 namespace occsweep::cli {
 

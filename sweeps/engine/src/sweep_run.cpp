@@ -17,7 +17,7 @@
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/progress.hpp"
-#include "occsweep/sweeps/results_store.hpp"
+#include "occsweep/sweeps/results_file.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "occsweep/sweeps/sweep_engine.hpp"
 #include "occsweep/sweeps/version.hpp"

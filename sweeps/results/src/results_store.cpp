@@ -206,11 +206,6 @@ ResultsStore::ResultsStore(ResultsStore&&) noexcept = default;
 ResultsStore& ResultsStore::operator=(ResultsStore&&) noexcept = default;
 ResultsStore::~ResultsStore() = default;
 
-bool isStorePath(const fs::path& file) {
-  const std::string ext = file.extension().string();
-  return ext == ".db" || ext == ".sqlite";
-}
-
 bool isResultsStore(const fs::path& file) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) return false;  // a FIFO is never opened here (it would block): the JSON reader refuses it by name
@@ -461,46 +456,6 @@ void ResultsStore::forEachMap(MapDetail detail, const MapVisitor& visit) const {
     visit(std::move(m));
   }
   if (threshold_ready) fail(c.file, "thresholds row " + std::to_string(thresholds->integer(0)) + ": belongs to no map");
-}
-
-// ---------------------------------------------------------------------------------------------------------
-// Either format
-
-ResultsFile readResultsHeader(const fs::path& file) {
-  if (!isResultsStore(file)) {
-    ResultsFile f = readResults(file);
-    f.maps.clear();
-    return f;
-  }
-  const ResultsStore store = ResultsStore::open(file);
-  ResultsFile f;
-  f.header = store.header();
-  f.complete = store.complete();
-  f.seconds = store.seconds();
-  f.truth_voxels = store.truthVoxels();
-  return f;
-}
-
-void forEachResultsMap(const fs::path& file, MapDetail detail, const MapVisitor& visit) {
-  if (isResultsStore(file)) return ResultsStore::open(file).forEachMap(detail, visit);
-  ResultsFile f = readResults(file);
-  for (MapResult& m : f.maps) {
-    if (detail == MapDetail::Summary) m.thresholds.clear();
-    visit(std::move(m));
-  }
-}
-
-ResultsFile readResultsAt(const fs::path& file, MapDetail detail) {
-  if (!isResultsStore(file)) {
-    ResultsFile f = readResults(file);
-    if (detail == MapDetail::Summary)
-      for (MapResult& m : f.maps) m.thresholds = {};
-    return f;
-  }
-  ResultsFile f = readResultsHeader(file);
-  forEachResultsMap(file, detail, [&](MapResult&& m) { f.maps.push_back(std::move(m)); });
-  if (detail == MapDetail::Full) verifyClaims(f, file.string());
-  return f;
 }
 
 void requireNoJournalBeside(const fs::path& store) {

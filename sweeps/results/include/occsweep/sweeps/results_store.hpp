@@ -11,18 +11,10 @@
 #include <vector>
 
 #include "occsweep/sweeps/results.hpp"
+#include "occsweep/sweeps/results_file.hpp"
 
 namespace occsweep {
 
-/// How much of each map a reader needs: everything, or its parameters, AUC and time without the thresholds'
-/// counts (compare and its statistics: a store's AUCs as stored, re-derived by `results check`).
-enum class MapDetail { Full, Summary };
-
-/// Receives one map at a time, in increasing map index.
-using MapVisitor = std::function<void(MapResult&&)>;
-
-/// True when `file`'s name asks for a store: it ends in ".db" or ".sqlite" (anything else is a JSON file).
-[[nodiscard]] bool isStorePath(const std::filesystem::path& file);
 /// True when `file` begins with SQLite's 16-byte header: a store, whatever its name.
 [[nodiscard]] bool isResultsStore(const std::filesystem::path& file);
 /// SQLite's application_id of every store occsweep creates ("OCSW"): what marks a file at a partial store's name
@@ -81,13 +73,6 @@ class ResultsStore {
   explicit ResultsStore(std::unique_ptr<Connection> c);
   std::unique_ptr<Connection> c_;
 };
-
-/// The header, completeness and seconds of a results file of either format, without its maps.
-[[nodiscard]] ResultsFile readResultsHeader(const std::filesystem::path& file);
-/// Every map of a results file of either format, one at a time (a JSON file is parsed whole first: small).
-void forEachResultsMap(const std::filesystem::path& file, MapDetail detail, const MapVisitor& visit);
-/// A results file of either format with its maps at `detail` (Summary: no thresholds; truth_voxels set).
-[[nodiscard]] ResultsFile readResultsAt(const std::filesystem::path& file, MapDetail detail);
 
 /// `f` as a new store at `file`, atomically (a temporary beside it, renamed when complete).
 void writeResultsStore(const ResultsFile& f, const std::filesystem::path& file);

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "occsweep/sweeps/results.hpp"
-#include "occsweep/sweeps/results_store.hpp"
+#include "occsweep/sweeps/results_file.hpp"
 
 namespace occsweep {
 
