@@ -151,6 +151,31 @@ TEST_CASE("plot writes PNG, PDF or SVG by --out's ending, refuses any other befo
   }
 }
 
+TEST_CASE("every plot of results without AUCs (a data set without truth) ends with a message naming the file, exit 2, "
+          "nothing written") {
+  // Old binary: curves and budget wrote empty figures, exit 0; improvement and params blamed the baseline or the
+  // parameters.
+  const auto dir = test::processScratch("plot-no-truth");
+  {
+    std::ofstream cloud(dir / "a.xyz");
+    for (int i = 0; i < 200; ++i) cloud << 1 + 0.01 * i << " 0.5 " << 0.02 * (i % 50) << '\n';
+  }
+  REQUIRE(test::runIn(dir, "import cloud a.xyz --out nt").exit_code == 0);  // no --truth: no truth voxel
+  REQUIRE(test::runIn(dir, "sweep --dataset nt --grid octomap-opt --grid knn-opt --quiet --out oct.json --out "
+                           "knn.json").exit_code == 0);
+  for (const std::string kind : {"curves", "budget", "improvement", "params --method knn"})
+    for (const std::string format : {"png", "pdf", "svg"}) {
+      const auto r = test::runIn(dir, "plot " + kind + " oct.json knn.json --out fig." + format + " --json fig.json");
+      INFO(kind << " " << format << ": " << r.output);
+      CHECK(r.exit_code == 2);
+      CHECK(r.output.find("oct.json: no map has an AUC: its data set nt has no ground truth (TP+FN = 0)") !=
+            std::string::npos);
+      CHECK(r.output.find("Traceback") == std::string::npos);
+      CHECK_FALSE(fs::exists(dir / ("fig." + format)));
+      CHECK_FALSE(fs::exists(dir / "fig.json"));
+    }
+}
+
 TEST_CASE("a style file's misspelt method is named in a warning; a registered method the figure does not draw is not") {
   // Old binary: the misspelt method's style was silently not used.
   if (!haveMatplotlib()) {

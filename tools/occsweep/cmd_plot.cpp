@@ -3,6 +3,7 @@
 // (docs/statistics.md, "Figures").
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <optional>
 #include <cctype>
 #include <cstdint>
@@ -21,6 +22,7 @@
 #include "occsweep/core/builtin_methods.hpp"
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/child_process.hpp"
+#include "occsweep/eval/data_error.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/ownership.hpp"
 #include "occsweep/eval/png_text.hpp"
@@ -102,6 +104,20 @@ std::string paramsMethod(const PlotOptions& o, const std::vector<ComparisonRow>&
   throw std::invalid_argument("plot params: no method to draw (--method)");
 }
 
+// A figure of curves or AUCs from a file that has none would be drawn empty, or would lose that file's set without a
+// word: each file with no map of a defined AUC is refused, naming it and why (compare names it in a note).
+void requireAucs(const std::vector<ResultsFile>& in, const std::vector<std::string>& names) {
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    const ResultsFile& f = in[i];
+    const bool any = std::any_of(f.maps.begin(), f.maps.end(), [](const MapResult& m) { return std::isfinite(m.area.anchored); });
+    if (any) continue;
+    const std::string why = f.truth_voxels == 0 ? "its data set " + f.header.dataset_name + " has no ground truth (TP+FN = "
+                                                  "0), so TPR and AUC are undefined (add it with occsweep import truth)"
+                                                : "every map's AUC is undefined";
+    throw DataError(names[i], "", "no map has an AUC: " + why + "; a figure needs AUCs (nothing drawn)");
+  }
+}
+
 int runPlot(const std::string& kind, const PlotOptions& o) {
   const std::string format = figureFormat(o.out);
   const double width = figureWidthInches(o.width);  // refused before anything is read
@@ -112,6 +128,7 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   const std::string python = findPython(o.python, "plot");  // before any work: fail now if it cannot draw
   const std::string script = figureScript("plot_results.py").string();
   const std::vector<ResultsFile> in = readChecked(o.files, MapDetail::Full);
+  requireAucs(in, o.files);
   const std::vector<ComparisonRow> rows = compareBest(in);
   const PlotInputs inputs{rows, in, o.baseline, kind == "params" ? paramsMethod(o, rows) : ""};
   nlohmann::json data = plotData(kind, inputs);
