@@ -137,8 +137,8 @@ TEST_CASE("the golden files round-trip through a store to what writeResults writ
     std::string key, counts;
     for (std::uint64_t v : {t.id, g.maps.back().map_index}) key.append(std::to_string(v)).append(",");
     for (std::uint64_t v : {t.counts.tp, t.counts.fp, t.counts.fn, t.counts.tn}) counts.append(",").append(std::to_string(v));
-    CHECK(header.starts_with("dataset,dataset_hash,method,grid,truth,id,map_index,"));
-    CHECK(last.starts_with(g.header.dataset_name + "," + g.header.dataset_hash + "," + g.header.method + "," +
+    CHECK(header.starts_with("dataset,point_cloud_set,dataset_hash,method,grid,truth,id,map_index,"));
+    CHECK(last.starts_with(g.header.dataset_name + "," + pointCloudSetOf(g.header) + "," + g.header.dataset_hash + "," + g.header.method + "," +
                            g.header.grid_name + ",full," + key));
     CHECK_THAT(last, Contains(counts + ","));
   }

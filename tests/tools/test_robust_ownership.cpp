@@ -757,6 +757,39 @@ int sweepPausedOnceUnderWay(const fs::path& dir, const std::string& out, const s
 
 }  // namespace
 
+TEST_CASE("a sweep resuming a killed run's partial store keeps a user's file at the store's journal name, exit 2",
+          "[ownership]") {
+  // Old binary: SQLite took the file for the store's unfinished transaction on opening it, and deleted it, exit 0.
+  const fs::path dir = scratch("ownership/resume_journal");
+  REQUIRE(runIn(dir, "scene --scans 16 --width 64 --height 48 --out big").exit_code == 0);
+  const std::string sweep = "sweep --dataset big --grid octomap-opt --engine direct --threads 1 --quiet --out r.db";
+  const fs::path partial = dir / "r.db.partial", journal = dir / "r.db.partial-journal";
+  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) + " " + sweep +
+                               " > log 2>&1");
+  for (int i = 0; i < 30000 && !fs::exists(partial); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  REQUIRE(fs::exists(partial));
+  REQUIRE_FALSE(fs::exists(journal));  // killed before its first batch: no transaction was open
+  for (const std::string users : {std::string("user notes\n"), std::string()}) {
+    writeBytes(journal, users);
+    const CommandResult r = runIn(dir, sweep);
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "r.db.partial-journal: is not a rollback journal SQLite wrote"));
+    CHECK(fileBytes(journal) == users);
+    CHECK(fs::exists(partial));
+    CHECK_FALSE(fs::exists(dir / "r.db"));
+  }
+  fs::remove(journal);
+  const CommandResult resumed = runIn(dir, sweep);
+  INFO(resumed.output);
+  CHECK(resumed.exit_code == 0);
+  CHECK(runIn(dir, "results check r.db").exit_code == 0);
+  CHECK_FALSE(fs::exists(partial));
+}
+
 TEST_CASE("a sweep keeps a file created at its --out while it runs, JSON and store, exit 2", "[ownership]") {
   const fs::path dir = scratch("ownership/sweep_meanwhile");
   REQUIRE(runIn(dir, "scene --scans 16 --width 64 --height 48 --out big").exit_code == 0);

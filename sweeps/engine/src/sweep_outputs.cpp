@@ -211,6 +211,7 @@ std::optional<ResultsStore> resumableStore(const fs::path& partial, const Result
     throw std::runtime_error(partial.string() + ": not a partial results store of occsweep's (no occsweep "
                              "application_id); occsweep never replaces or removes it (even with --force): remove it, "
                              "or choose another --out");
+  requireOnlyRollbackJournalBeside(partial);  // SQLite would roll a user's file there into the store and delete it
   lock = PartialLock::existing(partial);
   std::optional<ResultsStore> old;
   std::string why;

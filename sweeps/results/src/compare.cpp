@@ -37,8 +37,7 @@ std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files) {
       order.push_back(h.dataset_hash);
       row.dataset = h.dataset_name;
       row.dataset_hash = h.dataset_hash;
-      const auto& pcs = h.point_cloud_set;
-      row.point_cloud_set = pcs.contains("pcs_id") ? pcs.at("pcs_id").dump() : "-";
+      row.point_cloud_set = pointCloudSetOf(h);
     }
     row.files_of[h.method].push_back(i);
     std::optional<BestMap> best = row.best(h.method);

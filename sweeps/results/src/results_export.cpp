@@ -49,11 +49,11 @@ void exportCsv(const fs::path& file, std::ostream& out) {
   std::string lead;  // the columns every line of this file shares
   const auto writeHeaderLine = [&] {
     const ResultsHeader& h = head.header;
-    out << "dataset,dataset_hash,method,grid,truth,id,map_index";
+    out << "dataset,point_cloud_set,dataset_hash,method,grid,truth,id,map_index";
     for (const std::string& name : h.parameters.names) out << ',' << csvField(name);
     out << ",p_t,tp,fp,fn,tn,tpr,fdr,auc_anchored,auc_observed\n";
     for (const std::string& field :
-         {h.dataset_name, h.dataset_hash, h.method, h.grid_name, std::string(truthModeName(h.truth))})
+         {h.dataset_name, pointCloudSetOf(h), h.dataset_hash, h.method, h.grid_name, std::string(truthModeName(h.truth))})
       lead += csvField(field) + ',';
   };
   (void)readCheckedResults(file, "", [&](MapResult&& m) {

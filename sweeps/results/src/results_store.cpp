@@ -469,6 +469,30 @@ void requireNoJournalBeside(const fs::path& store) {
   }
 }
 
+void requireOnlyRollbackJournalBeside(const fs::path& store) {
+  // SQLite's journal header begins with these 8 bytes (sqlite.org/fileformat.html, "The Rollback Journal").
+  static constexpr unsigned char kJournalMagic[8] = {0xd9, 0xd5, 0x05, 0xf9, 0x20, 0xa1, 0x63, 0xd7};
+  const fs::path journal = store.string() + "-journal";
+  std::error_code ec;
+  if (fs::is_regular_file(fs::symlink_status(journal, ec))) {
+    char head[sizeof kJournalMagic] = {};
+    std::ifstream in(journal, std::ios::binary);
+    in.read(head, sizeof head);
+    if (in.gcount() == sizeof head && std::memcmp(head, kJournalMagic, sizeof head) == 0) {
+      for (const char* suffix : {"-wal", "-shm"})
+        if (fs::exists(fs::symlink_status(store.string() + suffix, ec)))
+          throw OutputError(store.string() + suffix + ": stands where SQLite keeps the write-ahead log of the store "
+                            "occsweep is to resume at " + store.string() + ", which never has one: nothing was "
+                            "written; move it away");
+      return;
+    }
+    throw OutputError(journal.string() + ": is not a rollback journal SQLite wrote (no journal header), and SQLite "
+                      "would take it for the unfinished transaction of the store occsweep is to resume at " +
+                      store.string() + " and delete it: nothing was written; move it away");
+  }
+  requireNoJournalBeside(store);
+}
+
 void writeResultsStore(const ResultsFile& f, const fs::path& file) {
   requireNoJournalBeside(file);
   OutputFile out(file);  // its empty temporary becomes the store: removed on an error or an interrupt

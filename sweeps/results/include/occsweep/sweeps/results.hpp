@@ -53,6 +53,12 @@ struct ResultsHeader {
   TruthMode truth = TruthMode::Full;
 };
 
+/// The point cloud set a results file is of: its `pcs_id` in the data set's source, "-" for a data set not
+/// generated as one (an import, the built-in scene). compare and the export CSV name it alike.
+[[nodiscard]] inline std::string pointCloudSetOf(const ResultsHeader& h) {
+  return h.point_cloud_set.contains("pcs_id") ? h.point_cloud_set.at("pcs_id").dump() : "-";
+}
+
 struct ThresholdResult {
   std::uint64_t id = 0;  ///< the combination's stable id
   Fixed p_t = 0;

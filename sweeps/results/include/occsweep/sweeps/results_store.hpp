@@ -31,6 +31,11 @@ enum class StoreUse { Durable, Temporary };
 /// (STORE-journal, -wal, -shm): SQLite would take it for the new store's unfinished transaction, roll it into the
 /// store and delete it, a user's file as much as a stale journal (docs/robustness.md, "Ownership").
 void requireNoJournalBeside(const std::filesystem::path& store);
+/// Before an existing store is opened to be written (a partial store resumed): as requireNoJournalBeside, except a
+/// regular file at STORE-journal that begins with SQLite's rollback-journal header, what a kill of occsweep's writing
+/// leaves and SQLite rolls back on opening. Anything else there (a user's file, an empty file, a link, a -wal or
+/// -shm) would be rolled into the store and deleted: refused (OutputError, exit 2), naming it.
+void requireOnlyRollbackJournalBeside(const std::filesystem::path& store);
 
 /// One store, open. Errors are std::runtime_error naming the file (and the table and field where one is wrong).
 class ResultsStore {
