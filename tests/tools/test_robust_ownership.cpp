@@ -757,6 +757,47 @@ int sweepPausedOnceUnderWay(const fs::path& dir, const std::string& out, const s
 
 }  // namespace
 
+TEST_CASE("a sweep reuses its complete output only when it passes results check; an edited one is refused, and "
+          "--force sweeps it anew", "[ownership]") {
+  // Old binary: the edited file was taken as the sweep's results ("wrote ...", exit 0), and reproduce printed them.
+  const fs::path in = inputs("ownership/reuse_checked_inputs");
+  const fs::path dir = scratch("ownership/reuse_checked");
+  const std::string sweep = "sweep --dataset " + shellQuoted(in / "scene") + " --grid octomap-opt --quiet --out ";
+  for (const std::string out : {"e.json", "e.db"}) {
+    INFO(out);
+    REQUIRE(runIn(dir, sweep + "clean-" + out).exit_code == 0);
+    // One map's p_h moved off the grid: the file is still whole and of the same work, but results check refuses it.
+    REQUIRE(runIn(dir, "results export clean-" + out + " --out edited.json").exit_code == 0);
+    std::string text = fileBytes(dir / "edited.json");
+    const std::size_t at = text.find("\"p_h\": 0.5");
+    REQUIRE(at != std::string::npos);
+    text.replace(at, std::string("\"p_h\": 0.5").size(), "\"p_h\": 0.51");
+    writeBytes(dir / "edited.json", text);
+    REQUIRE(runIn(dir, "results export edited.json --out " + out).exit_code == 2);  // export refuses it too
+    if (out == "e.db") {
+      // A store edited the same way, in SQLite (export would refuse to write the edited JSON into a store).
+      fs::copy_file(dir / ("clean-" + out), dir / out);
+      REQUIRE(runShell("cd " + shellQuoted(dir) + " && python3 -c \"import sqlite3; c = sqlite3.connect('" + out +
+                       "'); c.execute('UPDATE maps SET p_h = 0.51 WHERE map_index = 0'); c.commit()\" 2>&1")
+                  .exit_code == 0);
+    } else {
+      fs::rename(dir / "edited.json", dir / out);
+    }
+    REQUIRE(runIn(dir, "results check " + out).exit_code == 2);
+    const std::string before = fileBytes(dir / out);
+    const CommandResult r = runIn(dir, sweep + out);
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "(the results at --out fail `results check`); --force sweeps them anew"));
+    CHECK(fileBytes(dir / out) == before);
+    const CommandResult forced = runIn(dir, sweep + out + " --force");
+    INFO(forced.output);
+    CHECK(forced.exit_code == 0);
+    CHECK(runIn(dir, "results check " + out).exit_code == 0);
+    fs::remove(dir / "edited.json");
+  }
+}
+
 TEST_CASE("a sweep resuming a killed run's partial store keeps a user's file at the store's journal name, exit 2",
           "[ownership]") {
   // Old binary: SQLite took the file for the store's unfinished transaction on opening it, and deleted it, exit 0.

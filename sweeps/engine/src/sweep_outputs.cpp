@@ -12,6 +12,7 @@
 
 #include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/results_store.hpp"
+#include "occsweep/sweeps/results_verify.hpp"
 #include "sweep_internal.hpp"
 
 namespace occsweep::sweep_detail {
@@ -55,6 +56,16 @@ std::optional<ResultsFile> completeSameWork(const SweepConfig& c, const ResultsH
     throw std::runtime_error(c.out.string() + ": holds results of other work (" + why +
                              "); --force replaces it, or choose another --out");
   if (!why.empty() || !old.complete) return std::nullopt;
+  // Taken as this sweep's results, and printed by reproduce, only when it passes every check of `results check`
+  // (its grid's maps, each once): a file edited since would otherwise be reused as it is.
+  try {
+    (void)checkResultsFile(c.out, {});
+  } catch (const std::exception& e) {
+    if (!c.force)
+      throw std::runtime_error(std::string(e.what()) + " (the results at --out fail `results check`); --force sweeps "
+                               "them anew, or choose another --out");
+    return std::nullopt;
+  }
   return old;
 }
 

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/sweeps/results_verify.hpp"
 #include "sweep_internal.hpp"
 
 namespace occsweep::sweep_detail {
@@ -252,7 +253,8 @@ bool completeResultsOf(const fs::path& file, const ResultsHeader& header) {
   checkOutputTarget(file, true, resultsOutput());
   try {
     const ResultsFile f = readResults(file);
-    return f.complete && sameWork(f.header, header, true, nullptr);
+    // Reused only when it passes every check of `results check`; otherwise (an edited twin) swept anew.
+    return f.complete && sameWork(f.header, header, true, nullptr) && checkResultsFile(file, {}).maps == f.maps.size();
   } catch (const std::exception&) {
     return false;  // occsweep's own but unreadable: replaced
   }
