@@ -63,13 +63,14 @@ bool isCsvPath(const std::filesystem::path& p) { return p.extension() == ".csv";
 int runExport(const std::string& source, const ExportTarget& to) {
   if (isStorePath(to.out)) {
     checkOutputTarget(to.out, to.force, resultsOutput());
-    (void)checkResultsFile(source, "");  // what `results check` refuses is never exported
-    writeResultsStore(readResults(source), to.out);
+    // What `results check` refuses is never exported; checked and read in one pass, so what is written is what was
+    // checked even when the source is replaced at its name meanwhile.
+    writeResultsStore(readCheckedResults(source, MapDetail::Full), to.out);
     std::cout << "wrote " << to.out << '\n';
     return 0;
   }
   const bool csv = isCsvPath(to.out);
-  checkOutputTarget(to.out, to.force, csv ? recordedTextOutput("CSV export", "dataset,dataset_hash,method,grid,truth,id,map_index,") : resultsOutput());
+  checkOutputTarget(to.out, to.force, csv ? recordedTextOutput("CSV export", "dataset,") : resultsOutput());
   (void)checkResultsFile(source, "");  // what `results check` refuses fails before anything is written
   OutputFile out(to.out);
   if (csv) exportCsv(source, out.stream());
