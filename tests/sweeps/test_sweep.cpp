@@ -213,7 +213,8 @@ TEST_CASE("several grids swept in one process give each grid's results as its ow
   // Two spellings of one file, or one through a folder's symbolic link, are one output (old library: compared as
   // spelt, so `./x` and `x` swept both grids into one file and the first grid's results were lost).
   fs::create_directory_symlink(".", dir / "here");
-  for (const fs::path& other : {dir / "same.json", dir / "." / "same.json", dir / "here" / "same.json"}) {
+  for (const fs::path& other : {dir / "same.json", dir / "." / "same.json", dir / "here" / "same.json",
+                                dir / "same.json.partial.jsonl"}) {
     std::vector<SweepConfig> one_out = together;
     one_out[0].out = dir / "same.json";
     one_out[1].out = other;

@@ -1,7 +1,6 @@
 // Options of the commands a cluster plan runs (task_options.hpp).
 #include "task_options.hpp"
 
-#include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/sweep_engine.hpp"
 #include "option_checks.hpp"
 #include "selection_options.hpp"
@@ -37,15 +36,7 @@ std::vector<SweepConfig> sweepConfigsOf(const SweepOptions& o) {
   if (o.grids.size() != o.outs.size())
     throw std::invalid_argument("--out: give one per --grid, in the same order (" + std::to_string(o.grids.size()) +
                                 " --grid, " + std::to_string(o.outs.size()) + " --out)");
-  std::vector<std::pair<std::string, std::filesystem::path>> outputs;
-  // Each output with the partial file it is written through (docs/results-format.md): two grids into one file
-  // would lose the first's results, and one grid's output at another's partial name would be taken for it.
-  for (std::size_t i = 0; i < o.outs.size(); ++i) {
-    const std::string flag = "--out " + std::to_string(i + 1);
-    outputs.push_back({flag, o.outs[i]});
-    outputs.push_back({flag + "'s partial file", partialOutputPath(o.outs[i])});
-  }
-  requireSeparateOutputs(outputs);
+  // Outputs that name one file, or one another's partial file, are refused by the sweep before it reads anything.
   std::vector<SweepConfig> out;
   for (std::size_t i = 0; i < o.grids.size(); ++i) {
     SweepOptions one = o;

@@ -134,13 +134,21 @@ void requireOneDataSet(const std::vector<SweepConfig>& configs) {
 // a path whose `..` follows a link), so that a refusal costs no read, no truth and no recording. What a results file
 // of the same work decides (resume, or other work) waits for the header, which needs the data set.
 void refuseForeignOutputs(const std::vector<SweepConfig>& configs) {
+  // Each output with the partial file it is written through (docs/results-format.md): two grids into one file
+  // would lose the first's results, and one grid's output at another's partial name would be taken for it.
   std::vector<std::pair<std::string, fs::path>> outputs;
-  for (const SweepConfig& c : configs) {
-    outputs.emplace_back("--out", c.out);
-    if (!c.observable_out.empty()) outputs.emplace_back("--out (observable truth)", c.observable_out);
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const SweepConfig& c = configs[i];
+    const std::string flag = configs.size() == 1 ? "--out" : "--out " + std::to_string(i + 1);
+    outputs.emplace_back(flag, c.out);
+    outputs.emplace_back(flag + "'s partial file", partialOutputPath(c.out));
+    if (!c.observable_out.empty()) outputs.emplace_back(flag + "'s observable-truth twin", c.observable_out);
   }
   requireSeparateOutputs(outputs);  // by entry, however spelt (docs/robustness.md, "Ownership")
-  for (const auto& [_, out] : outputs) checkOutputTarget(out, true, resultsOutput());
+  for (const SweepConfig& c : configs) {
+    checkOutputTarget(c.out, true, resultsOutput());
+    if (!c.observable_out.empty()) checkOutputTarget(c.observable_out, true, resultsOutput());
+  }
 }
 
 // A shard is a block of whole maps: more shards than the selection has maps would leave some empty, and a file of
