@@ -398,6 +398,29 @@ TEST_CASE("compare refuses results that do not compare, names the file behind ev
     INFO(r.output);
     CHECK(r.exit_code == 0);
     CHECK(has(r.output, "warning"));
+    // Every table a paper takes says so too (old binary: the CSV, Markdown and LaTeX tables carried the numbers
+    // unmarked, the warning on stderr only).
+    const std::string tables = " --csv " + (fx.dir / "mixed.csv").string() + " --markdown " +
+                               (fx.dir / "mixed.md").string() + " --latex " + (fx.dir / "mixed.tex").string();
+    for (const char* t : {"mixed.csv", "mixed.md", "mixed.tex"}) fs::remove(fx.dir / t);
+    REQUIRE(run("compare --allow-mixed " + group.string() + " " + fx.octomap.string() + tables).exit_code == 0);
+    std::ifstream csv(fx.dir / "mixed.csv");
+    std::string header, line;
+    std::getline(csv, header);
+    CHECK(header.starts_with("dataset,point_cloud_set,dataset_hash,mixed_settings,"));
+    int rows = 0;
+    while (std::getline(csv, line)) {
+      ++rows;
+      CHECK(line.find(",yes,") != std::string::npos);
+    }
+    CHECK(rows > 0);
+    const std::string note = "Mixed settings (compare --allow-mixed): the files differ in";
+    CHECK(has(test::bytesOf(fx.dir / "mixed.md"), note));
+    CHECK(has(test::bytesOf(fx.dir / "mixed.tex"), "Mixed settings (compare -{}-allow-mixed): the files differ in"));
+    // Without --allow-mixed nothing is marked: the column and the note are absent.
+    const std::string clean = " --csv " + (fx.dir / "clean.csv").string() + " --force";
+    REQUIRE(run("compare " + fx.octomap.string() + " " + fx.knn.string() + clean).exit_code == 0);
+    CHECK_FALSE(has(test::bytesOf(fx.dir / "clean.csv"), "mixed_settings"));
   }
   SECTION("two results of one method for one set, or one file twice (old: the better one taken without a word)") {
     const fs::path again = fx.dir / "again.json";

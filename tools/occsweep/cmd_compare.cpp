@@ -192,7 +192,7 @@ int runCompare(const CompareTask& o) {
   printTruth(truth);
   std::vector<std::string> methods;
   for (const auto& s : statistics) methods.push_back(s.method);
-  const ComparisonTables tables{rows, in, o.files, methods, statistics, o.baseline, {o.alpha, o.smallest_effect}};
+  const ComparisonTables tables{rows, in, o.files, methods, statistics, o.baseline, {o.alpha, o.smallest_effect}, mixed};
   std::cout << statisticsText(tables);
   const nlohmann::json comparison = {{"format", "occsweep-comparison"}, {"files", o.files},
                                      {"allow_mixed", o.allow_mixed}, {"mixed", mixed}, {"truth", truthModeName(truth)},

@@ -284,9 +284,18 @@ nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFil
   return toJson(best.params, files[best.file].header.parameters);
 }
 
+// Said before every table of a comparison made with --allow-mixed: its numbers do not compare like with like.
+std::string mixedNote(const ComparisonTables& t) {
+  if (t.mixed.empty()) return "";
+  return "Mixed settings (compare --allow-mixed): the files differ in " + std::to_string(t.mixed.size()) +
+         (t.mixed.size() == 1 ? " way" : " ways") + " (the comparison's JSON lists them, under mixed), so these numbers "
+         "do not compare like with like. ";
+}
+
 std::string csvTable(const ComparisonTables& t) {
   // Columns: every method's, and every parameter any of its best maps has.
   std::vector<std::string> header{"dataset", "point_cloud_set", "dataset_hash"};
+  if (!t.mixed.empty()) header.push_back("mixed_settings");  // every row: compared with --allow-mixed
   std::vector<std::pair<std::string, std::vector<std::string>>> columns;  // method, its parameters
   for (const std::string& m : t.methods) {
     std::vector<std::string> params;
@@ -304,6 +313,7 @@ std::string csvTable(const ComparisonTables& t) {
   o << '\n';
   for (const ComparisonRow& row : t.rows) {
     o << csvField(row.dataset) << ',' << csvField(row.point_cloud_set) << ',' << csvField(row.dataset_hash);
+    if (!t.mixed.empty()) o << ",yes";
     for (const auto& [m, params] : columns) {
       const auto best = row.best(m);
       const bool base = m == t.baseline;
@@ -318,10 +328,10 @@ std::string csvTable(const ComparisonTables& t) {
 }
 
 std::string markdownTables(const ComparisonTables& t) {
-  std::string out = "Best AUC per set, and the improvement over " + t.baseline + " in percent:\n\n" +
+  std::string out = mixedNote(t) + "Best AUC per set, and the improvement over " + t.baseline + " in percent:\n\n" +
                     markdown(perSetCells(t));
   if (!t.statistics.empty()) {
-    out += "\nStatistics against " + t.baseline + " (docs/statistics.md):\n\n" +
+    out += "\n" + mixedNote(t) + "Statistics against " + t.baseline + " (docs/statistics.md):\n\n" +
            markdown(statisticsCells(t.statistics, t.baseline));
     const std::vector<std::string> bases = verdictBases(t.statistics);
     if (!bases.empty()) out += "\nVerdicts:\n\n";
@@ -334,12 +344,12 @@ std::string latexTables(const ComparisonTables& t) {
   std::string out = "% occsweep compare --latex: needs \\usepackage{booktabs}, \\usepackage{graphicx} and "
                     "\\usepackage{array}; with \\usepackage[T1]{fontenc} every character of a name shows as typed\n" +
                     latexPerSet(withDisplayNames(perSetCells(t), t.methods, 2),
-                                "Best AUC per set, and the improvement over " + displayNameOf(t.baseline) +
+                                mixedNote(t) + "Best AUC per set, and the improvement over " + displayNameOf(t.baseline) +
                                     " in percent");
   if (t.statistics.empty()) return out;
   const stats::VerdictRules& rules = t.rules;
   out += latexStatistics(withDisplayNames(statisticsCells(t.statistics, t.baseline), t.methods, 0),
-               "Statistics against " + displayNameOf(t.baseline) + ", the data set as the unit. Verdicts: gain or "
+               mixedNote(t) + "Statistics against " + displayNameOf(t.baseline) + ", the data set as the unit. Verdicts: gain or "
                "loss only when the 95% BCa interval excludes 0 and the exact test (Wilcoxon signed-rank, or the sign "
                "test on ties) rejects at alpha " + cell(rules.alpha, "%g") + " after Holm's correction over the "
                "methods compared, leaning the interval's way; negligible when TOST puts the mean within +-" +

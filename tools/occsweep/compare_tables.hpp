@@ -21,6 +21,9 @@ struct ComparisonTables {
   const std::vector<MethodStatistics>& statistics;  ///< empty when the baseline was not given
   std::string baseline;
   stats::VerdictRules rules{};  ///< alpha and the smallest effect the verdicts used (compare --alpha, --smallest-effect)
+  /// What differs between the files compared with --allow-mixed (mixedSettings); empty otherwise. Every table then
+  /// says so: a CSV column, and the tables' captions.
+  std::vector<std::string> mixed{};
 };
 
 /// The results files compare and plot read: only complete files that pass every check of `results check`
