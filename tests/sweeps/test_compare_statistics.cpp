@@ -319,16 +319,41 @@ TEST_CASE("a baseline that was not given is refused, naming the methods that wer
 
 namespace {
 
-// `tables` (in `dir`) compiled by pdflatex in a plain article with only booktabs, graphicx and array: a PDF, and no
-// box wider than the text width (TeX reports each as "Overfull \\hbox" in its log).
+// The widest box pdflatex reported past the text width in `log` ("Overfull \\hbox (12.3pt too wide)"), in pt; 0 if none.
+double widestOverfull(const std::string& log) {
+  double widest = 0;
+  const std::string mark = "Overfull \\hbox (";
+  for (std::size_t at = log.find(mark); at != std::string::npos; at = log.find(mark, at + 1))
+    widest = std::max(widest, std::stod(log.substr(at + mark.size())));
+  return widest;
+}
+
+// `tables` (in `dir`) compiled by pdflatex in a plain article with only booktabs, graphicx and array: a PDF, no box
+// wider than the text width (TeX reports each as "Overfull \\hbox" in its log) and no float taller than the page.
+// And not by shrinking it out of sight: compiled without its \\resizebox, the per-set table is at most 20 % wider than
+// the text width (a plain article's 345 pt), so it prints at 83 % of its size or more.
 void checkFitsPlainArticle(const fs::path& dir, const std::string& tables) {
-  std::ofstream(dir / "doc.tex") << "\\documentclass{article}\n\\usepackage{booktabs}\n\\usepackage{graphicx}\n"
-                                    "\\usepackage{array}\n\\begin{document}\n\\input{" << tables << "}\n\\end{document}\n";
-  const auto tex = test::runShell("cd " + dir.string() + " && pdflatex -interaction=nonstopmode -halt-on-error doc.tex");
-  INFO(tex.output);
-  CHECK(tex.exit_code == 0);
-  CHECK(fs::file_size(dir / "doc.pdf") > 1000);
-  CHECK(test::bytesOf(dir / "doc.log").find("Overfull \\hbox") == std::string::npos);
+  auto compile = [&](const std::string& input) {
+    std::ofstream(dir / "doc.tex", std::ios::trunc)
+        << "\\documentclass{article}\n\\usepackage{booktabs}\n\\usepackage{graphicx}\n"
+           "\\usepackage{array}\n\\begin{document}\n\\input{" << input << "}\n\\end{document}\n";
+    const auto tex = test::runShell("cd " + dir.string() + " && pdflatex -interaction=nonstopmode -halt-on-error doc.tex");
+    INFO(tex.output);
+    CHECK(tex.exit_code == 0);
+    CHECK(fs::file_size(dir / "doc.pdf") > 1000);
+    return test::bytesOf(dir / "doc.log");
+  };
+  const std::string log = compile(tables);
+  CHECK(log.find("Overfull \\hbox") == std::string::npos);
+  CHECK(log.find("Float too large") == std::string::npos);
+  std::string natural = test::bytesOf(dir / tables);
+  const std::string shrink = "\\resizebox{\\ifdim\\width>\\linewidth\\linewidth\\else\\width\\fi}{!}{%";
+  for (std::size_t at = natural.find(shrink); at != std::string::npos; at = natural.find(shrink))
+    natural.replace(at, shrink.size(), "{%");
+  std::ofstream(dir / "natural.tex", std::ios::trunc) << natural;
+  const double over = widestOverfull(compile("natural.tex"));
+  INFO("the tables' natural width is " << over << " pt past the text width");
+  CHECK(over <= 0.2 * 345);
 }
 
 }  // namespace

@@ -187,17 +187,29 @@ Cells withDisplayNames(Cells c, const std::vector<std::string>& methods, std::si
   return c;
 }
 
-// The table of `c` (a header line, then the body) within the text width, for a plain article with booktabs and
-// graphicx: names left, numbers right (each column has one number of decimals, so the points align), the whole
-// shrunk to the text width only when it is wider (\resizebox of the natural width or \linewidth, whichever is less).
-std::string latexPerSet(const Cells& c, const std::string& caption) {
+// The per-set table within the text width, for a plain article with booktabs and graphicx: each method's name spans
+// its columns (its AUC, and but for the baseline its improvement in percent) over a short second header line, so a
+// column is as wide as its numbers; names left, numbers right (one number of decimals per column, so the points
+// align). Shrunk to the text width only when still wider (\resizebox of the natural width or \linewidth, whichever is
+// less). `c` is perSetCells': its header line is replaced by the two built here.
+std::string latexPerSet(const Cells& c, const ComparisonTables& t, const std::string& caption) {
   std::ostringstream o;
-  o << "\\begin{table}\n\\centering\n\\caption{" << latexEscaped(caption) << "}\n"
+  o << "\\begin{table}\n\\centering\n\\caption{" << latexEscaped(caption) << "}\n\\small\n\\setlength{\\tabcolsep}{4pt}\n"
     << "\\resizebox{\\ifdim\\width>\\linewidth\\linewidth\\else\\width\\fi}{!}{%\n\\begin{tabular}{ll"
     << std::string(c[0].size() - 2, 'r') << "}\n\\toprule\n";
-  for (std::size_t r = 0; r < c.size(); ++r) {
+  std::string names = " & ", rules, units = "data set & pcs";
+  std::size_t column = 3;  // LaTeX counts columns from 1: the methods' start after data set and pcs
+  for (const std::string& m : t.methods) {
+    const std::size_t span = m == t.baseline ? 1 : 2;
+    names += " & \\multicolumn{" + std::to_string(span) + "}{c}{" + latexEscaped(displayNameOf(m)) + "}";
+    rules += "\\cmidrule(lr){" + std::to_string(column) + "-" + std::to_string(column + span - 1) + "}";
+    units += span == 1 ? " & AUC" : " & AUC & \\%";
+    column += span;
+  }
+  o << names << " \\\\\n" << rules << "\n" << units << " \\\\\n\\midrule\n";
+  for (std::size_t r = 1; r < c.size(); ++r) {
     for (std::size_t i = 0; i < c[r].size(); ++i) o << (i ? " & " : "") << latexEscaped(c[r][i]);
-    o << " \\\\\n" << (r == 0 ? "\\midrule\n" : "");
+    o << " \\\\\n";
   }
   o << "\\bottomrule\n\\end{tabular}}\n\\end{table}\n";
   return o.str();
@@ -209,8 +221,9 @@ std::string latexPerSet(const Cells& c, const std::string& caption) {
 std::string latexStatistics(const Cells& c, const std::string& caption) {
   const std::size_t methods = c.size() - 1;
   std::ostringstream o;
-  o << "\\begin{table}\n\\centering\n\\caption{" << latexEscaped(caption) << "}\n\\small\n"
-    << "\\begin{tabular}{>{\\raggedright\\arraybackslash}p{\\dimexpr 0.28\\linewidth-2\\tabcolsep\\relax}*{"
+  // Four methods or more: a smaller size, so that the verdicts wrapped in narrower columns stay within the page.
+  o << "\\begin{table}\n\\centering\n\\caption{" << latexEscaped(caption) << "}\n"
+    << (methods >= 4 ? "\\footnotesize\n" : "\\small\n") << "\\begin{tabular}{>{\\raggedright\\arraybackslash}p{\\dimexpr 0.28\\linewidth-2\\tabcolsep\\relax}*{"
     << methods << "}{>{\\raggedright\\arraybackslash}p{\\dimexpr 0.72\\linewidth/" << methods
     << "-2\\tabcolsep\\relax}}}\n\\toprule\n";
   for (std::size_t i = 0; i < c[0].size(); ++i) {
@@ -343,9 +356,9 @@ std::string markdownTables(const ComparisonTables& t) {
 std::string latexTables(const ComparisonTables& t) {
   std::string out = "% occsweep compare --latex: needs \\usepackage{booktabs}, \\usepackage{graphicx} and "
                     "\\usepackage{array}; with \\usepackage[T1]{fontenc} every character of a name shows as typed\n" +
-                    latexPerSet(withDisplayNames(perSetCells(t), t.methods, 2),
-                                mixedNote(t) + "Best AUC per set, and the improvement over " + displayNameOf(t.baseline) +
-                                    " in percent");
+                    latexPerSet(perSetCells(t), t,
+                                mixedNote(t) + "Best AUC per set, and (%) the improvement over " +
+                                    displayNameOf(t.baseline) + " in percent");
   if (t.statistics.empty()) return out;
   const stats::VerdictRules& rules = t.rules;
   out += latexStatistics(withDisplayNames(statisticsCells(t.statistics, t.baseline), t.methods, 0),
