@@ -399,6 +399,31 @@ print('csv equals json')
   CHECK(test::bytesOf(dir / "mine.csv") == "my,own,data\n");
 }
 
+TEST_CASE("compare --latex over 60 sets continues the per-set table in floats of at most 40 sets, each within the page") {
+  // Old binary: one float of 60 sets, taller than the page ("Float too large"), its end lost.
+  if (test::runShell("command -v pdflatex").exit_code != 0) {
+    WARN("pdflatex not installed: the LaTeX over 60 sets is not compiled");
+    return;
+  }
+  const auto dir = test::processScratch("compare-sixty");
+  std::string files;
+  for (int seed = 1; seed <= 60; ++seed) {
+    const std::string ds = "ds" + std::to_string(seed);
+    REQUIRE(test::runIn(dir, "scene --scans 2 --width 8 --height 6 --seed " + std::to_string(seed) + " --out " + ds)
+                .exit_code == 0);
+    REQUIRE(test::runIn(dir, "sweep --dataset " + ds + " --quiet --grid octomap-opt --grid knn-opt --out " + ds +
+                             "-o.json --out " + ds + "-k.json").exit_code == 0);
+    files += " " + ds + "-o.json " + ds + "-k.json";
+  }
+  const auto r = test::runIn(dir, "compare" + files + " --latex t.tex");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const std::string tex = test::bytesOf(dir / "t.tex");
+  CHECK(tex.find("(sets 1-40 of 60)") != std::string::npos);
+  CHECK(tex.find("(sets 41-60 of 60)") != std::string::npos);
+  checkFitsPlainArticle(dir, "t.tex");
+}
+
 TEST_CASE("compare's terminal output fits 100 columns with five methods and names every method's best map") {
   // Old binary: one line per set of about 380 characters (every method's AUC, best map and file side by side, then
   // 15 statistics columns).

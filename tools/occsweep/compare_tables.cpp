@@ -187,16 +187,17 @@ Cells withDisplayNames(Cells c, const std::vector<std::string>& methods, std::si
   return c;
 }
 
+// A float taller than the page is lost off its end: the per-set table holds at most this many sets per float (a
+// plain article's page holds about 52 in \small), and continues in the next.
+constexpr std::size_t kSetsPerLatexTable = 40;
+
 // The per-set table within the text width, for a plain article with booktabs and graphicx: each method's name spans
 // its columns (its AUC, and but for the baseline its improvement in percent) over a short second header line, so a
 // column is as wide as its numbers; names left, numbers right (one number of decimals per column, so the points
 // align). Shrunk to the text width only when still wider (\resizebox of the natural width or \linewidth, whichever is
-// less). `c` is perSetCells': its header line is replaced by the two built here.
+// less); over kSetsPerLatexTable sets, in several floats. `c` is perSetCells': its header line is replaced by the
+// two built here.
 std::string latexPerSet(const Cells& c, const ComparisonTables& t, const std::string& caption) {
-  std::ostringstream o;
-  o << "\\begin{table}\n\\centering\n\\caption{" << latexEscaped(caption) << "}\n\\small\n\\setlength{\\tabcolsep}{4pt}\n"
-    << "\\resizebox{\\ifdim\\width>\\linewidth\\linewidth\\else\\width\\fi}{!}{%\n\\begin{tabular}{ll"
-    << std::string(c[0].size() - 2, 'r') << "}\n\\toprule\n";
   std::string names = " & ", rules, units = "data set & pcs";
   std::size_t column = 3;  // LaTeX counts columns from 1: the methods' start after data set and pcs
   for (const std::string& m : t.methods) {
@@ -206,12 +207,23 @@ std::string latexPerSet(const Cells& c, const ComparisonTables& t, const std::st
     units += span == 1 ? " & AUC" : " & AUC & \\%";
     column += span;
   }
-  o << names << " \\\\\n" << rules << "\n" << units << " \\\\\n\\midrule\n";
-  for (std::size_t r = 1; r < c.size(); ++r) {
-    for (std::size_t i = 0; i < c[r].size(); ++i) o << (i ? " & " : "") << latexEscaped(c[r][i]);
-    o << " \\\\\n";
+  const std::size_t sets = c.size() - 1;
+  std::ostringstream o;
+  for (std::size_t first = 1; first == 1 || first <= sets; first += kSetsPerLatexTable) {
+    const std::size_t last = std::min(sets, first + kSetsPerLatexTable - 1);
+    const std::string part = sets > kSetsPerLatexTable ? " (sets " + std::to_string(first) + "-" +
+                                                             std::to_string(last) + " of " + std::to_string(sets) + ")"
+                                                       : "";
+    o << "\\begin{table}\n\\centering\n\\caption{" << latexEscaped(caption + part) << "}\n\\small\n"
+      << "\\setlength{\\tabcolsep}{4pt}\n\\resizebox{\\ifdim\\width>\\linewidth\\linewidth\\else\\width\\fi}{!}{%\n"
+      << "\\begin{tabular}{ll" << std::string(c[0].size() - 2, 'r') << "}\n\\toprule\n";
+    o << names << " \\\\\n" << rules << "\n" << units << " \\\\\n\\midrule\n";
+    for (std::size_t r = first; r <= last; ++r) {
+      for (std::size_t i = 0; i < c[r].size(); ++i) o << (i ? " & " : "") << latexEscaped(c[r][i]);
+      o << " \\\\\n";
+    }
+    o << "\\bottomrule\n\\end{tabular}}\n\\end{table}\n";
   }
-  o << "\\bottomrule\n\\end{tabular}}\n\\end{table}\n";
   return o.str();
 }
 
