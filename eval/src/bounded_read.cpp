@@ -187,4 +187,16 @@ bool parseUnsigned(std::string_view token, std::uint64_t& out) {
   return r.ec == std::errc() && r.ptr == token.data() + token.size() && !token.empty();
 }
 
+std::optional<std::string> readFirstLine(const std::filesystem::path& file, std::size_t max_bytes) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(std::filesystem::status(file, ec))) return std::nullopt;  // a FIFO would wait
+  std::ifstream in(file, std::ios::binary);
+  std::string line;
+  for (char ch; line.size() <= max_bytes && in.get(ch);) {
+    if (ch == '\n') return line;
+    line += ch;
+  }
+  return std::nullopt;
+}
+
 }  // namespace occsweep

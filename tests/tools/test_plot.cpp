@@ -176,7 +176,7 @@ TEST_CASE("every plot of results without AUCs (a data set without truth) ends wi
     }
 }
 
-TEST_CASE("a style file's misspelt method is named in a warning; a registered method the figure does not draw is not") {
+TEST_CASE("a style file's misspelt method is named in a warning, a registered method the figure does not draw is not") {
   // Old binary: the misspelt method's style was silently not used.
   if (!haveMatplotlib()) {
     WARN("no matplotlib: occsweep plot cannot draw here");

@@ -102,6 +102,36 @@ TEST_CASE("a sweep into a log names every phase and prints a whole line with rat
   CHECK_THAT(r.output, Contains("450/450 maps (100.0 %)"));
 }
 
+TEST_CASE("on a terminal narrower than the progress line, each redraw is cut to its width, and the final line is whole") {
+  // Old binary: a line of about 120 characters redrawn with \r on a 60-column terminal wrapped, and every redraw left
+  // a line behind.
+  if (test::runShell("command -v script").exit_code != 0) {
+    WARN("no script(1): no terminal to draw on");
+    return;
+  }
+  const fs::path dir = test::processScratch("progress-narrow");
+  const std::string sweep = test::shellQuoted(test::cliUnderTest()) + " sweep --dataset " + defaultScene().string() +
+                            " --grid knn-opt --engine direct --threads 1 --out " + (dir / "knn.json").string();
+  // script(1) runs the sweep on a pseudo-terminal of 60 columns and copies what it drew to the log.
+  const auto r = test::runShell("script -qfec " + test::shellQuoted("stty cols 60; " + sweep) + " /dev/null > " +
+                                test::shellQuoted(dir / "tty.log") + " 2>&1");
+  REQUIRE(r.exit_code == 0);
+  std::string drawn = test::bytesOf(dir / "tty.log");
+  for (std::size_t at = drawn.find("\033[K"); at != std::string::npos; at = drawn.find("\033[K")) drawn.erase(at, 3);
+  for (std::size_t at = drawn.find("\r\n"); at != std::string::npos; at = drawn.find("\r\n")) drawn.erase(at, 1);  // pty's line end
+  std::vector<std::string> redraws;  // what each \r began, up to the next \r or line end
+  std::string final_line;
+  for (std::size_t at = drawn.find('\r'); at != std::string::npos; at = drawn.find('\r', at + 1)) {
+    const std::size_t end = drawn.find_first_of("\r\n", at + 1);
+    const std::string part = drawn.substr(at + 1, end == std::string::npos ? std::string::npos : end - at - 1);
+    if (part.starts_with("[")) (end != std::string::npos && drawn[end] == '\n' ? final_line : redraws.emplace_back()) = part;
+  }
+  INFO(drawn);
+  REQUIRE(redraws.size() >= 2);
+  for (const std::string& line : redraws) CHECK(line.size() <= 59);
+  CHECK(final_line.find("in all") != std::string::npos);  // the last line whole, however wide
+}
+
 TEST_CASE("an interrupted sweep says what it kept and the command that resumes it, and that command finishes it") {
   const fs::path dir = test::scratch("progress-interrupt");
   const std::string args = slowSweep(dir);
@@ -128,7 +158,10 @@ TEST_CASE("the resume command reads back, through the shell, as the arguments th
                                          "--engine", "direct", "--threads", "1", "--out",
                                          (dir / "k n \"$(x)\" `y` \\z.json").string()};
   std::string typed;
-  for (const std::string& a : args) typed += " " + test::shellQuoted(a);
+  for (const std::string& a : args) {
+    typed += ' ';  // appended piece by piece: " " + std::string trips GCC 12's -Wrestrict false positive
+    typed += test::shellQuoted(a);
+  }
   const std::string log = interruptedSweepLog(typed.substr(1), dir / "log");
   INFO(log);
   std::string line = resumeLine(log);

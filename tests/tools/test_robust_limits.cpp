@@ -653,3 +653,19 @@ TEST_CASE("a grid of 530 million combinations is counted exactly without enumera
   CHECK(check.output.find("not checked") == std::string::npos);
   checkPeak(check);
 }
+
+TEST_CASE("a user's file of gigabytes without a line break at a sweep's partial-log name is refused without reading "
+          "it whole") {
+  // Old binary: its first line was read whole (std::getline) to look for occsweep's header, 512 MB into memory.
+  const fs::path dir = occsweep::test::processScratch("limits_partial_line");
+  const fs::path partial = dir / "r.json.partial.jsonl";
+  fs::remove(partial);
+  fs::remove(dir / "r.json");
+  { std::ofstream(partial) << ""; }
+  fs::resize_file(partial, std::uintmax_t(512) << 20);  // 512 MB of zero bytes, no line break (sparse on disk)
+  const Run r = runOccsweep("sweep --dataset " + scene().string() + " --grid octomap-opt --quiet --out " +
+                            (dir / "r.json").string());
+  checkRefused(r, {"r.json.partial.jsonl: not a partial log of occsweep's", "never replaces or removes it"});
+  CHECK(fs::file_size(partial) == std::uintmax_t(512) << 20);
+  fs::remove(partial);
+}

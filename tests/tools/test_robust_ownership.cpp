@@ -293,7 +293,7 @@ TEST_CASE("a killed run's temporary is known by its folder's identity, never by 
   CHECK(fs::exists(in_remade / "manifest.json"));
 }
 
-TEST_CASE("a killed run's temporary that the user replaced at its name by another entry stays; its record goes",
+TEST_CASE("a killed run's temporary that the user replaced at its name by another entry stays, and its record goes",
           "[ownership]") {
   // Old binary: the record proved the folder and the name only, so the user's entry restored at that name was removed.
   const fs::path dir = scratch("ownership/replaced_temporary");
@@ -757,7 +757,7 @@ int sweepPausedOnceUnderWay(const fs::path& dir, const std::string& out, const s
 
 }  // namespace
 
-TEST_CASE("a sweep reuses its complete output only when it passes results check; an edited one is refused, and "
+TEST_CASE("a sweep reuses its complete output only when it passes results check, an edited one is refused, and "
           "--force sweeps it anew", "[ownership]") {
   // Old binary: the edited file was taken as the sweep's results ("wrote ...", exit 0), and reproduce printed them.
   const fs::path in = inputs("ownership/reuse_checked_inputs");

@@ -8,12 +8,14 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <string_view>
 #include <memory>
 #include <sys/file.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/process_stat.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
@@ -138,9 +140,8 @@ constexpr const char* kTaskLogMark = "# occsweep cluster run-local: task log";
 bool requireOwnTaskLog(const fs::path& log) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(log, ec))) return false;
-  std::string first;
-  const bool own = fs::is_regular_file(fs::symlink_status(log, ec)) && std::getline(std::ifstream(log), first) &&
-                   first == kTaskLogMark;
+  const bool own = fs::is_regular_file(fs::symlink_status(log, ec)) &&  // a user's link there is never removed
+                   readFirstLine(log, std::string_view(kTaskLogMark).size()) == std::string(kTaskLogMark);
   if (!own)
     throw std::runtime_error(log.string() + ": exists and is not a task log of occsweep's (its first line is not \"" +
                              kTaskLogMark + "\"): never replaced; move it away and run again");

@@ -111,10 +111,13 @@ ClusterPlan parsePlan(const json& j, const std::string& file) {
   p.experiment = field<std::string>(j, "experiment", file, "");
   p.occsweep = field<std::string>(j, "occsweep", file, "");
   const json s = field<json>(j, "slurm", file, "");
-  p.slurm = {field<int>(s, "cpus_per_task", file, "slurm."), field<std::string>(s, "mem", file, "slurm."),
-             field<std::string>(s, "time", file, "slurm."), field<std::string>(s, "partition", file, "slurm."),
-             field<std::string>(s, "account", file, "slurm."),
-             field<std::vector<std::string>>(s, "extra", file, "slurm.")};
+  p.slurm = SlurmOptions{};
+  p.slurm.cpus_per_task = field<int>(s, "cpus_per_task", file, "slurm.");
+  p.slurm.mem = field<std::string>(s, "mem", file, "slurm.");
+  p.slurm.time = field<std::string>(s, "time", file, "slurm.");
+  p.slurm.partition = field<std::string>(s, "partition", file, "slurm.");
+  p.slurm.account = field<std::string>(s, "account", file, "slurm.");
+  p.slurm.extra = field<std::vector<std::string>>(s, "extra", file, "slurm.");
   using StageValues = std::map<std::string, std::string>;
   p.slurm.stage_mem = optionalField<StageValues>(s, "stage_mem", file, "slurm.", {});
   p.slurm.stage_time = optionalField<StageValues>(s, "stage_time", file, "slurm.", {});

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 namespace occsweep {
@@ -68,8 +69,16 @@ void Progress::print(bool final) {
   if (tty_) {
     const double fraction = total_ ? double(done) / double(total_) : 1.0;
     const int width = 20, filled = int(fraction * width);
+    // A line that redraws itself with \r must not wrap: on a narrower terminal every redraw would leave a line
+    // behind. Cut to the terminal's width but its last column (where some terminals wrap); the final line whole.
+    std::string shown = line;
+    winsize terminal{};
+    if (!final && ::ioctl(STDERR_FILENO, TIOCGWINSZ, &terminal) == 0 && terminal.ws_col > 0) {
+      const std::size_t room = std::size_t(std::max(0, int(terminal.ws_col) - (width + 3) - 1));
+      if (shown.size() > room) shown.resize(room);
+    }
     // \033[K clears what a longer earlier line left on the right
-    std::fprintf(stderr, "\r[%.*s%*s] %s\033[K%s", filled, "####################", width - filled, "", line.c_str(),
+    std::fprintf(stderr, "\r[%.*s%*s] %s\033[K%s", filled, "####################", width - filled, "", shown.c_str(),
                  final ? "\n" : "");
   } else {
     std::fprintf(stderr, "%s\n", line.c_str());

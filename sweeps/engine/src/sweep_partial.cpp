@@ -46,11 +46,11 @@ int lockedDescriptor(const fs::path& file) {
 
 // The header line of a partial log (nothing when the file has none that parses).
 std::optional<ResultsHeader> logHeader(const fs::path& partial) {
-  std::ifstream in(partial);
-  std::string line;
-  if (!std::getline(in, line)) return std::nullopt;
+  constexpr std::size_t kMaxHeaderLine = 1 << 20;  // a header line is a few kB: a user's huge file is not read whole
+  const std::optional<std::string> line = readFirstLine(partial, kMaxHeaderLine);
+  if (!line) return std::nullopt;
   try {
-    return parseHeader(json::parse(line), partial.string());
+    return parseHeader(json::parse(*line), partial.string());
   } catch (const std::exception&) {
     return std::nullopt;
   }

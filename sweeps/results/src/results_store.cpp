@@ -15,6 +15,7 @@
 #include <limits>
 #include <set>
 #include <stdexcept>
+#include <vector>
 
 #include <sqlite3.h>
 
@@ -127,6 +128,28 @@ std::string column(const std::string& name) {
   return q + "\"";
 }
 
+// The maps table's parameter columns of `layout`, as create() declares them: `, "p_h" REAL, "k" INTEGER`.
+std::string parameterColumns(const ParameterLayout& layout) {
+  std::string params;
+  for (std::size_t i = 0; i < layout.names.size(); ++i)
+    params += ", " + column(layout.names[i]) + (layout.integer[i] ? " INTEGER" : " REAL");
+  return params;
+}
+
+// Each table of a store of `layout`'s parameters (kTables' order), as create() makes it: SQLite keeps the statement's
+// text in sqlite_master, so a reader compares it whole (a renamed or retyped column is another schema).
+std::vector<std::string> tableStatements(const ParameterLayout& layout) {
+  return {"CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL) WITHOUT ROWID",
+          "CREATE TABLE region(region INTEGER NOT NULL, truth INTEGER NOT NULL CHECK(truth >= 0 AND truth <= region),"
+          " one INTEGER NOT NULL DEFAULT 1 UNIQUE CHECK(one = 1))",
+          "CREATE TABLE maps(map_index INTEGER PRIMARY KEY, first_id INTEGER NOT NULL, last_id INTEGER NOT NULL" +
+              parameterColumns(layout) +
+              ", auc_anchored REAL, auc_observed REAL, auc_points INTEGER NOT NULL, seconds REAL NOT NULL,"
+              " engine TEXT NOT NULL)",
+          "CREATE TABLE thresholds(id INTEGER PRIMARY KEY, p_t_micro INTEGER NOT NULL, tp INTEGER NOT NULL,"
+          " fp INTEGER NOT NULL)"};
+}
+
 Fixed fixedOf(double v) { return std::llround(v * double(kFixedScale)); }
 
 // What a map row must hold whatever the detail read: an AUC is a share of the unit square (or null: undefined),
@@ -199,6 +222,22 @@ struct ResultsStore::Connection {
     if (other.step())
       fail(file, other.text(0) + " " + other.text(1) + ": not part of a results store (added by hand?)");
   }
+  // Each table's columns as occsweep declares them (tableStatements): readers go by column position, a user's query
+  // by name, so a column renamed or retyped (edited by hand, a flipped bit) would mean one thing to each.
+  void requireTableStatements(const std::vector<std::string>& statements) {
+    // A store written before the region's one-row constraint: its region table as made then (readRegion refuses a
+    // second row of it).
+    const std::string region_before_constraint = "CREATE TABLE region(region INTEGER NOT NULL, truth INTEGER NOT NULL)";
+    for (std::size_t i = 0; i < statements.size(); ++i) {
+      Statement s(db, "SELECT sql FROM sqlite_master WHERE type = 'table' AND name = ?", file);
+      s.bind(1, std::string(kTables[i]));
+      const bool found = s.step();
+      const std::string sql = found ? s.text(0) : "";
+      const bool older_region = std::string(kTables[i]) == "region" && sql == region_before_constraint;
+      if (!found || (sql != statements[i] && !older_region))
+        fail(file, std::string(kTables[i]) + ": its columns are not occsweep's (renamed or retyped by hand?)");
+    }
+  }
 };
 
 ResultsStore::ResultsStore(std::unique_ptr<Connection> c) : c_(std::move(c)) {}
@@ -242,9 +281,6 @@ ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& hea
   const int create = use == StoreUse::Temporary ? 0 : SQLITE_OPEN_CREATE;
   if (openDatabase(file, SQLITE_OPEN_READWRITE | create, &c->db) != SQLITE_OK)
     fail(file, std::string("cannot create: ") + (c->db ? sqlite3_errmsg(c->db) : "out of memory"));
-  std::string params;
-  for (std::size_t i = 0; i < header.parameters.names.size(); ++i)
-    params += ", " + column(header.parameters.names[i]) + (header.parameters.integer[i] ? " INTEGER" : " REAL");
   // Journal off would lose the crash safety of a batch; WAL needs a second file beside it. The default rollback
   // journal is kept, with synchronous NORMAL: a kill loses at most the open transaction. A temporary renamed into
   // place when complete keeps its journal in memory: a kill removes the temporary, and no journal file is left
@@ -252,17 +288,10 @@ ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& hea
   if (use == StoreUse::Temporary) c->exec("PRAGMA journal_mode = MEMORY");
   // application_id marks the file as occsweep's within the schema's transaction: only a file carrying it is ever
   // resumed, replaced or removed (docs/results-format.md, "Results store").
-  c->exec("PRAGMA synchronous = NORMAL; BEGIN; PRAGMA application_id = " + std::to_string(kStoreApplicationId) + ";"
-          "CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL) WITHOUT ROWID;"
-          "CREATE TABLE region(region INTEGER NOT NULL, truth INTEGER NOT NULL CHECK(truth >= 0 AND truth <= region),"
-          " one INTEGER NOT NULL DEFAULT 1 UNIQUE CHECK(one = 1));"
-          "CREATE TABLE maps(map_index INTEGER PRIMARY KEY, first_id INTEGER NOT NULL, last_id INTEGER NOT NULL" +
-          params +
-          ", auc_anchored REAL, auc_observed REAL, auc_points INTEGER NOT NULL, seconds REAL NOT NULL,"
-          " engine TEXT NOT NULL);"
-          "CREATE TABLE thresholds(id INTEGER PRIMARY KEY, p_t_micro INTEGER NOT NULL, tp INTEGER NOT NULL,"
-          " fp INTEGER NOT NULL);" +
-          std::string(kCombinationsView) + ";");
+  std::string schema;
+  for (const std::string& table : tableStatements(header.parameters)) schema += table + ";";
+  c->exec("PRAGMA synchronous = NORMAL; BEGIN; PRAGMA application_id = " + std::to_string(kStoreApplicationId) + ";" +
+          schema + std::string(kCombinationsView) + ";");
   c->header = header;
   c->setMeta("format", kStoreFormat);
   c->setMeta("version", std::to_string(kStoreVersion));
@@ -311,6 +340,7 @@ ResultsStore ResultsStore::open(const fs::path& file, bool writable) {
         c->header.parameters.integer.push_back(s.text(1) == "INTEGER");
       }
   }
+  c->requireTableStatements(tableStatements(c->header.parameters));
   c->readRegion();
   return ResultsStore(std::move(c));
 }

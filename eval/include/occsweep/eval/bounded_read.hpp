@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,6 +27,12 @@ void requireRegularFile(const std::filesystem::path& file);
 /// The whole file; DataError when requireRegularFile refuses it, it is unreadable, or larger than `max_bytes`.
 [[nodiscard]] std::string readFileBytes(const std::filesystem::path& file,
                                         std::uint64_t max_bytes = kMaxImportFileBytes);
+
+/// The first line of `file` (without its line break), read from a regular file only (a link is followed: callers
+/// that must refuse one check it) and at most `max_bytes` of it: nothing when the file is not a regular file, cannot
+/// be read, or has no line break within `max_bytes` (a marker
+/// line occsweep writes is short; a file of gigabytes without a line break is never read whole).
+[[nodiscard]] std::optional<std::string> readFirstLine(const std::filesystem::path& file, std::size_t max_bytes);
 
 /// The whole file parsed as JSON: readFileBytes' refusals, then a DataError "FILE: not valid JSON: ..." when it is
 /// not (a syntax error, a truncated file, a number like 1e999 that no double holds). One home for every JSON input:
