@@ -75,6 +75,13 @@ fs::path canonicalEntry(const fs::path& path) {
   return ec ? absolute : folder / absolute.filename();
 }
 
+// An entry's birth time as a record holds it, "-" where the file system keeps none (then the inode alone tells
+// entries apart: docs/robustness.md, "Ownership").
+std::string birthText(const struct statx& entry) {
+  if ((entry.stx_mask & STATX_BTIME) == 0) return "-";
+  return std::to_string(entry.stx_btime.tv_sec) + "." + std::to_string(entry.stx_btime.tv_nsec);
+}
+
 // Which entry `path` names: its canonicalEntry, and the folder's inode and birth time (statx), so that a folder
 // removed and made again at the same path, even one that reuses the inode, is another folder. The device number is
 // left out: NFS, btrfs and overlayfs give it out anew at each mount. One line, the path by its FNV-1a hash (a path
@@ -83,13 +90,9 @@ std::string entryIdentity(const fs::path& path) {
   const fs::path entry = canonicalEntry(path);
   struct statx folder {};
   if (::statx(AT_FDCWD, entry.parent_path().c_str(), 0, STATX_INO | STATX_BTIME, &folder) != 0) return "";
-  // Where a file system keeps no birth time, the inode alone: documented in docs/robustness.md, "Ownership".
-  const std::string born = (folder.stx_mask & STATX_BTIME) != 0
-                               ? std::to_string(folder.stx_btime.tv_sec) + "." + std::to_string(folder.stx_btime.tv_nsec)
-                               : "-";
   Fnv1a where;
   where.feed(entry.string());
-  return std::to_string(folder.stx_ino) + " " + born + " " + where.hex();
+  return std::to_string(folder.stx_ino) + " " + birthText(folder) + " " + where.hex();
 }
 
 // The entry itself (not what a link there points to): its inode and birth time, as the fifth line of its record
@@ -97,10 +100,7 @@ std::string entryIdentity(const fs::path& path) {
 std::string madeIdentity(const fs::path& path) {
   struct statx made {};
   if (::statx(AT_FDCWD, path.c_str(), AT_SYMLINK_NOFOLLOW, STATX_INO | STATX_BTIME, &made) != 0) return "";
-  const std::string born = (made.stx_mask & STATX_BTIME) != 0
-                               ? std::to_string(made.stx_btime.tv_sec) + "." + std::to_string(made.stx_btime.tv_nsec)
-                               : "-";
-  return "made " + std::to_string(made.stx_ino) + " " + born;
+  return "made " + std::to_string(made.stx_ino) + " " + birthText(made);
 }
 
 // `.NAME.tmp-PID-TOKEN` parsed: the PID and TOKEN, or pid -1.

@@ -252,9 +252,10 @@ bool completeResultsOf(const fs::path& file, const ResultsHeader& header) {
   if (!fs::exists(fs::symlink_status(file, ec))) return false;
   checkOutputTarget(file, true, resultsOutput());
   try {
-    const ResultsFile f = readResults(file);
-    // Reused only when it passes every check of `results check`; otherwise (an edited twin) swept anew.
-    return f.complete && sameWork(f.header, header, true, nullptr) && checkResultsFile(file, {}).maps == f.maps.size();
+    // Checked and read in one pass: reused only when it passes every check of `results check` (an incomplete or
+    // edited twin throws, and is swept anew).
+    const ResultsFile f = readCheckedResults(file, MapDetail::Full);
+    return f.complete && sameWork(f.header, header, true, nullptr);
   } catch (const std::exception&) {
     return false;  // occsweep's own but unreadable: replaced
   }

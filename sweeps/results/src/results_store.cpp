@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 #include <ostream>
 #include <limits>
 #include <set>
@@ -488,8 +489,11 @@ void ResultsStore::forEachMap(MapDetail detail, const MapVisitor& visit) const {
   if (threshold_ready) fail(c.file, "thresholds row " + std::to_string(thresholds->integer(0)) + ": belongs to no map");
 }
 
-void requireNoJournalBeside(const fs::path& store) {
-  for (const char* suffix : {"-journal", "-wal", "-shm"}) {
+namespace {
+// Nothing may stand at any of SQLite's companion names `suffixes` beside `store`: SQLite would take it for the
+// store's unfinished transaction (requireNoJournalBeside, requireOnlyRollbackJournalBeside).
+void requireNothingBeside(const fs::path& store, std::initializer_list<const char*> suffixes) {
+  for (const char* suffix : suffixes) {
     const fs::path companion = store.string() + suffix;
     std::error_code ec;
     if (fs::exists(fs::symlink_status(companion, ec)))
@@ -498,29 +502,24 @@ void requireNoJournalBeside(const fs::path& store) {
                         "was written; move it away, or choose another name");
   }
 }
+}  // namespace
+
+void requireNoJournalBeside(const fs::path& store) { requireNothingBeside(store, {"-journal", "-wal", "-shm"}); }
 
 void requireOnlyRollbackJournalBeside(const fs::path& store) {
   // SQLite's journal header begins with these 8 bytes (sqlite.org/fileformat.html, "The Rollback Journal").
   static constexpr unsigned char kJournalMagic[8] = {0xd9, 0xd5, 0x05, 0xf9, 0x20, 0xa1, 0x63, 0xd7};
   const fs::path journal = store.string() + "-journal";
   std::error_code ec;
-  if (fs::is_regular_file(fs::symlink_status(journal, ec))) {
-    char head[sizeof kJournalMagic] = {};
-    std::ifstream in(journal, std::ios::binary);
-    in.read(head, sizeof head);
-    if (in.gcount() == sizeof head && std::memcmp(head, kJournalMagic, sizeof head) == 0) {
-      for (const char* suffix : {"-wal", "-shm"})
-        if (fs::exists(fs::symlink_status(store.string() + suffix, ec)))
-          throw OutputError(store.string() + suffix + ": stands where SQLite keeps the write-ahead log of the store "
-                            "occsweep is to resume at " + store.string() + ", which never has one: nothing was "
-                            "written; move it away");
-      return;
-    }
+  if (!fs::is_regular_file(fs::symlink_status(journal, ec))) return requireNoJournalBeside(store);
+  char head[sizeof kJournalMagic] = {};
+  std::ifstream in(journal, std::ios::binary);
+  in.read(head, sizeof head);
+  if (in.gcount() != sizeof head || std::memcmp(head, kJournalMagic, sizeof head) != 0)
     throw OutputError(journal.string() + ": is not a rollback journal SQLite wrote (no journal header), and SQLite "
                       "would take it for the unfinished transaction of the store occsweep is to resume at " +
                       store.string() + " and delete it: nothing was written; move it away");
-  }
-  requireNoJournalBeside(store);
+  requireNothingBeside(store, {"-wal", "-shm"});  // a store occsweep writes never has a write-ahead log
 }
 
 void writeResultsStore(const ResultsFile& f, const fs::path& file) {
