@@ -162,7 +162,7 @@ std::vector<fs::path> binaryFiles(const json& m) {
 void writeDataset(const Dataset& d, const fs::path& dir) {
   OutputFolder folder(dir);
   const fs::path& tmp = folder.path();
-  if (::mkdir((tmp / "scans").c_str(), 0777) != 0) throw OutputError(writeFailure(tmp / "scans", errno));
+  makeFolderChecked(tmp / "scans");
   json m;
   m["format"] = kFormat;
   m["version"] = kVersion;

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <mutex>
 #include <set>
 #include <streambuf>
@@ -600,20 +601,55 @@ void writeFileAtomically(const fs::path& target, std::string_view bytes) {
 
 void writeJsonAtomically(const nlohmann::json& j, const fs::path& file) { writeFileAtomically(file, j.dump(1) + '\n'); }
 
+namespace {
+// The claim of this run's registered temporary folder that holds `entry`, if any.
+std::optional<TemporaryClaim> holdingClaim(const fs::path& entry) {
+  std::lock_guard lock(registryMutex());
+  for (fs::path folder = entry.parent_path(); !folder.empty() && folder != folder.parent_path();
+       folder = folder.parent_path())
+    if (const auto it = registry().find(folder); it != registry().end()) return it->second;
+  return std::nullopt;
+}
+
+// Makes `entry` with `make`, recorded in the ledger as the content of the temporary folder that holds it (before
+// and after the making: ownership.hpp), so that a later run removes it after a kill, and nothing else there.
+void makeRecorded(const fs::path& entry, const std::function<void()>& make) {
+  const std::optional<TemporaryClaim> claim = holdingClaim(entry);
+  const fs::path relative = claim ? entry.lexically_relative(claim->path) : fs::path();
+  if (claim) recordTemporaryContent(*claim, relative);
+  make();
+  if (claim) recordTemporaryContentMade(*claim, relative);
+}
+}  // namespace
+
 void writeFileChecked(const fs::path& file, std::string_view bytes) {
-  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  if (fd < 0) fail(file, errno);
-  for (std::size_t done = 0; done < bytes.size();) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int e = n < 0 ? errno : EIO;
-      ::close(fd);
-      fail(file, e);
+  makeRecorded(file, [&] {  // stamped once whole (size and modification time included)
+    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd < 0) fail(file, errno);
+    for (std::size_t done = 0; done < bytes.size();) {
+      const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        const int e = n < 0 ? errno : EIO;
+        ::close(fd);
+        fail(file, e);
+      }
+      done += std::size_t(n);
     }
-    done += std::size_t(n);
-  }
-  if (::close(fd) != 0) fail(file, errno);
+    if (::close(fd) != 0) fail(file, errno);
+  });
+}
+
+void makeFolderChecked(const fs::path& folder) {
+  makeRecorded(folder, [&] {
+    if (::mkdir(folder.c_str(), 0777) != 0) fail(folder, errno);
+  });
+}
+
+void makeSymlinkChecked(const fs::path& points_to, const fs::path& link) {
+  makeRecorded(link, [&] {
+    if (::symlink(points_to.c_str(), link.c_str()) != 0) fail(link, errno);
+  });
 }
 
 void setInterruptMessage(std::string message) {

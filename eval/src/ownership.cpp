@@ -7,7 +7,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iostream>
+#include <map>
 #include <optional>
+#include <set>
 #include <random>
 #include <sstream>
 #include <fcntl.h>
@@ -95,12 +98,44 @@ std::string entryIdentity(const fs::path& path) {
   return std::to_string(folder.stx_ino) + " " + birthText(folder) + " " + where.hex();
 }
 
-// The entry itself (not what a link there points to): its inode and birth time, as the fifth line of its record
-// holds them. "" when it cannot be read.
-std::string madeIdentity(const fs::path& path) {
+// The entry itself (not what a link there points to): its inode and birth time. "" when it cannot be read.
+std::string entryStamp(const fs::path& path) {
   struct statx made {};
   if (::statx(AT_FDCWD, path.c_str(), AT_SYMLINK_NOFOLLOW, STATX_INO | STATX_BTIME, &made) != 0) return "";
-  return "made " + std::to_string(made.stx_ino) + " " + birthText(made);
+  return std::to_string(made.stx_ino) + " " + birthText(made);
+}
+
+// The entry's stamp as the fifth line of its record holds it. "" when it cannot be read.
+std::string madeIdentity(const fs::path& path) {
+  const std::string stamp = entryStamp(path);
+  return stamp.empty() ? "" : "made " + stamp;
+}
+
+// What stamps an entry made inside a temporary folder once it is whole: its entryStamp and, for a file, its size and
+// modification time, so that bytes a user writes into it in place (`cp` over it, `>>`) make it theirs.
+std::string contentStamp(const fs::path& path) {
+  struct statx made {};
+  constexpr unsigned kFields = STATX_TYPE | STATX_INO | STATX_BTIME | STATX_SIZE | STATX_MTIME;
+  if (::statx(AT_FDCWD, path.c_str(), AT_SYMLINK_NOFOLLOW, kFields, &made) != 0) return "";
+  std::string stamp = std::to_string(made.stx_ino);  // piece by piece: "a" + std::string trips GCC 12's -Wrestrict
+  stamp += ' ';
+  stamp += birthText(made);
+  if (!S_ISREG(made.stx_mode)) return stamp;
+  for (const std::string& field : {std::to_string(made.stx_size), std::to_string(made.stx_mtime.tv_sec)}) {
+    stamp += ' ';
+    stamp += field;
+  }
+  stamp += '.';
+  stamp += std::to_string(made.stx_mtime.tv_nsec);
+  return stamp;
+}
+
+// An entry inside a temporary folder as its record names it: the FNV-1a hash of its path relative to the folder
+// (one line whatever the name holds).
+std::string contentKey(const fs::path& relative) {
+  Fnv1a key;
+  key.feed(relative.lexically_normal().string());
+  return key.hex();
 }
 
 // `.NAME.tmp-PID-TOKEN` parsed: the PID and TOKEN, or pid -1.
@@ -133,11 +168,14 @@ TemporaryName parseTemporary(const std::string& component, const std::string& ou
 // A record: the process identity on the first line, the temporary's canonicalEntry on the second (where pruning looks
 // for it, and what a person reading the ledger sees), the machine (machineLine) on the third, the temporary's
 // entryIdentity on the fourth: what proves an entry is that temporary, with the made entry's madeIdentity on the
-// fifth once it exists (recordTemporaryMade).
+// fifth once it exists (recordTemporaryMade). A folder's record goes on with what the folder holds: `holds KEY`
+// before an entry is made there, `made-in KEY STAMP` once it is (recordTemporaryContent).
 struct LedgerRecord {
   std::string process;
   fs::path path;
   std::string machine, entry, made;
+  std::set<std::string> holds;                 ///< contentKey of each entry named before it was made
+  std::map<std::string, std::string> made_in;  ///< contentKey -> contentStamp of each entry once whole
 };
 
 std::optional<LedgerRecord> readRecord(const fs::path& ledger, const std::string& token) {
@@ -146,8 +184,14 @@ std::optional<LedgerRecord> readRecord(const fs::path& ledger, const std::string
   std::string path;
   if (!std::getline(in, r.process) || !std::getline(in, path) || !std::getline(in, r.machine)) return std::nullopt;
   std::getline(in, r.entry);  // "" in a record of an occsweep that kept no identity: it proves nothing
-  std::getline(in, r.made);   // "" when a kill came between the making and its record, or from an older occsweep
   r.path = path;
+  // "made" absent when a kill came between the making and its record, or from an older occsweep
+  for (std::string line; std::getline(in, line);) {
+    if (line.starts_with("made ")) r.made = line;
+    if (line.starts_with("holds ")) r.holds.insert(line.substr(6));
+    if (const std::size_t key_end = line.find(' ', 8); line.starts_with("made-in ") && key_end != std::string::npos)
+      r.made_in[line.substr(8, key_end - 8)] = line.substr(key_end + 1);
+  }
   return r;
 }
 
@@ -240,6 +284,26 @@ void recordTemporaryMade(const TemporaryClaim& claim) {
   out << made << '\n';
 }
 
+namespace {
+// Appends a line to a live record; never creates one (an interrupt's cleaner may have released it meanwhile).
+void appendToRecord(const TemporaryClaim& claim, const std::string& line) {
+  const int fd = ::open((ownershipLedger() / claim.token).c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (fd < 0) return;
+  (void)!::write(fd, line.data(), line.size());
+  ::close(fd);
+}
+}  // namespace
+
+void recordTemporaryContent(const TemporaryClaim& claim, const fs::path& relative) {
+  if (claim.recorded) appendToRecord(claim, "holds " + contentKey(relative) + "\n");
+}
+
+void recordTemporaryContentMade(const TemporaryClaim& claim, const fs::path& relative) {
+  if (!claim.recorded) return;
+  const std::string stamp = contentStamp(claim.path / relative);
+  if (!stamp.empty()) appendToRecord(claim, "made-in " + contentKey(relative) + " " + stamp + "\n");
+}
+
 void releaseTemporary(const TemporaryClaim& claim) {
   if (!claim.recorded) return;
   std::error_code ec;
@@ -257,11 +321,22 @@ bool isStaleTemporaryOf(const fs::path& entry, const fs::path& target) {
   return staleRecord(entry, target).has_value();
 }
 
+namespace {
+// SQLite's rollback journal named after a temporary (`path-journal`: what a kill of a store being written there
+// leaves), unless a link stands there (occsweep never makes one).
+void removeJournalOf(const fs::path& path) noexcept {
+  std::error_code ec;
+  const fs::path journal = path.string() + "-journal";
+  if (!fs::is_symlink(fs::symlink_status(journal, ec))) fs::remove(journal, ec);
+}
+}  // namespace
+
 bool removeTemporaryEntry(const fs::path& path) noexcept {
-  std::error_code ec, journal_ec;
+  std::error_code ec;
   // occsweep never makes a temporary (or journal) that is a symbolic link: one there is the user's, and stays.
   if (fs::is_symlink(fs::symlink_status(path, ec))) return false;
-  // A folder temporary is occsweep's as a whole: only occsweep wrote into it. Another thread of the same run may
+  // A folder temporary of this run is removed as a whole (a killed run's only once emptied of what its record
+  // proves: removeStaleEntry). Another thread of the same run may
   // still be making a file in it (an interrupt's cleaner runs beside the writer): removed again until the folder
   // itself is gone, which ends such a writer's creations (their folder no longer exists).
   for (int attempt = 0; attempt < 100; ++attempt) {
@@ -270,16 +345,76 @@ bool removeTemporaryEntry(const fs::path& path) noexcept {
     std::error_code gone;
     if (!fs::exists(fs::symlink_status(path, gone))) break;
   }
-  const fs::path journal = path.string() + "-journal";
-  if (!fs::is_symlink(fs::symlink_status(journal, journal_ec))) fs::remove(journal, journal_ec);
+  removeJournalOf(path);
   return !ec;
 }
+
+namespace {
+// An entry of a killed run's temporary folder is the run's when its record lists it: made (its inode and birth time
+// the recorded ones) or, for the one entry a kill may have come to between the two lines, named before the making.
+bool provenContent(const LedgerRecord& r, const fs::path& entry, const fs::path& relative) {
+  const std::string key = contentKey(relative);
+  if (const auto made = r.made_in.find(key); made != r.made_in.end()) return made->second == contentStamp(entry);
+  return r.holds.contains(key);
+}
+
+// What emptying a killed run's temporary folder came to.
+struct Emptied {
+  bool foreign = false;  ///< an entry its record does not prove stays
+  bool failed = false;   ///< a proven entry could not be read or removed (kept, for a later run to try again)
+};
+
+// Removes, deepest first, what `folder` holds that provenContent proves; a folder only once it is empty, and only a
+// proven one is entered (a folder a user put at a recorded name is theirs, whatever it holds). Links are removed as
+// entries, never followed.
+void removeProvenContent(const LedgerRecord& r, const fs::path& root, const fs::path& folder, Emptied& result) {
+  std::error_code ec;
+  std::vector<fs::directory_entry> entries;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) entries.push_back(*it);
+  if (ec) result.failed = true;
+  for (const auto& e : entries) {
+    std::error_code status_ec, removed;
+    const bool is_folder = fs::is_directory(fs::symlink_status(e.path(), status_ec));
+    if (!provenContent(r, e.path(), e.path().lexically_relative(root))) {
+      result.foreign = true;
+      continue;
+    }
+    Emptied inside;
+    if (is_folder) removeProvenContent(r, root, e.path(), inside);
+    result.foreign |= inside.foreign, result.failed |= inside.failed;
+    if (!inside.foreign && !inside.failed && !fs::remove(e.path(), removed)) result.failed = true;
+  }
+}
+
+// A killed run's temporary: a file as a whole; a folder with what its record proves occsweep made there, then the
+// folder itself while empty (rmdir: an entry put there meanwhile stays). False when something could not be removed:
+// the record stays for a later run. A folder holding entries its record does not prove is the user's from now on:
+// kept, named in a warning, and true (the record goes).
+bool removeStaleEntry(const fs::path& entry, const LedgerRecord& r) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(entry, ec);
+  if (!fs::is_directory(status) || fs::is_symlink(status)) return removeTemporaryEntry(entry);
+  Emptied result;
+  removeProvenContent(r, entry, entry, result);
+  if (!result.foreign && !result.failed) {
+    if (!fs::remove(entry, ec)) return false;
+    removeJournalOf(entry);
+    return true;
+  }
+  if (result.failed) return false;
+  std::cerr << "occsweep: warning: kept " << entry.string() << ", a folder a killed occsweep left: it holds entries"
+            << " occsweep cannot prove it made there (moved in since, or drawn by a figure script), which it leaves to"
+            << " you; what it made there was removed (docs/robustness.md, \"Ownership\")\n";
+  return true;
+}
+}  // namespace
 
 bool removeStaleTemporary(const fs::path& entry, const fs::path& target) {
   const std::optional<std::string> token = staleRecord(entry, target);
   if (!token) return false;
+  const std::optional<LedgerRecord> record = readRecord(ownershipLedger(), *token);
   std::error_code ec;
-  if (removeTemporaryEntry(entry)) fs::remove(ownershipLedger() / *token, ec);
+  if (record && removeStaleEntry(entry, *record)) fs::remove(ownershipLedger() / *token, ec);
   return true;
 }
 
@@ -380,6 +515,94 @@ bool isRecordedTextOutput(const fs::path& file) {
   const std::optional<TextOutputRecord> recorded = readTextOutputRecord(now->file);
   if (!recorded) return legacyRecordHolds(file, *now);
   return recorded->identity == now->identity && recorded->size == now->size && recorded->hash == now->hash;
+}
+
+namespace {
+// A made entry's record (claimMadeEntry, recordMadeEntry), four lines: its entryIdentity, its madeIdentity ("" in a
+// claim), its canonicalEntry and the machine (machineLine); named by the hash of the identity, in the ledger's
+// `made/` folder.
+struct MadeEntryRecord {
+  std::string identity, made, path, machine;
+};
+
+fs::path madeEntryRecord(const fs::path& entry) {
+  const fs::path ledger = ownershipLedger();
+  const std::string identity = ledger.empty() ? "" : entryIdentity(entry);
+  if (identity.empty()) return {};
+  Fnv1a name;
+  name.feed(identity);
+  return ledger.parent_path() / "made" / name.hex();
+}
+
+std::optional<MadeEntryRecord> readMadeEntryRecord(const fs::path& record) {
+  std::ifstream in(record);
+  MadeEntryRecord r;
+  if (!std::getline(in, r.identity) || !std::getline(in, r.made) || !std::getline(in, r.path) ||
+      !std::getline(in, r.machine))
+    return std::nullopt;
+  return r;
+}
+
+// Drops this machine's records whose entry is gone or is another entry now (what a kill, or a user's removal, leaves
+// behind), a claim once an hour old without its entry, and records a kill cut short. Another machine's (a home folder
+// shared by cluster nodes) are its own to prune: their paths may be local to it.
+void pruneMadeEntries(const fs::path& folder) {
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::optional<MadeEntryRecord> r = readMadeEntryRecord(it->path());
+    std::error_code removed, status;
+    if (r && r->machine != machineLine(thisMachine())) continue;
+    const bool gone = !r || !fs::exists(fs::symlink_status(r->path, status));
+    const bool stale = !r || r->made.empty() ? gone && unfinishedRecord(it->path()) : madeIdentity(r->path) != r->made;
+    if (stale) fs::remove(it->path(), removed);
+  }
+}
+
+void writeMadeEntryRecord(const fs::path& entry, const std::string& made) {
+  const fs::path record = madeEntryRecord(entry);
+  if (record.empty()) return;
+  std::error_code ec;
+  fs::create_directories(record.parent_path(), ec);
+  pruneMadeEntries(record.parent_path());
+  std::ofstream(record, std::ios::trunc) << entryIdentity(entry) << '\n' << made << '\n'
+                                         << canonicalEntry(entry).string() << '\n' << machineLine(thisMachine())
+                                         << '\n';
+}
+
+// A claim proves an entry born within moments of it (a kill came between the making and its stamp), never one put
+// at that name later.
+constexpr auto kClaimMoments = std::chrono::seconds(5);
+
+bool bornJustAfter(const fs::path& entry, const fs::path& record) {
+  struct statx born {}, claimed {};
+  if (::statx(AT_FDCWD, entry.c_str(), AT_SYMLINK_NOFOLLOW, STATX_BTIME, &born) != 0 ||
+      (born.stx_mask & STATX_BTIME) == 0 || ::statx(AT_FDCWD, record.c_str(), 0, STATX_MTIME, &claimed) != 0)
+    return false;
+  using std::chrono::nanoseconds, std::chrono::seconds;
+  const auto birth = seconds(born.stx_btime.tv_sec) + nanoseconds(born.stx_btime.tv_nsec);
+  const auto claim = seconds(claimed.stx_mtime.tv_sec) + nanoseconds(claimed.stx_mtime.tv_nsec);
+  return birth + seconds(1) >= claim && birth <= claim + kClaimMoments;
+}
+}  // namespace
+
+void claimMadeEntry(const fs::path& entry) { writeMadeEntryRecord(entry, ""); }
+
+void recordMadeEntry(const fs::path& entry) {
+  const std::string made = madeIdentity(entry);
+  if (!made.empty()) writeMadeEntryRecord(entry, made);
+}
+
+bool isRecordedMadeEntry(const fs::path& entry) {
+  const fs::path record = madeEntryRecord(entry);
+  const std::optional<MadeEntryRecord> r = record.empty() ? std::nullopt : readMadeEntryRecord(record);
+  if (!r || r->identity != entryIdentity(entry)) return false;
+  return r->made.empty() ? bornJustAfter(entry, record) : r->made == madeIdentity(entry);
+}
+
+void forgetMadeEntry(const fs::path& entry) {
+  const fs::path record = madeEntryRecord(entry);
+  std::error_code ec;
+  if (!record.empty()) fs::remove(record, ec);
 }
 
 }  // namespace occsweep

@@ -492,3 +492,75 @@ print('alike', len(rows))
   CHECK(py.exit_code == 0);
   CHECK(py.output.find("alike 4230") != std::string::npos);  // 180 + 4,050 combinations
 }
+
+TEST_CASE("the export CSVs of three methods over three data sets concatenate into one table whose every number reads "
+          "back equal to its results file's") {
+  const auto dir = test::processScratch("csv-three-by-three");
+  const std::vector<std::string> grids = {"octomap-opt", "knn-opt", "range-octomap-opt"};
+  std::string exported;
+  for (int seed = 1; seed <= 3; ++seed) {
+    const std::string ds = "ds" + std::to_string(seed);
+    REQUIRE(test::runIn(dir, "scene --scans 3 --width 16 --height 12 --seed " + std::to_string(seed) + " --out " + ds)
+                .exit_code == 0);
+    for (const std::string& grid : grids) {
+      const std::string name = ds + "-" + grid;
+      const std::string sweep = "sweep --dataset " + ds + " --grid " + grid + " --out " + name + ".json";
+      REQUIRE(test::runIn(dir, sweep).exit_code == 0);
+      REQUIRE(test::runIn(dir, "results export " + name + ".json --out " + name + ".csv").exit_code == 0);
+      exported += " " + name;
+    }
+  }
+  // Every CSV row against its results file: parameters, threshold, counts and rates, both AUCs, equal as doubles
+  // (a text that reads back to another double, or a missing row, fails). An empty cell is JSON's null.
+  const std::string check = R"(python3 - )" + exported + R"( 2>&1 <<'PY'
+import csv, json, sys
+rows, files = [], {}
+for name in sys.argv[1:]:
+    files[name] = json.load(open(name + '.json'))
+    with open(name + '.csv', newline='') as f:
+        rows += [dict(r, _file=name) for r in csv.DictReader(f)]
+assert len({(r['dataset_hash'], r['method']) for r in rows}) == 9, 'data sets x methods'  # one scene's name, 3 seeds
+def same(text, value):
+    return (value is None and text == '') or (value is not None and float(text) == float(value))
+checked = 0
+for r in rows:
+    res = files[r['_file']]
+    m = res['maps'][int(r['map_index'])]
+    assert m['map_index'] == int(r['map_index'])
+    t = next(t for t in m['thresholds'] if t['id'] == int(r['id']))  # the combination's id in the grid
+    assert r['dataset'] == res['dataset']['name'] and r['dataset_hash'] == res['dataset']['content_hash'], r['_file']
+    assert r['method'] == res['grid']['method'], r['_file']
+    for key, value in m['params'].items():
+        assert same(r[key], value), (r['_file'], key, r[key], value)
+    for key in ('p_t', 'tp', 'fp', 'fn', 'tn', 'tpr', 'fdr'):
+        assert same(r[key], t[key]), (r['_file'], key, r[key], t[key])
+    assert same(r['auc_anchored'], m['auc']['anchored']) and same(r['auc_observed'], m['auc']['observed'])
+    checked += 1
+expected = sum(len(m['thresholds']) for res in files.values() for m in res['maps'])
+assert checked == expected, (checked, expected)
+print('equal', checked)
+PY)";
+  const auto py = test::runShell("cd " + test::shellQuoted(dir.string()) + " && " + check);
+  INFO(py.output);
+  CHECK(py.exit_code == 0);
+  CHECK(py.output.find("equal ") != std::string::npos);
+}
+
+TEST_CASE("compare prints within 100 columns when a results file's path is longer than a line") {
+  // Old binary: the line naming the best map's file ran to the path's length (196 columns here).
+  const auto dir = test::processScratch("compare-long-path");
+  const fs::path golden = occsweep::test::sourceTree() / "results" / "builtin";
+  const std::string folder = std::string(150, 'f');
+  fs::create_directories(dir / folder);
+  for (const char* file : {"octomap-opt.json", "knn-opt.json"}) fs::copy_file(golden / file, dir / folder / file);
+  const auto r = test::runIn(dir, "compare " + folder + "/octomap-opt.json " + folder + "/knn-opt.json");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  std::istringstream lines(r.output);
+  std::string joined;
+  for (std::string line; std::getline(lines, line);) {
+    CHECK(line.size() <= 100);
+    joined += line.substr(line.find_first_not_of(' ') == std::string::npos ? line.size() : line.find_first_not_of(' '));
+  }
+  CHECK(joined.find(folder + "/knn-opt.json") != std::string::npos);  // the whole path, cut at the lines' ends
+}

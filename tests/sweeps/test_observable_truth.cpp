@@ -362,3 +362,34 @@ TEST_CASE("one pass with an observable twin gives what separate full and observa
       CHECK(positives(twin) < positives(full));
     }
 }
+
+TEST_CASE("a sweep replaces a twin of other work at its observable_out only with force, and never a user's file") {
+  // Old library: the twin's target was checked as if --force were given, so occsweep's results of another sweep
+  // there were replaced silently.
+  const Scene& s = scene();
+  const fs::path d = s.dir / "twin-other-work";
+  fs::create_directories(d);
+  SweepConfig c;
+  c.dataset = s.solid, c.grid = "octomap-opt", c.engine = "replay", c.quiet = true;
+  c.out = d / "r.json";
+  c.observable_out = d / "r-observable.json";
+  (void)sweep(s.solid, smallKnnGrid(d).string(), "replay", TruthMode::Observable, c.observable_out);  // other work
+  const std::string before = test::bytesOf(c.observable_out);
+  CHECK_THROWS_WITH(runSweep(c), Catch::Contains("r-observable.json: holds results of other work") &&
+                                     Catch::Contains("--force replaces it"));
+  CHECK(test::bytesOf(c.observable_out) == before);
+  CHECK_FALSE(fs::exists(c.out));
+  // Its own twin of this very work (a kill between the two renames) is replaced without force.
+  c.force = true;
+  (void)runSweep(c);
+  fs::remove(c.out);
+  c.force = false;
+  CHECK_NOTHROW(runSweep(c));
+  CHECK(readResults(c.observable_out).header.truth == TruthMode::Observable);
+  // A user's file: refused even with force.
+  std::ofstream(c.observable_out, std::ios::trunc) << "{\"mine\": 1}\n";
+  fs::remove(c.out);
+  c.force = true;
+  CHECK_THROWS_WITH(runSweep(c), Catch::Contains("r-observable.json") && Catch::Contains("refused even with --force"));
+  CHECK(test::bytesOf(c.observable_out) == "{\"mine\": 1}\n");
+}

@@ -53,14 +53,14 @@ int exitOf(pid_t child) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
 }
 
-// `occsweep ARGS` (a sweep) started with its output into `log`, sent SIGINT once it has written a progress line (some
-// maps are done and kept), and ended with 130: its log.
-std::string interruptedSweepLog(const std::string& args, const fs::path& log) {
+// `occsweep ARGS` (a sweep) started with its output into `log`, sent `signal` (SIGINT unless said) once it has written
+// a progress line (some maps are done and kept), and ended with 128 + signal: its log.
+std::string interruptedSweepLog(const std::string& args, const fs::path& log, int signal = SIGINT) {
   const pid_t child = startCli(args, log);
   for (int i = 0; i < 600 && test::bytesOf(log).find("maps/s") == std::string::npos; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  ::kill(child, SIGINT);
-  REQUIRE(exitOf(child) == 130);
+  ::kill(child, signal);
+  REQUIRE(exitOf(child) == 128 + signal);
   return test::bytesOf(log);
 }
 
@@ -149,6 +149,16 @@ TEST_CASE("an interrupted sweep says what it kept and the command that resumes i
   CHECK_THAT(again.output, Contains("resuming "));
   for (const char* out : {"knn.json", "oct.json"})
     CHECK(test::runCli("results check " + (dir / out).string()).exit_code == 0);
+}
+
+TEST_CASE("a sweep ended by SIGTERM (a batch system's stop) says what it kept and the command that resumes it") {
+  const fs::path dir = test::scratch("progress-sigterm");
+  const std::string args = slowSweep(dir);
+  const std::string log = interruptedSweepLog(args, dir / "log", SIGTERM);
+  INFO(log);
+  CHECK_THAT(log, Contains("occsweep sweep: interrupted; the maps it finished are kept beside each output"));
+  CHECK_THAT(resumeLine(log), Catch::EndsWith(" && " + test::cliUnderTest() + " " + args));
+  CHECK(fs::exists(dir / "knn.json.partial.jsonl"));
 }
 
 TEST_CASE("the resume command reads back, through the shell, as the arguments the sweep was given") {

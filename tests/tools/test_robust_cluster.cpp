@@ -304,6 +304,35 @@ TEST_CASE("a grid named ../../../victim or a plan output outside the plan folder
   CHECK(test::bytesOf(dir / "victim.json") == victim);
 }
 
+// docs/robustness.md, "Ownership": run-local removes a running marker only when occsweep's ledger proves it wrote it;
+// a user's file named like one (even one holding a dead process's number) stays byte-identical.
+TEST_CASE("run-local removes only the running markers it recorded, never a user's file named like one") {
+  // Old binary: every regular `running/*.pid` holding a number was removed, the user's too, exit 0.
+  const fs::path dir = test::scratch("robust-cluster-markers");
+  makeScene(dir / "A", 1);
+  makeScene(dir / "B", 2);
+  writeSmallGrid(dir / "grids" / "small.json");
+  REQUIRE(test::runIn(dir, planWith("p")).exit_code == 0);
+  const fs::path running = dir / "p" / "running";
+  fs::create_directories(running);
+  const std::string mine = "999999\n";
+  for (const char* name : {"sweep-0.pid", "notes.pid"}) std::ofstream(running / name) << mine;
+  auto r = test::runIn(dir, "cluster run-local p --threads 2");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("sweep-0.pid: exists and is not a running marker occsweep can prove it made"));
+  CHECK_FALSE(fs::exists(dir / "p" / "sweeps"));  // no task started
+  CHECK(test::bytesOf(running / "sweep-0.pid") == mine);
+  CHECK(test::bytesOf(running / "notes.pid") == mine);
+  // Moved away, the plan runs; the file at a name no task uses stays as it was.
+  fs::rename(running / "sweep-0.pid", dir / "sweep-0.pid");
+  r = test::runIn(dir, "cluster run-local p --threads 2");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(test::bytesOf(running / "notes.pid") == mine);
+  CHECK(test::listing(running) == std::vector<std::string>{"notes.pid"});  // its own markers gone with their tasks
+}
+
 // docs/cluster.md: `cluster plan --force` is every command's --force: it replaces occsweep's own earlier plan
 // (proven by plan.json's own "format" field) and nothing else; a user's plan.json is refused with or without it,
 // byte-identical afterwards, and no plan file is written beside it. --replace is no flag.

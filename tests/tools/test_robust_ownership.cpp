@@ -203,8 +203,14 @@ fs::path killedRunsTemporary(const fs::path& dir, const std::string& target, con
   if (child == 0) {
     ::setenv("OCCSWEEP_STATE_DIR", state.c_str(), 1);  // in the child only: the test process stays as it was
     const TemporaryClaim c = claimTemporary(dir / target);
-    fs::create_directories(c.path / "scans");
-    std::ofstream(c.path / "manifest.json") << "{";
+    fs::create_directories(c.path);
+    recordTemporaryMade(c);
+    for (const char* entry : {"scans", "manifest.json"}) {  // recorded as a data set's writer records its entries
+      recordTemporaryContent(c, entry);
+      if (entry == std::string("scans")) fs::create_directory(c.path / entry);
+      else std::ofstream(c.path / entry) << "{";
+      recordTemporaryContentMade(c, entry);
+    }
     const std::string name = c.path.filename().string();
     [[maybe_unused]] const ssize_t n = ::write(pipe_fds[1], name.data(), name.size());
     ::_exit(c.recorded ? 0 : 1);
@@ -325,6 +331,88 @@ TEST_CASE("a killed run's temporary that the user replaced at its name by anothe
   CHECK(fs::is_directory(left / "scans"));
   CHECK(entriesOf(left / "scans") == before);
   CHECK(entriesOf(ledger).empty());  // the record proves nothing now: pruned
+}
+
+/// A real `scene` run SIGKILLed once its temporary folder holds its first files, in `dir`: that folder.
+fs::path killedSceneFolder(const fs::path& dir, const std::string& env) {
+  const std::string slow = "scene --scans 200 --width 320 --height 240 --out w";  // 15 M rays, seconds
+  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && " + env + " exec " + shellQuoted(cliUnderTest()) + " " +
+                               slow + " >/dev/null 2>&1");
+  fs::path left;
+  for (int i = 0; i < 3000 && left.empty(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().filename().string().starts_with(".w.tmp-") && fs::exists(e.path() / "scans") &&
+          !entriesOf(e.path() / "scans").empty())
+        left = e.path();
+  }
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return left;
+}
+
+TEST_CASE("a killed run's temporary folder goes with what occsweep made in it, never with a user's entry moved in",
+          "[ownership]") {
+  // Old binary: the record proved the folder, which was removed with everything in it, the user's files too.
+  const fs::path dir = scratch("ownership/moved_into_temporary");
+  const fs::path state = dir / "state", ledger = state / "temporaries";
+  const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(state);
+  const fs::path left = killedSceneFolder(dir, env);
+  REQUIRE(!left.empty());
+  REQUIRE(entriesOf(ledger).size() == 1);
+  // The user moves files of their own in: one beside the scans, one among them, one in a folder of their own.
+  writeBytes(dir / "notes.txt", "the user's notes\n");
+  writeBytes(dir / "scan.f32", "the user's scan\n");
+  fs::create_directories(dir / "mine");
+  writeBytes(dir / "mine" / "keep.txt", "kept\n");
+  fs::rename(dir / "notes.txt", left / "notes.txt");
+  fs::rename(dir / "scan.f32", left / "scans" / "999999.f32");
+  fs::rename(dir / "mine", left / "mine");
+  const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out w", env);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(fileBytes(left / "notes.txt") == "the user's notes\n");
+  CHECK(fileBytes(left / "scans" / "999999.f32") == "the user's scan\n");
+  CHECK(fileBytes(left / "mine" / "keep.txt") == "kept\n");
+  // What occsweep made there went; the folder is the user's now: kept, named in a warning, its record gone.
+  CHECK(entriesOf(left / "scans") == std::set<std::string>{"999999.f32"});
+  CHECK(entriesOf(left) == std::set<std::string>{"notes.txt", "scans", "mine"});
+  CHECK_THAT(r.output,
+             Catch::Contains("kept ./" + left.filename().string()) && Catch::Contains("cannot prove it made"));
+  CHECK(entriesOf(ledger).empty());
+  // The next run leaves it alone, without a word.
+  const CommandResult again = runIn(dir, std::string(kTinyScene) + " --out w --force", env);
+  CHECK(again.exit_code == 0);
+  CHECK_THAT(again.output, !Catch::Contains("warning"));
+  CHECK(fileBytes(left / "notes.txt") == "the user's notes\n");
+}
+
+TEST_CASE("a folder a user put at a recorded name inside a killed run's temporary folder is never entered",
+          "[ownership]") {
+  // A review found it: the record names `scans`, so a folder the user restored there from a copy was entered, and
+  // the scan file being written at the kill, proven by its name alone, was removed from the user's copy.
+  const fs::path dir = scratch("ownership/replaced_inner_folder");
+  const fs::path state = dir / "state";
+  const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(state);
+  const fs::path left = killedSceneFolder(dir, env);
+  REQUIRE(!left.empty());
+  // As if the kill came while the last scan was being made: named in the record, not yet stamped.
+  const std::string name = left.filename().string();
+  ::setenv("OCCSWEEP_STATE_DIR", state.c_str(), 1);
+  recordTemporaryContent(TemporaryClaim{left, name.substr(name.rfind('-') + 1), true}, "scans/000199.f32");
+  ::unsetenv("OCCSWEEP_STATE_DIR");
+  fs::copy(left / "scans", dir / "scans-copy", fs::copy_options::recursive);
+  fs::remove_all(left / "scans");
+  fs::rename(dir / "scans-copy", left / "scans");
+  writeBytes(left / "scans" / "000199.f32", "the user's own scan\n");
+  const std::set<std::string> scans = entriesOf(left / "scans");
+  const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out w", env);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(entriesOf(left / "scans") == scans);
+  CHECK(fileBytes(left / "scans" / "000199.f32") == "the user's own scan\n");
+  CHECK_THAT(r.output, Catch::Contains("kept ./" + left.filename().string()));
 }
 
 TEST_CASE("ledger records a kill cut short are dropped once an hour old, never sooner", "[ownership]") {

@@ -51,24 +51,45 @@ std::vector<std::string> shownMethods(const std::vector<ResultsFile>& in, const 
   return order;
 }
 
-// Within kTerminalColumns whatever the parameters: each data set's line, then one line per method with its AUC, its
-// improvement over the baseline and the file and map behind it, then the map's parameters (docs/statistics.md,
-// "In occsweep compare"). Every digit is in --json and --csv.
+// "  NAME" padded to the AUC column; a name longer than `name_width` goes on over lines, the AUC after its last.
+std::string methodLabel(const std::string& method, std::size_t name_width) {
+  std::string lines = wrappedLines(method, 2, 2 + name_width);
+  if (lines.empty()) return std::string(2 + name_width, ' ');  // a name of blanks
+  lines.pop_back();                                             // the last line's '\n'
+  const std::size_t last = lines.rfind('\n') + 1;              // 0 when there is one line
+  return lines + std::string(2 + name_width - std::min(2 + name_width, lines.size() - last), ' ');
+}
+
+// "map N of FILE: NAME=VALUE ..." four spaces in: on one line when it fits; else the file's path exactly as it is,
+// cut only at the lines' ends, then the parameters wrapped.
+std::string bestMapLines(const BestMap& best, const std::string& file, const std::string& parameters) {
+  const std::string head = "map " + std::to_string(best.map_index) + " of " + file + ":";
+  if (4 + head.size() + 1 + parameters.size() <= kTerminalColumns && head.find('\n') == std::string::npos)
+    return "    " + head + " " + parameters + "\n";
+  return cutLines(head, 4, kTerminalColumns) + wrappedLines(parameters, 4, kTerminalColumns);
+}
+
+// Within kTerminalColumns whatever the parameters, paths and names: each data set's line, then one line per method
+// with its AUC, its improvement over the baseline and the file and map behind it, then the map's parameters
+// (docs/statistics.md, "In occsweep compare"). Every digit is in --json and --csv.
 void printRow(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
               const std::vector<std::string>& methods, const std::string& baseline) {
-  if (r.point_cloud_set == "-") std::printf("%s\n", r.dataset.c_str());
-  else std::printf("%s (point cloud set %s)\n", r.dataset.c_str(), r.point_cloud_set.c_str());
+  const std::string set = r.point_cloud_set == "-" ? "" : " (point cloud set " + r.point_cloud_set + ")";
+  std::printf("%s", cutLines(r.dataset + set, 0, kTerminalColumns).c_str());
+  std::size_t name_width = 16;  // the AUCs in one column, however long a method's name (up to half a line)
+  for (const std::string& m : methods)
+    name_width = std::max(name_width, std::min<std::size_t>(m.size(), kTerminalColumns / 2));
   for (const std::string& m : methods) {
     const std::optional<BestMap> best = r.best(m);
     if (!best && !r.files_of.count(m)) continue;
     const std::string versus = m == baseline ? "" : cell(r.improvementPercent(m, baseline), "%+.2f %%");
-    std::printf("  %-16s AUC %6s  %10s", m.c_str(), cell(best ? best->auc : NAN, "%.4f").c_str(), versus.c_str());
+    std::printf("%s AUC %6s  %10s", methodLabel(m, name_width).c_str(), cell(best ? best->auc : NAN, "%.4f").c_str(),
+                versus.c_str());
     if (!best) {
       std::printf("\n");
       continue;
     }
-    std::printf("\n%s", wrappedLines("map " + std::to_string(best->map_index) + " of " + files[best->file] + ": " +
-                                          bestParametersText(*best, in), 4, kTerminalColumns).c_str());
+    std::printf("\n%s", bestMapLines(*best, files[best->file], bestParametersText(*best, in)).c_str());
   }
 }
 

@@ -297,11 +297,27 @@ std::string bestParametersText(const BestMap& best, const std::vector<ResultsFil
 std::string wrappedLines(const std::string& text, std::size_t indent, std::size_t width) {
   std::istringstream words(text);
   std::string out, line, word;
+  const std::size_t room = width > indent + 1 ? width - indent : 1;
   while (words >> word) {
     if (!line.empty() && indent + line.size() + 1 + word.size() > width) out += std::string(indent, ' ') + line + '\n', line.clear();
+    // A word longer than a line (a long path) goes on over several, cut where the line ends.
+    for (; line.empty() && word.size() > room; word.erase(0, room))
+      out += std::string(indent, ' ') + word.substr(0, room) + '\n';
     line += (line.empty() ? "" : " ") + word;
   }
   if (!line.empty()) out += std::string(indent, ' ') + line + '\n';
+  return out;
+}
+
+std::string cutLines(const std::string& text, std::size_t indent, std::size_t width) {
+  const std::size_t room = width > indent + 4 ? width - indent : 4;  // a UTF-8 character is at most 4 bytes
+  std::string out;
+  for (std::size_t at = 0; at < text.size();) {
+    std::size_t end = std::min(text.size(), at + room);
+    while (end < text.size() && end > at && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
+    out += std::string(indent, ' ') + text.substr(at, end - at) + '\n';
+    at = end;
+  }
   return out;
 }
 

@@ -37,11 +37,14 @@ struct ComparisonTables {
 /// "p_max=0.98 p_min=0.02 p_h=0.62 p_m=0.38". With the file's settings (resolution, s_c, variant, statistics,
 /// truth), what `occsweep map` takes to rebuild it; `map --from FILE --best` takes them all from the file.
 [[nodiscard]] std::string bestParametersText(const BestMap& best, const std::vector<ResultsFile>& files);
-/// How wide compare's terminal output is at most (a word longer than a line excepted).
+/// How wide compare's terminal output is at most.
 inline constexpr std::size_t kTerminalColumns = 100;
 /// `text`'s words on lines of at most `width` columns, each `indent` spaces in and ending in a newline (a word longer
-/// than a line gets a line of its own).
+/// than a line goes on over lines, cut where they end).
 [[nodiscard]] std::string wrappedLines(const std::string& text, std::size_t indent, std::size_t width);
+/// `text` exactly as it is (every space kept: a path, a name), on lines of at most `width` bytes, each `indent` spaces
+/// in and ending in a newline, cut only between whole UTF-8 characters.
+[[nodiscard]] std::string cutLines(const std::string& text, std::size_t indent, std::size_t width);
 /// A best map's parameters as fields: {"p_h": 0.62, "p_m": 0.38, ...}.
 [[nodiscard]] nlohmann::json parameterFields(const BestMap& best, const std::vector<ResultsFile>& files);
 /// One line per set: data set, point cloud set, then per method its AUC, its improvement over the baseline in

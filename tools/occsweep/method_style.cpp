@@ -165,7 +165,8 @@ std::vector<std::string> unknownStyledMethods(const StyleOverrides& overrides,
                                               const std::vector<std::string>& methods) {
   const auto registered = registeredMethods();
   std::vector<std::string> unknown;
-  for (const auto& [method, _] : overrides) {
+  for (const auto& entry : overrides) {
+    const std::string& method = entry.first;  // a name, not a structured binding: clang 14 cannot capture those
     const bool drawn = std::find(methods.begin(), methods.end(), method) != methods.end();
     const bool known = std::any_of(registered.begin(), registered.end(), [&](const auto& m) { return m->name() == method; });
     if (!drawn && !known) unknown.push_back(method);

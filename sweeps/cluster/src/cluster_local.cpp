@@ -181,12 +181,19 @@ class StageRun {
   void start(const ClusterTask& t) {
     const fs::path log = logOf(dir_, stage_, t);
     startTaskLog(log, t.label);
-    const pid_t pid = spawnLogged(t.argv, dir_, log);
+    const RunningMarker marker = createRunningMarker(dir_, stage_.name, t.index);  // before the process starts
+    pid_t pid = 0;
+    try {
+      pid = spawnLogged(t.argv, dir_, log);
+    } catch (...) {
+      removeRunningMarker(marker);
+      throw;
+    }
     const std::size_t slot = free_slots_.back();
     free_slots_.pop_back();
     stopper_.track(slot, pid);
-    running_[pid] = {t.index, slot, std::chrono::steady_clock::now()};
-    std::ofstream(runningMarker(dir_, stage_.name, t.index)) << pid << '\n';
+    running_[pid] = {t.index, slot, std::chrono::steady_clock::now(), marker};
+    writeRunningMarker(marker, pid);
   }
 
   /// Waits for one task to end and checks its output, reading the running tasks' peak memory meanwhile; a signal
@@ -223,8 +230,7 @@ class StageRun {
                                    cpuSeconds(usage), peak, exitCodeOf(status), false};
     stopper_.forget(it->second.slot);
     free_slots_.push_back(it->second.slot);
-    std::error_code ec;
-    fs::remove(runningMarker(dir_, stage_.name, t.index), ec);
+    removeRunningMarker(it->second.marker);
     running_.erase(it);
     if (stopper_.signal()) return;  // stopped: the task did not fail, it was ended
     ++finished_;
@@ -263,6 +269,7 @@ class StageRun {
     std::uint64_t task;
     std::size_t slot;
     std::chrono::steady_clock::time_point started;
+    RunningMarker marker;
     std::uint64_t peak_bytes = 0;  ///< the largest VmHWM read while it ran
   };
   const ClusterStage& stage_;
@@ -297,25 +304,22 @@ std::size_t runStage(const ClusterStage& stage, const std::vector<std::uint64_t>
 }  // namespace
 
 namespace {
-/// The running markers of an earlier run (`STAGE-N.pid`, a PID): removed; any other entry stays.
-void removeStaleMarkers(const fs::path& running) {
-  std::error_code ec;
-  std::vector<fs::path> markers;
-  for (fs::directory_iterator it(running, ec), end; !ec && it != end; it.increment(ec)) {
-    long pid = 0;
-    if (it->path().extension() == ".pid" && fs::is_regular_file(fs::symlink_status(it->path(), ec)) &&
-        std::ifstream(it->path()) >> pid && pid > 0)
-      markers.push_back(it->path());
-  }
-  for (const auto& m : markers) fs::remove(m, ec);
-}
-
 /// Before any task starts: a user's file at the log's name of a task to run stops run-local (requireOwnTaskLog).
 void requireOwnTaskLogs(const ClusterPlan& plan, const std::vector<std::vector<std::uint64_t>>& torun,
                         const fs::path& dir) {
   for (std::size_t s = 0; s < plan.stages.size(); ++s)
     for (const std::uint64_t id : torun[s])
       (void)requireOwnTaskLog(logOf(dir, plan.stages[s], plan.stages[s].tasks[id]));
+}
+
+/// Before any task starts: an entry at the running marker's name of a task to run, once occsweep's own stale markers
+/// are gone, is a user's (removeStaleMarkers), and stops run-local.
+void requireNoForeignMarkers(const ClusterPlan& plan, const std::vector<std::vector<std::uint64_t>>& torun,
+                             const fs::path& dir) {
+  for (std::size_t s = 0; s < plan.stages.size(); ++s)
+    for (const std::uint64_t id : torun[s])
+      if (const fs::path m = runningMarker(dir, plan.stages[s].name, id); fs::exists(fs::symlink_status(m)))
+        throw std::runtime_error(foreignMarkerMessage(m));
 }
 }  // namespace
 
@@ -326,10 +330,11 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
   fs::create_directories(dir / "running");
   const PlanLock lock(dir);
   refuseLiveTasks(plan, dir);
-  removeStaleMarkers(dir / "running");  // none is live
+  removeStaleMarkers(dir);  // none is live
   // Otherwise what is done is what is on disk.
   const auto torun = tasksToRun(plan, planStatus(plan, dir, {}, {}));
   requireOwnTaskLogs(plan, torun, dir);
+  requireNoForeignMarkers(plan, torun, dir);
   if (fs::is_symlink(fs::symlink_status(dir / "measured.jsonl")))  // before any task starts
     throw std::runtime_error((dir / "measured.jsonl").string() + ": is a symbolic link: occsweep never writes through "
                              "one; remove it");

@@ -100,8 +100,8 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t r = 0; r < sets.size(); ++r) {
     const fs::path link = fs::relative(sets[r].path, target);
-    fs::create_directory_symlink(link, tmp / sets[r].folder);
-    fs::create_directory_symlink(link, tmp / ("rank-" + std::to_string(r + 1)));
+    makeSymlinkChecked(link, tmp / sets[r].folder);
+    makeSymlinkChecked(link, tmp / ("rank-" + std::to_string(r + 1)));
     list.push_back({{"rank", r + 1}, {"id", sets[r].id}, {"folder", sets[r].folder}, {"path", link.string()}});
   }
   // Written in the temporary folder directly: an interrupt that removed the folder makes this write fail, where

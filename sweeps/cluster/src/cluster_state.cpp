@@ -1,5 +1,6 @@
 // Task status from outputs on disk and Slurm's records, and which tasks a resubmission must run.
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/eval/ownership.hpp"
 #include "occsweep/eval/process_stat.hpp"
 #include "occsweep/sweeps/cluster_state.hpp"
 #include "occsweep/sweeps/merge.hpp"
@@ -22,6 +24,55 @@ namespace fs = std::filesystem;
 
 fs::path runningMarker(const fs::path& dir, const std::string& stage, std::uint64_t task) {
   return dir / "running" / (stage + "-" + std::to_string(task) + ".pid");
+}
+
+std::string foreignMarkerMessage(const fs::path& marker) {
+  return marker.string() + ": exists and is not a running marker occsweep can prove it made (a file of yours, or one a "
+         "killed run-local left where occsweep's ledger could not be written): occsweep never removes it; once no task "
+         "of the plan runs, remove it yourself";
+}
+
+RunningMarker createRunningMarker(const fs::path& dir, const std::string& stage, std::uint64_t task) {
+  RunningMarker m{runningMarker(dir, stage, task)};
+  claimMadeEntry(m.path);  // before it is made: whenever a kill comes, the next run proves the marker its own
+  const int fd = ::open(m.path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  struct stat made {};
+  if (fd < 0 || ::fstat(fd, &made) != 0) {
+    const int e = errno;
+    if (fd >= 0) ::close(fd);
+    forgetMadeEntry(m.path);  // the claim would prove the name of what stands there
+    throw std::runtime_error(e == EEXIST ? foreignMarkerMessage(m.path) : m.path.string() + ": " + std::strerror(e));
+  }
+  ::close(fd);
+  m.device = made.st_dev, m.inode = made.st_ino;
+  recordMadeEntry(m.path);  // its inode and birth time: a file put at its name later is another entry
+  return m;
+}
+
+void writeRunningMarker(const RunningMarker& marker, pid_t pid) {
+  const int fd = ::open(marker.path.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
+  struct stat now {};
+  if (fd < 0) return;  // removed meanwhile: the task runs without one, as one killed before it was written
+  const std::string text = std::to_string(pid) + "\n";
+  const bool same = ::fstat(fd, &now) == 0 && now.st_dev == marker.device && now.st_ino == marker.inode;
+  if (same) (void)!::write(fd, text.data(), text.size());  // a marker without its pid only hides a live task
+  ::close(fd);
+}
+
+void removeRunningMarker(const RunningMarker& marker) {
+  struct stat now {};
+  if (::lstat(marker.path.c_str(), &now) != 0 || now.st_dev != marker.device || now.st_ino != marker.inode) return;
+  std::error_code ec;
+  if (fs::remove(marker.path, ec)) forgetMadeEntry(marker.path);
+}
+
+void removeStaleMarkers(const fs::path& dir) {
+  std::error_code ec;
+  std::vector<fs::path> markers;
+  for (fs::directory_iterator it(dir / "running", ec), end; !ec && it != end; it.increment(ec))
+    if (isRecordedMadeEntry(it->path())) markers.push_back(it->path());
+  for (const auto& m : markers)
+    if (fs::remove(m, ec)) forgetMadeEntry(m);
 }
 
 pid_t liveLocalTask(const fs::path& dir, const std::string& stage, std::uint64_t task) {

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/sweeps/results_file.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 #include "sweep_internal.hpp"
@@ -69,6 +70,23 @@ std::optional<ResultsFile> completeSameWork(const SweepConfig& c, const ResultsH
   return old;
 }
 
+// The twin at `observable_out`, when it is to be written: nothing, or occsweep's results of this same work (a kill
+// came between the two renames), or with --force occsweep's results of other work. A user's file is refused even
+// then (checkOutputTarget), like `--out` (completeSameWork).
+void requireTwinReplaceable(const SweepConfig& c, const ResultsHeader& h) {
+  checkOutputTarget(c.observable_out, true, resultsOutput());
+  std::error_code ec;
+  if (c.force || !fs::exists(fs::symlink_status(c.observable_out, ec))) return;
+  std::string why = "it cannot be read";
+  try {
+    if (sameWork(readResultsHeader(c.observable_out).header, twinHeader(h), true, &why)) return;
+  } catch (const std::exception& e) {
+    why = e.what();
+  }
+  throw std::runtime_error(c.observable_out.string() + ": holds results of other work (" + why +
+                           "); --force replaces it, or choose another --out");
+}
+
 // The same sweep's own complete JSON file (and twin) is returned as it is. The twin too replaces only occsweep's own
 // results (a user's file there is refused before any work).
 std::optional<ResultsFile> checkOutputs(const SweepConfig& c, const ResultsHeader& h) {
@@ -80,7 +98,7 @@ std::optional<ResultsFile> checkOutputs(const SweepConfig& c, const ResultsHeade
     if (isOwnPartialLog(partial, h)) fs::remove(partial, ec);
     return old;
   }
-  if (hasTwin(c)) checkOutputTarget(c.observable_out, true, resultsOutput());
+  if (hasTwin(c)) requireTwinReplaceable(c, h);
   return std::nullopt;
 }
 

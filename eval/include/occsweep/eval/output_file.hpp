@@ -163,8 +163,14 @@ void writeFileAtomically(const std::filesystem::path& target, std::string_view b
 /// `j` as `file`, one space of indent and a final newline, atomically: every JSON output of occsweep.
 void writeJsonAtomically(const nlohmann::json& j, const std::filesystem::path& file);
 
-/// `bytes` as `file` directly, every write checked: for files inside an OutputFolder's temporary folder.
+/// `bytes` as `file` directly, every write checked: for files inside an OutputFolder's temporary folder. Inside one,
+/// the file is recorded as the folder's content (ownership.hpp), as are the entries of the two below: after a kill,
+/// the next run removes the folder with what it proves occsweep made there, and nothing else.
 void writeFileChecked(const std::filesystem::path& file, std::string_view bytes);
+/// A folder made at `folder` (mkdir, checked: OutputError naming it), recorded as writeFileChecked's files are.
+void makeFolderChecked(const std::filesystem::path& folder);
+/// A symbolic link at `link` to `points_to` (checked: OutputError naming it), recorded as writeFileChecked's files are.
+void makeSymlinkChecked(const std::filesystem::path& points_to, const std::filesystem::path& link);
 
 /// Removes every registered temporary then exits 128 + signal on SIGINT, SIGTERM or SIGHUP; makes SIGXFSZ a
 /// write error (EFBIG) instead of a kill. Call once at the start of main(). A SIGKILL cannot be caught: the next

@@ -34,6 +34,15 @@ struct TemporaryClaim {
 /// leaves a record without them, which proves the folder and the name only.
 void recordTemporaryMade(const TemporaryClaim& claim);
 
+/// Adds to a temporary folder's record, before it is made, an entry the folder will hold (`relative` to it): a
+/// killed run's folder is removed only when every entry in it is one its record lists, and each listed entry is
+/// the one made there (recordTemporaryContentMade); a kill between the two lines leaves an entry proven by its name.
+void recordTemporaryContent(const TemporaryClaim& claim, const std::filesystem::path& relative);
+
+/// Adds to a temporary folder's record the inode and birth time of the entry at `relative` once it is whole, and a
+/// file's size and modification time: one a user wrote into since is theirs.
+void recordTemporaryContentMade(const TemporaryClaim& claim, const std::filesystem::path& relative);
+
 /// Drops the ledger record of a temporary that was committed or removed.
 void releaseTemporary(const TemporaryClaim& claim);
 
@@ -45,11 +54,14 @@ void releaseTemporary(const TemporaryClaim& claim);
 /// and start time. A record of another host or PID namespace (a shared home folder) never proves it gone.
 [[nodiscard]] bool isStaleTemporaryOf(const std::filesystem::path& entry, const std::filesystem::path& target);
 
-/// Removes a temporary at `path` (a file, or a folder with what it holds) and SQLite's rollback journal named after
-/// it (`path-journal`, what a kill of a store being written there leaves); false when `path` could not be removed.
+/// Removes a temporary of this run at `path` (a file, or a folder with what it holds) and SQLite's rollback journal
+/// named after it (`path-journal`, what a kill of a store being written there leaves); false when `path` could not be
+/// removed.
 bool removeTemporaryEntry(const std::filesystem::path& path) noexcept;
 
-/// Removes `entry` (removeTemporaryEntry) and its record when isStaleTemporaryOf; true if it did.
+/// Removes `entry` and its record when isStaleTemporaryOf; true if it did. A folder goes with what its record proves
+/// it held (recordTemporaryContent); an entry it does not prove (a user's file moved in after the kill) stays, with
+/// the folders on its way, and a warning names the folder, which is the user's from then on.
 bool removeStaleTemporary(const std::filesystem::path& entry, const std::filesystem::path& target);
 
 /// Records an output occsweep has just committed whose format has no field of its own to carry a mark (CSV, Markdown
@@ -61,5 +73,20 @@ void recordTextOutput(const std::filesystem::path& file);
 /// True when `file` holds exactly the bytes occsweep recorded for this entry (recordTextOutput), whatever way its path
 /// is spelt: a file a user wrote, a copy of occsweep's, or occsweep's edited by hand, is not occsweep's to replace.
 [[nodiscard]] bool isRecordedTextOutput(const std::filesystem::path& file);
+
+/// Records, before it is made, an entry occsweep makes at a fixed name and fills later (a run-local task's running
+/// marker, which gets the task's pid once the task starts): its entry (entryIdentity), in the ledger's `made/`
+/// folder. recordMadeEntry adds its own inode and birth time once made; a kill between the two leaves a record that
+/// proves the folder and the name only (as for temporaries). Its bytes are not part of the proof: occsweep changes
+/// them. Records of entries gone or replaced are dropped when the next one is written; nothing is recorded where the
+/// ledger cannot be written.
+void claimMadeEntry(const std::filesystem::path& entry);
+void recordMadeEntry(const std::filesystem::path& entry);
+
+/// True when `entry` is the very entry recorded at that place (a file put there since is another).
+[[nodiscard]] bool isRecordedMadeEntry(const std::filesystem::path& entry);
+
+/// Drops the record of an entry occsweep removed.
+void forgetMadeEntry(const std::filesystem::path& entry);
 
 }  // namespace occsweep
