@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/results.hpp"
@@ -139,11 +140,18 @@ TEST_CASE("plot writes PNG, PDF or SVG by --out's ending, refuses any other befo
     CHECK(r.output.find("a figure is PNG, PDF or SVG") != std::string::npos);
     CHECK_FALSE(fs::exists(dir / other));
   }
-  // One colour per method: range-octomap's (#CC79A7, docs/statistics.md) in each figure that draws it.
+  // One colour per method: range-octomap's (#CC79A7, docs/statistics.md) in each figure that draws it, and each
+  // method's whole style (colour, marker, line) read back from every figure's data the same.
+  std::optional<json> first_styles;
   for (const std::string kind : {"curves", "budget", "improvement"}) {
-    const auto r = test::runIn(dir, "plot " + kind + files + " --out " + kind + ".svg");
+    const auto r = test::runIn(dir, "plot " + kind + files + " --out " + kind + ".svg --json " + kind + ".json");
     INFO(kind << ": " << r.output);
     REQUIRE(r.exit_code == 0);
+    const json styles = readJsonFile(dir / (kind + ".json")).at("style").at("methods");
+    for (const char* method : {"octomap", "knn", "range-octomap"}) CHECK(styles.contains(method));
+    if (!first_styles) first_styles = styles;
+    CHECK(styles == *first_styles);
+    CHECK(styles.at("range-octomap").at("colour") == "#CC79A7");
     std::string svg = test::bytesOf(dir / (kind + ".svg"));
     std::transform(svg.begin(), svg.end(), svg.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     CHECK(svg.find("#cc79a7") != std::string::npos);  // range-octomap
