@@ -48,7 +48,9 @@ nlohmann::json parseJsonTextUniqueKeys(std::string_view text, const std::filesys
 }
 
 nlohmann::json readJsonFile(const std::filesystem::path& file) {
-  return parseJsonText(readFileBytes(file), file);  // readFileBytes refuses folders and FIFOs by name
+  // readFileBytes refuses folders and FIFOs by name. A key given twice is refused: JSON keeps the last, another
+  // reader (a script, a person) the first, so two readers would see two files (docs/results-format.md).
+  return parseJsonTextUniqueKeys(readFileBytes(file), file);
 }
 namespace fs = std::filesystem;
 

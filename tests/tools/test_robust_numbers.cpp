@@ -343,6 +343,20 @@ TEST_CASE("results check and compare refuse results files that claim more than t
   e["selection"]["group"] = {{"index", 0}, {"count", ~std::uint64_t(0)}, {"seed", 0}};
   refusedEdit("group_count_max", e, {"selection.group.count"});
 
+  // A key given twice in one object: JSON keeps the last, another reader the first (old binary: passed, and compare
+  // printed the last value while the file showed a first of 0.99).
+  {
+    const fs::path file = fx.dir / "duplicate_key.json";
+    std::string text = test::bytesOf(fx.octomap);
+    const std::string anchored = "\"anchored\": ";
+    const std::size_t at = text.find(anchored);
+    REQUIRE(at != std::string::npos);
+    text.insert(at, anchored + "0.99, ");
+    std::ofstream(file, std::ios::trunc) << text;
+    requireRefused(run("results check " + file.string()), {"duplicate_key.json", "auc.anchored", "key given twice"});
+    requireRefused(run("compare " + file.string() + " " + fx.knn.string()), {"duplicate_key.json", "key given twice"});
+  }
+
   // Counts that agree with each other but not with the data set: only the data set can tell.
   auto r = run("results check " + fx.octomap.string() + " --dataset " + fx.wall.string());
   INFO(r.output);
