@@ -276,14 +276,6 @@ TemporaryClaim claimTemporary(const fs::path& target) {
   return c;
 }
 
-void recordTemporaryMade(const TemporaryClaim& claim) {
-  if (!claim.recorded) return;
-  const std::string made = madeIdentity(claim.path);
-  if (made.empty()) return;
-  std::ofstream out(ownershipLedger() / claim.token, std::ios::app);
-  out << made << '\n';
-}
-
 namespace {
 // Appends a line to a live record; never creates one (an interrupt's cleaner may have released it meanwhile).
 void appendToRecord(const TemporaryClaim& claim, const std::string& line) {
@@ -293,6 +285,13 @@ void appendToRecord(const TemporaryClaim& claim, const std::string& line) {
   ::close(fd);
 }
 }  // namespace
+
+void recordTemporaryMade(const TemporaryClaim& claim) {
+  if (!claim.recorded) return;
+  const std::string made = madeIdentity(claim.path);
+  if (!made.empty()) appendToRecord(claim, made + "\n");
+}
+
 
 void recordTemporaryContent(const TemporaryClaim& claim, const fs::path& relative) {
   if (claim.recorded) appendToRecord(claim, "holds " + contentKey(relative) + "\n");

@@ -110,6 +110,13 @@ int waitExit(pid_t pid) {
   return status;
 }
 
+/// What planWith plans over: the data sets A and B (seeds 1 and 2) and grids/small.json, in `dir`.
+void makePlanInputs(const fs::path& dir) {
+  makeScene(dir / "A", 1);
+  makeScene(dir / "B", 2);
+  writeSmallGrid(dir / "grids" / "small.json");
+}
+
 std::string planWith(const std::string& plan, const std::string& extra = "") {
   return "cluster plan --out " + plan + " --experiment sweep --dataset A B --grid grids/small.json:2" + extra;
 }
@@ -132,9 +139,7 @@ TEST_CASE("the survivor check sees a running process as running and a reaped one
 
 TEST_CASE("cluster plan --experiment sweep takes user data-set folders without --sets, and relative grid paths") {
   const fs::path dir = test::scratch("robust-cluster-plan");
-  makeScene(dir / "A", 1);
-  makeScene(dir / "B", 2);
-  writeSmallGrid(dir / "grids" / "small.json");
+  makePlanInputs(dir);
   auto r = test::runIn(dir, planWith("p"));
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
@@ -154,9 +159,7 @@ TEST_CASE("cluster plan --experiment sweep takes user data-set folders without -
 
 TEST_CASE("status sees run-local's running shards, a second run-local is refused, SIGKILL ends the tasks too") {
   const fs::path dir = test::scratch("robust-cluster-running");
-  makeScene(dir / "A", 1);
-  makeScene(dir / "B", 2);
-  writeSmallGrid(dir / "grids" / "small.json");
+  makePlanInputs(dir);
   // Every task starts 10 s late (bash's read with a timeout, then exec: one process, which keeps the death signal).
   const fs::path slow = dir / "slow-occsweep.sh";
   std::ofstream(slow) << "#!/bin/bash\nread -t 10 <> <(:)\nexec " << test::cliUnderTest() << " \"$@\"\n";
@@ -192,9 +195,7 @@ TEST_CASE("status sees run-local's running shards, a second run-local is refused
 
 TEST_CASE("run-local killed 24 times at random moments: no task survives, no output is partial, same numbers") {
   const fs::path dir = test::scratch("robust-cluster-kills");
-  makeScene(dir / "A", 1);
-  makeScene(dir / "B", 2);
-  writeSmallGrid(dir / "grids" / "small.json");
+  makePlanInputs(dir);
   REQUIRE(test::runIn(dir, planWith("whole")).exit_code == 0);
   const fs::path whole = dir / "whole", killed = dir / "killed";
 
@@ -309,9 +310,7 @@ TEST_CASE("a grid named ../../../victim or a plan output outside the plan folder
 TEST_CASE("run-local removes only the running markers it recorded, never a user's file named like one") {
   // Old binary: every regular `running/*.pid` holding a number was removed, the user's too, exit 0.
   const fs::path dir = test::scratch("robust-cluster-markers");
-  makeScene(dir / "A", 1);
-  makeScene(dir / "B", 2);
-  writeSmallGrid(dir / "grids" / "small.json");
+  makePlanInputs(dir);
   REQUIRE(test::runIn(dir, planWith("p")).exit_code == 0);
   const fs::path running = dir / "p" / "running";
   fs::create_directories(running);

@@ -299,40 +299,6 @@ TEST_CASE("a killed run's temporary is known by its folder's identity, never by 
   CHECK(fs::exists(in_remade / "manifest.json"));
 }
 
-TEST_CASE("a killed run's temporary that the user replaced at its name by another entry stays, and its record goes",
-          "[ownership]") {
-  // Old binary: the record proved the folder and the name only, so the user's entry restored at that name was removed.
-  const fs::path dir = scratch("ownership/replaced_temporary");
-  const fs::path state = dir / "state", ledger = state / "temporaries";
-  const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(state);
-  const std::string slow = "scene --scans 200 --width 320 --height 240 --out w";  // 15 M rays, seconds
-  // A real run, SIGKILLed once its temporary folder holds its first files.
-  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && " + env + " exec " + shellQuoted(cliUnderTest()) + " " +
-                               slow + " >/dev/null 2>&1");
-  fs::path left;
-  for (int i = 0; i < 3000 && left.empty(); ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    for (const auto& e : fs::directory_iterator(dir))
-      if (e.path().filename().string().starts_with(".w.tmp-") && fs::exists(e.path() / "scans")) left = e.path();
-  }
-  ::kill(pid, SIGKILL);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  REQUIRE(!left.empty());
-  REQUIRE(entriesOf(ledger).size() == 1);
-  // The user keeps what it wrote: a copy made aside, the leftover removed, the copy put back under its name.
-  fs::copy(left, dir / "kept", fs::copy_options::recursive);
-  fs::remove_all(left);
-  fs::rename(dir / "kept", left);
-  const std::set<std::string> before = entriesOf(left / "scans");
-  const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out w", env);
-  INFO(r.output);
-  REQUIRE(r.exit_code == 0);
-  CHECK(fs::is_directory(left / "scans"));
-  CHECK(entriesOf(left / "scans") == before);
-  CHECK(entriesOf(ledger).empty());  // the record proves nothing now: pruned
-}
-
 /// A real `scene` run SIGKILLed once its temporary folder holds its first files, in `dir`: that folder.
 fs::path killedSceneFolder(const fs::path& dir, const std::string& env) {
   const std::string slow = "scene --scans 200 --width 320 --height 240 --out w";  // 15 M rays, seconds
@@ -350,6 +316,28 @@ fs::path killedSceneFolder(const fs::path& dir, const std::string& env) {
   int status = 0;
   ::waitpid(pid, &status, 0);
   return left;
+}
+
+TEST_CASE("a killed run's temporary that the user replaced at its name by another entry stays, and its record goes",
+          "[ownership]") {
+  // Old binary: the record proved the folder and the name only, so the user's entry restored at that name was removed.
+  const fs::path dir = scratch("ownership/replaced_temporary");
+  const fs::path state = dir / "state", ledger = state / "temporaries";
+  const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(state);
+  const fs::path left = killedSceneFolder(dir, env);
+  REQUIRE(!left.empty());
+  REQUIRE(entriesOf(ledger).size() == 1);
+  // The user keeps what it wrote: a copy made aside, the leftover removed, the copy put back under its name.
+  fs::copy(left, dir / "kept", fs::copy_options::recursive);
+  fs::remove_all(left);
+  fs::rename(dir / "kept", left);
+  const std::set<std::string> before = entriesOf(left / "scans");
+  const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out w", env);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(fs::is_directory(left / "scans"));
+  CHECK(entriesOf(left / "scans") == before);
+  CHECK(entriesOf(ledger).empty());  // the record proves nothing now: pruned
 }
 
 TEST_CASE("a killed run's temporary folder goes with what occsweep made in it, never with a user's entry moved in",
