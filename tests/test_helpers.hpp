@@ -39,6 +39,21 @@ inline std::vector<std::filesystem::path> filesUnder(const std::filesystem::path
   return out;
 }
 
+/// `text` with every line break and the indentation after it removed: a path or name that `occsweep compare` cut
+/// at the ends of its 100-column lines reads whole again (docs/statistics.md, "In occsweep compare"), wherever the
+/// build tree, and so the test's folder, lies.
+inline std::string joinedLines(const std::string& text) {
+  std::string out;
+  for (std::size_t at = 0; at < text.size(); ++at) {
+    if (text[at] != '\n') {
+      out += text[at];
+      continue;
+    }
+    while (at + 1 < text.size() && text[at + 1] == ' ') ++at;
+  }
+  return out;
+}
+
 /// A fresh folder under the build tree, removed first if it exists.
 inline std::filesystem::path scratch(const std::string& name) {
   const auto dir = occsweep::test::buildTree() / "test-scratch" / name;

@@ -21,6 +21,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <thread>
+#include <utility>
 #include <vector>
 #include <unistd.h>
 
@@ -45,6 +46,21 @@ std::map<fs::path, TemporaryClaim>& registry() {
   return *claims;
 }
 
+// The device and inode of the entry at `path` itself (not what a link there points to); {0, 0} when it cannot be read.
+std::pair<dev_t, ino_t> entryNumbers(const fs::path& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) return {0, 0};
+  return {st.st_dev, st.st_ino};
+}
+
+// The entry each live temporary was made as: an interrupt removes a temporary only while that entry stands at its
+// name. A user's entry is there for a moment when an exchange that put occsweep's output in place is being undone
+// (a partial output's, sweep_partial.cpp), and is never the cleaner's to remove.
+std::map<fs::path, std::pair<dev_t, ino_t>>& madeEntries() {
+  static auto* made = new std::map<fs::path, std::pair<dev_t, ino_t>>;
+  return *made;
+}
+
 // Registers `c` and makes its entry (an empty file, opened for writing, or an empty folder) in one step under the
 // registry's lock, which an interrupt's cleaner holds until _exit (cleanOnInterrupt): the entry exists when the
 // cleaner looks, and is removed, or is never made. Made after the lock is released, it could appear just after the
@@ -56,6 +72,7 @@ int registerAndCreate(const TemporaryClaim& c, TemporaryKind kind) {
                                              : ::mkdir(c.path.c_str(), 0777);
   if (fd < 0) return fd;
   registry()[c.path] = c;
+  madeEntries()[c.path] = entryNumbers(c.path);
   recordTemporaryMade(c);
   return fd;
 }
@@ -64,7 +81,22 @@ int registerAndCreate(const TemporaryClaim& c, TemporaryKind kind) {
 void unregisterTemporary(const TemporaryClaim& c) {
   std::lock_guard lock(registryMutex());
   registry().erase(c.path);
+  madeEntries().erase(c.path);
   releaseTemporary(c);
+}
+
+// Whether the entry this run made as its temporary `path` still stands there: not when a user's entry is at its name
+// (one exchanged there a moment ago, or put there while the run went on), nor once it was committed, kept or removed.
+// Called under registryMutex.
+bool madeEntryStands(const fs::path& path) {
+  const auto made = madeEntries().find(path);
+  return made != madeEntries().end() && made->second == entryNumbers(path);
+}
+
+// madeEntryStands, taking the lock.
+bool isMadeEntry(const fs::path& path) {
+  std::lock_guard lock(registryMutex());
+  return madeEntryStands(path);
 }
 
 // What an interrupt prints before the exit (setInterruptMessage); read by the cleaner under the registry's lock.
@@ -109,8 +141,13 @@ void cleanOnInterrupt() {
     ::kill(pid, SIGKILL);
     ::waitpid(pid, nullptr, 0);
   }
-  for (const auto& [path, claim] : registry())
+  for (const auto& [path, claim] : registry()) {
+    if (!madeEntryStands(path)) {
+      releaseTemporary(claim);  // another entry at its name (or none): not occsweep's to remove, now or later
+      continue;
+    }
     if (removeTemporaryEntry(path)) releaseTemporary(claim);  // a record stays for what could not be removed
+  }
   const std::string& message = interruptMessage();
   for (std::size_t done = 0; done < message.size();) {
     const ssize_t n = ::write(2, message.data() + done, message.size() - done);
@@ -228,6 +265,23 @@ void requireAsChecked(const fs::path& target, const TargetState& checked, const 
   if (!sameEntry(checked, now)) appeared(target, "was changed");
 }
 
+// The user's folder, exchanged out of `target` after it changed meanwhile, goes back. Where the file system refuses
+// the second exchange it stays at the temporary's name, no longer occsweep's to remove: dropped from the registry
+// and the ledger (so neither an interrupt nor the next run removes it) and named. Called under registryMutex.
+[[noreturn]] void exchangeBack(const fs::path& temporary, const fs::path& target) {
+  if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) == 0)
+    appeared(target, "was changed");
+  const int e = errno;
+  if (const auto claim = registry().find(temporary); claim != registry().end()) {
+    releaseTemporary(claim->second);
+    registry().erase(claim);
+  }
+  madeEntries().erase(temporary);
+  throw OutputConflict(userVisible(target) + ": was changed while occsweep was writing it, and could not be put " +
+                       "back (" + std::strerror(e) + "): what stood there is now at " + temporary.string() +
+                       ", occsweep's new output at " + userVisible(target) + "; occsweep removes neither");
+}
+
 void placeOutput(const fs::path& temporary, const fs::path& target, const TargetState& checked, bool folder) {
   const TargetState now = stateOf(target);
   std::error_code ec;
@@ -240,10 +294,7 @@ void placeOutput(const fs::path& temporary, const fs::path& target, const Target
     // Swapped in one step: no moment without either the old or the new folder. The old one, now under the
     // registered temporary name, is removed only if every entry in it is still occsweep's; else swapped back.
     if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) == 0) {
-      if (checked.is_own && !checked.is_own(temporary)) {
-        ::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE);
-        appeared(target, "was changed");
-      }
+      if (checked.is_own && !checked.is_own(temporary)) exchangeBack(temporary, target);
       fs::remove_all(temporary, ec);
       return;
     }
@@ -500,7 +551,7 @@ OutputFile::OutputFile(const fs::path& target) : target_(outputTarget(target)) {
 
 OutputFile::~OutputFile() {
   if (buffer_ && buffer_->fd >= 0) ::close(buffer_->fd);
-  if (!committed_) {
+  if (!committed_ && isMadeEntry(temporary_)) {
     std::error_code ec;
     fs::remove(temporary_, ec);
   }
@@ -549,7 +600,7 @@ OutputFolder::OutputFolder(const fs::path& target) : target_(outputTarget(target
 }
 
 OutputFolder::~OutputFolder() {
-  if (!committed_) {
+  if (!committed_ && isMadeEntry(temporary_)) {  // not one exchangeBack left holding a user's folder
     std::error_code ec;
     fs::remove_all(temporary_, ec);
   }
@@ -579,8 +630,13 @@ ClaimedTemporary::ClaimedTemporary(const fs::path& target, TemporaryKind kind) {
 }
 
 ClaimedTemporary::~ClaimedTemporary() {
-  removeTemporaryEntry(claim_.path);
+  if (!kept_ && isMadeEntry(claim_.path)) removeTemporaryEntry(claim_.path);
   unregisterTemporary(claim_);
+}
+
+void ClaimedTemporary::keep() {
+  unregisterTemporary(claim_);
+  kept_ = true;
 }
 
 // ---- one-call writers ----

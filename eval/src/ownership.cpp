@@ -3,6 +3,7 @@
 #include "occsweep/eval/fnv1a.hpp"
 #include "occsweep/eval/process_stat.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -76,6 +77,25 @@ fs::path canonicalEntry(const fs::path& path) {
   const fs::path absolute = fs::absolute(path, ec).lexically_normal();
   const fs::path folder = fs::canonical(absolute.parent_path(), ec);
   return ec ? absolute : folder / absolute.filename();
+}
+
+// A path as one line of a record: '\' and a line break escaped ("\\", "\n"), so that a folder or name holding a
+// line break (a legal byte in a name) neither splits the record nor moves its other lines.
+std::string recordLine(const fs::path& path) {
+  std::string line;
+  for (const char c : path.string()) line += c == '\\' ? "\\\\" : c == '\n' ? "\\n" : std::string(1, c);
+  return line;
+}
+
+// recordLine read back. Any other '\' stays as it is: a record an older occsweep wrote unescaped reads the same
+// unless its path held a '\' before an 'n' or another '\'.
+fs::path recordPath(const std::string& line) {
+  std::string path;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const bool escape = line[i] == '\\' && i + 1 < line.size() && (line[i + 1] == '\\' || line[i + 1] == 'n');
+    path += escape ? (line[++i] == 'n' ? '\n' : '\\') : line[i];
+  }
+  return path;
 }
 
 // An entry's birth time as a record holds it, "-" where the file system keeps none (then the inode alone tells
@@ -184,7 +204,7 @@ std::optional<LedgerRecord> readRecord(const fs::path& ledger, const std::string
   std::string path;
   if (!std::getline(in, r.process) || !std::getline(in, path) || !std::getline(in, r.machine)) return std::nullopt;
   std::getline(in, r.entry);  // "" in a record of an occsweep that kept no identity: it proves nothing
-  r.path = path;
+  r.path = recordPath(path);
   // "made" absent when a kill came between the making and its record, or from an older occsweep
   for (std::string line; std::getline(in, line);) {
     if (line.starts_with("made ")) r.made = line;
@@ -269,7 +289,7 @@ TemporaryClaim claimTemporary(const fs::path& target) {
   if (identity.empty()) return c;  // its folder cannot be read: nothing would prove the temporary occsweep's later
   pruneLedger(ledger);
   std::ofstream out(ledger / c.token, std::ios::trunc);
-  out << processIdentity(::getpid()) << '\n' << canonicalEntry(c.path).string() << '\n' << machineLine(thisMachine())
+  out << processIdentity(::getpid()) << '\n' << recordLine(canonicalEntry(c.path)) << '\n' << machineLine(thisMachine())
       << '\n' << identity << '\n';
   out.flush();
   c.recorded = bool(out);
@@ -436,7 +456,7 @@ namespace {
 // and canonicalEntry. Named by the hash of the identity, so that any spelling of the output's path finds it.
 struct TextOutputRecord {
   fs::path file;  ///< the record's own file in the ledger
-  std::string identity, size, hash, path;
+  std::string identity, size, hash, path;  ///< path: recordLine of its canonicalEntry
 };
 
 fs::path outputsLedger() {
@@ -467,7 +487,7 @@ std::optional<TextOutputRecord> textOutputNow(const fs::path& file) {
     return std::nullopt;
   }
   return TextOutputRecord{outputs / name.hex(), identity, std::to_string(fs::file_size(file, ec)), content.hex(),
-                          canonicalEntry(file).string()};
+                          recordLine(canonicalEntry(file))};
 }
 
 // A record an occsweep before entry identities wrote: named by the hash of the output's absolute path, whose first
@@ -491,7 +511,7 @@ void pruneTextOutputs(const fs::path& outputs) {
       if (unfinishedRecord(it->path())) fs::remove(it->path(), missing);  // it proves nothing: the file is the user's
       continue;
     }
-    const fs::path where = r->path.empty() ? fs::path(r->identity) : fs::path(r->path);  // a legacy record: its path
+    const fs::path where = r->path.empty() ? fs::path(r->identity) : recordPath(r->path);  // a legacy record: its path
     const bool gone = !fs::exists(fs::symlink_status(where, missing));
     if (gone || (!r->path.empty() && entryIdentity(where) != r->identity)) fs::remove(it->path(), missing);
   }
@@ -521,7 +541,8 @@ namespace {
 // claim), its canonicalEntry and the machine (machineLine); named by the hash of the identity, in the ledger's
 // `made/` folder.
 struct MadeEntryRecord {
-  std::string identity, made, path, machine;
+  std::string identity, made, path, machine;  ///< path: recordLine of its canonicalEntry
+  std::string written;  ///< its contentStamp after occsweep's last write (recordMadeEntryWritten); "" before
 };
 
 fs::path madeEntryRecord(const fs::path& entry) {
@@ -539,6 +560,7 @@ std::optional<MadeEntryRecord> readMadeEntryRecord(const fs::path& record) {
   if (!std::getline(in, r.identity) || !std::getline(in, r.made) || !std::getline(in, r.path) ||
       !std::getline(in, r.machine))
     return std::nullopt;
+  std::getline(in, r.written);
   return r;
 }
 
@@ -551,26 +573,30 @@ void pruneMadeEntries(const fs::path& folder) {
     const std::optional<MadeEntryRecord> r = readMadeEntryRecord(it->path());
     std::error_code removed, status;
     if (r && r->machine != machineLine(thisMachine())) continue;
-    const bool gone = !r || !fs::exists(fs::symlink_status(r->path, status));
-    const bool stale = !r || r->made.empty() ? gone && unfinishedRecord(it->path()) : madeIdentity(r->path) != r->made;
+    const fs::path entry = r ? recordPath(r->path) : fs::path();
+    const bool gone = !r || !fs::exists(fs::symlink_status(entry, status));
+    const bool stale = !r || r->made.empty() ? gone && unfinishedRecord(it->path()) : madeIdentity(entry) != r->made;
     if (stale) fs::remove(it->path(), removed);
   }
 }
 
-void writeMadeEntryRecord(const fs::path& entry, const std::string& made) {
+void writeMadeEntryRecord(const fs::path& entry, const std::string& made, const std::string& written = "") {
   const fs::path record = madeEntryRecord(entry);
   if (record.empty()) return;
   std::error_code ec;
   fs::create_directories(record.parent_path(), ec);
-  pruneMadeEntries(record.parent_path());
+  // Once a process: a run-local of thousands of tasks writes four records a task (its log and its running marker,
+  // each claimed and then stamped), and a walk of the folder for each would cost the square of the tasks.
+  static std::atomic<bool> pruned{false};
+  if (!pruned.exchange(true)) pruneMadeEntries(record.parent_path());
   std::ofstream(record, std::ios::trunc) << entryIdentity(entry) << '\n' << made << '\n'
-                                         << canonicalEntry(entry).string() << '\n' << machineLine(thisMachine())
-                                         << '\n';
+                                         << recordLine(canonicalEntry(entry)) << '\n' << machineLine(thisMachine())
+                                         << '\n' << written << '\n';
 }
 
 // A claim proves an entry born within moments of it (a kill came between the making and its stamp), never one put
 // at that name later.
-constexpr auto kClaimMoments = std::chrono::seconds(5);
+constexpr auto kClaimMoments = std::chrono::seconds(1);
 
 bool bornJustAfter(const fs::path& entry, const fs::path& record) {
   struct statx born {}, claimed {};
@@ -591,11 +617,22 @@ void recordMadeEntry(const fs::path& entry) {
   if (!made.empty()) writeMadeEntryRecord(entry, made);
 }
 
+void recordMadeEntryWritten(const fs::path& entry) {
+  const fs::path record = madeEntryRecord(entry);
+  const std::optional<MadeEntryRecord> r = record.empty() ? std::nullopt : readMadeEntryRecord(record);
+  const std::string made = madeIdentity(entry), written = contentStamp(entry);
+  if (r && !made.empty() && r->made == made && !written.empty()) writeMadeEntryRecord(entry, made, written);
+}
+
 bool isRecordedMadeEntry(const fs::path& entry) {
   const fs::path record = madeEntryRecord(entry);
   const std::optional<MadeEntryRecord> r = record.empty() ? std::nullopt : readMadeEntryRecord(record);
   if (!r || r->identity != entryIdentity(entry)) return false;
-  return r->made.empty() ? bornJustAfter(entry, record) : r->made == madeIdentity(entry);
+  if (r->made.empty()) return bornJustAfter(entry, record);
+  if (r->made != madeIdentity(entry)) return false;
+  // Without a birth time ("-") the inode alone names the entry, and a file a user makes there later may be given the
+  // same one: then only the size and modification time of occsweep's last write tell them apart.
+  return !r->made.ends_with(" -") || (!r->written.empty() && r->written == contentStamp(entry));
 }
 
 void forgetMadeEntry(const fs::path& entry) {

@@ -241,8 +241,8 @@ TEST_CASE("a store edited by hand fails results check with the row named") {
     editStore(dir / "r.db", "UPDATE meta SET value = '0' WHERE key = 'complete'");
     CHECK_THAT(checkError(dir / "r.db"), Contains("incomplete"));
   }
-  SECTION("a column renamed, two swapped or one retyped in the schema SQLite keeps (old: passed; readers go by position, "
-          "a user's query by name)") {
+  SECTION("a column renamed, two swapped or one retyped in the schema SQLite keeps (the old binary passed it; readers "
+          "go by position, a user's query by name)") {
     const std::string edit = GENERATE(as<std::string>{}, "'last_id INTEGER NOT NULL', 'last_il INTEGER NOT NULL'",
                                       "'auc_anchored REAL, auc_observed REAL', 'auc_observed REAL, auc_anchored REAL'",
                                       "'seconds REAL', 'seconds TEXT'");

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "../sweeps/engine/src/sweep_internal.hpp"
+#include "exchange_fault.hpp"
 #include "test_helpers.hpp"
 
 namespace fs = std::filesystem;
@@ -69,5 +70,42 @@ TEST_CASE("a --force sweep's new partial output takes the old one's place, never
     CHECK(bytesOf(partial) == "the user's notes\n");
     CHECK(bytesOf(dir / "moved") == "{\"old header\":1}\n");
     CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 2);
+  }
+  SECTION("a user's file at its name by then, and the exchange back refused: put back by a rename, else kept") {
+    // Old code: the exchange back's failure was ignored, and the user's file, left at the temporary's name, was
+    // removed with it.
+    if (!occsweep::test::exchangeSupported(dir)) {
+      WARN("no RENAME_EXCHANGE on this file system: the partial output is renamed, never exchanged");
+      return;
+    }
+    writeText(partial, "{\"old header\":1}\n");
+    const PartialLock old = PartialLock::existing(partial);
+    fs::rename(partial, dir / "moved");
+    writeText(partial, "the user's notes\n");
+    auto temporaries = [&] {
+      std::vector<fs::path> found;
+      for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().filename().string().starts_with(".r.json.partial.jsonl.tmp-")) found.push_back(e.path());
+      return found;
+    };
+    {
+      const occsweep::test::ExchangeFault fault(1, false);
+      CHECK_THROWS_WITH(PartialLock::publish(partial, &old, header),
+                        Catch::Contains("r.json.partial.jsonl: was replaced while occsweep was preparing the sweep"));
+    }
+    CHECK(bytesOf(partial) == "the user's notes\n");
+    CHECK(temporaries().empty());
+    {
+      const occsweep::test::ExchangeFault fault(1, true);
+      CHECK_THROWS_WITH(PartialLock::publish(partial, &old, header),
+                        Catch::Contains("r.json.partial.jsonl: was replaced while occsweep was preparing the "
+                                        "sweep, and could not be put back (exchange: Input/output error; rename: "
+                                        "Input/output error): the file that stood there is now at " +
+                                        (dir / ".r.json.partial.jsonl.tmp-").string()));
+    }
+    const std::vector<fs::path> kept = temporaries();
+    REQUIRE(kept.size() == 1);
+    CHECK(bytesOf(kept[0]) == "the user's notes\n");
+    CHECK(bytesOf(partial) == "{\"new header\":1}\n");  // the sweep's, at the name: named in the message
   }
 }

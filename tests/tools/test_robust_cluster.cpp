@@ -4,6 +4,8 @@
 // OCCSWEEP_TEST_CLI=/path/to/old/occsweep runs the commands of another build.
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <csignal>
 #include <fcntl.h>
@@ -330,6 +332,54 @@ TEST_CASE("run-local removes only the running markers it recorded, never a user'
   CHECK(r.exit_code == 0);
   CHECK(test::bytesOf(running / "notes.pid") == mine);
   CHECK(test::listing(running) == std::vector<std::string>{"notes.pid"});  // its own markers gone with their tasks
+}
+
+TEST_CASE("run-local and status never block on a FIFO, never follow a link out of the plan, never write into a user's "
+          "file at the lock's name, and give tasks one ledger") {
+  const fs::path dir = test::scratch("robust-cluster-fifo");
+  makePlanInputs(dir);
+  REQUIRE(test::runIn(dir, planWith("p")).exit_code == 0);
+  const fs::path running = dir / "p" / "running";
+  fs::create_directories(running);
+  // Old binary: status and run-local opened the marker to read a pid, and waited for a writer forever.
+  REQUIRE(::mkfifo((running / "sweep-0.pid").c_str(), 0600) == 0);
+  const std::string cli = test::shellQuoted(test::cliUnderTest());
+  auto r = test::runShell("cd " + test::shellQuoted(dir) + " && timeout 120 " + cli + " cluster status p 2>&1");
+  INFO(r.output);
+  CHECK(r.exit_code != 124);  // timeout's code: it blocked
+  r = test::runShell("cd " + test::shellQuoted(dir) + " && timeout 120 " + cli + " cluster run-local p 2>&1");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("sweep-0.pid: exists and is not a running marker occsweep can prove it made"));
+  CHECK(fs::is_fifo(fs::symlink_status(running / "sweep-0.pid")));
+  fs::remove(running / "sweep-0.pid");
+  // Old binary: a link at logs/ took the task logs out of the plan folder.
+  fs::create_directories(dir / "elsewhere");
+  fs::remove_all(dir / "p" / "logs");
+  fs::create_directory_symlink("../elsewhere", dir / "p" / "logs");
+  r = test::runIn(dir, "cluster run-local p");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.output, Contains("logs: is a symbolic link"));
+  CHECK(test::listing(dir / "elsewhere").empty());
+  fs::remove(dir / "p" / "logs");
+  // Old binary: a relative OCCSWEEP_STATE_DIR made the tasks, which run in the plan folder, keep a ledger of their
+  // own there.
+  const auto state = std::string("OCCSWEEP_STATE_DIR=") + "relative-state";
+  r = test::runIn(dir, "cluster run-local p", state);
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK_FALSE(fs::exists(dir / "p" / "relative-state"));
+  CHECK(fs::is_directory(dir / "relative-state"));
+  // Old binary: a user's file at the lock's name (here a hard link to their notes) was truncated and given a pid.
+  fs::remove(dir / "p" / "run-local.lock");
+  std::ofstream(dir / "notes.txt") << "the user's notes\n";
+  fs::create_hard_link(dir / "notes.txt", dir / "p" / "run-local.lock");
+  fs::remove_all(dir / "p" / "merged");
+  r = test::runIn(dir, "cluster run-local p", state);  // the ledger that proves the logs of the run before
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(test::bytesOf(dir / "notes.txt") == "the user's notes\n");
 }
 
 // docs/cluster.md: `cluster plan --force` is every command's --force: it replaces occsweep's own earlier plan

@@ -14,6 +14,7 @@
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/results_store.hpp"
+#include "exchange_fault.hpp"
 #include "robust_outputs_helpers.hpp"
 #include "test_paths.hpp"
 
@@ -340,6 +341,51 @@ TEST_CASE("a killed run's temporary that the user replaced at its name by anothe
   CHECK(entriesOf(ledger).empty());  // the record proves nothing now: pruned
 }
 
+TEST_CASE("an interrupted run removes its temporary only while it is the entry the run made there", "[ownership]") {
+  // Old binary: the interrupt's cleaner removed whatever stood at the temporary's name, with all it held: here a
+  // folder of the user's put there while the run went on (as one stands there for the moment an exchange is undone).
+  const fs::path dir = scratch("ownership/interrupt_other_entry");
+  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) +
+                               " scene --scans 200 --width 320 --height 240 --out w > log 2>&1");
+  fs::path temporary;
+  for (int i = 0; i < 3000 && temporary.empty(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().filename().string().starts_with(".w.tmp-") && fs::exists(e.path() / "scans")) temporary = e.path();
+  }
+  ::kill(pid, SIGSTOP);
+  REQUIRE(!temporary.empty());
+  fs::rename(temporary, dir / "moved");
+  fs::create_directories(temporary);
+  writeBytes(temporary / "mine.txt", "the user's\n");
+  ::kill(pid, SIGTERM);
+  ::kill(pid, SIGCONT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  INFO(fileBytes(dir / "log"));
+  CHECK(fileBytes(temporary / "mine.txt") == "the user's\n");
+  CHECK(entriesOf(temporary) == std::set<std::string>{"mine.txt"});
+}
+
+TEST_CASE("a killed run's temporary in a folder whose name holds a line break is removed by the next run",
+          "[ownership]") {
+  // Old binary: the ledger's record held the path as one line, which the line break split: the record read back
+  // named another entry, proved nothing, and the killed run's folder stayed for good.
+  const fs::path dir = scratch("ownership/line_break") / "a\nb";
+  fs::create_directories(dir);
+  const fs::path state = dir.parent_path() / "state", ledger = state / "temporaries";
+  const std::string env = "OCCSWEEP_STATE_DIR=" + shellQuoted(state);
+  const fs::path left = killedSceneFolder(dir, env);
+  REQUIRE(!left.empty());
+  REQUIRE(entriesOf(ledger).size() == 1);
+  const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out w", env);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK_FALSE(fs::exists(left));
+  CHECK(entriesOf(dir) == std::set<std::string>{"w"});
+  CHECK(entriesOf(ledger).empty());
+}
+
 TEST_CASE("a killed run's temporary folder goes with what occsweep made in it, never with a user's entry moved in",
           "[ownership]") {
   // Old binary: the record proved the folder, which was removed with everything in it, the user's files too.
@@ -609,6 +655,46 @@ TEST_CASE("an output created or changed while occsweep writes it is kept, and th
     CHECK(fileBytes(dir / "d.ot") == "the user's map\n");
     CHECK_FALSE(fs::exists(dir / "d.ot.json"));
     fs::remove(dir / "d.ot");
+  }
+  SECTION("an own folder whose content the user changed meanwhile is exchanged back, or kept where that fails") {
+    // Old code: the exchange back's failure was ignored, and the user's folder, left at the temporary's name, was
+    // removed with it.
+    if (!test::exchangeSupported(dir)) {
+      WARN("no RENAME_EXCHANGE on this file system: an own folder is removed, then renamed, never exchanged");
+      return;
+    }
+    const ReplaceableOutput own_folder{"folder", [](const fs::path& d) { return fileBytes(d / "x") == "old\n"; }};
+    fs::create_directories(dir / "f");
+    for (const bool exchange_back_fails : {false, true}) {
+      INFO("exchange back fails: " << exchange_back_fails);
+      writeBytes(dir / "f" / "x", "old\n");
+      checkOutputTarget(dir / "f", true, own_folder);
+      OutputFolder folder(dir / "f");
+      writeFileChecked(folder.path() / "x", "new\n");
+      writeBytes(dir / "f" / "x", "the user's\n");  // in place: the folder itself is the entry that was checked
+      const test::ExchangeFault fault(exchange_back_fails ? 1 : -1, false);
+      if (!exchange_back_fails) {
+        CHECK_THROWS_WITH(folder.commit(), Catch::Contains("f: was changed while occsweep was writing it"));
+        CHECK(fileBytes(dir / "f" / "x") == "the user's\n");
+        continue;
+      }
+      CHECK_THROWS_WITH(folder.commit(),
+                        Catch::Contains("f: was changed while occsweep was writing it, and could not be put back "
+                                        "(Input/output error): what stood there is now at " + folder.path().string() +
+                                        ", occsweep's new output at " + (dir / "f").string()));
+      CHECK(fileBytes(folder.path() / "x") == "the user's\n");
+      CHECK(fileBytes(dir / "f" / "x") == "new\n");
+      const std::string name = folder.path().filename().string();
+      CHECK_FALSE(fs::exists(ownershipLedger() / name.substr(name.rfind('-') + 1)));  // no later run removes it
+    }
+    // The folder the user's content is in survives this run too (the OutputFolder is gone by now).
+    std::vector<fs::path> kept;
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().filename().string().starts_with(".f.tmp-")) kept.push_back(e.path());
+    REQUIRE(kept.size() == 1);
+    CHECK(fileBytes(kept[0] / "x") == "the user's\n");
+    fs::remove_all(kept[0]);
+    fs::remove_all(dir / "f");
   }
   SECTION("guards: an absent target stays writable, an accepted own output is replaced, a second commit too") {
     checkOutputTarget(dir / "c.txt", false, kind);
@@ -1066,7 +1152,7 @@ TEST_CASE("cluster files are never written through a user's symbolic link, and r
   writeBytes(dir / "p" / "logs" / "local-sweep-0.log", "the user's log\n");
   r = runIn(dir, "cluster run-local p");
   CHECK(r.exit_code == 2);
-  CHECK(mentions(r, "local-sweep-0.log: exists and is not a task log of occsweep's"));
+  CHECK(mentions(r, "local-sweep-0.log: exists and is not a task log occsweep can prove it made"));
   CHECK(fileBytes(dir / "p" / "logs" / "local-sweep-0.log") == "the user's log\n");
   CHECK_FALSE(fs::exists(dir / "p" / "sweeps"));
   fs::remove(dir / "p" / "logs" / "local-sweep-0.log");
@@ -1077,6 +1163,20 @@ TEST_CASE("cluster files are never written through a user's symbolic link, and r
   fs::remove_all(dir / "p" / "merged");
   REQUIRE(runIn(dir, "cluster run-local p").exit_code == 0);
   CHECK(fileBytes(dir / "p" / "logs" / "local-sweep-0.log").starts_with("# occsweep cluster run-local: task log\n"));
+  // A user's file that starts with the log's first line (a log restored from a backup, notes under that heading) is
+  // still the user's: its bytes prove nothing (old binary: replaced, exit 0).
+  const fs::path log = dir / "p" / "logs" / "local-sweep-0.log";
+  const std::string users = fileBytes(log) + "the user's notes\n";
+  fs::remove(log);
+  writeBytes(log, users);
+  fs::remove_all(dir / "p" / "sweeps");
+  fs::remove_all(dir / "p" / "merged");
+  r = runIn(dir, "cluster run-local p");
+  CHECK(r.exit_code == 2);
+  CHECK(mentions(r, "local-sweep-0.log: exists and is not a task log occsweep can prove it made"));
+  CHECK(fileBytes(log) == users);
+  fs::remove(log);
+  REQUIRE(runIn(dir, "cluster run-local p").exit_code == 0);
   // Old binary: the select task linked "../newname" outside --out.
   fs::create_directories(dir / "gen" / "newname");
   writeBytes(dir / "gen" / "ranking.json", R"({"format": "occsweep-pointcloud-ranking", "sets": [{"folder": )"

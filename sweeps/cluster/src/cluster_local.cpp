@@ -1,8 +1,10 @@
 // run-local: the same plan without Slurm, so a laptop and a cluster share one path.
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
@@ -12,11 +14,13 @@
 #include <memory>
 #include <sys/file.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/eval/ownership.hpp"
 #include "occsweep/eval/process_stat.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 #include "occsweep/sweeps/progress.hpp"
@@ -84,28 +88,48 @@ class TaskStopper {
 class PlanLock {
  public:
   explicit PlanLock(const fs::path& dir) : file_(dir / "run-local.lock") {
-    // O_NOFOLLOW: a symbolic link at the lock's name is the user's, never written through (docs/robustness.md,
-    // "Ownership").
-    fd_ = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-    if (fd_ < 0 && errno == ELOOP)
-      throw std::runtime_error(file_.string() + ": is a symbolic link: occsweep never writes through one; remove it");
-    if (fd_ < 0) throw std::runtime_error(file_.string() + ": cannot open: " + std::strerror(errno));
+    const bool own = openLockFile();
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      std::string holder;
-      std::getline(std::ifstream(file_), holder);
+      const std::string holder = readFirstLine(file_, 32).value_or("");
       ::close(fd_);
-      throw std::runtime_error(dir.string() + ": another `cluster run-local` (pid " + holder +
-                               ") is running this plan: wait for it or stop it (its tasks end with it)");
+      // The holder's pid, when the file is one run-local writes it into (else its bytes are not a pid).
+      const bool pid = own && !holder.empty() && holder.find_first_not_of("0123456789") == std::string::npos;
+      throw std::runtime_error(dir.string() + ": another `cluster run-local` " + (pid ? "(pid " + holder + ") " : "") +
+                               "is running this plan: wait for it or stop it (its tasks end with it)");
     }
+    if (!own) return;  // the user's file (or a link to one) is only locked, never written
     const std::string pid = std::to_string(::getpid()) + "\n";
     if (::ftruncate(fd_, 0) != 0 || ::write(fd_, pid.data(), pid.size()) != ssize_t(pid.size()))
       throw std::runtime_error(file_.string() + ": cannot write");
+    recordMadeEntryWritten(file_);
   }
   PlanLock(const PlanLock&) = delete;
   PlanLock& operator=(const PlanLock&) = delete;
   ~PlanLock() { ::close(fd_); }
 
  private:
+  // Opens the lock file, made where nothing stood and recorded in the ledger as run-local's (claimMadeEntry), or the
+  // entry already there. True when run-local may write its pid into it: one it made, proven by the ledger; anything
+  // else there (a user's file, a hard link to one, a lock an older occsweep left) is locked as it is, its bytes kept.
+  // O_NOFOLLOW: a symbolic link at the name is the user's, never opened (docs/robustness.md, "Ownership").
+  bool openLockFile() {
+    std::error_code ec;
+    const bool existed = fs::exists(fs::symlink_status(file_, ec));
+    if (!existed) claimMadeEntry(file_);
+    fd_ = ::open(file_.c_str(), O_RDWR | O_CLOEXEC | O_NOFOLLOW | (existed ? 0 : O_CREAT | O_EXCL), 0644);
+    if (fd_ < 0) {
+      const int e = errno;
+      if (!existed) forgetMadeEntry(file_);  // the claim would prove the name of what stands there
+      if (e == ELOOP)
+        throw std::runtime_error(file_.string() + ": is a symbolic link: occsweep never writes through one; remove it");
+      throw std::runtime_error(file_.string() + ": cannot open: " + std::strerror(e) +
+                               (e == EEXIST ? " (made by someone else a moment ago): run again" : ""));
+    }
+    if (!existed) recordMadeEntry(file_);
+    struct stat st {};
+    return ::fstat(fd_, &st) == 0 && S_ISREG(st.st_mode) && (!existed || isRecordedMadeEntry(file_));
+  }
+
   fs::path file_;
   int fd_ = -1;
 };
@@ -132,26 +156,50 @@ fs::path logOf(const fs::path& dir, const ClusterStage& stage, const ClusterTask
   return dir / "logs" / ("local-" + stage.name + "-" + std::to_string(t.index) + ".log");
 }
 
-/// A task's log starts with this line: a log of an earlier run is replaced; anything else at its name (a user's
-/// file, a link) is never removed or written (docs/robustness.md, "Ownership"), and no task starts.
+/// A task's log starts with this line, for the reader. What proves a log occsweep's is the ledger's record of the
+/// entry run-local made (claimMadeEntry: its inode and birth time, ownership.hpp): a log of an earlier run is
+/// replaced; anything else at its name (a user's file, even one starting with this line, or a link) is never removed
+/// or written (docs/robustness.md, "Ownership"), and no task starts.
 constexpr const char* kTaskLogMark = "# occsweep cluster run-local: task log";
 
-/// Whether an entry stands at `log`; throws when it is not a task log of occsweep's.
-bool requireOwnTaskLog(const fs::path& log) {
+/// Whether the entry at `log` is a task log run-local made (false when there is none, or another entry).
+bool isOwnTaskLog(const fs::path& log) {
   std::error_code ec;
-  if (!fs::exists(fs::symlink_status(log, ec))) return false;
-  const bool own = fs::is_regular_file(fs::symlink_status(log, ec)) &&  // a user's link there is never removed
-                   readFirstLine(log, std::string_view(kTaskLogMark).size()) == std::string(kTaskLogMark);
-  if (!own)
-    throw std::runtime_error(log.string() + ": exists and is not a task log of occsweep's (its first line is not \"" +
-                             kTaskLogMark + "\"): never replaced; move it away and run again");
-  return true;
+  return fs::is_regular_file(fs::symlink_status(log, ec)) &&  // a user's link there is never removed
+         isRecordedMadeEntry(log);
+}
+
+/// Why `logs` (the task logs at the names of tasks to run) stop run-local: each names an entry that is not a task log
+/// run-local made; "" when none does.
+std::string foreignTaskLogs(const std::vector<fs::path>& logs) {
+  std::vector<fs::path> foreign;
+  std::error_code ec;
+  for (const fs::path& log : logs)
+    if (fs::exists(fs::symlink_status(log, ec)) && !isOwnTaskLog(log)) foreign.push_back(log);
+  if (foreign.empty()) return "";
+  std::string names = foreign.front().string();
+  for (std::size_t i = 1; i < std::min<std::size_t>(foreign.size(), 5); ++i) names += ", " + foreign[i].string();
+  if (foreign.size() > 5) names += " and " + std::to_string(foreign.size() - 5) + " more";
+  return names + (foreign.size() == 1 ? ": exists and is not a task log" : ": exist and are not task logs") +
+         " occsweep can prove it made (a file of yours, a log an older occsweep wrote, or one written where occsweep's "
+         "ledger could not be written): never replaced; move " + (foreign.size() == 1 ? "it" : "them") +
+         " away and run again";
 }
 
 void startTaskLog(const fs::path& log, const std::string& label) {
-  if (requireOwnTaskLog(log)) fs::remove(log);
+  if (const std::string why = foreignTaskLogs({log}); !why.empty()) throw std::runtime_error(why);
+  if (isOwnTaskLog(log)) {
+    fs::remove(log);
+    forgetMadeEntry(log);
+  }
+  claimMadeEntry(log);  // before it is made: whenever a kill comes, the next run proves the log its own
   const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error(log.string() + ": cannot create: " + std::strerror(errno));
+  if (fd < 0) {
+    const int e = errno;
+    forgetMadeEntry(log);  // the claim would prove the name of what stands there
+    throw std::runtime_error(log.string() + ": cannot create: " + std::strerror(e));
+  }
+  recordMadeEntry(log);  // its inode and birth time: a file put at its name later is another entry
   const std::string header = std::string(kTaskLogMark) + "\n# " + label + "\n";
   const bool written = ::write(fd, header.data(), header.size()) == ssize_t(header.size());
   ::close(fd);
@@ -231,6 +279,7 @@ class StageRun {
     stopper_.forget(it->second.slot);
     free_slots_.push_back(it->second.slot);
     removeRunningMarker(it->second.marker);
+    recordMadeEntryWritten(logOf(dir_, stage_, t));  // the task has ended: its log is whole
     running_.erase(it);
     if (stopper_.signal()) return;  // stopped: the task did not fail, it was ended
     ++finished_;
@@ -304,12 +353,13 @@ std::size_t runStage(const ClusterStage& stage, const std::vector<std::uint64_t>
 }  // namespace
 
 namespace {
-/// Before any task starts: a user's file at the log's name of a task to run stops run-local (requireOwnTaskLog).
+/// Before any task starts: a user's file at the log's name of a task to run stops run-local, every such file named.
 void requireOwnTaskLogs(const ClusterPlan& plan, const std::vector<std::vector<std::uint64_t>>& torun,
                         const fs::path& dir) {
+  std::vector<fs::path> logs;
   for (std::size_t s = 0; s < plan.stages.size(); ++s)
-    for (const std::uint64_t id : torun[s])
-      (void)requireOwnTaskLog(logOf(dir, plan.stages[s], plan.stages[s].tasks[id]));
+    for (const std::uint64_t id : torun[s]) logs.push_back(logOf(dir, plan.stages[s], plan.stages[s].tasks[id]));
+  if (const std::string why = foreignTaskLogs(logs); !why.empty()) throw std::runtime_error(why);
 }
 
 /// Before any task starts: an entry at the running marker's name of a task to run, once occsweep's own stale markers
@@ -321,13 +371,26 @@ void requireNoForeignMarkers(const ClusterPlan& plan, const std::vector<std::vec
       if (const fs::path m = runningMarker(dir, plan.stages[s].name, id); fs::exists(fs::symlink_status(m)))
         throw std::runtime_error(foreignMarkerMessage(m));
 }
+
+/// OCCSWEEP_STATE_DIR made absolute for the tasks, which run in the plan folder: a relative one would put their
+/// ledger there, apart from the one run-local keeps (docs/robustness.md, "Ownership").
+void useAbsoluteStateFolder() {
+  const char* state = std::getenv("OCCSWEEP_STATE_DIR");
+  if (state && *state && fs::path(state).is_relative())
+    ::setenv("OCCSWEEP_STATE_DIR", fs::absolute(state).lexically_normal().c_str(), 1);
+}
 }  // namespace
 
 std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs) {
   const fs::path dir = fs::absolute(plan_dir);  // tasks start in it, and logs open after that chdir
   if (jobs < 1) throw std::invalid_argument("--threads must be at least 1");
-  fs::create_directories(dir / "logs");
-  fs::create_directories(dir / "running");
+  for (const char* folder : {"logs", "running"}) {  // never written through a link to elsewhere
+    if (fs::is_symlink(fs::symlink_status(dir / folder)))
+      throw std::runtime_error((dir / folder).string() + ": is a symbolic link: run-local writes its task logs and "
+                               "running markers inside the plan folder only; remove it");
+    fs::create_directories(dir / folder);
+  }
+  useAbsoluteStateFolder();
   const PlanLock lock(dir);
   refuseLiveTasks(plan, dir);
   removeStaleMarkers(dir);  // none is live

@@ -57,6 +57,7 @@ void writeRunningMarker(const RunningMarker& marker, pid_t pid) {
   const bool same = ::fstat(fd, &now) == 0 && now.st_dev == marker.device && now.st_ino == marker.inode;
   if (same) (void)!::write(fd, text.data(), text.size());  // a marker without its pid only hides a live task
   ::close(fd);
+  if (same) recordMadeEntryWritten(marker.path);
 }
 
 void removeRunningMarker(const RunningMarker& marker) {
@@ -76,13 +77,17 @@ void removeStaleMarkers(const fs::path& dir) {
 }
 
 pid_t liveLocalTask(const fs::path& dir, const std::string& stage, std::uint64_t task) {
+  // Never read through a link, and never a FIFO, which would block status and run-local: a marker is a regular file.
+  const fs::path marker = runningMarker(dir, stage, task);
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(marker, ec))) return 0;
+  const std::optional<std::string> line = readFirstLine(marker, 32);
   long pid = 0;
-  if (!(std::ifstream(runningMarker(dir, stage, task)) >> pid) || pid <= 0) return 0;
+  if (!line || !(std::istringstream(*line) >> pid) || pid <= 0) return 0;
   // Alive and not a zombie.
   const std::optional<ProcessStat> stat = processStat(pid);
   if (!stat || stat->state == 'Z') return 0;
   // A pid reused by an unrelated process after a reboot or a long time: the task runs in the plan folder.
-  std::error_code ec;
   const auto cwd = fs::read_symlink("/proc/" + std::to_string(pid) + "/cwd", ec);
   if (ec || !fs::equivalent(cwd, dir, ec)) return 0;
   return pid_t(pid);

@@ -95,10 +95,30 @@ PartialLock PartialLock::existing(const fs::path& file) {
 
 namespace {
 
-// Puts `temporary` at `file` in place of the partial output `replacing` holds, and removes that one. Exchanged
-// atomically, then checked: a file a user put at the name meanwhile (the sweep prepared its data for minutes) is
-// exchanged back and kept, and the sweep stops naming it.
-void replaceHeldPartial(const fs::path& temporary, const fs::path& file, const PartialLock& replacing) {
+// The user's file, exchanged to the temporary's name, back at `file`: by a second exchange, else by a rename over the
+// sweep's own new file (which `made` proves is what stands at `file`). Where both fail it stays at the temporary's
+// name, kept and named: never removed as the sweep's.
+[[noreturn]] void putBackUsersFile(ClaimedTemporary& claimed, const fs::path& file, const PartialLock& made) {
+  const fs::path& temporary = claimed.path();
+  if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_EXCHANGE) == 0)
+    partialReplacedMeanwhile(file);
+  std::string why = std::string("exchange: ") + std::strerror(errno);
+  const bool sweeps_at_name = made.holdsFile(file);
+  if (sweeps_at_name && ::rename(temporary.c_str(), file.c_str()) == 0) partialReplacedMeanwhile(file);
+  why += sweeps_at_name ? std::string("; rename: ") + std::strerror(errno) : "; another file stands at its name now";
+  claimed.keep();
+  throw std::runtime_error(file.string() + ": was replaced while occsweep was preparing the sweep, and could not be "
+                           "put back (" + why + "): the file that stood there is now at " + temporary.string() +
+                           ", which occsweep never removes" +
+                           (sweeps_at_name ? "; the sweep's new partial output is at " + file.string() : ""));
+}
+
+// Puts the sweep's new partial output (`claimed`, locked by `made`) at `file` in place of the one `replacing` holds,
+// and removes that one. Exchanged atomically, then checked: a file a user put at the name meanwhile (the sweep
+// prepared its data for minutes) goes back, and the sweep stops naming it.
+void replaceHeldPartial(ClaimedTemporary& claimed, const fs::path& file, const PartialLock& replacing,
+                        const PartialLock& made) {
+  const fs::path& temporary = claimed.path();
   if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_EXCHANGE) != 0) {
     if (errno != EINVAL && errno != ENOSYS)
       throw std::runtime_error(file.string() + ": cannot replace (" + std::strerror(errno) + ")");
@@ -106,10 +126,7 @@ void replaceHeldPartial(const fs::path& temporary, const fs::path& file, const P
     fs::rename(temporary, file);
     return;
   }
-  if (!replacing.holdsFile(temporary)) {
-    ::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_EXCHANGE);
-    partialReplacedMeanwhile(file);
-  }
+  if (!replacing.holdsFile(temporary)) putBackUsersFile(claimed, file, made);
   replacing.removeHeldFile(temporary);  // the old partial output, now at the temporary's name
 }
 
@@ -118,15 +135,16 @@ void replaceHeldPartial(const fs::path& temporary, const fs::path& file, const P
 PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replacing,
                                  const std::function<void(const fs::path&)>& make) {
   // Claimed and registered as OutputFile's temporaries are (docs/robustness.md, "Ownership"): an interrupt removes
-  // it, what a kill leaves the next run removes, and nothing of a user's is ever at that name.
-  const ClaimedTemporary claimed(file, TemporaryKind::File);  // `make` fills it, never creates it
+  // it while it is the file made there, and what a kill leaves the next run removes. A user's file is at that name
+  // only while an exchange is undone (putBackUsersFile), or once kept.
+  ClaimedTemporary claimed(file, TemporaryKind::File);  // `make` fills it, never creates it
   const fs::path& temporary = claimed.path();
   std::error_code ec;
   try {
     make(temporary);
     PartialLock lock(lockedDescriptor(temporary));
     // Locked before it appears under its name: a second sweep finds it locked. link() never replaces a file.
-    if (replacing) replaceHeldPartial(temporary, file, *replacing);
+    if (replacing) replaceHeldPartial(claimed, file, *replacing, lock);
     else if (::link(temporary.c_str(), file.c_str()) != 0) {
       if (errno == EEXIST) anotherWriter(file);
       throw std::runtime_error(file.string() + ": cannot create (" + std::strerror(errno) + ")");
@@ -134,7 +152,7 @@ PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replac
     fs::remove(temporary, ec);
     return lock;
   } catch (...) {
-    fs::remove(temporary, ec);
+    if (!claimed.kept()) fs::remove(temporary, ec);
     throw;
   }
 }

@@ -153,9 +153,14 @@ class ClaimedTemporary {
   ClaimedTemporary(const ClaimedTemporary&) = delete;
   ClaimedTemporary& operator=(const ClaimedTemporary&) = delete;
   [[nodiscard]] const std::filesystem::path& path() const { return claim_.path; }
+  /// Leaves what stands at path() where it is, no longer occsweep's: a user's entry exchanged there that could not be
+  /// put back. Neither this object, nor an interrupt, nor the next run removes it.
+  void keep();
+  [[nodiscard]] bool kept() const { return kept_; }
 
  private:
   TemporaryClaim claim_;
+  bool kept_ = false;
 };
 
 /// `bytes` as `target`, atomically (OutputFile).

@@ -75,13 +75,17 @@ void recordTextOutput(const std::filesystem::path& file);
 [[nodiscard]] bool isRecordedTextOutput(const std::filesystem::path& file);
 
 /// Records, before it is made, an entry occsweep makes at a fixed name and fills later (a run-local task's running
-/// marker, which gets the task's pid once the task starts): its entry (entryIdentity), in the ledger's `made/`
-/// folder. recordMadeEntry adds its own inode and birth time once made; a kill between the two leaves a record that
-/// proves the folder and the name only (as for temporaries). Its bytes are not part of the proof: occsweep changes
-/// them. Records of entries gone or replaced are dropped when the next one is written; nothing is recorded where the
-/// ledger cannot be written.
+/// marker, which gets the task's pid once the task starts, and its log): its entry (entryIdentity), in the ledger's
+/// `made/` folder. recordMadeEntry adds its own inode and birth time once made; a kill between the two leaves a
+/// record that proves the folder and the name only (as for temporaries). Its bytes are not part of the proof:
+/// occsweep changes them. Records of entries gone or replaced are dropped when a process first writes one; nothing
+/// is recorded where the ledger cannot be written.
 void claimMadeEntry(const std::filesystem::path& entry);
 void recordMadeEntry(const std::filesystem::path& entry);
+/// Adds to a made entry's record, after occsweep's last write to it, its size and modification time. On a file system
+/// that keeps no birth time, a file a user makes at that name later may get the same inode: such an entry is proven
+/// only by this stamp, so one occsweep was still writing when a kill came stays for the user.
+void recordMadeEntryWritten(const std::filesystem::path& entry);
 
 /// True when `entry` is the very entry recorded at that place (a file put there since is another).
 [[nodiscard]] bool isRecordedMadeEntry(const std::filesystem::path& entry);
