@@ -235,10 +235,15 @@ bool recordedProcessGone(const LedgerRecord& r) {
 // is a few bytes, written at once). Dropping one only makes a temporary the user's, never the reverse.
 constexpr auto kUnfinishedRecordAge = std::chrono::hours(1);
 
-bool unfinishedRecord(const fs::path& record) {
+// Whether `record` was last written more than `age` ago.
+bool recordAged(const fs::path& record, std::chrono::hours age) {
   std::error_code ec;
   const auto written = fs::last_write_time(record, ec);
-  return !ec && fs::file_time_type::clock::now() - written > kUnfinishedRecordAge;
+  return !ec && fs::file_time_type::clock::now() - written > age;
+}
+
+bool unfinishedRecord(const fs::path& record) {
+  return recordAged(record, kUnfinishedRecordAge);
 }
 
 // Drops records whose process is gone and whose temporary is no longer where it was made (removed by hand, its
@@ -564,6 +569,9 @@ std::optional<MadeEntryRecord> readMadeEntryRecord(const fs::path& record) {
   return r;
 }
 
+// How long the record of an entry whose whole folder is missing is kept (pruneMadeEntries).
+constexpr auto kMissingFolderRecordAge = std::chrono::hours(24 * 30);
+
 // Drops this machine's records whose entry is gone or is another entry now (what a kill, or a user's removal, leaves
 // behind), a claim once an hour old without its entry, and records a kill cut short. Another machine's (a home folder
 // shared by cluster nodes) are its own to prune: their paths may be local to it.
@@ -574,6 +582,9 @@ void pruneMadeEntries(const fs::path& folder) {
     std::error_code removed, status;
     if (r && r->machine != machineLine(thisMachine())) continue;
     const fs::path entry = r ? recordPath(r->path) : fs::path();
+    // An entry whose whole folder is missing (a disk unmounted, a plan folder moved away for a while) keeps its record
+    // until it is old: dropped now, the folder's logs would be unproven when it comes back.
+    if (r && !fs::exists(entry.parent_path(), status) && !recordAged(it->path(), kMissingFolderRecordAge)) continue;
     const bool gone = !r || !fs::exists(fs::symlink_status(entry, status));
     const bool stale = !r || r->made.empty() ? gone && unfinishedRecord(it->path()) : madeIdentity(entry) != r->made;
     if (stale) fs::remove(it->path(), removed);
@@ -589,9 +600,17 @@ void writeMadeEntryRecord(const fs::path& entry, const std::string& made, const 
   // each claimed and then stamped), and a walk of the folder for each would cost the square of the tasks.
   static std::atomic<bool> pruned{false};
   if (!pruned.exchange(true)) pruneMadeEntries(record.parent_path());
-  std::ofstream(record, std::ios::trunc) << entryIdentity(entry) << '\n' << made << '\n'
-                                         << recordLine(canonicalEntry(entry)) << '\n' << machineLine(thisMachine())
-                                         << '\n' << written << '\n';
+  // Written beside it and renamed over it: a record is rewritten as the entry is claimed, made and written, and an
+  // interrupt's exit (or a kill) in the middle of a rewrite must leave the last whole one, not a cut one that proves
+  // nothing (a cut `.tmp-PID` file is dropped by the pruning an hour on).
+  const fs::path whole = record.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(whole, std::ios::trunc);
+    out << entryIdentity(entry) << '\n' << made << '\n' << recordLine(canonicalEntry(entry)) << '\n'
+        << machineLine(thisMachine()) << '\n' << written << '\n';
+    if (!out.flush()) return;
+  }
+  fs::rename(whole, record, ec);
 }
 
 // A claim proves an entry born within moments of it (a kill came between the making and its stamp), never one put

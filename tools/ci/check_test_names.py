@@ -3,8 +3,9 @@
 
 Catch2 2.13's console reporter prints a failing test's name, and each section's, as a header wrapped at 79 columns,
 and indents the lines after the first by the position just after the name's first ": " (section names 2 more). When
-that position leaves fewer than 10 columns, a long name wraps into lines of one '-' each, forever: the failing test
-prints nothing and hangs until ctest's timeout (1,200 s). Usage: check_test_names.py SOURCE_ROOT; exit 1 naming each
+that position leaves one column, a long name wraps into lines of one '-' each, forever: the failing test prints
+nothing and hangs until ctest's timeout (1,200 s); with a few columns left it prints a column of word pieces. Names
+keep at least 10 columns. Usage: check_test_names.py SOURCE_ROOT; exit 1 naming each
 such name, 0 when there is none.
 """
 import pathlib

@@ -126,8 +126,9 @@ class PlanLock {
                                (e == EEXIST ? " (made by someone else a moment ago): run again" : ""));
     }
     if (!existed) recordMadeEntry(file_);
-    struct stat st {};
-    return ::fstat(fd_, &st) == 0 && S_ISREG(st.st_mode) && (!existed || isRecordedMadeEntry(file_));
+    struct stat opened {}, named {};  // the file opened is the one proven by name
+    return ::fstat(fd_, &opened) == 0 && S_ISREG(opened.st_mode) && ::lstat(file_.c_str(), &named) == 0 &&
+           opened.st_dev == named.st_dev && opened.st_ino == named.st_ino && (!existed || isRecordedMadeEntry(file_));
   }
 
   fs::path file_;
@@ -372,12 +373,13 @@ void requireNoForeignMarkers(const ClusterPlan& plan, const std::vector<std::vec
         throw std::runtime_error(foreignMarkerMessage(m));
 }
 
-/// OCCSWEEP_STATE_DIR made absolute for the tasks, which run in the plan folder: a relative one would put their
-/// ledger there, apart from the one run-local keeps (docs/robustness.md, "Ownership").
+/// The tasks, which run in the plan folder, given run-local's own ledger: where it is found by a relative
+/// OCCSWEEP_STATE_DIR, XDG_STATE_HOME or HOME, OCCSWEEP_STATE_DIR names its folder by an absolute path
+/// (docs/robustness.md, "Ownership").
 void useAbsoluteStateFolder() {
-  const char* state = std::getenv("OCCSWEEP_STATE_DIR");
-  if (state && *state && fs::path(state).is_relative())
-    ::setenv("OCCSWEEP_STATE_DIR", fs::absolute(state).lexically_normal().c_str(), 1);
+  const fs::path ledger = ownershipLedger();
+  if (!ledger.empty() && ledger.is_relative())
+    ::setenv("OCCSWEEP_STATE_DIR", fs::absolute(ledger.parent_path()).lexically_normal().c_str(), 1);
 }
 }  // namespace
 

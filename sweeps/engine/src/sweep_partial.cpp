@@ -137,24 +137,18 @@ PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replac
   // Claimed and registered as OutputFile's temporaries are (docs/robustness.md, "Ownership"): an interrupt removes
   // it while it is the file made there, and what a kill leaves the next run removes. A user's file is at that name
   // only while an exchange is undone (putBackUsersFile), or once kept.
+  // Its destructor removes the temporary's name, and only while it names the file made there.
   ClaimedTemporary claimed(file, TemporaryKind::File);  // `make` fills it, never creates it
   const fs::path& temporary = claimed.path();
-  std::error_code ec;
-  try {
-    make(temporary);
-    PartialLock lock(lockedDescriptor(temporary));
-    // Locked before it appears under its name: a second sweep finds it locked. link() never replaces a file.
-    if (replacing) replaceHeldPartial(claimed, file, *replacing, lock);
-    else if (::link(temporary.c_str(), file.c_str()) != 0) {
-      if (errno == EEXIST) anotherWriter(file);
-      throw std::runtime_error(file.string() + ": cannot create (" + std::strerror(errno) + ")");
-    }
-    fs::remove(temporary, ec);
-    return lock;
-  } catch (...) {
-    if (!claimed.kept()) fs::remove(temporary, ec);
-    throw;
+  make(temporary);
+  PartialLock lock(lockedDescriptor(temporary));
+  // Locked before it appears under its name: a second sweep finds it locked. link() never replaces a file.
+  if (replacing) replaceHeldPartial(claimed, file, *replacing, lock);
+  else if (::link(temporary.c_str(), file.c_str()) != 0) {
+    if (errno == EEXIST) anotherWriter(file);
+    throw std::runtime_error(file.string() + ": cannot create (" + std::strerror(errno) + ")");
   }
+  return lock;
 }
 
 void requireOwnablePartial(const fs::path& file) {
