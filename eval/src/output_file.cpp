@@ -283,6 +283,11 @@ void requireAsChecked(const fs::path& target, const TargetState& checked, const 
 }
 
 void placeOutput(const fs::path& temporary, const fs::path& target, const TargetState& checked, bool folder) {
+  // What the writer filled, not an entry put at the temporary's name meanwhile (renamed, it would be the output).
+  if (registry().contains(temporary) && !madeEntryStands(temporary))
+    throw OutputConflict(temporary.string() + ": occsweep's temporary for " + userVisible(target) + " was replaced or " +
+                         "removed while occsweep was writing it: nothing was committed, and what stands there is " +
+                         "left as it is");
   const TargetState now = stateOf(target);
   std::error_code ec;
   requireAsChecked(target, checked, now);

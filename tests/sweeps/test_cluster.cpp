@@ -408,15 +408,15 @@ TEST_CASE("a path on a machine's own file system is named as local, as stat -f n
 }
 
 // docs/cluster.md, "Measured tasks": run-local records each task's wall time, CPU time and peak memory, as the kernel
-// counts them for the finished process (wait4). Oracle: generation tasks that hold `mb` MB and spin for `seconds`
-// before they write their output (an `exists` output, so their check passes; the sweeps after them fail theirs).
+// counts them for the finished process (wait4). Oracle: generation tasks that hold `mb` MB and spin for `seconds` of
+// their own CPU time (not wall time, which a loaded machine stretches while CPU time falls short) before they write their output (an `exists` output, so their check passes; the sweeps after them fail theirs).
 namespace {
 
 PlanConfig busyGeneration(const fs::path& dir, std::vector<std::string> datasets, int mb, double seconds) {
   const fs::path task = dir / "busy.sh";
   // exec: the task's process is the one that holds the memory (its peak is its own, docs/cluster.md).
   std::ofstream(task) << "#!/bin/sh\n# busy --out OUT\nexec python3 -c \"import os, sys, time\nb = bytearray(" << mb
-                      << " * 1024 * 1024)\nt = time.time()\nwhile time.time() - t < " << seconds
+                      << " * 1024 * 1024)\nt = time.process_time()\nwhile time.process_time() - t < " << seconds
                       << ": pass\nos.makedirs(os.path.dirname(sys.argv[3]) or '.', exist_ok=True)\n"
                          "open(sys.argv[3], 'a').close()\" \"$@\"\n";
   fs::permissions(task, fs::perms::owner_all);

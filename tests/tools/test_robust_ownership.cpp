@@ -699,6 +699,22 @@ TEST_CASE("an output created or changed while occsweep writes it is kept, and th
     fs::remove_all(kept[0]);
     fs::remove_all(dir / "f");
   }
+  SECTION("a user's file put at the temporary's name meanwhile is never committed as the output") {
+    // Old code: the commit renamed whatever stood at the temporary's name, so the user's file became the output.
+    OutputFile out(dir / "t.txt");
+    out.stream() << "occsweep's\n";
+    fs::path temporary;
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().filename().string().starts_with(".t.txt.tmp-")) temporary = e.path();
+    REQUIRE(!temporary.empty());
+    fs::rename(temporary, dir / "moved");
+    writeBytes(temporary, "the user's\n");
+    CHECK_THROWS_WITH(out.commit(), Catch::Contains("was replaced or removed while occsweep was writing it"));
+    CHECK_FALSE(fs::exists(dir / "t.txt"));
+    CHECK(fileBytes(temporary) == "the user's\n");
+    fs::remove(temporary);
+    fs::remove(dir / "moved");
+  }
   SECTION("guards: an absent target stays writable, an accepted own output is replaced, a second commit too") {
     checkOutputTarget(dir / "c.txt", false, kind);
     writeFileAtomically(dir / "c.txt", "1\n");

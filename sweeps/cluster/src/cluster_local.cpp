@@ -182,8 +182,9 @@ std::string foreignTaskLogs(const std::vector<fs::path>& logs) {
   for (std::size_t i = 1; i < std::min<std::size_t>(foreign.size(), 5); ++i) names += ", " + foreign[i].string();
   if (foreign.size() > 5) names += " and " + std::to_string(foreign.size() - 5) + " more";
   return names + (foreign.size() == 1 ? ": exists and is not a task log" : ": exist and are not task logs") +
-         " occsweep can prove it made (a file of yours, a log an older occsweep wrote, or one written where occsweep's "
-         "ledger could not be written): never replaced; move " + (foreign.size() == 1 ? "it" : "them") +
+         " occsweep can prove it made (a file of yours, a log an older occsweep wrote, one written where occsweep's "
+         "ledger could not be written, or, on a file system that keeps no birth time, the log of a task still running "
+         "when run-local was killed): never replaced; move " + (foreign.size() == 1 ? "it" : "them") +
          " away and run again";
 }
 
