@@ -300,23 +300,34 @@ TEST_CASE("a killed run's temporary is known by its folder's identity, never by 
   CHECK(fs::exists(in_remade / "manifest.json"));
 }
 
-/// A real `scene` run SIGKILLed once its temporary folder holds its first files, in `dir`: that folder.
-fs::path killedSceneFolder(const fs::path& dir, const std::string& env) {
+/// A real `scene` run in `dir`, its output into `log`, and its temporary folder once that holds its first files
+/// (empty if it never did).
+struct SceneUnderWay {
+  pid_t pid = -1;
+  fs::path temporary;
+};
+
+SceneUnderWay sceneUnderWay(const fs::path& dir, const std::string& env, const std::string& log) {
   const std::string slow = "scene --scans 200 --width 320 --height 240 --out w";  // 15 M rays, seconds
-  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && " + env + " exec " + shellQuoted(cliUnderTest()) + " " +
-                               slow + " >/dev/null 2>&1");
-  fs::path left;
-  for (int i = 0; i < 3000 && left.empty(); ++i) {
+  SceneUnderWay run;
+  run.pid = startShell("cd " + shellQuoted(dir) + " && " + env + " exec " + shellQuoted(cliUnderTest()) + " " + slow +
+                       " > " + log + " 2>&1");
+  for (int i = 0; i < 3000 && run.temporary.empty(); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     for (const auto& e : fs::directory_iterator(dir))
       if (e.path().filename().string().starts_with(".w.tmp-") && fs::exists(e.path() / "scans") &&
           !entriesOf(e.path() / "scans").empty())
-        left = e.path();
+        run.temporary = e.path();
   }
-  ::kill(pid, SIGKILL);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  return left;
+  return run;
+}
+
+/// A real `scene` run SIGKILLed once its temporary folder holds its first files, in `dir`: that folder.
+fs::path killedSceneFolder(const fs::path& dir, const std::string& env) {
+  const SceneUnderWay run = sceneUnderWay(dir, env, "/dev/null");
+  ::kill(run.pid, SIGKILL);
+  ::waitpid(run.pid, nullptr, 0);
+  return run.temporary;
 }
 
 TEST_CASE("a killed run's temporary that the user replaced at its name by another entry stays, and its record goes",
@@ -345,14 +356,7 @@ TEST_CASE("an interrupted run removes its temporary only while it is the entry t
   // Old binary: the interrupt's cleaner removed whatever stood at the temporary's name, with all it held: here a
   // folder of the user's put there while the run went on (as one stands there for the moment an exchange is undone).
   const fs::path dir = scratch("ownership/interrupt_other_entry");
-  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) +
-                               " scene --scans 200 --width 320 --height 240 --out w > log 2>&1");
-  fs::path temporary;
-  for (int i = 0; i < 3000 && temporary.empty(); ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    for (const auto& e : fs::directory_iterator(dir))
-      if (e.path().filename().string().starts_with(".w.tmp-") && fs::exists(e.path() / "scans")) temporary = e.path();
-  }
+  const auto [pid, temporary] = sceneUnderWay(dir, "", "log");
   ::kill(pid, SIGSTOP);
   if (temporary.empty()) {
     ::kill(pid, SIGKILL);
