@@ -33,6 +33,7 @@
 #include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "occsweep/sweeps/sweep_engine.hpp"
+#include "occsweep/sweeps/tbb_scan_executor.hpp"
 #include "occsweep/core/method_registry.hpp"
 
 using namespace occsweep;
@@ -191,7 +192,7 @@ PartSeconds timeParts(const Dataset& data, const GroundTruth& truth) {
   PartSeconds s{};
   RecordedSet recorded;
   s.record = seconds([&] { recorded = recordSet(data.scans, truth, kResolution, kSC); });
-  s.distances = seconds([&] { (void)parallelKnnDistances(data.scans, 1, kSC); });
+  s.distances = seconds([&] { (void)computeKnnDistances(data.scans, 1, kSC, tbbScanExecutor()); });
   s.scan_voxel_updates = recorded.scan_voxel_updates;
   for (const char* grid : {"knn-opt", "octomap-opt", "sor-octomap-opt", "ror-octomap-opt", "range-octomap-opt"})
     s.replays.push_back(timeReplay(data, truth, grid));
@@ -243,7 +244,7 @@ void printReplayThroughput(const std::vector<ReplaySeconds>& replays) {
 }
 
 // The direct build on 1 thread, and on all cores as `occsweep map` runs it: the scans' k-NN searches and their
-// rays' events in parallel, applied in scan order (parallelBuildMap: the same map).
+// rays' events in parallel, applied in scan order (buildMap on a TBB ScanExecutor: the same map).
 struct DirectSeconds {
   double one_thread, all_cores;
 };
@@ -252,7 +253,10 @@ DirectSeconds timeDirectBuilds(const PointCloudSet& scans, const KnnParams& knn)
   const KnnInverseSensorModel model(knn);
   DirectSeconds d{};
   d.one_thread = seconds([&] { (void)model.buildMap(scans); });
-  d.all_cores = seconds([&] { (void)parallelBuildMap(model, scans, parallelKnnDistances(scans, knn.k, knn.s_c)); });
+  d.all_cores = seconds([&] {
+    const ScanExecutor tbb = tbbScanExecutor();
+    (void)model.buildMap(scans, computeKnnDistances(scans, knn.k, knn.s_c, tbb), tbb);
+  });
   return d;
 }
 

@@ -539,6 +539,12 @@ TEST_CASE("cluster plan --estimate-from carries measured tasks to a new plan and
   const std::vector<StageEstimate> two = {{"a", 10, 10, 3600, 100, 0}, {"b", 1, 1, 50, 50, 0}};
   CHECK(estimatedWallSeconds(two, 64, 2) == Approx(100 + 50));
   CHECK(estimatedWallSeconds(two, 8, 2) == Approx(3600.0 / 8 + 50));
+  // Three tasks of a minute on two slots take two minutes, not 90 s; on four, one minute.
+  const std::vector<StageEstimate> three = {{"g", 3, 3, 180, 60, 0, {60, 60, 60}}};
+  CHECK(estimatedWallSeconds(three, 2, 1) == Approx(120));
+  CHECK(estimatedWallSeconds(three, 4, 1) == Approx(60));
+  CHECK(estimatedWallSeconds(three, 4, 2) == Approx(120));
+  CHECK(estimatedWallSeconds({{"g", 3, 3, 150, 70, 0, {70, 50, 30}}}, 2, 1) == Approx(80));  // 70 | 50 then 30
 
   // Through the command: the estimate printed, the modelled stage's limits set, a given one kept.
   std::string names;
@@ -562,6 +568,35 @@ TEST_CASE("cluster plan --estimate-from carries measured tasks to a new plan and
                                  (dir / "unrun").string());
   CHECK(none.exit_code == 2);
   CHECK_THAT(none.output, Catch::Contains("run `occsweep cluster run-local " + (dir / "unrun").string() + "` first"));
+  // No measured run: the plan says it has no estimate, and which limits each stage got.
+  const auto plain = test::runCli(plan_args + " --out " + (dir / "new3").string() + " --time merge=02:00:00");
+  INFO(plain.output);
+  REQUIRE(plain.exit_code == 0);
+  CHECK_THAT(plain.output, Catch::Contains("cost: not estimated (no --estimate-from)"));
+  CHECK_THAT(plain.output, Catch::Contains("  stage generate: --time 01:00:00 --mem 1G\n"));
+  CHECK_THAT(plain.output, Catch::Contains("  stage merge: --time 02:00:00 --mem 1G\n"));
+}
+
+// docs/cluster.md, "Cost estimate": the report names one merged file per set and grid, so it costs per input.
+TEST_CASE("the estimate carries a measured report to a plan of more data sets in proportion to its inputs") {
+  const PlanConfig one = sceneConfig({"x"}, {{"octomap-opt", 1, false}, {"knn-opt", 2, false}});
+  PlanConfig three = one;
+  three.datasets = {"x", "y", "z"};
+  const ClusterPlan measured_plan = buildPlan(one), plan = buildPlan(three);
+  const ClusterTask& report = measured_plan.stages.back().tasks.at(0);
+  REQUIRE(measured_plan.stages.back().name == "report");
+  REQUIRE(report.inputs.size() == 2);
+  const TaskMeasurement m{"report", report.index, report.label, report.argv, 3.0, 2.0, 50u << 20, 0, true};
+  const std::vector<StageEstimate> e = estimatePlan(plan, measured_plan, {m});
+  REQUIRE(e.back().stage == "report");
+  CHECK(e.back().modelled == 1);
+  CHECK(e.back().cpu_seconds == Approx(3 * 2.0));  // 6 inputs against 2
+  CHECK(e.back().longest_seconds == Approx(3 * 3.0));
+  CHECK(e.back().peak_bytes == (50u << 20));
+  // A report of other settings (another grid) is another kind.
+  PlanConfig other = three;
+  other.grids = {{"octomap-opt", 1, false}};
+  CHECK(estimatePlan(buildPlan(other), measured_plan, {m}).back().modelled == 0);
 }
 
 TEST_CASE("status finds the tasks of an array submitted at an offset by their array index") {

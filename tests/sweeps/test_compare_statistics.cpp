@@ -399,7 +399,8 @@ print('csv equals json')
   CHECK(test::bytesOf(dir / "mine.csv") == "my,own,data\n");
 }
 
-TEST_CASE("compare --latex over 60 sets continues the per-set table in floats of at most 40 sets, each within the page") {
+TEST_CASE("compare --latex of five methods over 60 sets continues the per-set table in floats of at most 40 sets, "
+          "each within the page") {
   // Old binary: one float of 60 sets, taller than the page ("Float too large"), its end lost.
   if (test::runShell("command -v pdflatex").exit_code != 0) {
     WARN("pdflatex not installed: the LaTeX over 60 sets is not compiled");
@@ -411,9 +412,12 @@ TEST_CASE("compare --latex over 60 sets continues the per-set table in floats of
     const std::string ds = "ds" + std::to_string(seed);
     REQUIRE(test::runIn(dir, "scene --scans 2 --width 8 --height 6 --seed " + std::to_string(seed) + " --out " + ds)
                 .exit_code == 0);
-    REQUIRE(test::runIn(dir, "sweep --dataset " + ds + " --quiet --grid octomap-opt --grid knn-opt --out " + ds +
-                             "-o.json --out " + ds + "-k.json").exit_code == 0);
-    files += " " + ds + "-o.json " + ds + "-k.json";
+    std::string sweep = "sweep --dataset " + ds + " --quiet";
+    for (const std::string grid : {"octomap-opt", "knn-opt", "sor-octomap-opt", "ror-octomap-opt", "range-octomap-opt"}) {
+      sweep += " --grid " + grid + " --out " + ds + "-" + grid + ".json";
+      files += " " + ds + "-" + grid + ".json";
+    }
+    REQUIRE(test::runIn(dir, sweep).exit_code == 0);
   }
   const auto r = test::runIn(dir, "compare" + files + " --latex t.tex");
   INFO(r.output);
@@ -421,6 +425,7 @@ TEST_CASE("compare --latex over 60 sets continues the per-set table in floats of
   const std::string tex = test::bytesOf(dir / "t.tex");
   CHECK(tex.find("(sets 1-40 of 60)") != std::string::npos);
   CHECK(tex.find("(sets 41-60 of 60)") != std::string::npos);
+  CHECK(tex.find("range OctoMap") != std::string::npos);  // five methods, by their display names
   checkFitsPlainArticle(dir, "t.tex");
 }
 

@@ -3,7 +3,8 @@
 // p'_m != p_m, several points per voxel, points beyond s_c, clamping at both bounds, both update variants and
 // both statistics modes. Four library paths are checked on each random scene: the direct build on one thread
 // (KnnInverseSensorModel::buildMap) and with scans recorded in parallel as `occsweep map --method knn` runs it
-// (parallelBuildMap), the library's own plain path (buildMapReference), voxel for voxel with float equality; and
+// (buildMap on a TBB ScanExecutor), the library's own plain path (buildMapReference), voxel for voxel with float
+// equality; and
 // the replay engine of `sweep`, whose confusion counts per threshold must equal those counted on the reference
 // map against the same ground truth.
 #include <catch2/catch.hpp>
@@ -22,6 +23,7 @@
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/ground_truth.hpp"
 #include "occsweep/sweeps/replay.hpp"
+#include "occsweep/sweeps/tbb_scan_executor.hpp"
 #include "reference/knn_algorithm1.hpp"
 
 using namespace occsweep;
@@ -265,10 +267,11 @@ void requireLibraryMapsEqual(const LogOddsMap& ref, const KnnParams& p, const Sc
     if (path == "buildMapReference") return model.buildMapReference(scene.set, distances);
     // `occsweep map`'s path: scans recorded in parallel, batches of 1, 2, 3 scans (batch ends inside the set)
     const std::size_t batch = std::size_t(path.back() - '0');
-    return parallelBuildMap(model, scene.set, parallelKnnDistances(scene.set, p.k, p.s_c), batch);
+    const ScanExecutor tbb = tbbScanExecutor();
+    return model.buildMap(scene.set, computeKnnDistances(scene.set, p.k, p.s_c, tbb), tbb, batch);
   };
-  for (const std::string path : {"buildMap", "buildMapReference", "parallelBuildMap batch 1",
-                                 "parallelBuildMap batch 2", "parallelBuildMap batch 3"}) {
+  for (const std::string path : {"buildMap", "buildMapReference", "buildMap on TBB batch 1",
+                                 "buildMap on TBB batch 2", "buildMap on TBB batch 3"}) {
     INFO("library path " << path);
     const auto tree = build(path);
     const auto diffs = mapDifferences(ref, voxelLogOdds(*tree));

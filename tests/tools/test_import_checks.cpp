@@ -151,7 +151,49 @@ TEST_CASE("a TUM trajectory of more poses than images is matched by the images' 
   CHECK(bad.exit_code == 2);
   CHECK_THAT(bad.output, Contains("holds 41 poses for 1 depth images: one pose per depth image needed. A whole "
                                   "sequence's poses?"));
-  CHECK_THAT(bad.output, Contains("head -n 1"));
+  CHECK_THAT(bad.output, Contains("--pose-start K --pose-step N"));
+  CHECK_FALSE(fs::exists(dir / "bad"));
+}
+
+// docs/import.md, "Poses": frame i takes pose K + i N of a whole sequence's file.
+TEST_CASE("import takes the images' poses out of a whole sequence's pose file by --pose-start and --pose-step") {
+  const fs::path dir = test::scratch("import-checks-pose-step");
+  std::string sequence;  // ten poses, pose p at (p, 0, 2)
+  for (int p = 0; p < 10; ++p) sequence += matrixPose(p, 0, 2);
+  std::ofstream(dir / "sequence.txt") << sequence;
+  std::string images, chosen;  // every third image from the second: poses 1, 4, 7
+  for (int f = 0; f < 3; ++f) {
+    writeDepth(dir / (std::to_string(f) + ".pgm"), 2000, f);
+    images += " " + (dir / (std::to_string(f) + ".pgm")).string();
+    chosen += matrixPose(1 + 3 * f, 0, 2);
+  }
+  std::ofstream(dir / "chosen.txt") << chosen;
+  const auto r = importDepth(images, (dir / "sequence.txt").string(), " --pose-format matrix --pose-start 1 "
+                             "--pose-step 3", dir / "stepped");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(importDepth(images, (dir / "chosen.txt").string(), " --pose-format matrix", dir / "by-hand").exit_code == 0);
+  requireSameScans(dir / "stepped", dir / "by-hand");
+  CHECK(readDataset(dir / "stepped").scans[2].origin == octomap::point3d(7.0f, 0.0f, 2.0f));
+
+  // Past the file's end: refused, naming the pose the last image would take.
+  auto bad = importDepth(images, (dir / "sequence.txt").string(), " --pose-format matrix --pose-start 2 "
+                         "--pose-step 4", dir / "bad");
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.output, Contains("sequence.txt: holds 10 poses: --pose-start 2 --pose-step 4 takes pose 10 (counting "
+                                  "from 0) for the last of 3 depth images"));
+  // A step of 0 is refused as a flag.
+  bad = importDepth(images, (dir / "sequence.txt").string(), " --pose-format matrix --pose-step 0", dir / "bad");
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.output, Contains("--pose-step"));
+  // One file per frame, or TUM's association by timestamp, already pair each image with its pose.
+  std::ofstream(dir / "p0.txt") << matrixPose(0, 0, 2);
+  std::ofstream(dir / "p1.txt") << matrixPose(1, 0, 2);
+  std::ofstream(dir / "p2.txt") << matrixPose(2, 0, 2);
+  bad = importDepth(images, (dir / "p0.txt").string() + " " + (dir / "p1.txt").string() + " " +
+                                (dir / "p2.txt").string(), " --pose-format matrix --pose-start 1", dir / "bad");
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.output, Contains("--pose-start and --pose-step take poses out of one file of a whole sequence"));
   CHECK_FALSE(fs::exists(dir / "bad"));
 }
 

@@ -201,7 +201,8 @@ void applyEstimatedLimits(const std::vector<StageEstimate>& estimate, const Plan
 
 void printEstimate(const std::vector<StageEstimate>& estimate, const std::string& from, const SlurmOptions& slurm) {
   std::cout << "estimate from the tasks run-local measured in " << from
-            << " (each kind of task costs the mean of its measured runs; docs/cluster.md, \"Cost estimate\"):\n";
+            << " (each kind of task costs the mean of its measured runs, a report per input it names; docs/cluster.md, "
+               "\"Cost estimate\"):\n";
   double cpu = 0;
   std::size_t unmodelled = 0;
   for (const StageEstimate& e : estimate) {
@@ -218,11 +219,26 @@ void printEstimate(const std::vector<StageEstimate>& estimate, const std::string
               << stageTime(slurm, e.stage) << " --mem " << stageMem(slurm, e.stage) << '\n';
   }
   std::cout << "  in all: " << coreHours(cpu) << " core-hours";
-  for (const int cores : {64, 256})
-    std::cout << "; on " << cores << " cores about " << durationText(estimatedWallSeconds(estimate, cores,
-                                                                                         slurm.cpus_per_task));
+  // This machine's cores too: what run-local of the plan would take here.
+  const int here = int(std::max(1u, std::thread::hardware_concurrency()));
+  for (const int cores : {here, 64, 256}) {
+    if (cores == here && (cores == 64 || cores == 256)) continue;
+    std::cout << "; on " << cores << " cores" << (cores == here ? " (this machine's)" : "") << " about "
+              << durationText(estimatedWallSeconds(estimate, cores, slurm.cpus_per_task));
+  }
   std::cout << (unmodelled ? " (without the " + std::to_string(unmodelled) + " tasks of kinds not measured)" : "")
             << '\n';
+}
+
+/// Without a measured run there is no estimate: say so, with the limits every stage got and how to get one.
+void printNoEstimate(const ClusterPlan& p) {
+  std::cout << "cost: not estimated (no --estimate-from); each stage's limits, given or the defaults:\n";
+  for (const ClusterStage& s : p.stages)
+    std::cout << "  stage " << s.name << ": --time " << stageTime(p.slurm, s.name) << " --mem "
+              << stageMem(p.slurm, s.name) << '\n';
+  std::cout << "to estimate the cost and set the limits from it, run a smaller plan of the same shape (fewer data "
+               "sets)\nwith `occsweep cluster run-local` and plan again with --estimate-from ITS_FOLDER (docs/cluster.md, "
+               "\"Cost estimate\")\n";
 }
 
 int runPlan(const PlanOptions& o) {
@@ -271,7 +287,10 @@ int runPlan(const PlanOptions& o) {
     total += s.tasks.size();
   }
   std::cout << "wrote " << o.dir << "/plan.json: " << total << " tasks\n";
-  if (!o.estimate_from.empty()) printEstimate(estimate, o.estimate_from, p.slurm);
+  if (o.estimate_from.empty())
+    printNoEstimate(p);
+  else
+    printEstimate(estimate, o.estimate_from, p.slurm);
   return 0;
 }
 

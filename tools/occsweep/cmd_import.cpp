@@ -29,6 +29,7 @@ namespace fs = std::filesystem;
 struct ImportOptions {
   std::vector<std::string> files;
   std::string out, name, pose_format = "quaternion", dataset;
+  PoseSelection pose_selection;  // --pose-start, --pose-step (chosen: either given)
   std::vector<std::string> poses;  ///< one file of every frame's pose, or one file a frame
   DepthImportConfig depth;
   std::vector<double> origin{0, 0, 0}, region, shift, view_axis;
@@ -124,6 +125,19 @@ void addPoseOptions(CLI::App* sub, ImportOptions& o) {
                   "Pose file lines: quaternion (tx ty tz qx qy qz qw), matrix (4x4), tum (timestamp tx ty tz qx qy qz "
                   "qw) or kitti (12 numbers: 3x4 [R|t] row-major); docs/import.md")
       ->check(CLI::IsMember({"quaternion", "matrix", "tum", "kitti"}))->capture_default_str();
+  sub->add_option("--pose-start", o.pose_selection.start,
+                  "K: with one pose file of a whole sequence, the first frame takes pose K (counting from 0)")
+      ->check(CLI::Range(std::size_t(0), std::size_t(1'000'000'000)));
+  sub->add_option("--pose-step", o.pose_selection.step,
+                  "N: with one pose file of a whole sequence, frame i takes pose K + i N (10: every tenth)")
+      ->check(CLI::Range(std::size_t(1), std::size_t(1'000'000)));
+}
+
+/// Either of --pose-start, --pose-step given (PoseSelection::chosen).
+PoseSelection poseSelectionOf(const CLI::App& sub, const ImportOptions& o) {
+  PoseSelection s = o.pose_selection;
+  s.chosen = sub.count("--pose-start") + sub.count("--pose-step") > 0;
+  return s;
 }
 
 /// The four kinds of input, each its own subcommand.
@@ -246,10 +260,11 @@ void requireFramesBeforePoses(const ImportOptions& o, const std::string& frames)
                                                               : ""));
 }
 
-int runImportDepth(const ImportOptions& o) {
+int runImportDepth(const ImportOptions& o, const CLI::App& depth) {
   requireFramesBeforePoses(o, "depth images");
   DepthImportConfig c = o.depth;
   c.pose_format = poseFormatNamed(o.pose_format);
+  c.pose_selection = poseSelectionOf(depth, o);
   c.skip_empty = o.skip_empty;
   c.shift = shiftOf(o);
   Dataset d = importDepthSequence(paths(o.files), paths(o.poses), c);
@@ -267,11 +282,12 @@ int runImportGraph(const ImportOptions& o) {
   return finish(std::move(d), o, kPointsBox);
 }
 
-int runImportCloud(const ImportOptions& o) {
+int runImportCloud(const ImportOptions& o, const CLI::App& cloud) {
   requireFramesBeforePoses(o, "point clouds");
   CloudImportConfig cc;
   cc.pose_files = paths(o.poses);
   cc.pose_format = poseFormatNamed(o.pose_format);
+  cc.pose_selection = poseSelectionOf(cloud, o);
   cc.origin = {o.origin[0], o.origin[1], o.origin[2]};
   cc.skip_empty = o.skip_empty;
   cc.view = coneOfFlags(o);
@@ -324,9 +340,9 @@ int runImportTruth(const ImportOptions& o) {
 int runImport(const ImportOptions& o, const ImportCommands& subs) {
   checkOutputTarget(o.out, o.force, datasetOutput());  // before any file is read
   return runChosen({
-      {subs.depth, [&o] { return runImportDepth(o); }},
+      {subs.depth, [&o, &subs] { return runImportDepth(o, *subs.depth); }},
       {subs.graph, [&o] { return runImportGraph(o); }},
-      {subs.cloud, [&o] { return runImportCloud(o); }},
+      {subs.cloud, [&o, &subs] { return runImportCloud(o, *subs.cloud); }},
       {subs.truth, [&o] { return runImportTruth(o); }},
   });
 }

@@ -11,6 +11,7 @@
 #include "occsweep/core/log_odds.hpp"
 #include "occsweep/core/normal_cdf.hpp"
 #include "occsweep/core/scan_events.hpp"
+#include "occsweep/sweeps/tbb_scan_executor.hpp"
 
 namespace occsweep {
 
@@ -130,22 +131,6 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   return r;
 }
 
-ScanExecutor tbbScanExecutor() {
-  const auto for_each = [](std::size_t count, const std::function<void(std::size_t)>& body) {
-    tbb::parallel_for(std::size_t(0), count, [&](std::size_t t) { body(t); });
-  };
-  return {for_each, std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()))};
-}
-
-KnnSetDistances parallelKnnDistances(const PointCloudSet& set, int k, double s_c) {
-  return computeKnnDistances(set, k, s_c, tbbScanExecutor());
-}
-
-std::unique_ptr<octomap::OcTree> parallelBuildMap(const KnnInverseSensorModel& model, const PointCloudSet& set,
-                                                  const KnnSetDistances& distances, std::size_t batch) {
-  return model.buildMap(set, distances, tbbScanExecutor(), batch);
-}
-
 SetFeature parallelSetFeature(const PointCloudSet& set, const FeatureRequest& request, double s_c, StatsMode stats) {
   return setFeature(set, request, s_c, stats, [](std::size_t count, auto&& body) {
     tbb::parallel_for(std::size_t(0), count, [&](std::size_t t) { body(t); });
@@ -157,7 +142,7 @@ std::vector<double> recordedHitFeatures(const RecordedSet& r, const PointCloudSe
   std::vector<double> out(r.hit_scan.size());
   if (feature.feature == PointFeature::KnnCdf) {
     // F(s_j) exactly as knnCdfFeature computes it, at the hits only (hit_inner is the point's index j in z_in).
-    const KnnSetDistances d = parallelKnnDistances(set, int(feature.argument), s_c);
+    const KnnSetDistances d = computeKnnDistances(set, int(feature.argument), s_c, tbbScanExecutor());
     const bool online = stats == StatsMode::Online;
     for (std::size_t h = 0; h < out.size(); ++h) {
       const KnnScanDistances& scan = d.scans[r.hit_scan[h]];

@@ -4,7 +4,7 @@
 
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/stats/distribution_fit.hpp"
-#include "occsweep/sweeps/replay.hpp"
+#include "occsweep/sweeps/tbb_scan_executor.hpp"
 #include "reproduce_internal.hpp"
 
 namespace occsweep {
@@ -17,7 +17,7 @@ json runDistributionFits(const ReproduceConfig& c, const std::vector<RankedDatas
   const std::size_t rank = d.paperRanks().size() > 1 ? d.paperRanks()[1] : 0;
   const Dataset data = readDataset(d.root / d.folders[rank]);
   const double s_c = 4.0;  // Section 4.2; the s_i are those of z_in (Section 3.2: "within range s_c")
-  const KnnSetDistances distances = parallelKnnDistances(data.scans, c.fit_k, s_c);
+  const KnnSetDistances distances = computeKnnDistances(data.scans, c.fit_k, s_c, tbbScanExecutor());
   std::vector<double> s;
   for (const auto& scan : distances.scans) s.insert(s.end(), scan.s.begin(), scan.s.end());
   const DistributionReport r = fitDistributions(s, 200);

@@ -66,7 +66,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
   if (clouds.empty()) throw std::invalid_argument("no point cloud given");
   if (c.view) (void)cloudView(*c.view, RigidPose{});  // its rules, before any file is read
   const bool posed = !c.pose_files.empty();
-  const std::vector<RigidPose> poses = posed ? framePoses(c.pose_files, c.pose_format, clouds, "cloud")
+  const std::vector<RigidPose> poses = posed ? framePoses(c.pose_files, c.pose_format, clouds, "cloud", c.pose_selection)
                                              : std::vector<RigidPose>{};
   PointCloudSet scans;
   std::uint64_t total_points = 0;
@@ -93,6 +93,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
   if (posed) {
     source["poses"] = poseFileNames(c.pose_files);
     source["pose_format"] = poseFormatName(c.pose_format);
+    if (c.pose_selection.chosen) source["pose_start_step"] = {c.pose_selection.start, c.pose_selection.step};
   } else {
     source["origin"] = c.origin;
   }

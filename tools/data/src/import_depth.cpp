@@ -80,7 +80,7 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
   validate(c);
   if (images.empty()) throw std::invalid_argument("no depth image given");
   if (pose_files.empty()) throw std::invalid_argument("no pose file given (--poses)");
-  const auto poses = framePoses(pose_files, c.pose_format, images, "depth image");
+  const auto poses = framePoses(pose_files, c.pose_format, images, "depth image", c.pose_selection);
   // About a million values in all (at least one an image), for the median depth that shows a wrong --depth-scale.
   const std::size_t per_image = std::max<std::size_t>(1, 1'000'000 / images.size());
   std::vector<std::uint16_t> depth_sample;
@@ -111,6 +111,7 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
                            {"max_depth", c.max_depth},
                            {"stride", c.stride},
                            {"median_depth", medianMetres(depth_sample, c.depth_scale)}};
+  if (c.pose_selection.chosen) source["pose_start_step"] = {c.pose_selection.start, c.pose_selection.step};
   return importedDataset(images.front().parent_path().filename().string(), std::move(scans), source);
 }
 

@@ -221,8 +221,36 @@ nlohmann::json poseFileNames(const std::vector<fs::path>& pose_files) {
   return names;
 }
 
+namespace {
+
+/// Frame i's pose is pose start + i step of `poses` (PoseSelection), or a DataError naming the pose past the end.
+std::vector<RigidPose> selectedPoses(const std::vector<RigidPose>& poses, const PoseSelection& s, const fs::path& file,
+                                     std::size_t frames, const std::string& kind) {
+  if (frames == 0) return {};
+  const std::size_t last = s.start + (frames - 1) * s.step;  // no overflow: both flags bounded by their options
+  if (last >= poses.size())
+    throw DataError(file, "", "holds " + std::to_string(poses.size()) + " poses: --pose-start " +
+                                  std::to_string(s.start) + " --pose-step " + std::to_string(s.step) + " takes pose " +
+                                  std::to_string(last) + " (counting from 0) for the last of " +
+                                  std::to_string(frames) + " " + kind + "s");
+  std::vector<RigidPose> out;
+  for (std::size_t i = 0; i < frames; ++i) out.push_back(poses[s.start + i * s.step]);
+  return out;
+}
+
+}  // namespace
+
 std::vector<RigidPose> framePoses(const std::vector<fs::path>& pose_files, PoseFormat format,
-                                  const std::vector<fs::path>& frames, const std::string& kind) {
+                                  const std::vector<fs::path>& frames, const std::string& kind,
+                                  const PoseSelection& selection) {
+  const bool timestamped = std::all_of(frames.begin(), frames.end(), [](const fs::path& f) {
+    return frameTimestamp(f).has_value();
+  });
+  if (selection.chosen && (pose_files.size() > 1 || (format == PoseFormat::Tum && timestamped)))
+    throw std::invalid_argument("--pose-start and --pose-step take poses out of one file of a whole sequence: " +
+                                std::string(pose_files.size() > 1 ? "one pose file per " + kind
+                                                                  : "a TUM trajectory matched by timestamp") +
+                                " already pairs each " + kind + " with its pose");
   if (pose_files.size() > 1) {  // one file per frame
     if (pose_files.size() != frames.size())
       throw std::invalid_argument(std::to_string(pose_files.size()) + " pose files for " + std::to_string(frames.size()) +
@@ -239,21 +267,18 @@ std::vector<RigidPose> framePoses(const std::vector<fs::path>& pose_files, PoseF
   }
   const fs::path& file = pose_files.at(0);
   std::vector<RigidPose> poses = readPoses(file, format);
-  const bool timestamped = std::all_of(frames.begin(), frames.end(), [](const fs::path& f) {
-    return frameTimestamp(f).has_value();
-  });
   // By timestamp whenever both sides have them, even at equal counts: a trajectory of as many poses as images need not
   // pair them in order.
   if (format == PoseFormat::Tum && timestamped) return associateByTimestamp(file, poses, frames);
+  if (selection.chosen) return selectedPoses(poses, selection, file, frames.size(), kind);
   if (poses.size() == frames.size()) return poses;
   const std::string counts = "holds " + std::to_string(poses.size()) + " poses for " + std::to_string(frames.size()) +
                              " " + kind + "s: one pose per " + kind + " needed";
   if (poses.size() < frames.size()) throw DataError(file, "", counts);
-  throw DataError(file, "", counts + ". A whole sequence's poses? Give every " + kind + " of the sequence, or a file of " +
-                                "these " + kind + "s' poses in order (the first " + std::to_string(frames.size()) +
-                                ": head -n " + std::to_string(frames.size()) + " for one pose a line); a TUM "
-                                "trajectory (--pose-format tum) is matched by timestamp when each " + kind +
-                                " is named by its own, as TUM names them");
+  throw DataError(file, "", counts + ". A whole sequence's poses? Give --pose-start K --pose-step N: " + kind + " i takes "
+                                "pose K + i N, counting from 0 (--pose-start 0 for the sequence's first " + kind +
+                                "s, --pose-step 10 for every tenth); a TUM trajectory (--pose-format tum) is matched "
+                                "by timestamp when each " + kind + " is named by its own, as TUM names them");
 }
 
 }  // namespace occsweep

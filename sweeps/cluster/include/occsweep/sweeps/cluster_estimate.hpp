@@ -19,6 +19,7 @@ struct StageEstimate {
   double cpu_seconds = 0;               ///< expected CPU time of the modelled tasks together
   double longest_seconds = 0;           ///< expected wall time of the longest task
   std::uint64_t peak_bytes = 0;         ///< the largest measured peak memory of the stage's kinds
+  std::vector<double> task_seconds;     ///< expected wall time of each modelled task
 };
 
 /// The model, per kind of task: a kind is the stage and, for a results task, its grid and shard count. A kind's CPU and
@@ -29,7 +30,8 @@ struct StageEstimate {
                                                       const std::vector<TaskMeasurement>& measured);
 
 /// Expected wall time of the plan on `cores` cores, each task using `cores_per_task`: stage after stage, a stage
-/// takes its CPU time spread over the cores, but no less than its longest task.
+/// takes its CPU time spread over the cores, but no less than its tasks take when each starts on the first free
+/// slot of cores, longest first (three tasks of a minute on two slots: two minutes).
 [[nodiscard]] double estimatedWallSeconds(const std::vector<StageEstimate>& stages, int cores, int cores_per_task);
 
 /// The estimate's margin: --time is twice the longest expected task (at least 10 minutes), --mem one and a half

@@ -47,21 +47,6 @@ using SetGateScores = std::vector<std::vector<std::vector<float>>>;
 [[nodiscard]] RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c,
                                     const SetGateScores& gate_scores = {});
 
-/// The scans' work of a build on TBB's threads, as many as the task arena it runs in (docs/architecture.md,
-/// "Threads").
-[[nodiscard]] ScanExecutor tbbScanExecutor();
-
-/// computeKnnDistances with the scans' k-NN searches in parallel (TBB); the statistics are then accumulated in
-/// scan order, so the result is identical.
-[[nodiscard]] KnnSetDistances parallelKnnDistances(const PointCloudSet& set, int k, double s_c);
-
-/// KnnInverseSensorModel::buildMap with the scans' events recorded in parallel (TBB), `batch` scans at a time
-/// (0: twice the threads), and applied in scan order on this thread: the same map, voxel for voxel.
-[[nodiscard]] std::unique_ptr<octomap::OcTree> parallelBuildMap(const KnnInverseSensorModel& model,
-                                                                const PointCloudSet& set,
-                                                                const KnnSetDistances& distances,
-                                                                std::size_t batch = 0);
-
 /// A feature of every point (method_features.hpp) with the scans in parallel (TBB); identical to setFeature.
 [[nodiscard]] SetFeature parallelSetFeature(const PointCloudSet& set, const FeatureRequest& request, double s_c,
                                             StatsMode stats);

@@ -68,9 +68,17 @@ inline constexpr double kRotationTolerance = 1e-3;
 /// TUM's associate.py default.
 inline constexpr double kTumMaxTimeDifference = 0.02;
 
+/// Which poses of one file of a whole sequence the frames take (docs/import.md, "Poses", --pose-start and
+/// --pose-step): frame i takes pose start + i step, counting from 0.
+struct PoseSelection {
+  bool chosen = false;  ///< either flag given (--pose-start 0 alone takes a sequence's first poses)
+  std::size_t start = 0, step = 1;
+};
+
 /// The pose of each frame (`frames`: image or cloud files, in order; `kind`: "depth image", "cloud") from
 /// `pose_files` (docs/import.md, "Poses"):
-/// - one file of one pose per frame, in frame order;
+/// - one file of one pose per frame, in frame order; with `selection` given, one file of a whole sequence, frame i
+///   taking pose start + i step (std::invalid_argument with several files or a TUM file matched by timestamp);
 /// - one file per frame, each of one pose, in frame order (3DMatch's frame-*.pose.txt);
 /// - one TUM file (--pose-format tum) of any number of poses, when every frame's name is its timestamp
 ///   (TUM's depth/1305031102.160407.png): each frame takes the pose nearest in time, within kTumMaxTimeDifference
@@ -78,6 +86,6 @@ inline constexpr double kTumMaxTimeDifference = 0.02;
 /// Otherwise a DataError naming the file, the counts and the fix.
 [[nodiscard]] std::vector<RigidPose> framePoses(const std::vector<std::filesystem::path>& pose_files, PoseFormat format,
                                                 const std::vector<std::filesystem::path>& frames,
-                                                const std::string& kind);
+                                                const std::string& kind, const PoseSelection& selection = {});
 
 }  // namespace occsweep
