@@ -597,6 +597,22 @@ TEST_CASE("the estimate carries a measured report to a plan of more data sets in
   PlanConfig other = three;
   other.grids = {{"octomap-opt", 1, false}};
   CHECK(estimatePlan(buildPlan(other), measured_plan, {m}).back().modelled == 0);
+
+  // select reads one ranking per block but ranks the same sets: it is not scaled by them, and another block count
+  // is another kind.
+  PlanConfig ranked = sceneConfig({"x"}, {{"octomap-opt", 1, false}});
+  ranked.ranked = true, ranked.sets = {"rank-1"}, ranked.pcs_count = 8;
+  const ClusterPlan ranked_one = buildPlan(ranked);
+  const ClusterStage& select = ranked_one.stages.at(1);
+  REQUIRE(select.name == "select");
+  const ClusterTask& s = select.tasks.at(0);
+  const TaskMeasurement sm{"select", s.index, s.label, s.argv, 3.0, 2.0, 50u << 20, 0, true};
+  ranked.datasets = {"x", "y"};
+  const std::vector<StageEstimate> same_blocks = estimatePlan(buildPlan(ranked), ranked_one, {sm});
+  CHECK(same_blocks.at(1).modelled == 2);
+  CHECK(same_blocks.at(1).cpu_seconds == Approx(2 * 2.0));
+  ranked.blocks = 4;
+  CHECK(estimatePlan(buildPlan(ranked), ranked_one, {sm}).at(1).modelled == 0);
 }
 
 TEST_CASE("status finds the tasks of an array submitted at an offset by their array index") {

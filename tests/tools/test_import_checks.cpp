@@ -185,15 +185,34 @@ TEST_CASE("import takes the images' poses out of a whole sequence's pose file by
   // A step of 0 is refused as a flag.
   bad = importDepth(images, (dir / "sequence.txt").string(), " --pose-format matrix --pose-step 0", dir / "bad");
   CHECK(bad.exit_code == 2);
-  CHECK_THAT(bad.output, Contains("--pose-step"));
-  // One file per frame, or TUM's association by timestamp, already pair each image with its pose.
+  CHECK_THAT(bad.output, Contains("--pose-step: Value 0 not in range 1 to 1000000"));
+  // One file per frame already pairs each image with its pose.
   std::ofstream(dir / "p0.txt") << matrixPose(0, 0, 2);
   std::ofstream(dir / "p1.txt") << matrixPose(1, 0, 2);
   std::ofstream(dir / "p2.txt") << matrixPose(2, 0, 2);
   bad = importDepth(images, (dir / "p0.txt").string() + " " + (dir / "p1.txt").string() + " " +
                                 (dir / "p2.txt").string(), " --pose-format matrix --pose-start 1", dir / "bad");
   CHECK(bad.exit_code == 2);
-  CHECK_THAT(bad.output, Contains("--pose-start and --pose-step take poses out of one file of a whole sequence"));
+  CHECK_THAT(bad.output, Contains("--pose-start and --pose-step take poses out of one file of a whole sequence, not "
+                                  "out of 3 pose files"));
+  CHECK_FALSE(fs::exists(dir / "bad"));
+
+  // A TUM trajectory is taken by position when asked, even where the images' names are numbers (0.pgm ...).
+  std::string tum;
+  for (int p = 0; p < 10; ++p) tum += std::to_string(100 + p) + ".5 " + std::to_string(p) + " 0 2 0 0 0 1\n";
+  std::ofstream(dir / "tum.txt") << tum;
+  const auto by_position = importDepth(images, (dir / "tum.txt").string(), " --pose-format tum --pose-start 1 "
+                                       "--pose-step 3", dir / "tum-stepped");
+  INFO(by_position.output);
+  REQUIRE(by_position.exit_code == 0);
+  requireSameScans(dir / "tum-stepped", dir / "by-hand");
+  const Dataset stepped = readDataset(dir / "stepped");
+  CHECK(stepped.source.at("pose_start_step") == nlohmann::json::array({1, 3}));
+  // Without --poses (import cloud may go without), the flags are refused.
+  std::ofstream(dir / "c.xyz") << "1 2 3\n";
+  bad = test::runCli("import cloud " + (dir / "c.xyz").string() + " --pose-start 1 --out " + (dir / "bad").string());
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.output, Contains("--pose-start requires --poses"));
   CHECK_FALSE(fs::exists(dir / "bad"));
 }
 

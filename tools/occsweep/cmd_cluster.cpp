@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
+#include <sched.h>
 #include <sstream>
 #include <thread>
 
@@ -199,10 +200,17 @@ void applyEstimatedLimits(const std::vector<StageEstimate>& estimate, const Plan
   }
 }
 
+/// The cores this process may run on (its CPU affinity, as nproc counts them; at least 1).
+int usableCores() {
+  cpu_set_t set;
+  if (::sched_getaffinity(0, sizeof set, &set) == 0) return std::max(1, CPU_COUNT(&set));
+  return int(std::max(1u, std::thread::hardware_concurrency()));
+}
+
 void printEstimate(const std::vector<StageEstimate>& estimate, const std::string& from, const SlurmOptions& slurm) {
   std::cout << "estimate from the tasks run-local measured in " << from
-            << " (each kind of task costs the mean of its measured runs, a report per input it names; docs/cluster.md, "
-               "\"Cost estimate\"):\n";
+            << " (each kind of task costs the mean of its measured runs, the report per results file it compares; "
+               "docs/cluster.md, \"Cost estimate\"):\n";
   double cpu = 0;
   std::size_t unmodelled = 0;
   for (const StageEstimate& e : estimate) {
@@ -219,12 +227,16 @@ void printEstimate(const std::vector<StageEstimate>& estimate, const std::string
               << stageTime(slurm, e.stage) << " --mem " << stageMem(slurm, e.stage) << '\n';
   }
   std::cout << "  in all: " << coreHours(cpu) << " core-hours";
-  // This machine's cores too: what run-local of the plan would take here.
-  const int here = int(std::max(1u, std::thread::hardware_concurrency()));
-  for (const int cores : {here, 64, 256}) {
-    if (cores == here && (cores == 64 || cores == 256)) continue;
-    std::cout << "; on " << cores << " cores" << (cores == here ? " (this machine's)" : "") << " about "
-              << durationText(estimatedWallSeconds(estimate, cores, slurm.cpus_per_task));
+  // The cores this process may use too (its affinity, as nproc counts them): what run-local takes here with as many
+  // tasks at once as fit.
+  const int here = usableCores();
+  std::vector<int> counts = {64, 256};
+  if (here != 64 && here != 256) counts.insert(counts.begin(), here);
+  for (const int cores : counts) {
+    std::cout << "; on " << cores << " cores";
+    if (cores == here)
+      std::cout << " (here: run-local --threads " << std::max(1, here / std::max(1, slurm.cpus_per_task)) << ')';
+    std::cout << " about " << durationText(estimatedWallSeconds(estimate, cores, slurm.cpus_per_task));
   }
   std::cout << (unmodelled ? " (without the " + std::to_string(unmodelled) + " tasks of kinds not measured)" : "")
             << '\n';

@@ -125,12 +125,13 @@ void addPoseOptions(CLI::App* sub, ImportOptions& o) {
                   "Pose file lines: quaternion (tx ty tz qx qy qz qw), matrix (4x4), tum (timestamp tx ty tz qx qy qz "
                   "qw) or kitti (12 numbers: 3x4 [R|t] row-major); docs/import.md")
       ->check(CLI::IsMember({"quaternion", "matrix", "tum", "kitti"}))->capture_default_str();
+  CLI::Option* poses = sub->get_option("--poses");
   sub->add_option("--pose-start", o.pose_selection.start,
                   "K: with one pose file of a whole sequence, the first frame takes pose K (counting from 0)")
-      ->check(CLI::Range(std::size_t(0), std::size_t(1'000'000'000)));
+      ->check(CLI::Range(std::size_t(0), std::size_t(1'000'000'000)))->needs(poses);
   sub->add_option("--pose-step", o.pose_selection.step,
                   "N: with one pose file of a whole sequence, frame i takes pose K + i N (10: every tenth)")
-      ->check(CLI::Range(std::size_t(1), std::size_t(1'000'000)));
+      ->check(CLI::Range(std::size_t(1), std::size_t(1'000'000)))->needs(poses);
 }
 
 /// Either of --pose-start, --pose-step given (PoseSelection::chosen).

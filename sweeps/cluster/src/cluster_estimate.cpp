@@ -33,10 +33,11 @@ std::string shapeOf(const std::string& arg, const std::string& key) {
   return out + (last == key ? "{dataset}" : last);
 }
 
-/// How many of a task's arguments are its inputs: a task that names its inputs on its command line (the report: one
-/// merged results file per set and grid) costs in proportion to them, so its kind leaves them out and its costs are
-/// per input (docs/cluster.md, "Cost estimate").
+/// How many of the report's arguments are its inputs: it compares one merged results file per set and grid and costs
+/// in proportion to them, so its kind leaves them out and its costs are per input (docs/cluster.md, "Cost
+/// estimate"). Other tasks: 0 (`select` reads one ranking per block, but ranks the same sets however many blocks).
 std::size_t inputArguments(const ClusterTask& task) {
+  if (task.kind != OutputKind::Comparison) return 0;
   std::size_t n = 0;
   for (std::size_t i = 1; i < task.argv.size(); ++i)
     n += std::find(task.inputs.begin(), task.inputs.end(), task.argv[i]) != task.inputs.end();
@@ -47,8 +48,8 @@ std::size_t inputArguments(const ClusterTask& task) {
 /// - a results task (sweep, merge): its stage, grid, shard count and sweep settings (resolution, s_c, variant,
 ///   statistics, truth; an Eq. 16 group's count and seed): a shard's fixed costs do not shrink with more shards, and a
 ///   group of 1/20 is not the whole grid, so no kind is scaled to another;
-/// - any other (generation, select, report): its stage and command, with its data set and its ids left out, and the
-///   inputs it names by their file names alone (inputArguments: those are counted instead).
+/// - any other (generation, select, report): its stage and command, with its data set and its ids left out; the
+///   report's inputs by their file names alone (inputArguments: those are counted instead).
 std::string kindOf(const std::string& stage, const ClusterTask& task) {
   std::ostringstream k;
   k << stage;
@@ -62,14 +63,16 @@ std::string kindOf(const std::string& stage, const ClusterTask& task) {
     return k.str();
   }
   const std::string key = task.label.substr(0, task.label.find(' '));
+  const bool per_input = inputArguments(task) > 0;
+  const auto isInput = [&](const std::string& arg) {
+    return per_input && std::find(task.inputs.begin(), task.inputs.end(), arg) != task.inputs.end();
+  };
   for (std::size_t i = 1; i < task.argv.size(); ++i)
-    if (std::find(task.inputs.begin(), task.inputs.end(), task.argv[i]) == task.inputs.end())
-      k << ' ' << shapeOf(task.argv[i], key);
+    if (!isInput(task.argv[i])) k << ' ' << shapeOf(task.argv[i], key);
   // The inputs' own file names (one per grid for the report) stay: a report of other grids is another kind.
   std::set<std::string> input_names;
   for (std::size_t i = 1; i < task.argv.size(); ++i)
-    if (std::find(task.inputs.begin(), task.inputs.end(), task.argv[i]) != task.inputs.end())
-      input_names.insert(fs::path(task.argv[i]).filename().string());
+    if (isInput(task.argv[i])) input_names.insert(fs::path(task.argv[i]).filename().string());
   for (const std::string& name : input_names) k << " {inputs named " << name << "}";
   return k.str();
 }

@@ -227,7 +227,8 @@ namespace {
 std::vector<RigidPose> selectedPoses(const std::vector<RigidPose>& poses, const PoseSelection& s, const fs::path& file,
                                      std::size_t frames, const std::string& kind) {
   if (frames == 0) return {};
-  const std::size_t last = s.start + (frames - 1) * s.step;  // no overflow: both flags bounded by their options
+  // No overflow: start <= 10^9 and step <= 10^6 (their options), frames bounded by the command line's files.
+  const std::size_t last = s.start + (frames - 1) * s.step;
   if (last >= poses.size())
     throw DataError(file, "", "holds " + std::to_string(poses.size()) + " poses: --pose-start " +
                                   std::to_string(s.start) + " --pose-step " + std::to_string(s.step) + " takes pose " +
@@ -243,14 +244,9 @@ std::vector<RigidPose> selectedPoses(const std::vector<RigidPose>& poses, const 
 std::vector<RigidPose> framePoses(const std::vector<fs::path>& pose_files, PoseFormat format,
                                   const std::vector<fs::path>& frames, const std::string& kind,
                                   const PoseSelection& selection) {
-  const bool timestamped = std::all_of(frames.begin(), frames.end(), [](const fs::path& f) {
-    return frameTimestamp(f).has_value();
-  });
-  if (selection.chosen && (pose_files.size() > 1 || (format == PoseFormat::Tum && timestamped)))
-    throw std::invalid_argument("--pose-start and --pose-step take poses out of one file of a whole sequence: " +
-                                std::string(pose_files.size() > 1 ? "one pose file per " + kind
-                                                                  : "a TUM trajectory matched by timestamp") +
-                                " already pairs each " + kind + " with its pose");
+  if (selection.chosen && pose_files.size() > 1)
+    throw std::invalid_argument("--pose-start and --pose-step take poses out of one file of a whole sequence, not "
+                                "out of " + std::to_string(pose_files.size()) + " pose files");
   if (pose_files.size() > 1) {  // one file per frame
     if (pose_files.size() != frames.size())
       throw std::invalid_argument(std::to_string(pose_files.size()) + " pose files for " + std::to_string(frames.size()) +
@@ -267,10 +263,14 @@ std::vector<RigidPose> framePoses(const std::vector<fs::path>& pose_files, PoseF
   }
   const fs::path& file = pose_files.at(0);
   std::vector<RigidPose> poses = readPoses(file, format);
+  // Asked for by position: taken so, even from a TUM trajectory whose frames are named by numbers.
+  if (selection.chosen) return selectedPoses(poses, selection, file, frames.size(), kind);
+  const bool timestamped = std::all_of(frames.begin(), frames.end(), [](const fs::path& f) {
+    return frameTimestamp(f).has_value();
+  });
   // By timestamp whenever both sides have them, even at equal counts: a trajectory of as many poses as images need not
   // pair them in order.
   if (format == PoseFormat::Tum && timestamped) return associateByTimestamp(file, poses, frames);
-  if (selection.chosen) return selectedPoses(poses, selection, file, frames.size(), kind);
   if (poses.size() == frames.size()) return poses;
   const std::string counts = "holds " + std::to_string(poses.size()) + " poses for " + std::to_string(frames.size()) +
                              " " + kind + "s: one pose per " + kind + " needed";

@@ -1,7 +1,7 @@
-// The core's parallel loop (scan_executor.hpp) on TBB: the one place a build's per-scan work meets the thread
-// library, for every caller below the command line that builds a core map on several threads (the engines, the
-// reproduction's fits). The same map or distances, voxel for voxel, on any number of threads (docs/architecture.md,
-// "Threads").
+// The core's parallel loop (scan_executor.hpp) on TBB, for the callers in sweeps/ that build a core map or its
+// distances on several threads (the engines, the reproduction's fits): the same result, voxel for voxel, on any
+// number of threads (docs/architecture.md, "Threads"). `occsweep map` makes its own in its task arena: the command
+// includes no engine header.
 #pragma once
 
 #include "occsweep/core/scan_executor.hpp"

@@ -77,8 +77,8 @@ struct PoseSelection {
 
 /// The pose of each frame (`frames`: image or cloud files, in order; `kind`: "depth image", "cloud") from
 /// `pose_files` (docs/import.md, "Poses"):
-/// - one file of one pose per frame, in frame order; with `selection` given, one file of a whole sequence, frame i
-///   taking pose start + i step (std::invalid_argument with several files or a TUM file matched by timestamp);
+/// - one file of one pose per frame, in frame order; with `selection` chosen, one file of a whole sequence (TUM's
+///   too, then by position), frame i taking pose start + i step (std::invalid_argument with several files);
 /// - one file per frame, each of one pose, in frame order (3DMatch's frame-*.pose.txt);
 /// - one TUM file (--pose-format tum) of any number of poses, when every frame's name is its timestamp
 ///   (TUM's depth/1305031102.160407.png): each frame takes the pose nearest in time, within kTumMaxTimeDifference
