@@ -391,7 +391,12 @@ print('csv equals json')
   } else {
     WARN("pdflatex not installed: the LaTeX table is checked against its golden text only");
   }
-  CHECK(test::bytesOf(dir / "c.md").find("| knn |") != std::string::npos);
+  // Markdown as the LaTeX: display names, the per-set numbers right-aligned.
+  const std::string md = test::bytesOf(dir / "c.md");
+  CHECK(md.find("| k-NN |") != std::string::npos);
+  CHECK(md.find("| k-NN AUC | k-NN vs OctoMap % |") != std::string::npos);
+  CHECK(md.find("|---|---|---:|---:|---:|\n") != std::string::npos);
+  CHECK(md.find("| knn |") == std::string::npos);
   // A table of another program's is never replaced, even with --force.
   std::ofstream(dir / "mine.csv") << "my,own,data\n";
   const auto refused = test::runIn(dir, "compare " + files + " --csv mine.csv --force");

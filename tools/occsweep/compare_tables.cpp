@@ -127,7 +127,8 @@ std::string markdownCell(const std::string& s) {
   return out;
 }
 
-std::string markdown(const Cells& c) {
+// Columns from `first_number_column` on hold numbers: right-aligned, so that their decimal points line up.
+std::string markdown(const Cells& c, std::size_t first_number_column) {
   std::ostringstream o;
   for (std::size_t r = 0; r < c.size(); ++r) {
     o << "|";
@@ -135,7 +136,7 @@ std::string markdown(const Cells& c) {
     o << '\n';
     if (r == 0) {
       o << "|";
-      for (std::size_t i = 0; i < c[0].size(); ++i) o << "---|";
+      for (std::size_t i = 0; i < c[0].size(); ++i) o << (i < first_number_column ? "---|" : "---:|");
       o << '\n';
     }
   }
@@ -368,12 +369,16 @@ std::string csvTable(const ComparisonTables& t) {
   return o.str();
 }
 
+// As the LaTeX: display names, numbers right-aligned (a data set's name is the user's and stays as it is).
 std::string markdownTables(const ComparisonTables& t) {
-  std::string out = mixedNote(t) + "Best AUC per set, and the improvement over " + t.baseline + " in percent:\n\n" +
-                    markdown(perSetCells(t));
+  const std::size_t name_columns = 2;  // data set, pcs
+  std::string out = mixedNote(t) + "Best AUC per set, and the improvement over " + displayNameOf(t.baseline) +
+                    " in percent:\n\n" + markdown(withDisplayNames(perSetCells(t), t.methods, name_columns),
+                                                   name_columns);
   if (!t.statistics.empty()) {
-    out += "\n" + mixedNote(t) + "Statistics against " + t.baseline + " (docs/statistics.md):\n\n" +
-           markdown(statisticsCells(t.statistics, t.baseline));
+    const Cells statistics = withDisplayNames(statisticsCells(t.statistics, t.baseline), t.methods, 0);
+    out += "\n" + mixedNote(t) + "Statistics against " + displayNameOf(t.baseline) + " (docs/statistics.md):\n\n" +
+           markdown(statistics, statistics[0].size());
     const std::vector<std::string> bases = verdictBases(t.statistics);
     if (!bases.empty()) out += "\nVerdicts:\n\n";
     for (const std::string& line : bases) out += "- " + line + "\n";
