@@ -434,7 +434,10 @@ std::vector<std::string> readersOf(const fs::path& file, const fs::path& good, c
   const std::string f = test::shellQuoted(file), out = (dir / "reader-out").string();
   return {"compare " + f,
           "merge " + f + " --out " + out + ".db",
+          "merge " + f + " --out " + out + ".json",
           "results export " + f + " --out " + out + ".csv",
+          "results export " + f + " --out " + out + ".db",
+          "results export " + f + " --out " + out + ".json",
           "plot params " + f + " --out " + out + ".png --json " + out + ".plot.json",
           "results diff " + test::shellQuoted(good) + " " + f};
 }
@@ -472,12 +475,14 @@ TEST_CASE("every damaged or edited results file results check refuses, every rea
     ++refused;
     INFO(d.what << ": " << d.file.filename() << "\nresults check: " << check.output);
     CHECK(check.exit_code == 2);
+    const std::string bytes = test::bytesOf(d.file);
     for (const std::string& reader : readersOf(d.file, dir / "r.json", corpus)) {
       const auto r = test::runCli(reader);
       INFO(reader << "\n" << r.output);
       CHECK(r.exit_code == 2);
       CHECK_THAT(r.output, Contains(d.file.filename().string()));
       for (const fs::path& left : test::filesUnder(corpus)) CHECK_THAT(left.string(), !Contains("reader-out"));
+      CHECK(test::bytesOf(d.file) == bytes);  // a reader never changes the file it refuses (no journal rolled in)
     }
   }
   WARN(refused << " of " << files.size() << " damaged files refused by results check and by every reader");

@@ -104,11 +104,13 @@ std::string withTarget(std::string args, const std::string& target) {
 }
 
 // A name of every pattern occsweep's temporaries ever had, for output `n`, with a PID that is dead, alive, this
-// process's or impossible, and a token nobody recorded; and the names of SQLite's journals beside them.
-std::string temporaryLookalike(const std::string& n, SplitMix64& rng) {
+// process's or impossible, and a token nobody recorded; the names of SQLite's journals beside them; a sweep's
+// partial results; and the figure's data file.
+constexpr std::uint64_t kLookalikePatterns = 13;
+std::string temporaryLookalike(const std::string& n, std::uint64_t pattern, SplitMix64& rng) {
   const long pids[] = {deadPid(), 1, long(::getpid()), 999999999};
   const std::string pid = std::to_string(pids[rng.next() % 4]);
-  switch (rng.next() % 8) {
+  switch (pattern % kLookalikePatterns) {
     case 0: return "." + n + ".tmp-" + pid;
     case 1: return "." + n + ".tmp-" + pid + "-" + hexToken(rng);
     case 2: return n + ".tmp-" + pid;
@@ -116,8 +118,27 @@ std::string temporaryLookalike(const std::string& n, SplitMix64& rng) {
     case 4: return n + ".tmp-" + pid + ".png";
     case 5: return "." + n + ".tmp-" + pid + "-" + hexToken(rng) + "-journal";  // SQLite's, beside a temporary
     case 6: return n + "-journal";
+    case 7: return n + "-wal";
+    case 8: return n + "-shm";
+    case 9: return n + ".partial";        // a store sweep's partial results
+    case 10: return n + ".partial.jsonl";  // a JSON sweep's
+    case 11: return "." + n + ".data.json.tmp-" + pid + "-" + hexToken(rng);  // plot's data for its script
     default: return n + ".old-" + std::to_string(2000 + rng.next() % 30);
   }
+}
+
+// The look-alikes a writer must refuse to write beside, exit 2 naming one (docs/robustness.md, "Ownership"): a
+// user's entry at a store's journal names would be taken by SQLite for the new store's transaction, and one at a
+// sweep's partial results name for its resume file. Any other look-alike is simply left alone.
+std::set<std::string> refusedLookalikes(const Writer& w, const std::set<std::string>& names) {
+  std::set<std::string> refused;
+  const bool store = fs::path(w.target).extension() == ".db", sweep = w.args.rfind("sweep ", 0) == 0;
+  for (const std::string& name : names) {
+    if (store && (name == w.target + "-journal" || name == w.target + "-wal" || name == w.target + "-shm"))
+      refused.insert(name);
+    if (sweep && name == w.target + (store ? ".partial" : ".partial.jsonl")) refused.insert(name);
+  }
+  return refused;
 }
 
 // A user's file or folder (with a file inside) at `path`.
@@ -162,36 +183,38 @@ TEST_CASE("entries named like temporaries but recorded by no occsweep run surviv
   CHECK(fileBytes(dir / "r.json.old-2023") == "backup\n");
   CHECK(fileBytes(dir / "data.old-2022/sub/x") == "mine\n");
 
-  // Then 200 seeded cases: 1 to 4 look-alikes beside one writing command's output, files or folders.
+  // Then every writing command beside every pattern, once each (23 x 13 seeded cases): that pattern's look-alike of
+  // one of its outputs' names, and up to 3 more of any pattern and output, files or folders.
   const std::vector<Writer> all = writers(in);
-  for (std::uint64_t seed = 1; seed <= 200; ++seed) {
-    SplitMix64 rng(seed);
-    const Writer& w = all[seed % all.size()];
-    const fs::path folder = scratch("ownership/case");
-    std::set<std::string> mine;
-    for (std::uint64_t i = 0, n = 1 + rng.next() % 4; i < n; ++i) {
-      const std::string name = temporaryLookalike(w.target, rng);
-      if (mine.insert(name).second) userEntry(folder / name, rng);
+  std::uint64_t seed = 0;
+  for (const Writer& w : all)
+    for (std::uint64_t pattern = 0; pattern < kLookalikePatterns; ++pattern) {
+      SplitMix64 rng(++seed);
+      const fs::path folder = scratch("ownership/case");
+      std::set<std::string> mine;
+      for (std::uint64_t i = 0, n = 1 + rng.next() % 4; i < n; ++i) {
+        const std::string& output = w.outputs[rng.next() % w.outputs.size()];
+        const std::string name = temporaryLookalike(output, i == 0 ? pattern : rng.next(), rng);
+        if (mine.insert(name).second) userEntry(folder / name, rng);
+      }
+      const auto before = snapshot(folder);
+      const CommandResult r = runIn(folder, withTarget(w.args, w.target));
+      INFO("seed " << seed << ": " << withTarget(w.args, w.target) << "\n" << r.output);
+      const std::set<std::string> refused = refusedLookalikes(w, mine);
+      if (!refused.empty()) {
+        CHECK(r.exit_code == 2);
+        CHECK(std::any_of(refused.begin(), refused.end(), [&](const std::string& n) { return mentions(r, n + ": "); }));
+      } else {
+        REQUIRE(r.exit_code == 0);
+      }
+      auto after = snapshot(folder);
+      std::erase_if(after, [&](const auto& kv) { return !mine.contains(fs::path(kv.first).begin()->string()); });
+      CHECK(after == before);  // every user entry, and what it holds, byte-identical
+      std::set<std::string> expected = mine;
+      if (refused.empty()) expected.insert(w.outputs.begin(), w.outputs.end());
+      CHECK(entriesOf(folder) == expected);  // and nothing else left
     }
-    const auto before = snapshot(folder);
-    const CommandResult r = runIn(folder, withTarget(w.args, w.target));
-    INFO("seed " << seed << ": " << withTarget(w.args, w.target) << "\n" << r.output);
-    // A user's entry at a store's journal name would be taken by SQLite for the new store's transaction: the
-    // command refuses before writing (docs/robustness.md, "Ownership"); any other look-alike is simply left alone.
-    const bool journal_of_store = fs::path(w.target).extension() == ".db" && mine.contains(w.target + "-journal");
-    if (journal_of_store) {
-      CHECK(r.exit_code == 2);
-      CHECK(mentions(r, w.target + "-journal: stands where SQLite keeps the journal"));
-    } else {
-      REQUIRE(r.exit_code == 0);
-    }
-    auto after = snapshot(folder);
-    std::erase_if(after, [&](const auto& kv) { return !mine.contains(fs::path(kv.first).begin()->string()); });
-    CHECK(after == before);  // every user entry, and what it holds, byte-identical
-    std::set<std::string> expected = mine;
-    if (!journal_of_store) expected.insert(w.outputs.begin(), w.outputs.end());
-    CHECK(entriesOf(folder) == expected);  // and nothing else left
-  }
+  CHECK(seed >= 200);
 }
 
 // A run killed while writing `target` in `dir`: a child claims a temporary there, in the ledger of `state`, makes a

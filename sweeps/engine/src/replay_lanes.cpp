@@ -332,11 +332,13 @@ std::vector<LaneThresholds> laneThresholds(const std::vector<std::vector<double>
   std::vector<LaneThresholds> lanes(p_t.size());
   for (std::size_t l = 0; l < p_t.size(); ++l) {
     std::vector<float> unsorted;
+    unsorted.reserve(p_t[l].size());  // sized once: a map may have a million thresholds (docs/robustness.md, "Limits")
     for (double p : p_t[l]) unsorted.push_back(logOdds(p));
     LaneThresholds& t = lanes[l];
     t.order.resize(unsorted.size());
     for (std::size_t i = 0; i < unsorted.size(); ++i) t.order[i] = i;
     std::stable_sort(t.order.begin(), t.order.end(), [&](std::size_t a, std::size_t b) { return unsorted[a] < unsorted[b]; });
+    t.sorted.reserve(unsorted.size());
     for (std::size_t i : t.order) t.sorted.push_back(unsorted[i]);
     t.reach_tp.assign(unsorted.size() + 1, 0);
     t.reach_fp.assign(unsorted.size() + 1, 0);

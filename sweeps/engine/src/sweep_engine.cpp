@@ -5,6 +5,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <utility>
 
 #include "occsweep/core/enum_names.hpp"
 #include "occsweep/sweeps/replay.hpp"
@@ -50,6 +51,7 @@ class ReplayEngine final : public SweepEngine {
     grids_ = grids;
     context_ = {c.variant};
     observable_ = c.truth == TruthMode::Observable;
+    twin_ = !c.observable_out.empty();
     // What the maps of every grid need per point: one rule per lane group tells (the groups share their features).
     std::set<FeatureRequest> hit_needs, gate_needs;
     lane_groups_.clear();
@@ -74,14 +76,29 @@ class ReplayEngine final : public SweepEngine {
   // passes), one pass otherwise (nothing to share: smaller batches spread a grid over more threads).
   // docs/performance.md, "Replay counting".
   static constexpr std::size_t kPassesPerBatch = 4;
+  // A batch's thresholds at most (but one map at least): about 160 bytes each are held while a batch is counted and
+  // written (its counts, results and curve), so a grid of a million thresholds per map costs one map's worth per
+  // thread, not a lane group's (docs/robustness.md, "Limits"). Shipped grids have 9 per map: never cut.
+  static constexpr std::size_t kBatchThresholds = std::size_t(1) << 18;
 
   std::vector<std::vector<std::size_t>> batches(std::size_t grid) const override {
     std::vector<std::vector<std::size_t>> out;
+    const std::vector<MapToCount>& maps = *grids_.at(grid).maps;
     for (const LaneGroup& group : lane_groups_.at(grid)) {
       const std::size_t n = group.maps.size(), most = (group.reads_points ? kPassesPerBatch : 1) * kReplayPassLanes;
       const std::size_t count = (n + most - 1) / most, size = (n + count - 1) / count;
-      for (std::size_t b = 0; b < n; b += size)
-        out.emplace_back(group.maps.begin() + long(b), group.maps.begin() + long(std::min(b + size, n)));
+      for (std::size_t b = 0; b < n; b += size) {
+        // Cut where the batch's thresholds pass kBatchThresholds: a batch's counts and results are held at once.
+        std::vector<std::size_t> batch;
+        std::size_t thresholds = 0;
+        for (std::size_t i = b; i < std::min(b + size, n); ++i) {
+          const std::size_t t = maps[group.maps[i]].p_t.size();
+          if (!batch.empty() && thresholds + t > kBatchThresholds) out.push_back(std::exchange(batch, {})), thresholds = 0;
+          batch.push_back(group.maps[i]);
+          thresholds += t;
+        }
+        out.push_back(std::move(batch));
+      }
     }
     return out;
   }
@@ -100,13 +117,15 @@ class ReplayEngine final : public SweepEngine {
       lanes.push_back(replayRule(rules[l], &event_hits));
       p_t.push_back(maps[batch[l]].p_t);
     }
-    // Without excluded voxels (full truth, no twin) both outputs are equal.
+    // Without excluded voxels (full truth, no twin) both outputs are equal: only the one used is counted (a map of a
+    // million thresholds holds 32 MB of counts per truth).
     BatchCounts out;
+    std::vector<std::vector<ConfusionCounts>>* observable = observable_ || twin_ ? &out.observable : nullptr;
     if (first.gate)
       out.counts = replayGatedCounts(recorded_, lanes, gate_columns_.at(first.gate->feature), laneGates(rules), p_t,
-                                     &out.observable);
+                                     observable);
     else
-      out.counts = replayCounts(recorded_, lanes, p_t, &out.observable);
+      out.counts = replayCounts(recorded_, lanes, p_t, observable);
     if (observable_) out.counts.swap(out.observable);
     return out;
   }
@@ -150,6 +169,7 @@ class ReplayEngine final : public SweepEngine {
   std::vector<std::vector<LaneGroup>> lane_groups_;  // per grid (computed once: 249,200 maps take 1 s)
   RuleContext context_;
   bool observable_ = false;
+  bool twin_ = false;  ///< SweepConfig::observable_out: the observable-truth counts go to a second file
   RecordedSet recorded_;
   std::map<FeatureRequest, std::vector<double>> hit_features_;  // per hit feature: its value at every recorded hit
   std::map<FeatureRequest, std::size_t> gate_columns_;           // per gate feature: its recorded column

@@ -92,6 +92,7 @@ MapResult mapResult(const SweepItem& item, const GridEnumeration& e, const std::
   MapResult r;
   r.map_index = item.map_index;
   r.params = e.map(item.map_index);
+  r.thresholds.reserve(item.thresholds.size());  // sized once: no copy of a million thresholds while it grows
   for (std::size_t t = 0; t < item.thresholds.size(); ++t)
     r.thresholds.push_back({e.firstId(item.map_index) + item.thresholds[t],
                             e.thresholdsOf(item.map_index)[item.thresholds[t]], counts[t]});
