@@ -401,6 +401,7 @@ TEST_CASE("cluster plan --force replaces only occsweep's own plan, a user's plan
     CHECK(test::bytesOf(dir / "p" / "plan.json") == mine);
     CHECK(test::listing(dir / "p") == std::vector<std::string>{"plan.json"});
     if (std::string(flag) != " --replace") CHECK_THAT(r.output, Contains("not an occsweep plan"));
+    else CHECK_THAT(r.output, Contains("unknown option --replace"));
   }
   // occsweep's own plan: the same plan again is fine, a different one needs --force, which replaces it.
   fs::remove(dir / "p" / "plan.json");

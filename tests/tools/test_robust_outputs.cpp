@@ -213,6 +213,8 @@ TEST_CASE("sweep refuses two grids into one file however it is spelt, before any
     CHECK(r.exit_code == 2);
     CHECK(mentions(r, "--out 1 and --out 2 name one file"));
     CHECK_FALSE(fs::exists(dir / "x.json"));
+    CHECK_FALSE(fs::exists(dir / "x.json.partial.jsonl"));
+    CHECK(leftovers(dir).empty());  // no temporary either
   }
   const CommandResult two = runIn(dir, "sweep --dataset scene --grid tiny.json --grid tiny.json --quiet --out a.json "
                                        "--out d/b.json");
