@@ -397,6 +397,7 @@ print('csv equals json')
   CHECK(md.find("| k-NN AUC | k-NN vs OctoMap % |") != std::string::npos);
   CHECK(md.find("|---|---|---:|---:|---:|\n") != std::string::npos);
   CHECK(md.find("| knn |") == std::string::npos);
+  CHECK(md.find("- knn,") == std::string::npos);  // the verdicts under the tables name it so too
   // A table of another program's is never replaced, even with --force.
   std::ofstream(dir / "mine.csv") << "my,own,data\n";
   const auto refused = test::runIn(dir, "compare " + files + " --csv mine.csv --force");

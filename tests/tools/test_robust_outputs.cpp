@@ -258,7 +258,7 @@ TEST_CASE("compare's CSV, Markdown and LaTeX show 24 names of random printable c
   // The CSV is always read back (Python's csv); Markdown and LaTeX where their readers are installed.
   const bool readers = runShell("command -v pdflatex && command -v pdftotext && /usr/bin/python3 -c 'import "
                                 "markdown_it'").exit_code == 0;
-  if (!readers && std::getenv("CI"))  // CI's test command installs them: missing there is a broken set-up
+  if (!readers && std::getenv("CI"))  // CI (.ci/run exports CI) installs them: missing there is a broken set-up
     FAIL("pdflatex, pdftotext or markdown-it-py missing under CI (tools/setup.sh installs them)");
   if (!readers)
     WARN("pdflatex, pdftotext or markdown-it-py missing (the test command installs them: tools/setup.sh): "

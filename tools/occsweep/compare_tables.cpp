@@ -381,7 +381,8 @@ std::string markdownTables(const ComparisonTables& t) {
            markdown(statistics, statistics[0].size());
     const std::vector<std::string> bases = verdictBases(t.statistics);
     if (!bases.empty()) out += "\nVerdicts:\n\n";
-    for (const std::string& line : bases) out += "- " + line + "\n";
+    for (const std::string& line : bases)  // the methods by the names the tables above show
+      out += "- " + withDisplayNames({{line}}, t.methods, 0)[0][0] + "\n";
   }
   return out;
 }

@@ -51,7 +51,7 @@ class ReplayEngine final : public SweepEngine {
     grids_ = grids;
     context_ = {c.variant};
     observable_ = c.truth == TruthMode::Observable;
-    twin_ = !c.observable_out.empty();
+    twin_ = in.twin;
     // What the maps of every grid need per point: one rule per lane group tells (the groups share their features).
     std::set<FeatureRequest> hit_needs, gate_needs;
     lane_groups_.clear();
@@ -71,12 +71,12 @@ class ReplayEngine final : public SweepEngine {
     PointCloudSet().swap(in.scans);
   }
 
-  // Batches of one lane group, of equal size, replayed in passes of kReplayPassLanes: up to kPassesPerBatch passes
+  // Batches of one lane group, of equal size (then cut at kBatchThresholds), replayed in passes of kReplayPassLanes: up to kPassesPerBatch passes
   // where the hit rule reads the points (a batch computes its events' hits, a log per recorded hit, once for all its
   // passes), one pass otherwise (nothing to share: smaller batches spread a grid over more threads).
   // docs/performance.md, "Replay counting".
   static constexpr std::size_t kPassesPerBatch = 4;
-  // A batch's thresholds at most (but one map at least): about 160 bytes each are held while a batch is counted and
+  // A batch's thresholds at most (but one map at least): about 150 bytes each are held while a batch is counted and
   // written (its counts, results and curve), so a grid of a million thresholds per map costs one map's worth per
   // thread, not a lane group's (docs/robustness.md, "Limits"). Shipped grids have 9 per map: never cut.
   static constexpr std::size_t kBatchThresholds = std::size_t(1) << 18;
@@ -169,7 +169,7 @@ class ReplayEngine final : public SweepEngine {
   std::vector<std::vector<LaneGroup>> lane_groups_;  // per grid (computed once: 249,200 maps take 1 s)
   RuleContext context_;
   bool observable_ = false;
-  bool twin_ = false;  ///< SweepConfig::observable_out: the observable-truth counts go to a second file
+  bool twin_ = false;  ///< SweepInputs::twin: the observable-truth counts go to a second file
   RecordedSet recorded_;
   std::map<FeatureRequest, std::vector<double>> hit_features_;  // per hit feature: its value at every recorded hit
   std::map<FeatureRequest, std::size_t> gate_columns_;           // per gate feature: its recorded column
