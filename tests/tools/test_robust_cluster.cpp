@@ -10,6 +10,7 @@
 #include <csignal>
 #include <fcntl.h>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <sstream>
 #include <thread>
@@ -510,4 +511,43 @@ TEST_CASE("cluster plan refuses an ungrouped grid past a JSON results file's com
                Contains("grid fine.json: 240004 combinations, more than the 200000 a JSON results file holds"));
     CHECK_FALSE(fs::exists(dir / "p"));
   }
+}
+
+// docs/cluster.md, "Measured tasks": run-local appends to its own measured.jsonl only. Old binary: a user's file (or
+// a hard link to one outside the plan) at that name got run-local's records appended, exit 0.
+TEST_CASE("run-local appends its measurements to its own measured.jsonl only, never to a user's file or a link") {
+  const fs::path dir = test::scratch("robust-cluster-measured");
+  REQUIRE(test::runIn(dir, "scene --scans 2 --width 8 --height 6 --out ds").exit_code == 0);
+  std::ofstream(dir / "mine.txt") << "my own measurements\n";
+  const std::string mine = test::bytesOf(dir / "mine.txt");
+  const std::vector<std::pair<std::string, std::function<void(const fs::path&)>>> entries = {
+      {"holds a line that is not a task measurement", [&](const fs::path& at) { fs::copy_file(dir / "mine.txt", at); }},
+      {"has 2 hard links", [&](const fs::path& at) { fs::create_hard_link(dir / "mine.txt", at); }},
+      {"is a symbolic link", [&](const fs::path& at) { fs::create_symlink(dir / "mine.txt", at); }},
+      {"is not a regular file", [&](const fs::path& at) { REQUIRE(::mkfifo(at.c_str(), 0644) == 0); }},
+  };
+  int n = 0;
+  for (const auto& [why, make] : entries) {
+    const std::string plan = "p" + std::to_string(n++);
+    REQUIRE(test::runIn(dir, "cluster plan --experiment sweep --dataset ds --grid octomap-opt:1 --out " + plan)
+                .exit_code == 0);
+    make(dir / plan / "measured.jsonl");
+    const auto r = test::runIn(dir, "cluster run-local " + plan);
+    INFO(why << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output, Contains("measured.jsonl: " + why));
+    CHECK_THAT(r.output, Contains("move it away"));
+    CHECK(test::bytesOf(dir / "mine.txt") == mine);
+    CHECK_FALSE(fs::exists(dir / plan / "merged"));  // no task ran
+  }
+  // Its own file: made by the first run, appended to by the next.
+  REQUIRE(test::runIn(dir, "cluster plan --experiment sweep --dataset ds --grid octomap-opt:2 --out own").exit_code == 0);
+  REQUIRE(test::runIn(dir, "cluster run-local own").exit_code == 0);
+  const std::string first = test::bytesOf(dir / "own" / "measured.jsonl");
+  CHECK_FALSE(first.empty());
+  fs::remove(dir / "own" / "report" / "comparison.json");  // one task to run again
+  const auto again = test::runIn(dir, "cluster run-local own");
+  INFO(again.output);
+  CHECK(again.exit_code == 0);
+  CHECK(test::bytesOf(dir / "own" / "measured.jsonl").size() > first.size());
 }

@@ -30,6 +30,28 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// run-local appends its measurements to DIR/measured.jsonl (docs/cluster.md, "Measured tasks") only where that file
+/// is absent or one of its records: a regular file of this folder alone (one link: not a hard link to a file
+/// elsewhere) whose every line reads as a task measurement. A symbolic link, a user's file, or one linked from
+/// elsewhere is refused before any task starts, and left as it is.
+void requireOwnMeasurements(const fs::path& dir) {
+  const fs::path file = dir / "measured.jsonl";
+  struct stat st{};
+  if (::lstat(file.c_str(), &st) != 0) return;  // none yet: run-local makes it
+  const auto refuse = [&](const std::string& why) {
+    throw std::runtime_error(file.string() + ": " + why + ": run-local appends its measurements only to its own "
+                             "file (docs/cluster.md, \"Measured tasks\"); move it away");
+  };
+  if (S_ISLNK(st.st_mode)) refuse("is a symbolic link");
+  if (!S_ISREG(st.st_mode)) refuse("is not a regular file");
+  if (st.st_nlink != 1) refuse("has " + std::to_string(st.st_nlink) + " hard links (another name shares its bytes)");
+  try {
+    (void)readMeasurements(dir);
+  } catch (const std::exception& e) {
+    refuse(std::string("holds a line that is not a task measurement (") + e.what() + ")");
+  }
+}
+
 // ---- ending the tasks with run-local (docs/cluster.md, "Stopping run-local") ----
 // The signal handler may only make async-signal-safe calls: it reads the pids of the running tasks from a fixed
 // table of lock-free atomics, sends each SIGTERM and records the signal.
@@ -402,9 +424,7 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
   const auto torun = tasksToRun(plan, planStatus(plan, dir, {}, {}));
   requireOwnTaskLogs(plan, torun, dir);
   requireNoForeignMarkers(plan, torun, dir);
-  if (fs::is_symlink(fs::symlink_status(dir / "measured.jsonl")))  // before any task starts
-    throw std::runtime_error((dir / "measured.jsonl").string() + ": is a symbolic link: occsweep never writes through "
-                             "one; remove it");
+  requireOwnMeasurements(dir);  // before any task starts
   TaskStopper stopper{std::size_t(jobs)};
   std::size_t failed = 0;
   for (std::size_t s = 0; s < plan.stages.size() && !stopper.signal(); ++s) {
