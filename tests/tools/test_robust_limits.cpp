@@ -243,6 +243,11 @@ TEST_CASE("grids past the combination limit are counted by Eq. 15 and refused be
   checkRefused(sweep, {"grid fine-pt", "19200020", "is more than the limit of 2000000", "--max-combinations"});
   CHECK_FALSE(fs::exists(dir / "r.json"));
   CHECK(leftovers(dir).empty());
+  // grid shards lists each group's ids, a permutation of the whole grid (old binary: 188 MB here, and 14 GB for a
+  // grid of 1.8 billion combinations, no refusal).
+  const Run shards = runOccsweep("grid shards " + fine.string());
+  checkRefused(shards, {"grid fine-pt", "19200020", "is more than the limit of 2000000", "--max-combinations"});
+  checkPeak(shards);
 
   // k-NN k = 1..100000 (old: 3.9 GB, then bad_alloc naming no file).
   writeManyKGrid(dir / "many-k.json");

@@ -90,7 +90,11 @@ int runGridList(const GridOptions& o) {
 }
 
 int runGridShards(const GridOptions& o) {
-  const auto n = combinationCount(loadNamedGrid(o));
+  const GridSpec g = loadNamedGrid(o);
+  const auto n = combinationCount(g);
+  // Each group's ids are listed, permuted over the whole grid: bounded as enumerating it is (docs/robustness.md,
+  // "Limits").
+  checkLimit("grid " + g.name + ": combinations", n, limits().combinations, "--max-combinations");
   for (std::uint64_t i = 0; i < o.groups; ++i) {
     const auto ids = permutationGroup(n, o.seed, o.groups, i);
     std::cout << nlohmann::json{{"group", i}, {"count", ids.size()}, {"ids", ids}}.dump() << '\n';
