@@ -71,9 +71,10 @@ class ReplayEngine final : public SweepEngine {
     PointCloudSet().swap(in.scans);
   }
 
-  // Batches of one lane group, of equal size (then cut at kBatchThresholds), replayed in passes of kReplayPassLanes: up to kPassesPerBatch passes
-  // where the hit rule reads the points (a batch computes its events' hits, a log per recorded hit, once for all its
-  // passes), one pass otherwise (nothing to share: smaller batches spread a grid over more threads).
+  // Batches of one lane group, of equal size (then cut at kBatchThresholds), replayed in passes of
+  // kReplayPassLanes: up to kPassesPerBatch passes where the hit rule reads the points (a batch computes its events'
+  // hits, a log per recorded hit, once for all its passes), one pass otherwise (nothing to share: smaller batches
+  // spread a grid over more threads).
   // docs/performance.md, "Replay counting".
   static constexpr std::size_t kPassesPerBatch = 4;
   // A batch's thresholds at most (but one map at least): about 150 bytes each are held while a batch is counted and
@@ -93,7 +94,10 @@ class ReplayEngine final : public SweepEngine {
         std::size_t thresholds = 0;
         for (std::size_t i = b; i < std::min(b + size, n); ++i) {
           const std::size_t t = maps[group.maps[i]].p_t.size();
-          if (!batch.empty() && thresholds + t > kBatchThresholds) out.push_back(std::exchange(batch, {})), thresholds = 0;
+          if (!batch.empty() && thresholds + t > kBatchThresholds) {
+            out.push_back(std::exchange(batch, {}));
+            thresholds = 0;
+          }
           batch.push_back(group.maps[i]);
           thresholds += t;
         }
