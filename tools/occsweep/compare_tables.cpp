@@ -188,6 +188,11 @@ Cells withDisplayNames(Cells c, const std::vector<std::string>& methods, std::si
   return c;
 }
 
+// One line of text (a verdict's basis) with the methods by their display names, as the tables show them.
+std::string withDisplayNames(const std::string& line, const std::vector<std::string>& methods) {
+  return withDisplayNames(Cells{{line}}, methods, 0)[0][0];
+}
+
 // A float taller than the page is lost off its end: the per-set table holds at most this many sets per float (a
 // plain article's page holds about 52 in \small), and continues in the next.
 constexpr std::size_t kSetsPerLatexTable = 40;
@@ -382,7 +387,7 @@ std::string markdownTables(const ComparisonTables& t) {
     const std::vector<std::string> bases = verdictBases(t.statistics);
     if (!bases.empty()) out += "\nVerdicts:\n\n";
     for (const std::string& line : bases)  // the methods by the names the tables above show
-      out += "- " + withDisplayNames({{line}}, t.methods, 0)[0][0] + "\n";
+      out += "- " + withDisplayNames(line, t.methods) + "\n";
   }
   return out;
 }
@@ -405,7 +410,7 @@ std::string latexTables(const ComparisonTables& t) {
   const std::vector<std::string> bases = verdictBases(t.statistics);
   if (!bases.empty()) out += "\\begin{itemize}\n";
   for (const std::string& line : bases)  // the methods by the names the tables above show
-    out += "  \\item " + latexEscaped(withDisplayNames({{line}}, t.methods, 0)[0][0]) + "\n";
+    out += "  \\item " + latexEscaped(withDisplayNames(line, t.methods)) + "\n";
   if (!bases.empty()) out += "\\end{itemize}\n";
   return out;
 }

@@ -63,16 +63,16 @@ std::string kindOf(const std::string& stage, const ClusterTask& task) {
     return k.str();
   }
   const std::string key = task.label.substr(0, task.label.find(' '));
-  const bool per_input = inputArguments(task) > 0;
-  const auto isInput = [&](const std::string& arg) {
-    return per_input && std::find(task.inputs.begin(), task.inputs.end(), arg) != task.inputs.end();
-  };
-  for (std::size_t i = 1; i < task.argv.size(); ++i)
-    if (!isInput(task.argv[i])) k << ' ' << shapeOf(task.argv[i], key);
-  // The inputs' own file names (one per grid for the report) stay: a report of other grids is another kind.
+  // The report's inputs by their own file names (one per grid): a report of other grids is another kind.
   std::set<std::string> input_names;
-  for (std::size_t i = 1; i < task.argv.size(); ++i)
-    if (isInput(task.argv[i])) input_names.insert(fs::path(task.argv[i]).filename().string());
+  for (std::size_t i = 1; i < task.argv.size(); ++i) {
+    const bool input = task.kind == OutputKind::Comparison &&
+                       std::find(task.inputs.begin(), task.inputs.end(), task.argv[i]) != task.inputs.end();
+    if (input)
+      input_names.insert(fs::path(task.argv[i]).filename().string());
+    else
+      k << ' ' << shapeOf(task.argv[i], key);
+  }
   for (const std::string& name : input_names) k << " {inputs named " << name << "}";
   return k.str();
 }
