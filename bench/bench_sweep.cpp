@@ -169,7 +169,7 @@ ReplaySeconds timeReplay(const Dataset& data, const GroundTruth& truth, const ch
     for (Fixed t : e.thresholds[m]) maps.back().p_t.push_back(toDouble(t)), ++combos;
   }
   SweepConfig config;
-  config.resolution = kResolution, config.s_c = kSC;
+  config.map.resolution = kResolution, config.map.s_c = kSC;
   PointCloudSet scans = data.scans;  // the engine frees its copy
   const SweepInputs inputs{config, scans, truth, truth, false};
   const auto engine = makeSweepEngine("replay");
@@ -255,7 +255,7 @@ DirectSeconds timeDirectBuilds(const PointCloudSet& scans, const KnnParams& knn)
   d.one_thread = seconds([&] { (void)model.buildMap(scans); });
   d.all_cores = seconds([&] {
     const ScanExecutor tbb = tbbScanExecutor();
-    (void)model.buildMap(scans, computeKnnDistances(scans, knn.k, knn.s_c, tbb), tbb);
+    (void)model.buildMap(scans, computeKnnDistances(scans, knn.k, knn.map.s_c, tbb), tbb);
   });
   return d;
 }

@@ -14,10 +14,11 @@ int main(int argc, char** argv) {
   }
   try {
     const occsweep::Dataset data = occsweep::readDataset(argv[1]);
-    occsweep::KnnParams params;  // k = 3, s_c = 4 m, 0.1 m voxels, ...: mapping_params.hpp
+        // The paper's defaults: k = 3, ... (builtin_parameters.hpp), 0.1 m voxels and s_c 4 m (map_settings.hpp).
+    occsweep::KnnParams params;
     occsweep::validate(params);  // throws naming the broken relation of Eq. 12
     const auto map = occsweep::KnnInverseSensorModel(params).buildMap(data.scans);
-    const occsweep::GroundTruth truth = occsweep::groundTruthOf(data, argv[1], params.resolution);
+    const occsweep::GroundTruth truth = occsweep::groundTruthOf(data, argv[1], params.map.resolution);
     const occsweep::ConfusionCounts c = occsweep::classify(occsweep::sampleRegion(*map, truth), params.p_t);
     std::printf("%s: %zu scans, k-NN map of %zu voxels; at p_t %.2f: TP %llu FP %llu FN %llu TN %llu (TPR %.4f)\n",
                 data.name.c_str(), data.scans.size(), map->size(), params.p_t, (unsigned long long)c.tp,

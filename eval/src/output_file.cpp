@@ -1,6 +1,7 @@
 // Atomic outputs, refusal of existing ones, and removal of temporaries on errors, signals and after kills
 // (docs/robustness.md, "Outputs, temporaries and --force").
 #include "occsweep/eval/output_file.hpp"
+#include "occsweep/eval/interrupt_guard.hpp"
 #include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/ownership.hpp"
 
@@ -39,6 +40,15 @@ std::mutex& registryMutex() {
   static auto* m = new std::mutex;
   return *m;
 }
+
+}  // namespace
+
+void runWithoutInterruptCleaning(const std::function<void()>& step) {
+  const std::lock_guard lock(registryMutex());
+  step();
+}
+
+namespace {
 
 // Live temporaries of this process, with their ledger claims (ownership.hpp).
 std::map<fs::path, TemporaryClaim>& registry() {

@@ -118,25 +118,31 @@ std::string entryIdentity(const fs::path& path) {
   return std::to_string(folder.stx_ino) + " " + birthText(folder) + " " + where.hex();
 }
 
-// The entry itself (not what a link there points to): its inode and birth time. "" when it cannot be read.
-std::string entryStamp(const fs::path& path) {
+// The entry at `path` itself (not what a link there points to), or, with a `descriptor`, the file it has open.
+bool statEntry(const fs::path& path, int descriptor, unsigned fields, struct statx& out) {
+  if (descriptor >= 0) return ::statx(descriptor, "", AT_EMPTY_PATH, fields, &out) == 0;
+  return ::statx(AT_FDCWD, path.c_str(), AT_SYMLINK_NOFOLLOW, fields, &out) == 0;
+}
+
+// The entry itself: its inode and birth time. "" when it cannot be read.
+std::string entryStamp(const fs::path& path, int descriptor = -1) {
   struct statx made {};
-  if (::statx(AT_FDCWD, path.c_str(), AT_SYMLINK_NOFOLLOW, STATX_INO | STATX_BTIME, &made) != 0) return "";
+  if (!statEntry(path, descriptor, STATX_INO | STATX_BTIME, made)) return "";
   return std::to_string(made.stx_ino) + " " + birthText(made);
 }
 
 // The entry's stamp as the fifth line of its record holds it. "" when it cannot be read.
-std::string madeIdentity(const fs::path& path) {
-  const std::string stamp = entryStamp(path);
+std::string madeIdentity(const fs::path& path, int descriptor = -1) {
+  const std::string stamp = entryStamp(path, descriptor);
   return stamp.empty() ? "" : "made " + stamp;
 }
 
 // What stamps an entry made inside a temporary folder once it is whole: its entryStamp and, for a file, its size and
 // modification time, so that bytes a user writes into it in place (`cp` over it, `>>`) make it theirs.
-std::string contentStamp(const fs::path& path) {
+std::string contentStamp(const fs::path& path, int descriptor = -1) {
   struct statx made {};
   constexpr unsigned kFields = STATX_TYPE | STATX_INO | STATX_BTIME | STATX_SIZE | STATX_MTIME;
-  if (::statx(AT_FDCWD, path.c_str(), AT_SYMLINK_NOFOLLOW, kFields, &made) != 0) return "";
+  if (!statEntry(path, descriptor, kFields, made)) return "";
   std::string stamp = std::to_string(made.stx_ino);  // piece by piece: "a" + std::string trips GCC 12's -Wrestrict
   stamp += ' ';
   stamp += birthText(made);
@@ -148,6 +154,17 @@ std::string contentStamp(const fs::path& path) {
   stamp += '.';
   stamp += std::to_string(made.stx_mtime.tv_nsec);
   return stamp;
+}
+
+// A made entry's stamp after occsweep's last write (recordMadeEntryWritten): its contentStamp and its status-change
+// time, which no user can set (`cp -p` and `touch` set the modification time): on a file system without birth
+// times, a copy restored at a reused inode is another entry.
+std::string writtenStamp(const fs::path& path, int descriptor = -1) {
+  struct statx changed {};
+  if (!statEntry(path, descriptor, STATX_CTIME, changed)) return "";
+  const std::string content = contentStamp(path, descriptor);
+  return content.empty() ? "" : content + " changed " + std::to_string(changed.stx_ctime.tv_sec) + "." +
+                                    std::to_string(changed.stx_ctime.tv_nsec);
 }
 
 // An entry inside a temporary folder as its record names it: the FNV-1a hash of its path relative to the folder
@@ -547,7 +564,7 @@ namespace {
 // `made/` folder.
 struct MadeEntryRecord {
   std::string identity, made, path, machine;  ///< path: recordLine of its canonicalEntry
-  std::string written;  ///< its contentStamp after occsweep's last write (recordMadeEntryWritten); "" before
+    std::string written;  ///< its writtenStamp after occsweep's last write (recordMadeEntryWritten); "" before
 };
 
 fs::path madeEntryRecord(const fs::path& entry) {
@@ -639,19 +656,28 @@ void recordMadeEntry(const fs::path& entry) {
 void recordMadeEntryWritten(const fs::path& entry) {
   const fs::path record = madeEntryRecord(entry);
   const std::optional<MadeEntryRecord> r = record.empty() ? std::nullopt : readMadeEntryRecord(record);
-  const std::string made = madeIdentity(entry), written = contentStamp(entry);
+  const std::string made = madeIdentity(entry), written = writtenStamp(entry);
   if (r && !made.empty() && r->made == made && !written.empty()) writeMadeEntryRecord(entry, made, written);
 }
 
-bool isRecordedMadeEntry(const fs::path& entry) {
+bool isRecordedMadeEntry(const fs::path& entry, int descriptor) {
   const fs::path record = madeEntryRecord(entry);
   const std::optional<MadeEntryRecord> r = record.empty() ? std::nullopt : readMadeEntryRecord(record);
   if (!r || r->identity != entryIdentity(entry)) return false;
-  if (r->made.empty()) return bornJustAfter(entry, record);
-  if (r->made != madeIdentity(entry)) return false;
+  if (r->made.empty()) return descriptor < 0 && bornJustAfter(entry, record);
+  if (r->made != madeIdentity(entry, descriptor)) return false;
   // Without a birth time ("-") the inode alone names the entry, and a file a user makes there later may be given the
-  // same one: then only the size and modification time of occsweep's last write tell them apart.
-  return !r->made.ends_with(" -") || (!r->written.empty() && r->written == contentStamp(entry));
+  // same one: then only the stamp of occsweep's last write tells them apart.
+  // A stamp an occsweep before status-change times wrote proves what it proved then.
+  const bool has_change_time = r->written.find(" changed ") != std::string::npos;
+  return !r->made.ends_with(" -") ||
+         (!r->written.empty() &&
+          r->written == (has_change_time ? writtenStamp(entry, descriptor) : contentStamp(entry, descriptor)));
+}
+
+bool keepsBirthTime(const fs::path& entry) {
+  const std::string stamp = entryStamp(entry);
+  return !stamp.empty() && !stamp.ends_with(" -");
 }
 
 void forgetMadeEntry(const fs::path& entry) {

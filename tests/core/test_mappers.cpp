@@ -87,14 +87,14 @@ TEST_CASE("k-NN model on hand-built rays: summed hits, l_in, l_out, default and 
     CHECK(leafCount(*t) == std::size_t(keyCut));  // voxels 0 to 39 and nothing else
   }
   SECTION("literal: Algorithm 1 word for word, hits then l_in then l_out") {
-    p.variant = UpdateVariant::Literal;
+    p.map.variant = UpdateVariant::Literal;
     auto t = KnnInverseSensorModel(p).buildMap(set);
     CHECK(at(*t, keyA) == hitA + lo(0.3));  // A's voxel is crossed by the ray to B
     CHECK(at(*t, keyB) == hitB + lo(0.45)); // B's voxel is crossed only by the ray to C
   }
   SECTION("online statistics use the running mu and sigma of the scans so far") {
     PointCloudSet two = {lineScan({A, A2, B}), lineScan({A, B})};
-    p.stats = StatsMode::Online;
+    p.map.stats = StatsMode::Online;
     const auto d = computeKnnDistances(two, 1, 4.0);
     CHECK(d.scans[0].online_mu == Approx(mu));
     CHECK(d.scans[1].online_mu == Approx((sA + sA2 + sB + 2 * dist(A, B)) / 5.0));
@@ -112,13 +112,13 @@ TEST_CASE("k-NN mapper equals liboctomap voxel for voxel when p_u = p_l = p_h, p
     om.p_h = std::min(probs[rng.below(5)], om.p_max);
     om.p_m = misses[rng.below(4)];
     om.p_min = std::min(0.02 + 0.12 * double(rng.below(4)), om.p_m);
-    om.s_c = 2.0 + rng.uniform() * 2.0;
+    om.map.s_c = 2.0 + rng.uniform() * 2.0;
     PointCloudSet set;
     const int scans = 2 + int(rng.below(6));
     for (int s = 0; s < scans; ++s) {
       Scan scan;
       scan.origin = octomap::point3d(float(rng.uniform() - 0.5), float(rng.uniform() - 0.5), float(rng.uniform()));
-      octomap::OcTree grid(om.resolution);
+      octomap::OcTree grid(om.map.resolution);
       octomap::KeySet used;
       for (int i = 0; i < 400; ++i) {
         const octomap::point3d p(float((rng.uniform() - 0.5) * 10), float((rng.uniform() - 0.5) * 10),
@@ -130,7 +130,7 @@ TEST_CASE("k-NN mapper equals liboctomap voxel for voxel when p_u = p_l = p_h, p
     KnnParams kp;
     kp.p_u = kp.p_l = om.p_h;
     kp.p_m = kp.p_m_out = om.p_m;
-    kp.p_max = om.p_max, kp.p_min = om.p_min, kp.p_t = om.p_min, kp.s_c = om.s_c, kp.k = 1 + int(rng.below(5));
+    kp.p_max = om.p_max, kp.p_min = om.p_min, kp.p_t = om.p_min, kp.map.s_c = om.map.s_c, kp.k = 1 + int(rng.below(5));
     const auto reference = voxelLogOdds(*buildOctoMap(set, om));
     const auto ours = voxelLogOdds(*KnnInverseSensorModel(kp).buildMap(set));
     INFO("seed " << seed);
@@ -168,9 +168,9 @@ TEST_CASE("the k-NN fast build equals the plain OcTree-update reference voxel fo
     p.p_m_out = p.p_m + (0.49 - p.p_m) * rng.uniform();
     p.p_max = 0.6 + 0.39 * rng.uniform();
     p.p_t = p.p_min;
-    p.s_c = 1.5 + 2.5 * rng.uniform();
-    p.variant = rng.below(2) ? UpdateVariant::Literal : UpdateVariant::Default;
-    p.stats = rng.below(2) ? StatsMode::Online : StatsMode::Batch;
+    p.map.s_c = 1.5 + 2.5 * rng.uniform();
+    p.map.variant = rng.below(2) ? UpdateVariant::Literal : UpdateVariant::Default;
+    p.map.stats = rng.below(2) ? StatsMode::Online : StatsMode::Batch;
     PointCloudSet set;
     for (int s = 0; s < 3 + int(rng.below(5)); ++s) {
       Scan scan;
@@ -186,11 +186,11 @@ TEST_CASE("the k-NN fast build equals the plain OcTree-update reference voxel fo
       set.push_back(scan);
     }
     const KnnInverseSensorModel model(p);
-    const auto d = computeKnnDistances(set, p.k, p.s_c);
+    const auto d = computeKnnDistances(set, p.k, p.map.s_c);
     const auto fast = voxelLogOdds(*model.buildMap(set, d));
     const auto reference = voxelLogOdds(*model.buildMapReference(set, d));
-    INFO("seed " << seed << (p.variant == UpdateVariant::Literal ? " literal" : " default")
-                 << (p.stats == StatsMode::Online ? " online" : " batch"));
+    INFO("seed " << seed << (p.map.variant == UpdateVariant::Literal ? " literal" : " default")
+                 << (p.map.stats == StatsMode::Online ? " online" : " batch"));
     REQUIRE(reference.size() > 500);
     REQUIRE(fast.size() == reference.size());
     std::size_t differing = 0;

@@ -4,6 +4,8 @@
 #include <fstream>
 
 #include "occsweep/core/mapping_params.hpp"
+#include "occsweep/core/method_registry.hpp"
+#include "occsweep/core/splitmix64.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/eval/data_error.hpp"
 #include "test_helpers.hpp"
@@ -19,23 +21,52 @@ TEST_CASE("parameter sets that break Eq. 12 are refused with the relation named"
     return why ? *why : std::string("valid");
   };
   CHECK(knn([](KnnParams&) {}) == "valid");
-  CHECK_THAT(knn([](KnnParams& p) { p.p_max = 1.0; }), Contains("1 > p_max"));
-  CHECK_THAT(knn([](KnnParams& p) { p.p_max = 0.45; }), Contains("p_max >= 0.5"));
-  CHECK_THAT(knn([](KnnParams& p) { p.p_m_out = 0.5; }), Contains("0.5 > p'_m"));
-  CHECK_THAT(knn([](KnnParams& p) { p.p_m_out = 0.3; }), Contains("p'_m >= p_m"));
-  CHECK_THAT(knn([](KnnParams& p) { p.p_min = 0.41; p.p_t = 0.5; }), Contains("p_m >= p_min"));
-  CHECK_THAT(knn([](KnnParams& p) { p.p_min = 0.0; }), Contains("p_min > 0"));
-  CHECK_THAT(knn([](KnnParams& p) { p.p_t = 0.99; }), Contains("p_max >= p_t"));
-  CHECK_THAT(knn([](KnnParams& p) { p.p_t = 0.05; }), Contains("p_t >= p_min"));
-  CHECK_THAT(knn([](KnnParams& p) { p.p_u = 0.2; }), Contains("p_u >= p_l"));
-  CHECK_THAT(knn([](KnnParams& p) { p.k = 0; }), Contains("k must be >= 1"));
+  CHECK_THAT(knn([](KnnParams& p) { p.p_max = 1.0; }), Contains("p_max = 1 must lie in [0.5, 1) (Eq. 12)"));
+  CHECK_THAT(knn([](KnnParams& p) { p.p_max = 0.45; }), Contains("p_max = 0.45 must lie in [0.5, 1) (Eq. 12)"));
+  CHECK_THAT(knn([](KnnParams& p) { p.p_m_out = 0.5; }), Contains("p'_m = 0.5 must lie in (0, 0.5) (Eq. 12)"));
+  CHECK_THAT(knn([](KnnParams& p) { p.p_m_out = 0.3; }), Contains("p'_m >= p_m does not hold"));
+  CHECK_THAT(knn([](KnnParams& p) { p.p_min = 0.41; p.p_t = 0.5; }), Contains("p_m >= p_min does not hold"));
+  CHECK_THAT(knn([](KnnParams& p) { p.p_min = 0.0; }), Contains("p_min = 0 must lie in (0, 0.5) (Eq. 12)"));
+  CHECK_THAT(knn([](KnnParams& p) { p.p_t = 0.99; }), Contains("p_max >= p_t does not hold"));
+  CHECK_THAT(knn([](KnnParams& p) { p.p_t = 0.05; }), Contains("p_t >= p_min does not hold"));
+  CHECK_THAT(knn([](KnnParams& p) { p.p_u = 0.2; }), Contains("p_u >= p_l does not hold"));
+  CHECK_THAT(knn([](KnnParams& p) { p.k = 0; }), Contains("k = 0 must lie in [1, 100000], an integer"));
+  CHECK_THAT(knn([](KnnParams& p) { p.map.s_c = 0; }), Contains("s_c must be a finite number > 0"));
   OctoMapParams om;
   CHECK_FALSE(brokenRelation(om));
   om.p_h = 0.99;
-  CHECK_THAT(*brokenRelation(om), Contains("p_max >= p_h"));
+  CHECK_THAT(*brokenRelation(om), Contains("p_max >= p_h does not hold"));
   om.p_h = 0.45;
-  CHECK_THAT(*brokenRelation(om), Contains("p_h >= 0.5"));
+  CHECK_THAT(*brokenRelation(om), Contains("p_h = 0.45 must lie in [0.5, 1) (Eq. 12)"));
   CHECK_THROWS_AS(validate(om), std::invalid_argument);
+}
+
+TEST_CASE("the mappers' settings check exactly what their methods check, with the methods' defaults") {
+  // Eq. 12 is written once (builtin_parameters.hpp): a KnnParams or OctoMapParams is refused exactly when the same
+  // values are refused as a map of the registered method, over random values around every bound.
+  const MappingMethod& knn_method = findMethod("knn");
+  const MappingMethod& octomap_method = findMethod("octomap");
+  CHECK(defaultValues(knn_method) == MethodValues{double(KnnParams{}.k), KnnParams{}.p_u, KnnParams{}.p_l,
+                                                  KnnParams{}.p_max, KnnParams{}.p_min, KnnParams{}.p_m,
+                                                  KnnParams{}.p_m_out});
+  CHECK(defaultValues(octomap_method) ==
+        MethodValues{OctoMapParams{}.p_max, OctoMapParams{}.p_min, OctoMapParams{}.p_h, OctoMapParams{}.p_m});
+  SplitMix64 rng(12);
+  auto draw = [&] { return double(rng.below(23)) * 0.05 - 0.05; };  // -0.05 .. 1.05: every bound, both sides
+  for (int i = 0; i < 4000; ++i) {
+    KnnParams p;
+    p.k = int(rng.below(3));
+    p.p_u = draw(), p.p_l = draw(), p.p_max = draw(), p.p_min = draw(), p.p_m = draw(), p.p_m_out = draw();
+    p.p_t = p.p_min;  // p_t is no parameter of a method
+    const MethodValues v = {double(p.k), p.p_u, p.p_l, p.p_max, p.p_min, p.p_m, p.p_m_out};
+    INFO(i);
+    CHECK(brokenRelation(p).has_value() == brokenRelation(knn_method, v).has_value());
+    OctoMapParams o;
+    o.p_max = draw(), o.p_min = draw(), o.p_h = draw(), o.p_m = draw();
+    o.p_t = o.p_min;
+    CHECK(brokenRelation(o).has_value() ==
+          brokenRelation(octomap_method, MethodValues{o.p_max, o.p_min, o.p_h, o.p_m}).has_value());
+  }
 }
 
 TEST_CASE("the occsweep command refuses broken parameters with a non-zero exit") {

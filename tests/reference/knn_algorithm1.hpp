@@ -147,7 +147,7 @@ inline void algorithm1(LogOddsMap& m, const Scan& scan, const std::vector<double
   const float l_min = logOddsEq2(params.p_min), l_max = logOddsEq2(params.p_max);
   // Lines 1-2: z_in and z_out.
   std::vector<octomap::point3d> z_in, z_out;
-  for (const auto& p : scan.points) (isInner(p, scan.origin, params.s_c) ? z_in : z_out).push_back(p);
+  for (const auto& p : scan.points) (isInner(p, scan.origin, params.map.s_c) ? z_in : z_out).push_back(p);
 
   // Lines 3-6: m' accumulates l(p(s_i)) per voxel holding points (Eq. 7, first case: sum_j l[p(s_j)]), in float
   // and in point order, as a map of OctoMap's float log-odds would.
@@ -164,14 +164,14 @@ inline void algorithm1(LogOddsMap& m, const Scan& scan, const std::vector<double
   for (const auto& p : z_in) addRayKeys(grid, scan.origin, p, ray, m_in);
   // Lines 12-13: each updated once with l_in = l(p_m). Default variant (docs/design.md, as OctoMap's computeUpdate:
   // occupied wins): a voxel holding an in-range point is not also updated as traversed. Literal: every voxel of m_in.
-  const bool literal = params.variant == UpdateVariant::Literal;
+  const bool literal = params.map.variant == UpdateVariant::Literal;
   for (const auto& key : m_in)
     if (literal || !m_prime.count(key)) updateNodeEq5(m, key, logOddsEq2(params.p_m), l_min, l_max);
 
   // Line 14: m_out, the voxels traversed by rays to z_out points, cut at s_c as OctoMap's computeUpdate cuts them.
   KeySet m_out;
   for (const auto& p : z_out) {
-    const octomap::point3d cut_end = scan.origin + (p - scan.origin).normalized() * static_cast<float>(params.s_c);
+    const octomap::point3d cut_end = scan.origin + (p - scan.origin).normalized() * static_cast<float>(params.map.s_c);
     addRayKeys(grid, scan.origin, cut_end, ray, m_out);
   }
   // Lines 15-20: those not in m_in are updated once with l_out = l(p'_m) (Eq. 7: "updated with l_in only" when
@@ -182,17 +182,17 @@ inline void algorithm1(LogOddsMap& m, const Scan& scan, const std::vector<double
 }
 
 /// The whole point cloud set, scan after scan (Eq. 3: the map carries over from z_{1:t-1} to z_{1:t}), with the
-/// s_i of averageDistances(set, params.k, params.s_c).
+/// s_i of averageDistances(set, params.k, params.map.s_c).
 inline LogOddsMap buildMap(const PointCloudSet& set, const KnnParams& params, const SetDistances& s) {
-  const octomap::OcTree grid(params.resolution);  // only for OctoMap's keys and ray keys
-  const auto stats = statsPerScan(s, params.stats);
+  const octomap::OcTree grid(params.map.resolution);  // only for OctoMap's keys and ray keys
+  const auto stats = statsPerScan(s, params.map.stats);
   LogOddsMap m;
   for (std::size_t t = 0; t < set.size(); ++t) algorithm1(m, set[t], s[t], stats[t], params, grid);
   return m;
 }
 
 inline LogOddsMap buildMap(const PointCloudSet& set, const KnnParams& params) {
-  return buildMap(set, params, averageDistances(set, params.k, params.s_c));
+  return buildMap(set, params, averageDistances(set, params.k, params.map.s_c));
 }
 
 }  // namespace occsweep::reference

@@ -134,6 +134,18 @@ TEST_CASE("a plan has every shard once and merges take exactly their shards and 
         CHECK(work->group.has_value() == (stageNamed(p, stage).tasks[i].expect_grid == "reduction"));
         CHECK(stageNamed(back, stage).tasks[i].expect_work == work);
       }
+    // A plan whose expected work was edited to a setting no sweep can have is refused as it is read, naming the field
+    // (previous code: a resolution of -1 was read, its tasks run, and each failed as "other work").
+    for (const char* key : {"resolution", "s_c"}) {
+      const auto edited_dir = test::scratch(std::string("cluster-plan-bad-") + key);
+      writePlan(p, edited_dir, false);
+      nlohmann::json j = nlohmann::json::parse(test::bytesOf(edited_dir / "plan.json"));
+      for (auto& stage : j.at("stages"))
+        for (auto& task : stage.at("tasks"))
+          if (task.contains("expect") && task.at("expect").contains("work")) task["expect"]["work"][key] = -1;
+      std::ofstream(edited_dir / "plan.json", std::ios::trunc) << j.dump(1) << '\n';
+      CHECK_THROWS_WITH(readPlan(edited_dir), Contains(std::string("expect.work.") + key + ": must be a finite number > 0"));
+    }
     writePlan(p, dir, false);  // the same plan again is fine
     ClusterPlan other = p;
     other.slurm.mem = "9G";

@@ -4,7 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "occsweep/core/enum_names.hpp"
-#include "occsweep/core/mapping_params.hpp"
+#include "occsweep/core/map_settings.hpp"
 #include "occsweep/eval/observable_truth.hpp"
 #include "occsweep/sweeps/replay.hpp"
 #include "occsweep/core/method_registry.hpp"

@@ -68,12 +68,12 @@ TEST_CASE("the golden check fails when a single voxel's classification changes")
   const auto scene = builtinScene("golden-perturb");
   const ResultsFile golden = readResults(kGolden / "octomap-opt.json");
   const Dataset data = readDataset(scene);
-  const GroundTruth truth = makeGroundTruth(data.truth, data.region, golden.header.resolution);
+  const GroundTruth truth = makeGroundTruth(data.truth, data.region, golden.header.map.resolution);
   const MapResult& m = golden.maps.at(7);
   const SweepConfig c;
   MethodValues values;
   for (Fixed v : m.params.values) values.push_back(toDouble(v));
-  auto tree = findMethod("octomap").buildMap(data.scans, values, {c.resolution, c.s_c, c.variant, c.stats, {}, {}});
+  auto tree = findMethod("octomap").buildMap(data.scans, values, {c.map, {}, {}});
   RegionSample sample = sampleRegion(*tree, truth);
 
   auto withCounts = [&](const RegionSample& s) {

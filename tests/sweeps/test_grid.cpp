@@ -229,7 +229,8 @@ TEST_CASE("bad grid files give a clear error naming the file and key") {
   CHECK_THAT(error([](json& j) { j["parameters"]["p_h"]["min"] = 0.86; j["parameters"]["p_h"]["max"] = 0.62; }), Contains("p_h") && Contains("inverted"));
   CHECK_THAT(error([](json& j) { j["parameters"]["p_hit"] = 0.7; }), Contains("parameters.p_hit") && Contains("unknown key"));
   CHECK_THAT(error([](json& j) { j["colour"] = "red"; }), Contains("colour") && Contains("unknown key"));
-  CHECK_THAT(error([](json& j) { j["parameters"]["p_max"] = {{"value", 1.0}}; }), Contains("1 > p_max"));
+  CHECK_THAT(error([](json& j) { j["parameters"]["p_max"] = {{"value", 1.0}}; }),
+             Contains("parameters.p_max: values must lie in [0.5, 1) (Eq. 12)"));
   CHECK_THAT(error([](json& j) { j["parameters"]["p_t"]["step"] = 0; }), Contains("p_t.step"));
   CHECK_THAT(error([](json& j) { j["parameters"]["p_m"]["step"] = 0.1234567; }), Contains("6 decimals"));
   CHECK_THAT(error([](json& j) { j["parameters"].erase("p_m"); }), Contains("parameters.p_m") && Contains("missing"));

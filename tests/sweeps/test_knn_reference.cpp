@@ -128,7 +128,7 @@ MethodValues randomMapParams(SplitMix64& rng, int k, Fixed p_u, Fixed p_l) {
 }
 
 KnnParams knnParams(const MethodValues& m, const Scene& scene, UpdateVariant variant, StatsMode stats) {
-  return KnnMethod().knnParams(m, {scene.resolution, scene.s_c, variant, stats, {}, {}});
+  return KnnMethod().knnParams(m, {{scene.resolution, scene.s_c, variant, stats}, {}, {}});
 }
 
 /// Thresholds: the grid's p_min..p_max by 0.12, plus probabilities whose log-odds voxels hold exactly.
@@ -203,9 +203,9 @@ std::string countsText(const ConfusionCounts& c) {
 std::string paramsText(const KnnParams& p) {
   std::ostringstream s;
   s << "k " << p.k << " p_u " << p.p_u << " p_l " << p.p_l << " p_m " << p.p_m << " p'_m " << p.p_m_out << " p_max "
-    << p.p_max << " p_min " << p.p_min << " res " << p.resolution << " s_c " << p.s_c
-    << (p.variant == UpdateVariant::Literal ? " literal" : " default")
-    << (p.stats == StatsMode::Online ? " online" : " batch");
+    << p.p_max << " p_min " << p.p_min << " res " << p.map.resolution << " s_c " << p.map.s_c
+    << (p.map.variant == UpdateVariant::Literal ? " literal" : " default")
+    << (p.map.stats == StatsMode::Online ? " online" : " batch");
   return s.str();
 }
 
@@ -243,12 +243,12 @@ void countMapCoverage(const LogOddsMap& m, const KnnParams& p, Coverage& cov) {
 
 /// How many hit voxels of the set have a per-scan sum l(p(s_j)) beyond [l_min, l_max] (line 6's clamp matters).
 std::size_t clampedHitSums(const Scene& scene, const KnnParams& p, const reference::SetDistances& s) {
-  const octomap::OcTree grid(p.resolution);
-  const auto stats = reference::statsPerScan(s, p.stats);
+  const octomap::OcTree grid(p.map.resolution);
+  const auto stats = reference::statsPerScan(s, p.map.stats);
   const float l_min = reference::logOddsEq2(p.p_min), l_max = reference::logOddsEq2(p.p_max);
   std::size_t n = 0;
   for (std::size_t t = 0; t < scene.set.size(); ++t) {
-    const auto z_in = reference::innerPointsOf(scene.set[t], p.s_c);
+    const auto z_in = reference::innerPointsOf(scene.set[t], p.map.s_c);
     LogOddsMap sums;
     for (std::size_t i = 0; i < z_in.size(); ++i)
       sums[grid.coordToKey(z_in[i])] += reference::logOddsEq2(reference::probabilityEq6(s[t][i], stats[t], p));
@@ -268,7 +268,7 @@ void requireLibraryMapsEqual(const LogOddsMap& ref, const KnnParams& p, const Sc
     // `occsweep map`'s path: scans recorded in parallel, batches of 1, 2, 3 scans (batch ends inside the set)
     const std::size_t batch = std::size_t(path.back() - '0');
     const ScanExecutor tbb = tbbScanExecutor();
-    return model.buildMap(scene.set, computeKnnDistances(scene.set, p.k, p.s_c, tbb), tbb, batch);
+    return model.buildMap(scene.set, computeKnnDistances(scene.set, p.k, p.map.s_c, tbb), tbb, batch);
   };
   for (const std::string path : {"buildMap", "buildMapReference", "buildMap on TBB batch 1",
                                  "buildMap on TBB batch 2", "buildMap on TBB batch 3"}) {
@@ -362,7 +362,7 @@ TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 r
             cov.clamped_hit_sums += clampedHitSums(scene, p, reference_s);
             requireLibraryMapsEqual(ref, p, scene, distances);
             reference_regions.push_back(regionOf(ref, truth));
-            rules.push_back(replayRule(KnnMethod().rule(m, {variant}), &sums));
+            rules.push_back(replayRule(KnnMethod().rule(m, {{.variant = variant}}), &sums));
             p_t.push_back(thresholds(p));
           }
           requireReplayEqual(recorded, rules, p_t, reference_regions, lane_names, cov);
@@ -386,14 +386,14 @@ TEST_CASE("a hit whose l(p(s)) exceeds l_max adds only l_max to a voxel freed be
       {origin, {{1.05f, 0.05f, 0.05f}}, {}},  // scan 0: its ray frees voxel V (the one holding in_v) with l(p_m)
       {origin, {in_v, {0.55f, 0.55f, 0.05f}}, {}},  // scan 1: a point in V, its neighbour 0.5 m away; F = 1, p = p_l
   };
-  const octomap::OcTree grid(p.resolution);
+  const octomap::OcTree grid(p.map.resolution);
   const octomap::OcTreeKey v = grid.coordToKey(in_v);
   // l(p_m) + clamp(l(p_l)) in float: l(0.8) = 1.386 > l_max = l(0.6) = 0.405, so V ends at -0.442 (free at 0.5);
   // Eq. 7 with Eq. 5 alone would give min(-0.847 + 1.386, 0.405) = l_max (occupied).
   const float expected = logOdds(0.3) + logOdds(0.6);
   REQUIRE(expected < logOdds(p.p_t));
   for (const auto variant : {UpdateVariant::Default, UpdateVariant::Literal}) {
-    p.variant = variant;
+    p.map.variant = variant;
     const LogOddsMap ref = reference::buildMap(set, p);
     REQUIRE(ref.at(v) == expected);
     const auto lib = voxelLogOdds(*KnnInverseSensorModel(p).buildMap(set));

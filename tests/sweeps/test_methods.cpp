@@ -81,7 +81,7 @@ class SplitRangeMethod final : public MappingMethod {
     MapRule rule;
     rule.l_min = logOdds(parameterValue(*this, v, "p_min"));
     rule.l_max = logOdds(parameterValue(*this, v, "p_max"));
-    rule.update = {logOdds(parameterValue(*this, v, "p_m")), logOdds(parameterValue(*this, v, "p_m")), c.variant};
+    rule.update = {logOdds(parameterValue(*this, v, "p_m")), logOdds(parameterValue(*this, v, "p_m")), c.map.variant};
     rule.hit.kind = HitRule::Kind::PointSum;
     rule.hit.feature = {PointFeature::Range, 0};
     const float near = logOdds(parameterValue(*this, v, "p_near")), far = logOdds(parameterValue(*this, v, "p_far"));
@@ -128,7 +128,7 @@ TEST_CASE("switched off, sor-octomap and ror-octomap are plain OctoMap voxel for
   const auto dir = test::processScratch("methods-off");
   const fs::path data = randomScene(dir, 41);
   const Dataset d = readDataset(data);
-  const MapContext context{0.1, 4.0, UpdateVariant::Default, StatsMode::Batch, {}, {}};
+  const MapContext context{};  // the paper's settings: 0.1 m voxels, s_c 4 m, default variant, batch statistics
   const MethodValues octomap{0.97, 0.12, 0.7, 0.4};
   const auto plain = leaves(*findMethod("octomap").buildMap(d.scans, octomap, context));
   REQUIRE(plain.size() > 1000);

@@ -21,8 +21,8 @@ ResultsFile run(const fs::path& data, const std::string& grid, const std::string
   c.grid = grid;
   c.engine = engine;
   c.out = out;
-  c.variant = variant;
-  c.stats = stats;
+  c.map.variant = variant;
+  c.map.stats = stats;
   c.quiet = true;
   return runSweep(c);
 }

@@ -208,7 +208,7 @@ TEST_CASE("several grids swept in one process give each grid's results as its ow
   }
   // Grids swept together share the data set and its settings, and each writes its own file.
   std::vector<SweepConfig> other_resolution = together;
-  other_resolution[1].resolution = 0.2;
+  other_resolution[1].map.resolution = 0.2;
   CHECK_THROWS_WITH(sweepGrids(other_resolution), Contains("share the data set and every map setting"));
   // Two spellings of one file, or one through a folder's symbolic link, are one output (old library: compared as
   // spelt, so `./x` and `x` swept both grids into one file and the first grid's results were lost).

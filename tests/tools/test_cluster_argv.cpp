@@ -71,10 +71,10 @@ SweepConfig randomSweep(SplitMix64& rng) {
     const auto n = 1 + rng.below(30);
     s.selection.group = SweepSelection::Group{rng.below(n), n, rng.below(3) ? rng.below(100) : rng.next()};
   }
-  if (rng.below(2)) s.resolution = randomPositive(rng);
-  if (rng.below(2)) s.s_c = randomPositive(rng);
-  s.variant = rng.below(2) ? UpdateVariant::Literal : UpdateVariant::Default;
-  s.stats = rng.below(2) ? StatsMode::Online : StatsMode::Batch;
+  if (rng.below(2)) s.map.resolution = randomPositive(rng);
+  if (rng.below(2)) s.map.s_c = randomPositive(rng);
+  s.map.variant = rng.below(2) ? UpdateVariant::Literal : UpdateVariant::Default;
+  s.map.stats = rng.below(2) ? StatsMode::Online : StatsMode::Batch;
   s.engine = rng.below(2) ? "direct" : "replay";
   s.truth = rng.below(2) ? TruthMode::Observable : TruthMode::Full;
   s.threads = int(rng.below(rng.below(2) ? 8 : 1025));
@@ -133,7 +133,7 @@ TEST_CASE("a sweep task's argv is the sweep command line, defaults left out") {
   CHECK(taskArgv(s) == std::vector<std::string>{"sweep", "--dataset", "data/x", "--grid", "knn-opt", "--out",
                                                 "sweeps/x.json", "--shard", "2/4", "--threads", "3"});
   s.selection.group = SweepSelection::Group{1, 20, 7};
-  s.s_c = 0.1 + 0.2;  // 0.30000000000000004: the shortest text that reads back exactly
+  s.map.s_c = 0.1 + 0.2;  // 0.30000000000000004: the shortest text that reads back exactly
   s.engine = "direct";
   CHECK(taskArgv(s) == std::vector<std::string>{"sweep", "--dataset", "data/x", "--grid", "knn-opt", "--out",
                                                 "sweeps/x.json", "--shard", "2/4", "--threads", "3", "--group", "1/20",
@@ -156,7 +156,7 @@ TEST_CASE("taskArgv refuses what the command line would read otherwise") {
 TEST_CASE("cluster plan --sweep-args are parsed as sweep parses them, and may not set what the plan sets") {
   const SweepConfig s = sharedSweepSettings({"--s-c", "4.5", "--engine", "direct", "--truth", "observable"});
   SweepConfig expected;
-  expected.s_c = 4.5, expected.engine = "direct", expected.truth = TruthMode::Observable;
+  expected.map.s_c = 4.5, expected.engine = "direct", expected.truth = TruthMode::Observable;
   CHECK(s == expected);
   CHECK(sharedSweepSettings({}) == SweepConfig{});
   for (const std::string_view own : {"--dataset", "--grid", "--out", "--shard", "--group", "--seed", "--threads"})
@@ -173,7 +173,7 @@ TEST_CASE("every task of a built plan parses back to the work the plan records f
   c.datasets = {"building-plain-I", "parking-voronoi-O"};
   c.blocks = 2, c.pcs_count = 6;
   c.grids = {{"octomap-opt", 1, false}, {"knn-opt", 3, false}, {"reduction", 2, true}};
-  c.sweep.s_c = 3.5, c.sweep.engine = "direct";
+  c.sweep.map.s_c = 3.5, c.sweep.engine = "direct";
   c.slurm.cpus_per_task = 4;
   const ClusterPlan p = buildPlan(c);
   auto args = [](const ClusterTask& t) {
@@ -186,7 +186,7 @@ TEST_CASE("every task of a built plan parses back to the work the plan records f
     CHECK(s.out == t.output);
     CHECK(s.selection.shard_index == t.expect_shard);
     CHECK(s.selection.shard_count == t.expect_shards);
-    CHECK(s.s_c == 3.5);
+    CHECK(s.map.s_c == 3.5);
     CHECK(s.engine == "direct");
     CHECK(s.threads == 4);
     CHECK(std::vector<std::string>{s.dataset.parent_path().string()} == t.inputs);  // the set is in its select's folder

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <sstream>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -188,3 +189,49 @@ TEST_CASE("compare names the best map map --from --best rebuilds, with every par
   INFO(from.output);
   CHECK(from.output.find("map " + row.at("methods").at("knn").at("map_index").dump() + " of knn-opt.json") != std::string::npos);
 }
+
+TEST_CASE("a best map compare prints at other settings, typed back as flags, rebuilds its stored counts") {
+  // Previous code: compare printed the parameters alone; typed back, the map was built at map's default settings
+  // (0.1 m, s_c 4, default variant, batch statistics) and its counts were another map's.
+  const fs::path dir = sceneIn("map-compare-settings");
+  const std::string settings = " --resolution 0.2 --s-c 3 --variant literal --stats online";
+  REQUIRE(occsweep::test::runIn(dir, "sweep --dataset ds --quiet --grid knn-opt --out knn.json" + settings).exit_code == 0);
+  const CommandResult compare = occsweep::test::runIn(dir, "compare knn.json --baseline knn --json c.json");
+  INFO(compare.output);
+  REQUIRE(compare.exit_code == 0);
+  // The printed map: "map N of knn.json: k=3 p_u=... resolution=0.2 s_c=3 variant=literal stats=online".
+  // (wrapped onto indented lines when long).
+  const std::string head = "of knn.json:";
+  const auto at = compare.output.find(head);
+  REQUIRE(at != std::string::npos);
+  std::istringstream lines(compare.output.substr(at + head.size()));
+  std::string printed, line;
+  std::getline(lines, printed);
+  while (std::getline(lines, line) && line.starts_with("    ") && line.find(" AUC ") == std::string::npos)
+    printed += " " + line;
+  std::istringstream words(printed);
+  std::string flags;
+  for (std::string word; words >> word;) {
+    const auto eq = word.find('=');
+    REQUIRE(eq != std::string::npos);
+    std::string flag = "--" + word.substr(0, eq);
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    flags += " " + flag + " " + word.substr(eq + 1);
+  }
+  CHECK(flags.find("--resolution 0.2 --s-c 3 --variant literal --stats online") != std::string::npos);
+  const nlohmann::json row = nlohmann::json::parse(occsweep::test::bytesOf(dir / "c.json")).at("rows").at(0);
+  CHECK(row.at("methods").at("knn").at("settings") ==
+        nlohmann::json({{"resolution", 0.2}, {"s_c", 3.0}, {"variant", "literal"}, {"stats", "online"}}));
+  const occsweep::ResultsFile f = occsweep::readResults(dir / "knn.json");
+  const occsweep::MapResult& best = bestOf(f);
+  const auto& t = best.thresholds.at(best.thresholds.size() / 2);
+  char p_t[32];
+  std::snprintf(p_t, sizeof p_t, "%.17g", occsweep::toDouble(t.p_t));
+  const CommandResult map =
+      occsweep::test::runIn(dir, "map --dataset ds --method knn" + flags + " --p-t " + p_t + " --out typed.ot");
+  INFO(map.output);
+  REQUIRE(map.exit_code == 0);
+  CHECK(map.output.find("TP " + std::to_string(t.counts.tp) + " FP " + std::to_string(t.counts.fp) + " FN " +
+                        std::to_string(t.counts.fn) + " TN " + std::to_string(t.counts.tn) + " ") != std::string::npos);
+}
+

@@ -160,6 +160,32 @@ TEST_CASE("cluster plan --experiment sweep takes user data-set folders without -
   CHECK(fs::exists(dir / "p" / "merged" / "A" / "small-octomap.json"));
 }
 
+TEST_CASE("cluster run-local --quiet prints no progress and no stage summary, and still names a failure") {
+  const fs::path dir = test::scratch("robust-cluster-quiet");
+  makePlanInputs(dir);
+  for (const char* plan : {"loud", "quiet"}) REQUIRE(test::runIn(dir, planWith(plan)).exit_code == 0);
+  auto r = test::runIn(dir, "cluster run-local loud --threads 2");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.output, Contains("tasks succeeded in"));
+  r = test::runIn(dir, "cluster run-local quiet --threads 2 --quiet");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.empty());
+  CHECK(fs::exists(dir / "quiet" / "merged" / "A" / "small-octomap.json"));
+  r = test::runIn(dir, "cluster run-local quiet --quiet");  // nothing left to run: not even "all N tasks done"
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.empty());
+  // A failure is printed however quiet: the merged file removed and made unwritable by a folder in its place.
+  fs::remove(dir / "quiet" / "merged" / "A" / "small-octomap.json");
+  fs::create_directories(dir / "quiet" / "merged" / "A" / "small-octomap.json" / "in-the-way");
+  r = test::runIn(dir, "cluster run-local quiet --quiet");
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.output, Contains("failed"));
+}
+
 TEST_CASE("status sees run-local's running shards, a second run-local is refused, SIGKILL ends the tasks too") {
   const fs::path dir = test::scratch("robust-cluster-running");
   makePlanInputs(dir);

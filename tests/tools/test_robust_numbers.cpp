@@ -341,6 +341,13 @@ TEST_CASE("results check and compare refuse results files that claim more than t
   e = octomap;
   e["map"]["resolution"] = -0.1;
   refusedEdit("negative_resolution", e, {"map.resolution"});
+  // Eq. 12 between the parameters of one map, checked from the method's declaration even where the grid file is not
+  // found (previous code: each parameter within its bounds passed, p_u < p_l too).
+  e = knn;
+  e["grid"]["name"] = "a-grid-nobody-has";
+  e["maps"][0]["params"]["p_u"] = 0.5;
+  e["maps"][0]["params"]["p_l"] = 0.99;
+  refusedEdit("p_u_below_p_l", e, {"maps[0].params", "parameters break Eq. 12: p_u >= p_l does not hold"});
   e = octomap;
   for (auto& m : e["maps"]) {
     for (auto& t : m["thresholds"]) t["tn"] = t["tn"].get<std::uint64_t>() + (std::uint64_t(1) << 63);

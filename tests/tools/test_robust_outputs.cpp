@@ -6,6 +6,10 @@
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <csignal>
+#include <thread>
+
 #include "occsweep/sweeps/results.hpp"
 #include "robust_outputs_helpers.hpp"
 #include "test_paths.hpp"
@@ -170,16 +174,23 @@ TEST_CASE("a map write past the file-size limit fails by name, exit 2, with no p
 
 TEST_CASE("a sweep begun under --engine direct and resumed under replay records both engines", "[outputs]") {
   const fs::path dir = withScene("robust_outputs/engines");
-  REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --engine direct --quiet --out direct.json").exit_code == 0);
-  // The state a kill leaves: OUT.partial.jsonl with the header of the direct run and its first finished maps.
-  const auto full = nlohmann::json::parse(fileBytes(dir / "direct.json"));
-  nlohmann::json header = full;
-  for (const char* key : {"maps", "complete", "seconds"}) header.erase(key);
-  std::ofstream partial(dir / "resumed.json.partial.jsonl");
-  partial << header.dump() << '\n';
-  for (std::size_t i = 0; i < 4; ++i) partial << full["maps"][i].dump() << '\n';
-  partial.close();
-  const CommandResult r = runIn(dir, "sweep --dataset scene --grid tiny.json --engine replay --quiet --out resumed.json");
+  const std::string sweep = "sweep --dataset scene --grid knn-opt --threads 1 --quiet";
+  REQUIRE(runIn(dir, sweep + " --engine direct --out direct.json").exit_code == 0);
+  // A direct run killed once a few maps are logged: the state it leaves is what a replay run resumes from.
+  const fs::path partial = dir / "resumed.json.partial.jsonl";
+  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) + " " + sweep +
+                               " --engine direct --out resumed.json > /dev/null 2>&1");
+  auto lines = [&] {
+    const std::string text = fileBytes(partial);
+    return std::count(text.begin(), text.end(), '\n');
+  };
+  for (int i = 0; i < 20000 && lines() < 6; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  REQUIRE(WIFSIGNALED(status));
+  REQUIRE(lines() >= 6);  // its header and at least five maps
+  const CommandResult r = runIn(dir, sweep + " --engine replay --out resumed.json");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   const auto resumed = nlohmann::json::parse(fileBytes(dir / "resumed.json"));
@@ -187,7 +198,7 @@ TEST_CASE("a sweep begun under --engine direct and resumed under replay records 
   CHECK(resumed["map"]["engine"] == "mixed");
   CHECK(resultDifferences(readResults(dir / "direct.json"), readResults(dir / "resumed.json")).empty());
   CHECK(readResults(dir / "resumed.json").header.engines == std::vector<std::string>{"direct", "replay"});
-  CHECK(!fs::exists(dir / "resumed.json.partial.jsonl"));
+  CHECK(!fs::exists(partial));
 }
 
 TEST_CASE("a sweep's own unfinished work is resumed without --force: resuming is not replacing", "[outputs]") {

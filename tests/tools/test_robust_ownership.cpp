@@ -3,7 +3,9 @@
 // replaced; --force replaces only what carries occsweep's proof; a figure script never outlives `plot`.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <csignal>
+#include <fcntl.h>
 #include <functional>
 #include <set>
 #include <sys/wait.h>
@@ -1089,6 +1091,191 @@ TEST_CASE("a sweep removes its partial output only while it is the file it made,
     for (const char* name : {"moved", "r.json", "r.db"}) fs::remove(dir / name);
     fs::remove(partial);
   }
+}
+
+TEST_CASE("a file at a sweep's partial-log name that begins with a copy of occsweep's header is never resumed from, "
+          "replaced or removed", "[ownership]") {
+  // Old binary: the first line alone made it occsweep's. The sweep resumed from it (exit 0) and then removed it, the
+  // user's lines with it; --force did the same; beside a complete output it was removed as a superseded log.
+  const fs::path dir = scratch("ownership/partial_header_copy");
+  REQUIRE(runIn(dir, std::string(kTinyScene) + " --out scene").exit_code == 0);
+  writeTinyGrid(dir / "tiny.json");
+  const std::string sweep = "sweep --dataset scene --grid tiny.json --quiet --out r.json";
+  REQUIRE(runIn(dir, sweep).exit_code == 0);
+  const nlohmann::json done = nlohmann::json::parse(fileBytes(dir / "r.json"));
+  nlohmann::json header = done;
+  for (const char* key : {"maps", "complete", "seconds"}) header.erase(key);
+  const std::string users = header.dump() + "\n" + done["maps"][0].dump() + "\nthe user's notes\n";
+  fs::rename(dir / "r.json", dir / "done.json");
+  writeBytes(dir / "r.json.partial.jsonl", users);
+  const auto before = snapshot(dir);
+  for (const std::string force : {"", " --force"}) {
+    const CommandResult r = runIn(dir, sweep + force);
+    INFO(force << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "r.json.partial.jsonl: not a partial log of occsweep's (occsweep's ledger does not prove it "
+                      "is the file occsweep made there); occsweep never resumes from, replaces or removes it (even "
+                      "with --force)"));
+    CHECK(snapshot(dir) == before);  // the user's file byte-identical, no r.json, nothing left beside them
+  }
+  // A copy of the header of other work (another grid): --force would replace occsweep's own log of other work.
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid octomap-opt --quiet --out other.json").exit_code == 0);
+  nlohmann::json other = nlohmann::json::parse(fileBytes(dir / "other.json"));
+  for (const char* key : {"maps", "complete", "seconds"}) other.erase(key);
+  fs::remove(dir / "other.json");
+  const std::string others = other.dump() + "\nthe user's notes\n";
+  writeBytes(dir / "r.json.partial.jsonl", others);
+  const CommandResult forced = runIn(dir, sweep + " --force");
+  INFO(forced.output);
+  CHECK(forced.exit_code == 2);
+  CHECK(mentions(forced, "r.json.partial.jsonl: not a partial log of occsweep's"));
+  CHECK(fileBytes(dir / "r.json.partial.jsonl") == others);
+  writeBytes(dir / "r.json.partial.jsonl", users);
+  fs::copy_file(dir / "done.json", dir / "r.json", fs::copy_options::overwrite_existing);  // returned as it is
+  const CommandResult again = runIn(dir, sweep);
+  INFO(again.output);
+  CHECK(again.exit_code == 0);
+  CHECK(fileBytes(dir / "r.json.partial.jsonl") == users);
+}
+
+namespace {
+// A sweep of knn-opt into `dir`/r.json killed once its partial log holds its header and a few maps.
+void killedSweep(const fs::path& dir) {
+  const fs::path partial = dir / "r.json.partial.jsonl";
+  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) +
+                               " sweep --dataset scene --grid knn-opt --engine direct --threads 1 --quiet --out r.json"
+                               " > /dev/null 2>&1");
+  auto lines = [&] {
+    const std::string text = fileBytes(partial);
+    return std::count(text.begin(), text.end(), '\n');
+  };
+  for (int i = 0; i < 20000 && lines() < 4; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  REQUIRE(lines() >= 4);
+  REQUIRE_FALSE(fs::exists(dir / "r.json"));
+}
+}  // namespace
+
+TEST_CASE("a killed sweep's log that a user linked to, or wrote into, is never resumed from, replaced or removed",
+          "[ownership]") {
+  // Old binary: a hard link's other name was appended to (its "backup" grew by every map resumed), and a line a user
+  // appended with >> was skipped and then removed with the log.
+  const fs::path dir = scratch("ownership/partial_written_into");
+  REQUIRE(runIn(dir, std::string(kTinyScene) + " --out scene").exit_code == 0);
+  const std::string sweep = "sweep --dataset scene --grid knn-opt --engine direct --threads 1 --quiet --out r.json";
+  const fs::path partial = dir / "r.json.partial.jsonl";
+  SECTION("a hard link") {
+    killedSweep(dir);
+    fs::create_hard_link(partial, dir / "keep.jsonl");
+    const auto before = snapshot(dir);
+    for (const std::string force : {"", " --force"}) {
+      const CommandResult r = runIn(dir, sweep + force);
+      INFO(force << "\n" << r.output);
+      CHECK(r.exit_code == 2);
+      CHECK(mentions(r, "r.json.partial.jsonl: has 2 names (a hard link); occsweep never writes into, replaces or "
+                        "removes a partial output that has another name"));
+      CHECK(snapshot(dir) == before);
+    }
+    fs::remove(dir / "keep.jsonl");  // its one name again: resumed
+    const CommandResult resumed = runIn(dir, sweep);
+    INFO(resumed.output);
+    CHECK(resumed.exit_code == 0);
+    CHECK_FALSE(fs::exists(partial));
+  }
+  SECTION("lines appended") {
+    killedSweep(dir);
+    { std::ofstream(partial, std::ios::app) << "the user's notes\n"; }
+    const auto before = snapshot(dir);
+    for (const std::string force : {"", " --force"}) {
+      const CommandResult r = runIn(dir, sweep + force);
+      INFO(force << "\n" << r.output);
+      CHECK(r.exit_code == 2);
+      CHECK(mentions(r, "is not a line occsweep wrote (bytes were written into the log); occsweep never resumes "
+                        "from, replaces or removes it"));
+      CHECK(snapshot(dir) == before);
+    }
+  }
+}
+
+TEST_CASE("a line a kill cut is dropped when the sweep resumes, so a second kill leaves a log the next run resumes",
+          "[ownership]") {
+  // Without the drop, the resumed run's first line was glued to the cut one: after a second kill the log held a line
+  // that is not JSON, and was refused as written into by someone else.
+  const fs::path dir = scratch("ownership/partial_cut_line");
+  REQUIRE(runIn(dir, std::string(kTinyScene) + " --out scene").exit_code == 0);
+  const std::string sweep = "sweep --dataset scene --grid knn-opt --engine direct --threads 1 --quiet --out ";
+  REQUIRE(runIn(dir, sweep + "reference.json").exit_code == 0);
+  killedSweep(dir);
+  const fs::path partial = dir / "r.json.partial.jsonl";
+  { std::ofstream(partial, std::ios::app) << "{\"map_index\":17,\"params\":{\"k\""; }  // as a kill cuts a line
+  const std::string before = fileBytes(partial);
+  // Resumed, and killed again once it has logged more maps.
+  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) + " " + sweep +
+                               "r.json > /dev/null 2>&1");
+  for (int i = 0; i < 20000 && fileBytes(partial).size() < before.size() + 2000; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  REQUIRE_FALSE(fs::exists(dir / "r.json"));
+  const CommandResult resumed = runIn(dir, sweep + "r.json");
+  INFO(resumed.output);
+  CHECK(resumed.exit_code == 0);
+  CHECK_FALSE(fs::exists(partial));
+  const CommandResult same = runIn(dir, "results diff reference.json r.json");
+  INFO(same.output);
+  CHECK(same.exit_code == 0);
+}
+
+TEST_CASE("a sweep whose complete output is there leaves the partial log another sweep is writing", "[ownership]") {
+  // Old binary: the second sweep removed the running sweep's log by its name, without its lock; the first then failed
+  // on the complete output put at its --out, advising a resume from the log that was gone.
+  const fs::path dir = scratch("ownership/superseded_log_running");
+  REQUIRE(runIn(dir, "scene --scans 16 --width 64 --height 48 --out big").exit_code == 0);
+  const std::string sweep = "sweep --dataset big --grid octomap-opt --engine direct --threads 1 --quiet --out ";
+  REQUIRE(runIn(dir, sweep + "done.json").exit_code == 0);
+  const fs::path partial = partialOf(dir, "r.json");
+  CommandResult second;
+  const int first = sweepPausedOnceUnderWay(dir, "r.json", [&] {
+    fs::copy_file(dir / "done.json", dir / "r.json");
+    second = runIn(dir, sweep + "r.json");
+    CHECK(fs::exists(partial));  // the running sweep's, locked: not the second sweep's to remove
+  });
+  INFO(second.output);
+  CHECK(second.exit_code == 0);
+  CHECK(first == 2);  // it finds a results file at its --out, created while it ran
+  CHECK(fs::exists(partial));  // and keeps its maps for a resume
+  fs::remove(dir / "r.json");
+  const CommandResult resumed =
+      runIn(dir, "sweep --dataset big --grid octomap-opt --engine direct --threads 1 --out r.json");
+  INFO(resumed.output);
+  CHECK(resumed.exit_code == 0);
+  CHECK(mentions(resumed, "resuming "));  // from every map the first sweep finished
+  CHECK_FALSE(fs::exists(partial));
+}
+
+TEST_CASE("a made entry is proven by the file a reader holds open, not by what stands at its name by then",
+          "[ownership]") {
+  // A swap of names between the check and the read would otherwise prove a user's file by occsweep's record.
+  const fs::path dir = scratch("ownership/made_entry_descriptor");
+  const fs::path entry = dir / "log", users = dir / "users";
+  writeBytes(entry, "occsweep's\n");
+  recordMadeEntry(entry);
+  writeBytes(users, "the user's\n");
+  const int own = ::open(entry.c_str(), O_RDONLY), theirs = ::open(users.c_str(), O_RDONLY);
+  REQUIRE(own >= 0);
+  REQUIRE(theirs >= 0);
+  CHECK(isRecordedMadeEntry(entry, own));
+  CHECK_FALSE(isRecordedMadeEntry(entry, theirs));
+  fs::rename(entry, dir / "moved");
+  fs::rename(users, entry);  // the user's file at the name now
+  CHECK_FALSE(isRecordedMadeEntry(entry));
+  CHECK_FALSE(isRecordedMadeEntry(entry, theirs));
+  ::close(own);
+  ::close(theirs);
+  forgetMadeEntry(entry);
 }
 
 TEST_CASE("a user's symbolic link at an output's name is never replaced, even with --force and pointing to occsweep's own output",

@@ -346,7 +346,7 @@ Subcommand addSubmit(CLI::App& app, bool resubmit) {
 
 struct StatusOptions {
   std::string dir;
-  bool wait = false, all = false;
+  bool wait = false, all = false, quiet = false;
   double timeout = 0, poll = 2;
 };
 
@@ -362,7 +362,7 @@ int runStatus(const StatusOptions& o) {
       std::cerr << "status: still " << live << " tasks running or pending after " << o.timeout << " s\n";
       break;
     }
-    std::cerr << "waiting: " << live << " tasks running or pending (" << int(waited) << " s)\n";
+    if (!o.quiet) std::cerr << "waiting: " << live << " tasks running or pending (" << int(waited) << " s)\n";
     std::this_thread::sleep_for(std::chrono::duration<double>(o.poll));
   }
   return printStatus(p, o.dir, o.all, false, &live) == 0 ? 0 : 1;
@@ -377,19 +377,22 @@ Subcommand addStatus(CLI::App& app) {
   status->add_option("--timeout", o->timeout, "With --wait: give up after this many seconds (0: never)")->capture_default_str();
   status->add_option("--poll", o->poll, "With --wait: seconds between looks")->capture_default_str()->check(numberAbove(0));
   status->add_flag("--list-done", o->all, "List every task, done ones too");
+  status->add_flag("--quiet", o->quiet, "With --wait: no progress on stderr while waiting");
   return {status, [o] { return runStatus(*o); }};
 }
 
 Subcommand addRunLocal(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
   auto threads = std::make_shared<int>(1);
+  auto quiet = std::make_shared<bool>(false);
   CLI::App* local = app.add_subcommand("run-local", "Run the plan's unfinished shards on this machine");
   addExample(*local, "occsweep cluster run-local plan --threads 2");
   local->add_option("dir", *dir, "Plan folder")->required();
   local->add_option("--threads", *threads, "Tasks run at a time (each sweep task uses the plan's --threads)")
       ->capture_default_str()->check(threadCount(1));
-  return {local, [dir, threads] {
-            const std::size_t failed = runLocal(readPlan(*dir), *dir, *threads);
+  local->add_flag("--quiet", *quiet, "No progress on stderr (failures, warnings and a stop are still printed)");
+  return {local, [dir, threads, quiet] {
+            const std::size_t failed = runLocal(readPlan(*dir), *dir, *threads, *quiet);
             if (failed) std::cerr << failed << " tasks failed: fix them and run again (done tasks are kept)\n";
             return failed ? 1 : 0;
           }};

@@ -13,13 +13,30 @@
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/compare.hpp"
+#include "occsweep/sweeps/csv_text.hpp"
 
 namespace occsweep::cli {
 namespace {
 
 nlohmann::json bestJson(const BestMap& b, const std::vector<ResultsFile>& in, const std::vector<std::string>& names) {
-  return {{"auc", b.auc}, {"auc_observed", b.observed}, {"map_index", b.map_index},
-          {"params", bestParametersText(b, in)}, {"parameters", parameterFields(b, in)}, {"file", names[b.file]}};
+  return {{"auc", b.auc},           {"auc_observed", b.observed}, {"map_index", b.map_index},
+          {"params", bestParametersText(b, in)}, {"parameters", parameterFields(b, in)}, {"file", names[b.file]},
+          {"settings", toJson(in[b.file].header.map)}};
+}
+
+// The settings of a best map's file that differ from `map`'s defaults, as NAME=VALUE like its parameters: typed back
+// as flags (--resolution, --s-c, --variant, --stats) with them, a row rebuilds its map (docs/methods.md, "One map").
+std::string changedSettingsText(const MapSettings& s) {
+  const MapSettings defaults;
+  std::string text;
+  const auto add = [&text](const char* name, const std::string& value) {
+    text += std::string(" ") + name + "=" + value;
+  };
+  if (s.resolution != defaults.resolution) add("resolution", csvNumber(s.resolution));
+  if (s.s_c != defaults.s_c) add("s_c", csvNumber(s.s_c));
+  if (s.variant != defaults.variant) add("variant", toText(s.variant));
+  if (s.stats != defaults.stats) add("stats", toText(s.stats));
+  return text;
 }
 
 // A number occsweep prints is either right or not printed (docs/robustness.md): "-" where there is none.
@@ -89,7 +106,8 @@ void printRow(const ComparisonRow& r, const std::vector<ResultsFile>& in, const 
       std::printf("\n");
       continue;
     }
-    std::printf("\n%s", bestMapLines(*best, files[best->file], bestParametersText(*best, in)).c_str());
+    const std::string parameters = bestParametersText(*best, in) + changedSettingsText(in[best->file].header.map);
+    std::printf("\n%s", bestMapLines(*best, files[best->file], parameters).c_str());
   }
 }
 

@@ -131,7 +131,7 @@ std::pair<CLI::App*, std::function<int()>> addDatasetMiddlebury(CLI::App& datase
   mb->add_option("--doffs", o->doffs, "Disparity offset, pixels (the set's dmin.txt)")->capture_default_str()->check(numberAtLeast(0));
   mb->add_option("--pcs-grid", o->grid, "Point cloud parameter grid (its ci subset is used)")->capture_default_str();
   auto quiet = std::make_shared<bool>(false);
-  mb->add_flag("--quiet", *quiet, "No progress");
+  mb->add_flag("--quiet", *quiet, "No progress on stderr");
   return {mb, [o, quiet]() -> int {
 #ifdef OCCSWEEP_HAVE_STEREO
             (void)writeMiddleburySets(*o, *quiet);

@@ -12,7 +12,7 @@
 #include "limit_options.hpp"
 #include "option_checks.hpp"
 #include "occsweep/core/limits.hpp"
-#include "occsweep/core/mapping_params.hpp"
+#include "occsweep/core/map_settings.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/data/import_dataset.hpp"
@@ -87,7 +87,7 @@ double extentVoxels(const AxisBox& r, double resolution) {
 }
 
 void printRegion(const AxisBox& r, const std::string& origin) {
-  const double resolution = KnnParams{}.resolution;
+  const double resolution = MapSettings{}.resolution;
   const std::uint64_t voxels = regionVoxelCount(r, resolution);
   std::cout << "region (" << origin << "): [" << r.min[0] << ", " << r.max[0] << "] x [" << r.min[1] << ", "
             << r.max[1] << "] x [" << r.min[2] << ", " << r.max[2] << "] m, ";

@@ -16,6 +16,7 @@
 
 #include "command_registry.hpp"
 #include "limit_options.hpp"
+#include "map_setting_flags.hpp"
 #include "option_checks.hpp"
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/data/map_file.hpp"
@@ -30,9 +31,9 @@ namespace occsweep::cli {
 namespace {
 
 struct MapOptions {
-  std::string dataset, out, method = "knn", from, variant = toText(UpdateVariant::Default),
-              stats = toText(StatsMode::Batch), truth = truthModeName(TruthMode::Full);
-  double resolution = 0.1, s_c = 4.0, p_t = 0.5;
+  std::string dataset, out, method = "knn", from, truth = truthModeName(TruthMode::Full);
+  MapSettingFlags map;
+  double p_t = 0.5;
   bool force = false, best = false;
   std::optional<std::uint64_t> map_index;
   int threads = 0;
@@ -119,15 +120,7 @@ void addMapOptions(CLI::App& app, MapOptions& o) {
   o.settings["--p-t"] = app.add_option("--p-t", o.p_t, "Occupancy threshold of the TP/FP/FN/TN summary (recorded in "
                                                        "MAP.ot.json; the .ot keeps log-odds only)")
                            ->capture_default_str()->check(probability());
-  o.settings["--s-c"] = app.add_option("--s-c", o.s_c, "Maximum range s_c, metres")
-                            ->capture_default_str()->check(numberAbove(0));
-  o.settings["--resolution"] = app.add_option("--resolution", o.resolution, "Voxel edge, metres")
-                                  ->capture_default_str()->check(numberAbove(0));
-  o.settings["--variant"] = app.add_option("--variant", o.variant, "k-NN update: default (occupied wins) or literal "
-                                                                   "(Algorithm 1 word for word)")
-                               ->check(CLI::IsMember(kUpdateVariantNames.list()))->capture_default_str();
-  o.settings["--stats"] = app.add_option("--stats", o.stats, "k-NN mu, sigma: batch (whole set, the paper's) or online")
-                             ->check(CLI::IsMember(kStatsModeNames.list()))->capture_default_str();
+  o.settings.merge(addMapSettingFlags(app, o.map));
   o.settings["--truth"] = app.add_option("--truth", o.truth, "Truth of the TP/FP/FN/TN summary: full, or observable (only "
                                                            "truth voxels a ray from a scan origin reaches within s_c "
                                                            "first; docs/results-format.md)")
@@ -171,13 +164,10 @@ MapRecipe recipeFromFlags(const MapOptions& o) {
   // p_t as results keep it, to 1e-6 (docs/grids.md): the value checked is the value counted at.
   const Fixed p_t = Fixed(std::llround(o.p_t * double(kFixedScale)));
   const double p_max = parameterValue(*r.method, r.values, "p_max"), p_min = parameterValue(*r.method, r.values, "p_min");
-  if (!(toDouble(p_t) >= p_min && toDouble(p_t) <= p_max))
+  if (brokenThreshold(toDouble(p_t), p_min, p_max))
     throw std::invalid_argument("--p-t " + detail::fmt(toDouble(p_t)) + " (to 1e-6) must lie in [p_min, p_max] = [" +
                                 detail::fmt(p_min) + ", " + detail::fmt(p_max) + "]");
-  r.context.resolution = o.resolution;
-  r.context.s_c = o.s_c;
-  r.context.variant = parseUpdateVariant(o.variant);
-  r.context.stats = parseStatsMode(o.stats);
+  r.context.map = o.map.settings();
   r.truth = parseTruthMode(o.truth);
   r.thresholds.push_back({0, p_t, {}});
   return r;
@@ -257,8 +247,7 @@ nlohmann::json mapSettings(const MapOptions& o, const MapRecipe& r, const Datase
   for (std::size_t i = 0; i < parameters.size(); ++i)
     params[parameters[i].name] = parameters[i].integer ? nlohmann::json(std::llround(r.values[i])) : nlohmann::json(r.values[i]);
   if (!r.stored) params["p_t"] = toDouble(r.thresholds.front().p_t);
-  params.update({{"resolution", r.context.resolution}, {"s_c", r.context.s_c},
-                 {"variant", toText(r.context.variant)}, {"stats", toText(r.context.stats)}});
+  params.update(toJson(r.context.map));
   nlohmann::json settings = {{"format", kMapSettingsFormat}, {"method", r.method->name()}, {"dataset", o.dataset},
                              {"dataset_name", d.name}, {"dataset_hash", dataset_hash},
                              {"parameters", params}, {"truth", truthModeName(r.truth)}, {"build_seconds", seconds}};
@@ -296,15 +285,16 @@ int runMap(const MapOptions& o) {
   const std::string dataset_hash = datasetContentHash(o.dataset);
   const MapRecipe r = o.from.empty() ? recipeFromFlags(o) : recipeFromResults(o, dataset_hash);
   const Dataset d = readDataset(o.dataset);
-  requireInKeyRange(d, o.dataset, r.context.resolution);
-  warnWhenAllBeyondRange(d.scans, r.context.s_c);
+  requireInKeyRange(d, o.dataset, r.context.map.resolution);
+  warnWhenAllBeyondRange(d.scans, r.context.map.s_c);
   // The truth is built before the map: a region it cannot use (past its limit, no voxel) costs no build and leaves
   // no map.
   const bool has_truth = !d.truth.boxes.empty() || !d.truth.mesh.empty() || !d.truth.points.empty();
   if (r.stored && !has_truth) throw std::invalid_argument("--dataset " + o.dataset + " has no truth to count against");
   std::optional<GroundTruth> gt;
   if (has_truth)
-    gt = evaluatedTruth(r.truth, groundTruthOf(d, o.dataset, r.context.resolution), d.scans, r.context.s_c, o.dataset);
+    gt = evaluatedTruth(r.truth, groundTruthOf(d, o.dataset, r.context.map.resolution), d.scans, r.context.map.s_c,
+                        o.dataset);
   const auto start = std::chrono::steady_clock::now();
   const auto tree = buildOnThreads(r, d.scans, o.threads);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,5 +1,5 @@
 // Checks of numeric command-line values, shared by every command: a refused value is reported with the rule in plain
-// numbers ("--k must be an integer >= 1, got 0"), never with CLI11's defaults (a 309-digit double maximum), see
+// numbers ("--threads must be an integer >= 0, got -1"), never with CLI11's defaults (a 309-digit double maximum), see
 // docs/robustness.md, "Messages, formats and the cluster". main.cpp turns "--k: must ..." into "--k must ...".
 #pragma once
 

@@ -19,10 +19,7 @@ void addSweepOptions(CLI::App& app, SweepOptions& o) {
   app.add_option("--shard", o.shard, "I/N: the I-th of N contiguous blocks of the grid's maps (I from 0)");
   app.add_option("--group", o.group, "G/N: only the G-th Eq. 16 group of the seeded permutation");
   app.add_option("--seed", o.seed, "Seed of the Eq. 16 permutation (with --group)")->capture_default_str();
-  app.add_option("--resolution", o.config.resolution, "Map resolution, metres")->capture_default_str()->check(numberAbove(0));
-  app.add_option("--s-c", o.config.s_c, "Maximum range s_c, metres")->capture_default_str()->check(numberAbove(0));
-  app.add_option("--variant", o.variant, "k-NN update variant")->check(CLI::IsMember(kUpdateVariantNames.list()))->capture_default_str();
-  app.add_option("--stats", o.stats, "k-NN mu, sigma source")->check(CLI::IsMember(kStatsModeNames.list()))->capture_default_str();
+  addMapSettingFlags(app, o.map);
   app.add_option("--threads", o.config.threads, "Worker threads (0: all cores)")->capture_default_str()->check(threadCount());
   app.add_option("--engine", o.config.engine, "replay: record events once, replay every combination; direct: build every map (the reference)")
       ->check(CLI::IsMember(sweepEngineNames()))->capture_default_str();
@@ -59,8 +56,7 @@ SweepConfig sweepConfigOf(const SweepOptions& o) {
     const auto [g, n] = parseFraction(o.group, "--group");
     c.selection.group = SweepSelection::Group{g, n, o.seed};
   }
-  c.variant = parseUpdateVariant(o.variant);
-  c.stats = parseStatsMode(o.stats);
+  c.map = o.map.settings();
   c.truth = parseTruthMode(o.truth);
   return c;
 }

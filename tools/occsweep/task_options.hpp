@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "map_setting_flags.hpp"
 #include "occsweep/sweeps/cluster_tasks.hpp"
 
 namespace occsweep::cli {
@@ -17,8 +18,8 @@ namespace occsweep::cli {
 struct SweepOptions {
   SweepConfig config;
   std::vector<std::string> grids, outs;  ///< one --out per --grid, in order (several: sweepGrids)
-  std::string dataset, shard, group, variant = toText(UpdateVariant::Default), stats = toText(StatsMode::Batch),
-                                           truth = truthModeName(TruthMode::Full);
+  MapSettingFlags map;
+  std::string dataset, shard, group, truth = truthModeName(TruthMode::Full);
   std::uint64_t seed = 0;
 };
 

@@ -56,8 +56,8 @@ std::string kindOf(const std::string& stage, const ClusterTask& task) {
   if (!task.expect_grid.empty()) {
     k << " grid " << task.expect_grid << " shards " << task.expect_shards;
     if (const auto& w = task.expect_work) {
-      k << " resolution " << w->resolution << " s_c " << w->s_c << " variant " << w->variant << " stats " << w->stats
-        << " truth " << truthModeName(w->truth);
+      k << " resolution " << w->map.resolution << " s_c " << w->map.s_c << " variant " << toText(w->map.variant)
+        << " stats " << toText(w->map.stats) << " truth " << truthModeName(w->truth);
       if (w->group) k << " group of " << w->group->count << " seed " << w->group->seed;
     }
     return k.str();

@@ -238,9 +238,10 @@ double cpuSeconds(const struct rusage& u) {
 /// One stage's tasks while they run: which process runs which task in which stopper slot, and what has finished.
 class StageRun {
  public:
-  StageRun(const ClusterStage& stage, std::size_t tasks, const fs::path& dir, int jobs, TaskStopper& stopper)
+  StageRun(const ClusterStage& stage, std::size_t tasks, const fs::path& dir, int jobs, TaskStopper& stopper,
+           bool quiet)
       : stage_(stage), tasks_(tasks), dir_(dir), stopper_(stopper), start_(std::chrono::steady_clock::now()),
-        last_print_(start_) {
+        last_print_(start_), quiet_(quiet) {
     for (std::size_t i = std::size_t(jobs); i-- > 0;) free_slots_.push_back(i);
   }
 
@@ -333,7 +334,7 @@ class StageRun {
   // A line at most every few seconds, as tasks finish, not one per task: paper-scale stages have hundreds.
   void printProgress() {
     const auto now = std::chrono::steady_clock::now();
-    if (finished_ != tasks_ && now - last_print_ <= std::chrono::seconds(5)) return;
+    if (quiet_ || (finished_ != tasks_ && now - last_print_ <= std::chrono::seconds(5))) return;
     const double seconds = std::chrono::duration<double>(now - start_).count();
     std::cerr << progressLine("stage " + stage_.name, "tasks", finished_, tasks_, seconds) << '\n';
     last_print_ = now;
@@ -351,6 +352,7 @@ class StageRun {
   fs::path dir_;
   TaskStopper& stopper_;
   std::chrono::steady_clock::time_point start_, last_print_;
+  bool quiet_;
   std::map<pid_t, Running> running_;
   std::vector<std::size_t> free_slots_;
   std::size_t finished_ = 0, failed_ = 0;
@@ -359,10 +361,10 @@ class StageRun {
 
 /// Runs the tasks `ids` of one stage, `jobs` at a time; returns how many failed (none counted once stopped).
 std::size_t runStage(const ClusterStage& stage, const std::vector<std::uint64_t>& ids, const fs::path& dir, int jobs,
-                     TaskStopper& stopper) {
+                     TaskStopper& stopper, bool quiet) {
   for (auto t : ids) requireOutputInside(stage.tasks[t], dir);  // before any task starts
   for (auto t : ids) removeOwnOutput(stage.tasks[t], dir);  // rewritten outputs must not count as done meanwhile
-  StageRun run(stage, ids.size(), dir, jobs, stopper);
+  StageRun run(stage, ids.size(), dir, jobs, stopper, quiet);
   std::size_t next = 0;
   while ((next < ids.size() && !stopper.signal()) || run.running() > 0) {
     while (next < ids.size() && run.running() < std::size_t(jobs) && !stopper.signal()) run.start(stage.tasks[ids[next++]]);
@@ -370,8 +372,9 @@ std::size_t runStage(const ClusterStage& stage, const std::vector<std::uint64_t>
     run.reap();
   }
   if (stopper.signal()) return 0;
-  std::cerr << "stage " << stage.name << ": " << ids.size() - run.failed() << " of " << ids.size()
-            << " tasks succeeded in " << run.seconds() << " s\n";
+  if (!quiet || run.failed())
+    std::cerr << "stage " << stage.name << ": " << ids.size() - run.failed() << " of " << ids.size()
+              << " tasks succeeded in " << run.seconds() << " s\n";
   return run.failed();
 }
 
@@ -407,7 +410,7 @@ void useAbsoluteStateFolder() {
 }
 }  // namespace
 
-std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs) {
+std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs, bool quiet) {
   const fs::path dir = fs::absolute(plan_dir);  // tasks start in it, and logs open after that chdir
   if (jobs < 1) throw std::invalid_argument("--threads must be at least 1");
   for (const char* folder : {"logs", "running"}) {  // never written through a link to elsewhere
@@ -431,10 +434,10 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
     const ClusterStage& stage = plan.stages[s];
     const auto& ids = torun[s];
     if (ids.empty()) {
-      std::cerr << "stage " << stage.name << ": all " << stage.tasks.size() << " tasks done\n";
+      if (!quiet) std::cerr << "stage " << stage.name << ": all " << stage.tasks.size() << " tasks done\n";
       continue;
     }
-    const std::size_t stage_failed = runStage(stage, ids, dir, jobs, stopper);
+    const std::size_t stage_failed = runStage(stage, ids, dir, jobs, stopper, quiet);
     if (stopper.signal()) break;
     failed += stage_failed;
     if (stage_failed) {  // like afterok: later stages would read missing inputs
@@ -445,7 +448,7 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
   if (const int signal = stopper.signal()) {
     std::cerr << "run-local: stopped by signal " << signal << " (" << strsignal(signal)
               << "); its tasks are ended, done tasks are kept. The rest runs with:\n  occsweep cluster run-local "
-              << shellWord(plan_dir.string()) << " --threads " << jobs << '\n';
+              << shellWord(plan_dir.string()) << " --threads " << jobs << (quiet ? " --quiet" : "") << '\n';
     // Die of the same signal, as the shell and a parent expect of a stopped program.
     ::signal(signal, SIG_DFL);
     ::raise(signal);

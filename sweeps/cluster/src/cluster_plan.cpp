@@ -219,7 +219,7 @@ std::vector<LoadedGrid> loadPlanGrids(const PlanConfig& c) {
 
 /// What a results file of this sweep says besides grid and shard: checked before a task counts as done.
 ExpectedWork expectedWork(const SweepConfig& sweep) {
-  return {sweep.selection.group, sweep.resolution, sweep.s_c, toText(sweep.variant), toText(sweep.stats), sweep.truth};
+  return {sweep.selection.group, sweep.map, sweep.truth};
 }
 
 /// Shard k of grid g on set s: the plan's shared sweep settings with this task's data set, grid, output, shard

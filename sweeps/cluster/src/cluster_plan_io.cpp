@@ -24,8 +24,10 @@ constexpr const char* kPlanFormat = "occsweep-cluster-plan";
 json workJson(const ExpectedWork& w) {
   json group = nullptr;
   if (w.group) group = {w.group->index, w.group->count, w.group->seed};
-  return {{"group", group}, {"resolution", w.resolution}, {"s_c", w.s_c}, {"variant", w.variant},
-          {"stats", w.stats}, {"truth", truthModeName(w.truth)}};
+  json j = toJson(w.map);
+  j["group"] = group;
+  j["truth"] = truthModeName(w.truth);
+  return j;
 }
 
 json taskJson(const ClusterTask& t) {
@@ -91,10 +93,9 @@ ExpectedWork parseWork(const json& w, const std::string& file, const std::string
       throw std::runtime_error(file + ": " + where + "group: expected [I, N, SEED] with I < N");
     work.group = SweepSelection::Group{g[0], g[1], g[2]};
   }
-  work.resolution = field<double>(w, "resolution", file, where);
-  work.s_c = field<double>(w, "s_c", file, where);
-  work.variant = field<std::string>(w, "variant", file, where);
-  work.stats = field<std::string>(w, "stats", file, where);
+  work.map = parseMapSettings(w, [&](const std::string& key, const std::string& rule) {
+    throw std::runtime_error(file + ": " + where + key + ": " + rule);
+  });
   try {
     work.truth = parseTruthMode(field<std::string>(w, "truth", file, where));
   } catch (const std::invalid_argument& e) {

@@ -101,8 +101,7 @@ std::string otherWork(const ResultsHeader& found, const ClusterTask& task) {
   const ExpectedWork& w = *task.expect_work;
   ResultsHeader expected = found;
   expected.selection.group = w.group;
-  expected.resolution = w.resolution, expected.s_c = w.s_c;
-  expected.variant = w.variant, expected.stats = w.stats;
+  expected.map = w.map;
   expected.truth = w.truth;
   const auto fields = incomparableHeaderFields(expected, found, false);
   if (fields.empty()) return "";

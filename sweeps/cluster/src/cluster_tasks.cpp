@@ -52,10 +52,10 @@ std::vector<std::string> taskArgv(const SweepConfig& s) {
     add("--group", fraction(g->index, g->count));
     add("--seed", std::to_string(g->seed));
   }
-  if (s.resolution != defaults.resolution) add("--resolution", exactNumber(s.resolution));
-  if (s.s_c != defaults.s_c) add("--s-c", exactNumber(s.s_c));
-  if (s.variant != defaults.variant) add("--variant", toText(s.variant));
-  if (s.stats != defaults.stats) add("--stats", toText(s.stats));
+  if (s.map.resolution != defaults.map.resolution) add("--resolution", exactNumber(s.map.resolution));
+  if (s.map.s_c != defaults.map.s_c) add("--s-c", exactNumber(s.map.s_c));
+  if (s.map.variant != defaults.map.variant) add("--variant", toText(s.map.variant));
+  if (s.map.stats != defaults.map.stats) add("--stats", toText(s.map.stats));
   if (s.engine != defaults.engine) add("--engine", s.engine);
   if (s.truth != defaults.truth) add("--truth", truthModeName(s.truth));
   if (s.quiet) argv.push_back("--quiet");

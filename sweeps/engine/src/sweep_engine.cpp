@@ -49,7 +49,7 @@ class ReplayEngine final : public SweepEngine {
   void prepare(const SweepInputs& in, const std::vector<GridMaps>& grids) override {
     const SweepConfig& c = in.config;
     grids_ = grids;
-    context_ = {c.variant};
+    context_ = {c.map};
     observable_ = c.truth == TruthMode::Observable;
     twin_ = in.twin;
     // What the maps of every grid need per point: one rule per lane group tells (the groups share their features).
@@ -66,7 +66,8 @@ class ReplayEngine final : public SweepEngine {
     }
     recordWithGates(in, gate_needs);
     // Replay needs a hit feature only at the recorded hits: one feature at a time, freed at once (memory).
-    for (const FeatureRequest& f : hit_needs) hit_features_[f] = recordedHitFeatures(recorded_, in.scans, f, c.s_c, c.stats);
+    for (const FeatureRequest& f : hit_needs)
+      hit_features_[f] = recordedHitFeatures(recorded_, in.scans, f, c.map.s_c, c.map.stats);
     // From here on only the recorded events are read: the points (12 bytes each) make room for replay's buffers.
     PointCloudSet().swap(in.scans);
   }
@@ -144,13 +145,13 @@ class ReplayEngine final : public SweepEngine {
     const SweepConfig& c = in.config;
     SetGateScores scores;
     for (const FeatureRequest& f : gate_needs) {
-      SetFeature feature = parallelSetFeature(in.scans, f, c.s_c, c.stats);
+      SetFeature feature = parallelSetFeature(in.scans, f, c.map.s_c, c.map.stats);
       gate_columns_[f] = scores.size();
       gate_summaries_.push_back(std::move(feature.summaries));
       auto& column = scores.emplace_back(feature.values.size());
       for (std::size_t t = 0; t < column.size(); ++t) column[t].assign(feature.values[t].begin(), feature.values[t].end());
     }
-    recorded_ = recordSet(in.scans, in.marked, c.resolution, c.s_c, scores);
+    recorded_ = recordSet(in.scans, in.marked, c.map.resolution, c.map.s_c, scores);
   }
 
   // Per lane, per scan: the gate's threshold for that scan's summary.
@@ -192,13 +193,13 @@ class DirectEngine final : public SweepEngine {
     scans_ = &in.scans;
     truth_ = &in.truth;
     marked_ = in.twin ? &in.marked : nullptr;
-    context_ = {c.resolution, c.s_c, c.variant, c.stats, {}, {}};
+    context_ = {c.map, {}, {}};
     // The distances of each k depend only on the points, k and s_c: computed once, shared by every map of that k.
     // Serially, under the lock: a parallel loop here could take another map's task, which would wait for this lock.
     context_.knn_distances = [this](int k) -> const KnnSetDistances& {
       const std::lock_guard lock(distances_mutex_);
       auto it = distances_.find(k);
-      if (it == distances_.end()) it = distances_.emplace(k, computeKnnDistances(*scans_, k, context_.s_c)).first;
+      if (it == distances_.end()) it = distances_.emplace(k, computeKnnDistances(*scans_, k, context_.map.s_c)).first;
       return it->second;
     };
   }

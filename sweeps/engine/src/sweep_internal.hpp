@@ -26,18 +26,23 @@ class PartialLock {
   ~PartialLock();
   PartialLock(PartialLock&& o) noexcept : fd_(std::exchange(o.fd_, -1)) {}
   PartialLock& operator=(PartialLock&& o) noexcept;
-  /// Locks the existing regular `file`, never following a symbolic link. Throws when another process holds it.
+  /// Locks the existing regular `file`, never following a symbolic link. Throws when another process holds it, or
+  /// when the file has another name (a hard link).
   [[nodiscard]] static PartialLock existing(const std::filesystem::path& file);
   /// A new partial output: `make` writes it at a temporary beside `file`, which is locked, then put at `file`:
   /// in place of the one `replacing` holds (occsweep's own, locked by the caller; a file put at the name meanwhile
   /// stays and this throws), or, without `replacing`, only if there is none (another sweep made one meanwhile:
-  /// thrown as above). Nothing is left at the temporary on an error.
+  /// thrown as above). Nothing is left at the temporary on an error. `published` runs in one step with its
+  /// appearance at `file` (an interrupt's cleaning never comes between them), given the new lock.
   [[nodiscard]] static PartialLock publish(const std::filesystem::path& file, const PartialLock* replacing,
-                                           const std::function<void(const std::filesystem::path&)>& make);
+                                           const std::function<void(const std::filesystem::path&)>& make,
+                                           const std::function<void(const PartialLock&)>& published = {});
   [[nodiscard]] bool held() const { return fd_ >= 0; }
+  /// The open file this lock holds (-1: none).
+  [[nodiscard]] int descriptor() const { return fd_; }
   /// Removes `file` only when it is still the file this lock holds (device and inode): a file someone put at that
-  /// name meanwhile stays (docs/robustness.md, "Ownership").
-  void removeHeldFile(const std::filesystem::path& file) const noexcept;
+  /// name meanwhile stays (docs/robustness.md, "Ownership"). True when it removed it.
+  bool removeHeldFile(const std::filesystem::path& file) const noexcept;
   /// True when `file` is still the file this lock holds (device and inode).
   [[nodiscard]] bool holdsFile(const std::filesystem::path& file) const noexcept;
   /// A path that opens the file this lock holds, whatever now stands at its name (/proc/self/fd): what the sweep
@@ -56,21 +61,26 @@ void requireOwnablePartial(const std::filesystem::path& file);
 /// Finished maps of an interrupted run: OUT.partial.jsonl, a header line then one map per line. A line cut by a
 /// kill is ignored (its map is simply done again). With `twin` (the observable-truth results of the same maps,
 /// SweepConfig::observable_out), only lines carrying the twin's counts count, which go into `*twin`. The log is
-/// locked into `lock`; a file there whose first line is not occsweep's header is refused (never replaced), one of
-/// other work too unless `force` (then `lock` is held and nothing is returned: the log is started anew).
+/// locked into `lock`. Only the log occsweep's ledger recorded making there (PartialLog) is read: any other file is
+/// refused, even with `force`, and so is a log with bytes written into it (a line other than a last one cut by a
+/// kill that is not JSON); one of other work too unless `force` (then `lock` is held and nothing is returned: the log
+/// is started anew).
 [[nodiscard]] std::map<std::uint64_t, MapResult> loadPartial(const std::filesystem::path& partial,
                                                              const ResultsHeader& header, bool force,
                                                              std::map<std::uint64_t, std::string>& engine_of,
                                                              std::map<std::uint64_t, MapResult>* twin,
                                                              PartialLock& lock);
 
-/// True when `partial` is a regular file whose first line is occsweep's header of the same work as `header`.
-[[nodiscard]] bool isOwnPartialLog(const std::filesystem::path& partial, const ResultsHeader& header);
+/// Removes occsweep's own partial log of the same work as `header` that a complete output superseded (a kill came
+/// between the results' rename and the log's removal): only the log the ledger recorded, never while another sweep
+/// holds it, with its record.
+void removeSupersededLog(const std::filesystem::path& partial, const ResultsHeader& header);
 
 /// A partial-log line's field holding the twin's thresholds and AUC.
 inline constexpr const char* kTwinField = "observable";
 
-/// OUT.partial.jsonl while a sweep runs: a header line, then one line per finished map, each flushed. It is what a
+/// OUT.partial.jsonl while a sweep runs: a header line, then one line per finished map, each flushed; recorded in the
+/// ledger as occsweep's (ownership.hpp, recordMadeEntry) in one step with its appearance at its name. It is what a
 /// killed sweep resumes from, so an error keeps it, unless it holds no finished map or a write failed (a full
 /// disk): then it is removed rather than leave the disk full (docs/robustness.md).
 class PartialLog {
@@ -99,6 +109,7 @@ class PartialLog {
   std::ofstream out_;
   std::mutex mutex_;
   std::size_t maps_;
+  bool stamp_each_write_ = false;  ///< its file system keeps no birth time (ownership.hpp, keepsBirthTime)
   std::atomic<bool> write_failed_{false};
 };
 

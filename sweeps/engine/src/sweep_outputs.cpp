@@ -90,12 +90,10 @@ void requireTwinReplaceable(const SweepConfig& c, const ResultsHeader& h) {
 // The same sweep's own complete JSON file (and twin) is returned as it is. The twin too replaces only occsweep's own
 // results (a user's file there is refused before any work).
 std::optional<ResultsFile> checkOutputs(const SweepConfig& c, const ResultsHeader& h) {
-  std::error_code ec;
   std::optional<ResultsFile> old = completeSameWork(c, h, &readResults);
   if (old && (!hasTwin(c) || completeResultsOf(c.observable_out, twinHeader(h)))) {
     // Superseded (a kill came between the rename and the removal): removed only when it is occsweep's log.
-    const fs::path partial = partialOutputPath(c.out);
-    if (isOwnPartialLog(partial, h)) fs::remove(partial, ec);
+    removeSupersededLog(partialOutputPath(c.out), h);
     return old;
   }
   if (hasTwin(c)) requireTwinReplaceable(c, h);
@@ -215,12 +213,11 @@ class JsonOutput final : public OutputBase {
 std::optional<ResultsFile> completeStore(const SweepConfig& c, const ResultsHeader& h) {
   std::optional<ResultsFile> old = completeSameWork(c, h, &readResultsHeader);
   const fs::path partial = partialOutputPath(c.out);
-  std::error_code ec;
   // Superseded (a kill came between the rename and the removal): removed only when occsweep's and not being written.
   if (old && isOccsweepStore(partial)) {
     try {
       const PartialLock lock = PartialLock::existing(partial);
-      fs::remove(partial, ec);
+      lock.removeHeldFile(partial);
     } catch (const std::exception&) {
     }
   }

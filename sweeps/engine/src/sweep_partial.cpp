@@ -8,9 +8,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <iostream>
 #include <optional>
 
 #include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/eval/interrupt_guard.hpp"
+#include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 #include "sweep_internal.hpp"
 
@@ -56,16 +59,36 @@ std::optional<ResultsHeader> logHeader(const fs::path& partial) {
   }
 }
 
-// The header of occsweep's partial log at `partial`. occsweep writes it before the log appears under its name
-// (PartialLock::publish): a file without one is not occsweep's, and is never replaced (docs/robustness.md, "Outputs,
-// temporaries and --force").
+// The header of occsweep's partial log at `partial`. A header is bytes a user could copy: the log is occsweep's only
+// when the ledger holds the record of its making at that name (PartialLog, docs/robustness.md, "Ownership"), and a
+// file without a header was never occsweep's; neither is ever resumed from, replaced or removed.
 ResultsHeader ownLogHeader(const fs::path& partial, const PartialLock& lock) {
+  if (!isRecordedMadeEntry(partial, lock.descriptor()))  // the file locked, whatever its name holds by now
+    throw std::runtime_error(
+        partial.string() + ": not a partial log of occsweep's (" +
+        (ownershipLedger().empty()
+             ? std::string("no ledger to prove it: none of OCCSWEEP_STATE_DIR, XDG_STATE_HOME and HOME is set")
+             : std::string("occsweep's ledger does not prove it is the file occsweep made there")) +
+        "); occsweep never resumes from, replaces or removes it (even with --force): run with the ledger it was "
+        "written with (OCCSWEEP_STATE_DIR), remove it, or choose another --out");
   std::optional<ResultsHeader> header = logHeader(lock.heldFilePath());
   if (!header)
     throw std::runtime_error(partial.string() + ": not a partial log of occsweep's (its first line is not a sweep's "
-                             "header); occsweep never replaces or removes it (even with --force): remove it, or choose "
-                             "another --out");
+                             "header); occsweep never resumes from, replaces or removes it (even with --force): remove "
+                             "it, or choose another --out");
   return std::move(*header);
+}
+
+// Removes occsweep's log at `partial` while it is the file `lock` holds, with its ledger record, in one step. The
+// record goes first: while the log stands at its name no other sweep can make one there.
+void removeOwnLog(const fs::path& partial, const PartialLock& lock) {
+  runWithoutInterruptCleaning([&] {
+    if (!lock.holdsFile(partial)) return;
+    forgetMadeEntry(partial);
+    if (lock.removeHeldFile(partial)) return;
+    recordMadeEntry(partial);  // not removed (a folder without write permission): still occsweep's, and proven so
+    if (!keepsBirthTime(partial)) recordMadeEntryWritten(partial);
+  });
 }
 
 }  // namespace
@@ -90,6 +113,11 @@ PartialLock PartialLock::existing(const fs::path& file) {
   if (!lock.held() || ::fstat(lock.fd_, &held) != 0 || ::lstat(file.c_str(), &now) != 0 || held.st_ino != now.st_ino ||
       held.st_dev != now.st_dev)
     anotherWriter(file);
+  // A second name (a hard link a user made) would be written through as a symbolic link would (docs/robustness.md).
+  if (held.st_nlink != 1)
+    throw std::runtime_error(file.string() + ": has " + std::to_string(held.st_nlink) + " names (a hard link); "
+                             "occsweep never writes into, replaces or removes a partial output that has another name "
+                             "(even with --force): remove the other name, or choose another --out");
   return lock;
 }
 
@@ -115,25 +143,33 @@ namespace {
 
 // Puts the sweep's new partial output (`claimed`, locked by `made`) at `file` in place of the one `replacing` holds,
 // and removes that one. Exchanged atomically, then checked: a file a user put at the name meanwhile (the sweep
-// prepared its data for minutes) goes back, and the sweep stops naming it.
+// prepared its data for minutes) goes back, and the sweep stops naming it. `published` runs in one step with the
+// exchange (runWithoutInterruptCleaning).
 void replaceHeldPartial(ClaimedTemporary& claimed, const fs::path& file, const PartialLock& replacing,
-                        const PartialLock& made) {
+                        const PartialLock& made, const std::function<void(const PartialLock&)>& published) {
   const fs::path& temporary = claimed.path();
-  if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_EXCHANGE) != 0) {
-    if (errno != EINVAL && errno != ENOSYS)
-      throw std::runtime_error(file.string() + ": cannot replace (" + std::strerror(errno) + ")");
-    if (!replacing.holdsFile(file)) partialReplacedMeanwhile(file);  // no exchange on this file system
-    fs::rename(temporary, file);
-    return;
-  }
-  if (!replacing.holdsFile(temporary)) putBackUsersFile(claimed, file, made);
-  replacing.removeHeldFile(temporary);  // the old partial output, now at the temporary's name
+  bool users_file_exchanged = false;
+  runWithoutInterruptCleaning([&] {
+    if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_EXCHANGE) != 0) {
+      if (errno != EINVAL && errno != ENOSYS)
+        throw std::runtime_error(file.string() + ": cannot replace (" + std::strerror(errno) + ")");
+      if (!replacing.holdsFile(file)) partialReplacedMeanwhile(file);  // no exchange on this file system
+      fs::rename(temporary, file);
+    } else if (!replacing.holdsFile(temporary)) {
+      users_file_exchanged = true;
+      return;
+    }
+    if (published) published(made);
+    replacing.removeHeldFile(temporary);  // the old partial output, now at the temporary's name (if exchanged)
+  });
+  if (users_file_exchanged) putBackUsersFile(claimed, file, made);
 }
 
 }  // namespace
 
 PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replacing,
-                                 const std::function<void(const fs::path&)>& make) {
+                                 const std::function<void(const fs::path&)>& make,
+                                 const std::function<void(const PartialLock&)>& published) {
   // Claimed and registered as OutputFile's temporaries are (docs/robustness.md, "Ownership"): an interrupt removes
   // it while it is the file made there, and what a kill leaves the next run removes. A user's file is at that name
   // only while an exchange is undone (putBackUsersFile), or once kept.
@@ -142,12 +178,23 @@ PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replac
   const fs::path& temporary = claimed.path();
   make(temporary);
   PartialLock lock(lockedDescriptor(temporary));
-  // Locked before it appears under its name: a second sweep finds it locked. link() never replaces a file.
-  if (replacing) replaceHeldPartial(claimed, file, *replacing, lock);
-  else if (::link(temporary.c_str(), file.c_str()) != 0) {
-    if (errno == EEXIST) anotherWriter(file);
-    throw std::runtime_error(file.string() + ": cannot create (" + std::strerror(errno) + ")");
+  // Locked before it appears under its name: a second sweep finds it locked. Neither the exchange nor the rename
+  // below replaces a file.
+  if (replacing) {
+    replaceHeldPartial(claimed, file, *replacing, lock, published);
+    return lock;
   }
+  // Renamed without replacing (never a second name a kill could leave behind), else linked: neither replaces a file.
+  runWithoutInterruptCleaning([&] {
+    if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, file.c_str(), RENAME_NOREPLACE) != 0) {
+      if (errno == EEXIST) anotherWriter(file);
+      if ((errno != EINVAL && errno != ENOSYS) || ::link(temporary.c_str(), file.c_str()) != 0) {
+        if (errno == EEXIST) anotherWriter(file);
+        throw std::runtime_error(file.string() + ": cannot create (" + std::strerror(errno) + ")");
+      }
+    }
+    if (published) published(lock);
+  });
   return lock;
 }
 
@@ -160,12 +207,63 @@ void requireOwnablePartial(const fs::path& file) {
   requireRegularFile(file);  // a FIFO would block the sweep
 }
 
-bool isOwnPartialLog(const fs::path& partial, const ResultsHeader& header) {
+void removeSupersededLog(const fs::path& partial, const ResultsHeader& header) {
   std::error_code ec;
-  if (!fs::is_regular_file(fs::symlink_status(partial, ec))) return false;
-  const std::optional<ResultsHeader> old = logHeader(partial);
-  return old && sameWork(*old, header, true, nullptr);
+  if (!fs::is_regular_file(fs::symlink_status(partial, ec))) return;
+  try {
+    const PartialLock lock = PartialLock::existing(partial);  // never while another sweep writes it
+    if (!isRecordedMadeEntry(partial, lock.descriptor())) return;
+    const std::optional<ResultsHeader> old = logHeader(lock.heldFilePath());
+    if (old && sameWork(*old, header, true, nullptr)) removeOwnLog(partial, lock);
+  } catch (const std::exception&) {  // another sweep writes it, or it cannot be read: left as it is
+  }
 }
+
+namespace {
+
+// A whole map line of the log as JSON. Every line occsweep writes is JSON: one that is not was written into the log
+// by someone else, and the log is no longer occsweep's alone.
+json loggedLine(const std::string& line, const fs::path& partial, std::size_t number) {
+  try {
+    return json::parse(line);
+  } catch (const json::exception&) {
+    throw std::runtime_error(partial.string() + ": line " + std::to_string(number) + " is not a line occsweep "
+                             "wrote (bytes were written into the log); occsweep never resumes from, replaces or "
+                             "removes it (even with --force): remove it, or choose another --out");
+  }
+}
+
+// A whole line's map (and the twin's counts of it) into `done`. A map of no use to this run (without the twin's
+// counts) is left out: it is counted again.
+void takeLoggedMap(const json& j, const fs::path& partial, const ResultsHeader& header, const std::string& old_engine,
+                   std::map<std::uint64_t, MapResult>& done, std::map<std::uint64_t, std::string>& engine_of,
+                   std::map<std::uint64_t, MapResult>* twin) {
+  try {
+    MapResult m = parseMapResult(j, header.parameters, partial.string(), "line");
+    if (twin) {
+      json t = j;  // the same map with the twin's thresholds and AUC, checked as strictly
+      t["thresholds"] = j.at(kTwinField).at("thresholds");
+      t["auc"] = j.at(kTwinField).at("auc");
+      (*twin)[m.map_index] = parseMapResult(t, header.parameters, partial.string(), "line");
+    }
+    // Lines written before maps recorded their engine were made by the engine of the header's run.
+    engine_of[m.map_index] = j.is_object() && j.contains("engine") ? j.at("engine").get<std::string>() : old_engine;
+    done[m.map_index] = std::move(m);
+  } catch (const std::exception&) {
+  }
+}
+
+// Cuts the log held by `lock` at `whole`, the end of its last line with a line break: what a kill cut off a line
+// goes, so that the next line starts on a line of its own.
+void dropCutLine(const fs::path& partial, const PartialLock& lock, std::uintmax_t whole) {
+  runWithoutInterruptCleaning([&] {
+    if (::truncate(lock.heldFilePath().c_str(), off_t(whole)) != 0)
+      throw std::runtime_error(partial.string() + ": cannot drop the line a kill cut (" + std::strerror(errno) + ")");
+    if (!keepsBirthTime(partial)) recordMadeEntryWritten(partial);  // occsweep's own write
+  });
+}
+
+}  // namespace
 
 std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const ResultsHeader& header, bool force,
                                                std::map<std::uint64_t, std::string>& engine_of,
@@ -184,21 +282,14 @@ std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const Re
     throw std::runtime_error(partial.string() + ": an interrupted sweep of other work (" + why +
                              "); --force replaces it, or choose another --out");
   }
-  while (std::getline(in, line)) {
-    try {
-      const json j = json::parse(line);
-      MapResult m = parseMapResult(j, header.parameters, partial.string(), "line");
-      if (twin) {
-        json t = j;  // the same map with the twin's thresholds and AUC, checked as strictly
-        t["thresholds"] = j.at(kTwinField).at("thresholds");
-        t["auc"] = j.at(kTwinField).at("auc");
-        (*twin)[m.map_index] = parseMapResult(t, header.parameters, partial.string(), "line");
-      }
-      // Lines written before maps recorded their engine were made by the engine of the header's run.
-      engine_of[m.map_index] = j.is_object() && j.contains("engine") ? j.at("engine").get<std::string>() : old.engine;
-      done[m.map_index] = std::move(m);
-    } catch (const std::exception&) {
+  std::uintmax_t whole = std::uintmax_t(in.tellg());  // the end of the last line with a line break
+  for (std::size_t number = 2; std::getline(in, line); ++number) {
+    if (in.eof()) {  // only a kill cuts a line, and only the last, before its line break: its map is counted again
+      dropCutLine(partial, lock, whole);
+      break;
     }
+    whole += line.size() + 1;
+    takeLoggedMap(loggedLine(line, partial, number), partial, header, old.engine, done, engine_of, twin);
   }
   return done;
 }
@@ -211,7 +302,29 @@ PartialLog::PartialLog(fs::path file, const ResultsHeader& header, std::size_t m
       std::ofstream first(temporary, std::ios::in | std::ios::out);  // the claimed empty file; never created here
       first << toJson(header).dump() << '\n' << std::flush;
       if (!first) throw OutputError(writeFailure(file_, errno));
+    },
+    // ... and recorded in the ledger in the same step as it appears at its name: a sweep that lost the race for the
+    // name never writes a record, an interrupt comes before both or after both, and only a SIGKILL between the two
+    // leaves a log no run resumes or removes (the user's to remove).
+    [&](const PartialLock& made) {
+      recordMadeEntry(file_);
+      stamp_each_write_ = !keepsBirthTime(file_);
+      if (stamp_each_write_) recordMadeEntryWritten(file_);
+      if (!made.holdsFile(file_)) forgetMadeEntry(file_);  // a file put at its name at that moment is not the log
     });
+    // Where the file system has no rename without replacing, the log was linked and its temporary name removed after
+    // the stamp: that removal changed its status-change time.
+    if (stamp_each_write_) recordMadeEntryWritten(file_);
+    if (!isRecordedMadeEntry(file_))
+      std::cerr << "warning: " << file_.string() << ": occsweep's ledger could not record this partial log ("
+                << (ownershipLedger().empty() ? "none of OCCSWEEP_STATE_DIR, XDG_STATE_HOME and HOME is set"
+                                              : "its folder cannot be written")
+                << "): a killed sweep will not resume from it (docs/robustness.md, \"Ownership\")\n";
+  } else {
+    stamp_each_write_ = !keepsBirthTime(file_);
+    // Without birth times bytes written into the log since it was proven (loadPartial) would be taken for occsweep's
+    // by the next stamp.
+    if (stamp_each_write_ && !isRecordedMadeEntry(file_, lock_.descriptor())) partialReplacedMeanwhile(file_);
   }
   out_.open(lock_.heldFilePath(), std::ios::app);  // never by name: a file put there meanwhile is a user's
   if (!out_) {
@@ -225,7 +338,13 @@ PartialLog::~PartialLog() { removeUnlessResumable(); }
 
 void PartialLog::append(const json& line) {
   std::lock_guard lock(mutex_);
-  out_ << line.dump() << '\n' << std::flush;
+  const std::string text = line.dump() + '\n';
+  // Whole or not at all when an interrupt comes. Without birth times a file a user makes at the name later may reuse
+  // the inode: the stamp of this write tells them apart (ownership.hpp, recordMadeEntryWritten).
+  runWithoutInterruptCleaning([&] {
+    out_ << text << std::flush;
+    if (out_ && stamp_each_write_) recordMadeEntryWritten(file_);
+  });
   if (!out_) throw writeFailed();
   ++maps_;
 }
@@ -236,8 +355,8 @@ bool PartialLock::holdsFile(const fs::path& file) const noexcept {
   return held.st_dev == now.st_dev && held.st_ino == now.st_ino;
 }
 
-void PartialLock::removeHeldFile(const fs::path& file) const noexcept {
-  if (holdsFile(file)) ::unlink(file.c_str());
+bool PartialLock::removeHeldFile(const fs::path& file) const noexcept {
+  return holdsFile(file) && ::unlink(file.c_str()) == 0;
 }
 
 fs::path PartialLock::heldFilePath() const {
@@ -247,7 +366,7 @@ fs::path PartialLock::heldFilePath() const {
 
 void PartialLog::remove() {
   out_.close();
-  lock_.removeHeldFile(file_);
+  removeOwnLog(file_, lock_);
 }
 
 OutputError PartialLog::writeFailed() {
@@ -256,7 +375,11 @@ OutputError PartialLog::writeFailed() {
 }
 
 void PartialLog::removeUnlessResumable() noexcept {
-  if (maps_ == 0 || write_failed_) lock_.removeHeldFile(file_);
+  if (maps_ != 0 && !write_failed_) return;
+  try {
+    removeOwnLog(file_, lock_);
+  } catch (...) {  // out of memory: what was not removed stays, unproven, for the user
+  }
 }
 
 bool completeResultsOf(const fs::path& file, const ResultsHeader& header) {

@@ -46,10 +46,10 @@ bool hasTwin(const SweepConfig& c) { return !c.observable_out.empty(); }
 // limit, or holding no voxel) leaves no partial file.
 SweepTruths sweepTruths(const SweepConfig& c, const Dataset& data) {
   SweepTruths t;
-  t.full = groundTruthOf(data, c.dataset, c.resolution);
+  t.full = groundTruthOf(data, c.dataset, c.map.resolution);
   const bool twin = hasTwin(c);
   if (twin && c.truth != TruthMode::Full) throw std::invalid_argument("sweep: observable_out needs full truth");
-  t.marked = evaluatedTruth(twin ? TruthMode::Observable : c.truth, t.full, data.scans, c.s_c, c.dataset.string());
+  t.marked = evaluatedTruth(twin ? TruthMode::Observable : c.truth, t.full, data.scans, c.map.s_c, c.dataset.string());
   return t;
 }
 
@@ -67,10 +67,7 @@ ResultsHeader sweepHeader(const SweepConfig& c, const GridSpec& grid, const Grid
   h.dataset_name = data.name;
   h.dataset_hash = datasetContentHash(c.dataset);
   h.point_cloud_set = data.source;
-  h.resolution = c.resolution;
-  h.s_c = c.s_c;
-  h.variant = toText(c.variant);
-  h.stats = toText(c.stats);
+  h.map = c.map;
   h.engine = engine.name();
   h.truth = c.truth;
   return h;
@@ -125,9 +122,8 @@ void requireOneDataSet(const std::vector<SweepConfig>& configs) {
   if (configs.empty()) throw std::invalid_argument("sweep: no grid");
   const SweepConfig& a = configs.front();
   for (const SweepConfig& b : configs)
-    if (b.dataset != a.dataset || b.resolution != a.resolution || b.s_c != a.s_c || b.variant != a.variant ||
-        b.stats != a.stats || b.engine != a.engine || b.truth != a.truth || b.threads != a.threads ||
-        b.observable_out.empty() != a.observable_out.empty())
+    if (b.dataset != a.dataset || b.map != a.map || b.engine != a.engine || b.truth != a.truth ||
+        b.threads != a.threads || b.observable_out.empty() != a.observable_out.empty())
       throw std::invalid_argument("sweep: grids swept together share the data set and every map setting");
 }
 
@@ -272,8 +268,8 @@ std::vector<GridOutcome> runGrids(const std::vector<SweepConfig>& configs) {
   const std::unique_ptr<SweepEngine> engine = makeSweepEngine(c.engine);
   announcePhase("reading data set " + c.dataset.string(), c.quiet);
   Dataset data = readDataset(c.dataset);  // not const: replay frees the points once recorded
-  requireInKeyRange(data, c.dataset, c.resolution);
-  announcePhase("ground truth of " + data.name + "'s region at resolution " + metres(c.resolution), c.quiet);
+  requireInKeyRange(data, c.dataset, c.map.resolution);
+  announcePhase("ground truth of " + data.name + "'s region at resolution " + metres(c.map.resolution), c.quiet);
   const SweepTruths truths = sweepTruths(c, data);  // before anything is written: a refused region leaves nothing
   std::vector<GridSweep> grids;  // never grown after this loop: outputs and the engine keep pointers into it
   grids.reserve(configs.size());

@@ -72,21 +72,13 @@ struct GridReader {
   void bounds(const ParamRange& r, const MethodParameter& p) const {
     const double lo = toDouble(r.listed.empty() ? r.min : *std::min_element(r.listed.begin(), r.listed.end()));
     const double hi = toDouble(r.listed.empty() ? r.max : *std::max_element(r.listed.begin(), r.listed.end()));
-    const bool lo_ok = p.lowest_open ? lo > p.lowest : lo >= p.lowest;
-    const bool hi_ok = p.highest_open ? hi < p.highest : hi <= p.highest;
-    if (!lo_ok || !hi_ok) fail("parameters." + p.name, "values must satisfy " + boundText(p));
-  }
-
-  static std::string boundText(const MethodParameter& p) {
-    const auto fmt = [](double v) { return detail::fmt(v); };
-    return fmt(p.highest) + (p.highest_open ? " > " : " >= ") + p.symbol + (p.lowest_open ? " > " : " >= ") +
-           fmt(p.lowest) + " (" + p.bound_source + ")";
+    if (!admits(p, lo) || !admits(p, hi)) fail("parameters." + p.name, "values must lie in " + boundText(p));
   }
 
   // An integer parameter (k): a non-empty list of distinct integers within its bounds.
   ParamRange integers(const json& params, const MethodParameter& p) const {
     const std::string where = "parameters." + p.name;
-    const std::string rule = "must be a non-empty list of distinct integers, " + boundText(p);
+    const std::string rule = "must be a non-empty list of distinct integers in " + boundText(p);
     if (!params.contains(p.name) || !params.at(p.name).is_array() || params.at(p.name).empty()) fail(where, rule);
     ParamRange r;
     std::set<long long> seen;

@@ -130,7 +130,7 @@ ResultsFile sweepSet(const ReproduceConfig& c, const RankedDataset& d, std::size
 BothTruths sweepSetBothTruths(const ReproduceConfig& c, const RankedDataset& d, std::size_t rank,
                               const std::string& grid, std::optional<double> resolution) {
   SweepConfig s = sweepConfig(c, d, rank, grid, {});
-  if (resolution) s.resolution = *resolution;
+  if (resolution) s.map.resolution = *resolution;
   s.observable_out = s.out.parent_path() / (s.out.stem().string() + "-observable.json");
   BothTruths both;
   both.full = runSweep(s);  // reused as they are when both files are complete

@@ -16,7 +16,7 @@ json runDistributionFits(const ReproduceConfig& c, const std::vector<RankedDatas
   const RankedDataset& d = reproduce::datasetOrFirst(all, c.fit_dataset);
   const std::size_t rank = d.paperRanks().size() > 1 ? d.paperRanks()[1] : 0;
   const Dataset data = readDataset(d.root / d.folders[rank]);
-  const double s_c = 4.0;  // Section 4.2; the s_i are those of z_in (Section 3.2: "within range s_c")
+  const double s_c = MapSettings{}.s_c;  // Section 4.2; the s_i are those of z_in (Section 3.2: "within range s_c")
   const KnnSetDistances distances = computeKnnDistances(data.scans, c.fit_k, s_c, tbbScanExecutor());
   std::vector<double> s;
   for (const auto& scan : distances.scans) s.insert(s.end(), scan.s.begin(), scan.s.end());

@@ -130,12 +130,12 @@ json runCurvesAndMaps(const ReproduceConfig& c, const std::vector<RankedDataset>
   const fs::path dir = c.out / "maps";
   fs::create_directories(dir);
   const double om_p_t = om_curve[a].p_t, knn_p_t = knn_curve[b].p_t;
-  const ConfusionCounts om_counts =
-      writeClassifiedPly(*om.method->buildMap(data.scans, om.values, om.context),
-                         makeGroundTruth(data.truth, data.region, om.context.resolution), om_p_t, dir / "octomap.ply");
-  const ConfusionCounts knn_counts =
-      writeClassifiedPly(*knn.method->buildMap(data.scans, knn.values, knn.context),
-                         makeGroundTruth(data.truth, data.region, knn.context.resolution), knn_p_t, dir / "knn.ply");
+  const ConfusionCounts om_counts = writeClassifiedPly(
+      *om.method->buildMap(data.scans, om.values, om.context),
+      makeGroundTruth(data.truth, data.region, om.context.map.resolution), om_p_t, dir / "octomap.ply");
+  const ConfusionCounts knn_counts = writeClassifiedPly(
+      *knn.method->buildMap(data.scans, knn.values, knn.context),
+      makeGroundTruth(data.truth, data.region, knn.context.map.resolution), knn_p_t, dir / "knn.ply");
   const bool agree = std::abs(om_counts.fdr() - om_curve[a].fdr) < 1e-12 &&
                      std::abs(om_counts.tpr() - om_curve[a].tpr) < 1e-12 &&
                      std::abs(knn_counts.fdr() - knn_curve[b].fdr) < 1e-12 &&

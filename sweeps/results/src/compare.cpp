@@ -57,8 +57,8 @@ namespace {
 // where files of one method are set side by side.
 std::string settingsText(const ResultsHeader& h, bool with_rule) {
   std::ostringstream s;
-  s << "resolution " << h.resolution << " m, s_c " << h.s_c << " m";
-  if (with_rule) s << ", variant " << h.variant << ", stats " << h.stats;
+  s << "resolution " << h.map.resolution << " m, s_c " << h.map.s_c << " m";
+  if (with_rule) s << ", variant " << toText(h.map.variant) << ", stats " << toText(h.map.stats);
   return s.str();
 }
 
@@ -90,14 +90,14 @@ std::vector<std::string> mixedSettings(const std::vector<ResultsFile>& files, co
                          ", not the whole grid: its best AUC is the best of a random part of the grid");
     const auto [same, fresh] = first_of_hash.try_emplace(h.dataset_hash, i);
     const ResultsHeader& o = files[same->second].header;
-    if (!fresh && (o.resolution != h.resolution || o.s_c != h.s_c))
+    if (!fresh && (o.map.resolution != h.map.resolution || o.map.s_c != h.map.s_c))
       problems.push_back(names[i] + " (" + settingsText(h, false) + ") and " + names[same->second] + " (" +
                          settingsText(o, false) + "): another resolution or s_c on the same data set");
     // One file per method and set (of two, compareBest would take the better best AUC without a word); what else
     // differs between them first, which says more.
     if (const auto [j, fresh] = first_of_method.try_emplace(h.dataset_hash + '\n' + h.method, i); !fresh) {
       const ResultsHeader& mo = files[j->second].header;
-      if (mo.variant != h.variant || mo.stats != h.stats)
+      if (mo.map.variant != h.map.variant || mo.map.stats != h.map.stats)
         problems.push_back(names[i] + " (" + settingsText(h, true) + ") and " + names[j->second] + " (" +
                            settingsText(mo, true) + "): another variant or statistics mode of method " + h.method +
                            " on the same data set");

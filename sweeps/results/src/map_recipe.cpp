@@ -16,10 +16,7 @@ ScoredMapRecipe scoredMapRecipe(const ResultsHeader& header, const MapResult& ma
     r.values.push_back(parameterValue(header.parameters, map.params, p.name));
   if (auto why = brokenRelation(*r.method, r.values))
     throw std::invalid_argument(file + ": map " + std::to_string(map.map_index) + ": " + *why);
-  r.context.resolution = header.resolution;
-  r.context.s_c = header.s_c;
-  r.context.variant = parseUpdateVariant(header.variant);
-  r.context.stats = parseStatsMode(header.stats);
+  r.context.map = header.map;
   return r;
 }
 

@@ -119,10 +119,10 @@ std::vector<ResultsDifference> incomparableHeaderFields(const ResultsHeader& a, 
     compareField(out, "selection.shard.count", std::to_string(a.selection.shard_count),
                  std::to_string(b.selection.shard_count));
   }
-  compareField(out, "map.resolution", exactText(a.resolution), exactText(b.resolution));
-  compareField(out, "map.s_c", exactText(a.s_c), exactText(b.s_c));
-  compareField(out, "map.variant", a.variant, b.variant);
-  compareField(out, "map.stats", a.stats, b.stats);
+  compareField(out, "map.resolution", exactText(a.map.resolution), exactText(b.map.resolution));
+  compareField(out, "map.s_c", exactText(a.map.s_c), exactText(b.map.s_c));
+  compareField(out, "map.variant", toText(a.map.variant), toText(b.map.variant));
+  compareField(out, "map.stats", toText(a.map.stats), toText(b.map.stats));
   compareField(out, "map.truth", truthModeName(a.truth), truthModeName(b.truth));
   return out;
 }

@@ -100,6 +100,39 @@ bool sameWork(const ResultsHeader& a, const ResultsHeader& b, bool compare_shard
   return false;
 }
 
+json toJson(const MapSettings& settings) {
+  return {{"resolution", settings.resolution}, {"s_c", settings.s_c}, {"variant", toText(settings.variant)},
+          {"stats", toText(settings.stats)}};
+}
+
+namespace {
+// A setting's value in `j`: `fail` (which throws) for one missing, mistyped or out of range.
+double lengthSetting(const json& j, const std::string& key,
+                     const std::function<void(const std::string&, const std::string&)>& fail) {
+  if (!j.contains(key)) fail(key, "is missing");
+  if (!j.at(key).is_number() || !admitsLength(j.at(key).get<double>())) fail(key, kLengthRule);
+  return j.at(key).get<double>();
+}
+
+template <class Enum, std::size_t N>
+Enum namedSetting(const json& j, const std::string& key, const EnumNames<Enum, N>& names,
+                  const std::function<void(const std::string&, const std::string&)>& fail) {
+  if (!j.contains(key)) fail(key, "is missing");
+  if (!j.at(key).is_string() || !names.accepts(j.at(key).get<std::string>()))
+    fail(key, "must be " + names.alternatives("\""));
+  return names.parse(j.at(key).get<std::string>());
+}
+}  // namespace
+
+MapSettings parseMapSettings(const json& j, const std::function<void(const std::string&, const std::string&)>& fail) {
+  MapSettings s;
+  s.resolution = lengthSetting(j, "resolution", fail);
+  s.s_c = lengthSetting(j, "s_c", fail);
+  s.variant = namedSetting(j, "variant", kUpdateVariantNames, fail);
+  s.stats = namedSetting(j, "stats", kStatsModeNames, fail);
+  return s;
+}
+
 json toJson(const ResultsHeader& h) {
   json sel = {{"shard", {{"index", h.selection.shard_index}, {"count", h.selection.shard_count}}},
               {"group", nullptr}};
@@ -112,9 +145,9 @@ json toJson(const ResultsHeader& h) {
             {"selection", sel},
             {"dataset", {{"name", h.dataset_name}, {"content_hash", h.dataset_hash},
                          {"point_cloud_set", h.point_cloud_set}}},
-            {"map", {{"resolution", h.resolution}, {"s_c", h.s_c}, {"variant", h.variant}, {"stats", h.stats},
-                     {"engine", h.engine},
-                     {"engines", h.engines.empty() ? std::vector<std::string>{h.engine} : h.engines}}}};
+            {"map", toJson(h.map)}};
+  j["map"]["engine"] = h.engine;
+  j["map"]["engines"] = h.engines.empty() ? std::vector<std::string>{h.engine} : h.engines;
   if (h.truth != TruthMode::Full) j["map"]["truth"] = truthModeName(h.truth);
   return j;
 }
@@ -202,10 +235,8 @@ ResultsHeader parseHeader(const json& j, const std::string& file) {
   h.dataset_hash = r.str(d, "content_hash", "dataset");
   h.point_cloud_set = r.at(d, "point_cloud_set", "dataset");
   const json& m = r.at(j, "map", "");
-  h.resolution = r.real(m, "resolution", "map");
-  h.s_c = r.real(m, "s_c", "map");
-  h.variant = r.str(m, "variant", "map");
-  h.stats = r.str(m, "stats", "map");
+  if (!m.is_object()) r.fail("map", "must be an object");
+  h.map = parseMapSettings(m, [&](const std::string& key, const std::string& rule) { r.fail("map." + key, rule); });
   h.engine = r.str(m, "engine", "map");
   h.engines = {h.engine};
   if (m.contains("engines")) {

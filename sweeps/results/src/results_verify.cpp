@@ -27,6 +27,7 @@ struct Claims {
   const std::string& file;
   const MappingMethod* method = nullptr;      // registered: its bounds are checked
   std::vector<MethodParameter> parameters;
+  std::vector<ParameterRelation> relations;
   std::vector<std::uint64_t> group_ids;       // a complete group's ids, when small enough to list
   std::uint64_t total = 0, truth = 0, ids = 0;
   std::optional<std::uint64_t> last_map, last_id;
@@ -36,6 +37,7 @@ struct Claims {
     try {
       method = &findMethod(h.method);
       parameters = method->parameters();
+      relations = method->relations();
     } catch (const std::invalid_argument&) {
       // another program's method: its bounds are not known here
     }
@@ -51,12 +53,7 @@ struct Claims {
   }
 
   void settings() const {
-    if (!std::isfinite(h.resolution) || !(h.resolution > 0))
-      fail("map.resolution", "must be a finite number > 0 (metres)");
-    if (!std::isfinite(h.s_c) || !(h.s_c > 0)) fail("map.s_c", "must be a finite number > 0 (metres)");
-    if (!kUpdateVariantNames.accepts(h.variant))
-      fail("map.variant", "must be " + kUpdateVariantNames.alternatives("\""));
-    if (!kStatsModeNames.accepts(h.stats)) fail("map.stats", "must be " + kStatsModeNames.alternatives("\""));
+    // The settings were checked as the header was read (parseMapSettings).
     if (h.grid_combinations == 0) fail("grid.combinations", "must be at least 1");
     if (h.selection.shard_count > h.grid_combinations)
       fail("selection.shard.count", "is more than the grid's " + std::to_string(h.grid_combinations) + " combinations");
@@ -69,15 +66,15 @@ struct Claims {
     if (v < 0 || v > kFixedScale) fail(where, "must be a probability in [0, 1]");
   }
 
-  // Each value within its parameter's bounds, when this program has the method registered (docs/methods.md).
+  // Each value within its parameter's bounds and the relations among them (Eq. 12 for OctoMap and k-NN), when this
+  // program has the method registered (docs/methods.md).
   void params(const MapResult& m, const std::string& where) const {
     if (m.params.values.size() != h.parameters.names.size()) fail(where + ".params", "has other parameters");
-    for (std::size_t i = 0; i < parameters.size() && i < m.params.values.size(); ++i) {
-      const MethodParameter& p = parameters[i];
-      const double v = toDouble(m.params.values[i]);
-      if ((p.lowest_open ? !(v > p.lowest) : !(v >= p.lowest)) || (p.highest_open ? !(v < p.highest) : !(v <= p.highest)))
-        fail(where + ".params." + p.name, "is outside the bounds of " + h.method + "'s " + p.name);
-    }
+    if (parameters.empty()) return;
+    std::vector<double> values;
+    for (const Fixed v : m.params.values) values.push_back(toDouble(v));
+    if (const std::optional<std::string> why = brokenRelation(parameters, relations, values))
+      fail(where + ".params", *why + " (" + h.method + ")");
   }
 
   // One region for every threshold of every map.
@@ -250,16 +247,16 @@ struct DatasetChecker::State {
 };
 
 DatasetChecker::DatasetChecker(const ResultsHeader& h, const std::string& file, const std::filesystem::path& dir)
-    : state_(std::make_unique<State>(file, dir.string(), h.truth, h.resolution)) {
+    : state_(std::make_unique<State>(file, dir.string(), h.truth, h.map.resolution)) {
   const std::string hash = datasetContentHash(dir);
   if (hash != h.dataset_hash)
     throw std::runtime_error(file + ": dataset.content_hash: is " + h.dataset_hash + ", " + dir.string() + " has " +
                              hash + ": results of another data set (or of an edited one)");
   const Dataset d = readDataset(dir);
-  requireInKeyRange(d, dir, h.resolution);
+  requireInKeyRange(d, dir, h.map.resolution);
   // Observable truth leaves its unobservable voxels out of the region and of the truth alike.
   const GroundTruth gt =
-      evaluatedTruth(h.truth, makeGroundTruth(d.truth, d.region, h.resolution), d.scans, h.s_c, dir.string());
+      evaluatedTruth(h.truth, makeGroundTruth(d.truth, d.region, h.map.resolution), d.scans, h.map.s_c, dir.string());
   state_->region = gt.evaluatedVoxelCount();
   state_->truth_voxels = gt.evaluatedTrueVoxelCount();
 }

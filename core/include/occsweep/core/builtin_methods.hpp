@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "builtin_parameters.hpp"
 #include "knn_inverse_sensor_model.hpp"
 #include "log_odds.hpp"
 #include "mapping_method.hpp"
@@ -108,20 +109,6 @@ class RangeOctoMapMethod final : public MappingMethod {
 // ---------------------------------------------------------------------------------------------------------
 namespace detail {
 
-// The parameters every OctoMap-family method shares, with Eq. 12's bounds.
-inline MethodParameter clampMax() {
-  return {"p_max", "p_max", "upper clamping threshold", 0.97, 0.5, 1.0, false, true, false, "Eq. 12"};
-}
-inline MethodParameter clampMin() {
-  return {"p_min", "p_min", "lower clamping threshold", 0.12, 0.0, 0.5, true, true, false, "Eq. 12"};
-}
-inline MethodParameter missIn() {
-  return {"p_m", "p_m", "miss: voxels crossed by a ray to an in-range point", 0.4, 0.0, 0.5, true, true, false, "Eq. 12"};
-}
-inline MethodParameter hitProbability() {
-  return {"p_h", "p_h", "hit: voxels holding an in-range point", 0.7, 0.5, 1.0, false, true, false, "Eq. 12"};
-}
-
 // The clamping bounds and the in-range miss of a map (l_out = l_in: OctoMap treats every crossed voxel alike).
 inline MapRule octomapFamilyRule(const MappingMethod& m, const MethodValues& v) {
   MapRule rule;
@@ -146,13 +133,9 @@ PointCloudSet filteredSet(const PointCloudSet& set, Filter&& keep) {
 
 // --- octomap ---
 
-inline std::vector<MethodParameter> OctoMapMethod::parameters() const {
-  return {detail::clampMax(), detail::clampMin(), detail::hitProbability(), detail::missIn()};
-}
+inline std::vector<MethodParameter> OctoMapMethod::parameters() const { return builtin::octomapParameters(); }
 
-inline std::vector<ParameterRelation> OctoMapMethod::relations() const {
-  return {{"p_max", "p_h", false, "Eq. 12"}, {"p_m", "p_min", false, "Eq. 12"}};
-}
+inline std::vector<ParameterRelation> OctoMapMethod::relations() const { return builtin::octomapRelations(); }
 
 inline MapRule OctoMapMethod::rule(const MethodValues& v, const RuleContext&) const {
   MapRule rule = detail::octomapFamilyRule(*this, v);
@@ -161,9 +144,14 @@ inline MapRule OctoMapMethod::rule(const MethodValues& v, const RuleContext&) co
 }
 
 inline OctoMapParams OctoMapMethod::octomapParams(const MethodValues& v, const MapContext& c) const {
-  const double p_min = parameterValue(*this, v, "p_min");
-  return {parameterValue(*this, v, "p_h"), parameterValue(*this, v, "p_m"), parameterValue(*this, v, "p_max"),
-          p_min, p_min, c.resolution, c.s_c};
+  OctoMapParams p;
+  p.p_h = parameterValue(*this, v, "p_h");
+  p.p_m = parameterValue(*this, v, "p_m");
+  p.p_max = parameterValue(*this, v, "p_max");
+  p.p_min = parameterValue(*this, v, "p_min");
+  p.p_t = p.p_min;
+  p.map = c.map;
+  return p;
 }
 
 inline std::unique_ptr<octomap::OcTree> OctoMapMethod::buildMap(const PointCloudSet& set, const MethodValues& v,
@@ -173,27 +161,15 @@ inline std::unique_ptr<octomap::OcTree> OctoMapMethod::buildMap(const PointCloud
 
 // --- knn ---
 
-inline std::vector<MethodParameter> KnnMethod::parameters() const {
-  return {{"k", "k", "neighbours averaged into s_j", 3, 1, 100000, false, false, true, "Section 3.1"},
-          {"p_u", "p_u", "upper bound of p(s): a point with tight neighbours", 0.86, 0, 1, true, true, false,
-           "l(p(s)) finite"},
-          {"p_l", "p_l", "lower bound of p(s): an isolated point", 0.26, 0, 1, true, true, false, "l(p(s)) finite"},
-          detail::clampMax(),
-          detail::clampMin(),
-          detail::missIn(),
-          {"p_m_out", "p'_m", "miss: voxels crossed only by rays to points beyond s_c", 0.45, 0, 0.5, true, true,
-           false, "Eq. 12"}};
-}
+inline std::vector<MethodParameter> KnnMethod::parameters() const { return builtin::knnParameters(); }
 
-inline std::vector<ParameterRelation> KnnMethod::relations() const {
-  return {{"p_u", "p_l", false, "Eq. 12"}, {"p_m", "p_min", false, "Eq. 12"}, {"p_m_out", "p_m", false, "Eq. 12"}};
-}
+inline std::vector<ParameterRelation> KnnMethod::relations() const { return builtin::knnRelations(); }
 
 inline MapRule KnnMethod::rule(const MethodValues& v, const RuleContext& c) const {
   MapRule rule;
   rule.l_min = logOdds(parameterValue(*this, v, "p_min"));
   rule.l_max = logOdds(parameterValue(*this, v, "p_max"));
-  rule.update = {logOdds(parameterValue(*this, v, "p_m")), logOdds(parameterValue(*this, v, "p_m_out")), c.variant};
+  rule.update = {logOdds(parameterValue(*this, v, "p_m")), logOdds(parameterValue(*this, v, "p_m_out")), c.map.variant};
   const double p_u = parameterValue(*this, v, "p_u"), p_l = parameterValue(*this, v, "p_l");
   rule.hit.kind = HitRule::Kind::PointSum;
   rule.hit.feature = {PointFeature::KnnCdf, parameterValue(*this, v, "k")};
@@ -211,10 +187,7 @@ inline KnnParams KnnMethod::knnParams(const MethodValues& v, const MapContext& c
   p.p_min = parameterValue(*this, v, "p_min");
   p.p_t = p.p_min;
   p.k = int(parameterValue(*this, v, "k"));
-  p.resolution = c.resolution;
-  p.s_c = c.s_c;
-  p.variant = c.variant;
-  p.stats = c.stats;
+  p.map = c.map;
   return p;
 }
 
@@ -223,7 +196,7 @@ inline std::unique_ptr<octomap::OcTree> KnnMethod::buildMap(const PointCloudSet&
   const KnnInverseSensorModel model(knnParams(v, c));
   const int k = model.params().k;
   if (c.knn_distances) return model.buildMap(set, c.knn_distances(k), c.executor);
-  return model.buildMap(set, computeKnnDistances(set, k, c.s_c, c.executor), c.executor);
+  return model.buildMap(set, computeKnnDistances(set, k, c.map.s_c, c.executor), c.executor);
 }
 
 // --- sor-octomap ---
@@ -291,12 +264,10 @@ inline std::unique_ptr<octomap::OcTree> RorOctoMapMethod::buildMap(const PointCl
 inline std::vector<MethodParameter> RangeOctoMapMethod::parameters() const {
   return {{"r_0", "r_0", "range in metres up to which a hit has the full p_h", 2.0, 0, 1e6, true, false, false,
            "ours: a range"},
-          detail::clampMax(), detail::clampMin(), detail::hitProbability(), detail::missIn()};
+          builtin::clampMax(), builtin::clampMin(), builtin::hitProbability(), builtin::missIn()};
 }
 
-inline std::vector<ParameterRelation> RangeOctoMapMethod::relations() const {
-  return {{"p_max", "p_h", false, "Eq. 12"}, {"p_m", "p_min", false, "Eq. 12"}};
-}
+inline std::vector<ParameterRelation> RangeOctoMapMethod::relations() const { return builtin::octomapRelations(); }
 
 inline MapRule RangeOctoMapMethod::rule(const MethodValues& v, const RuleContext&) const {
   MapRule rule = detail::octomapFamilyRule(*this, v);

@@ -71,7 +71,7 @@ class KnnInverseSensorModel {
   [[nodiscard]] const KnnParams& params() const { return params_; }
 
   /// l_in, l_out and the variant: how each voxel is updated (voxel_update_rule.hpp).
-  [[nodiscard]] VoxelUpdateRule<float> updateRule() const { return {l_in_, l_out_, params_.variant}; }
+  [[nodiscard]] VoxelUpdateRule<float> updateRule() const { return {l_in_, l_out_, params_.map.variant}; }
 
  private:
   KnnParams params_;
@@ -87,12 +87,12 @@ inline KnnInverseSensorModel::KnnInverseSensorModel(const KnnParams& params)
 }
 
 inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const PointCloudSet& set) const {
-  return buildMap(set, computeKnnDistances(set, params_.k, params_.s_c));
+  return buildMap(set, computeKnnDistances(set, params_.k, params_.map.s_c));
 }
 
 namespace detail {
 inline void checkDistances(const KnnParams& p, const PointCloudSet& set, const KnnSetDistances& d) {
-  if (d.k != p.k || d.s_c != p.s_c || d.scans.size() != set.size())
+  if (d.k != p.k || d.s_c != p.map.s_c || d.scans.size() != set.size())
     throw std::invalid_argument("k-NN distances were computed for another k, s_c or point cloud set");
 }
 }  // namespace detail
@@ -108,7 +108,7 @@ inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const Po
                                                                        const KnnSetDistances& distances) const {
   detail::checkDistances(params_, set, distances);
   DirectBuild build = startBuild();
-  ScanEventRecorder recorder(params_.resolution);
+  ScanEventRecorder recorder(params_.map.resolution);
   ScanEvents events;
   for (std::size_t t = 0; t < set.size(); ++t) {
     recordScan(recorder, set[t], distances.scans[t], events);
@@ -154,7 +154,7 @@ inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const Po
   if (batch == 0) batch = 2 * std::max<std::size_t>(1, executor.concurrency);
   batch = std::min(batch, std::max<std::size_t>(1, set.size()));
   DirectBuild build = startBuild();
-  detail::RecorderPool recorders(params_.resolution);
+  detail::RecorderPool recorders(params_.map.resolution);
   std::vector<ScanEvents> events(batch);  // one list per place in the batch, applied in scan order
   for (std::size_t first = 0; first < set.size(); first += batch) {
     const std::size_t count = std::min(batch, set.size() - first);
@@ -170,7 +170,7 @@ inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMap(const Po
 
 inline KnnInverseSensorModel::DirectBuild KnnInverseSensorModel::startBuild() const {
   DirectBuild build;
-  build.tree = makeTree(params_.resolution, params_.p_max, params_.p_min, params_.p_t);
+  build.tree = makeTree(params_.map.resolution, params_.p_max, params_.p_min, params_.p_t);
   build.l_min = build.tree->getClampingThresMinLog();
   build.l_max = build.tree->getClampingThresMaxLog();
   return build;
@@ -178,13 +178,13 @@ inline KnnInverseSensorModel::DirectBuild KnnInverseSensorModel::startBuild() co
 
 inline void KnnInverseSensorModel::recordScan(ScanEventRecorder& recorder, const Scan& scan, const KnnScanDistances& d,
                                               ScanEvents& events) const {
-  recorder.recordAll(scan, d.inner, params_.s_c, events);
+  recorder.recordAll(scan, d.inner, params_.map.s_c, events);
 }
 
 inline void KnnInverseSensorModel::applyScan(DirectBuild& build, const ScanEvents& events,
                                              const KnnSetDistances& distances, std::size_t t) const {
   const auto& d = distances.scans[t];
-  const bool online = params_.stats == StatsMode::Online;
+  const bool online = params_.map.stats == StatsMode::Online;
   const double mu = online ? d.online_mu : distances.mu, sigma = online ? d.online_sigma : distances.sigma;
   const VoxelUpdateRule<float> rule = updateRule();
   std::vector<double> s;
@@ -212,10 +212,10 @@ inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::finishBuild(Direc
 inline std::unique_ptr<octomap::OcTree> KnnInverseSensorModel::buildMapReference(
     const PointCloudSet& set, const KnnSetDistances& distances) const {
   detail::checkDistances(params_, set, distances);
-  auto tree = makeTree(params_.resolution, params_.p_max, params_.p_min, params_.p_t);
+  auto tree = makeTree(params_.map.resolution, params_.p_max, params_.p_min, params_.p_t);
   for (std::size_t t = 0; t < set.size(); ++t) {
     const auto& d = distances.scans[t];
-    const bool online = params_.stats == StatsMode::Online;
+    const bool online = params_.map.stats == StatsMode::Online;
     insertScanReference(*tree, set[t], d, online ? d.online_mu : distances.mu,
                         online ? d.online_sigma : distances.sigma);
   }
@@ -249,7 +249,7 @@ inline void KnnInverseSensorModel::insertScanReference(octomap::OcTree& tree, co
       if (tree.computeRayKeys(scan.origin, p, ray)) crossed_in.insert(ray.begin(), ray.end());
     } else {
       const octomap::point3d direction = (p - scan.origin).normalized();
-      const octomap::point3d cut = scan.origin + direction * float(params_.s_c);
+      const octomap::point3d cut = scan.origin + direction * float(params_.map.s_c);
       if (tree.computeRayKeys(scan.origin, cut, ray)) crossed_out.insert(ray.begin(), ray.end());
     }
   }

@@ -15,31 +15,13 @@
 #include <octomap/OcTree.h>
 
 #include "knn_set_distances.hpp"
-#include "mapping_params.hpp"
+#include "map_settings.hpp"
+#include "method_parameter.hpp"
 #include "point_cloud_set.hpp"
 #include "scan_executor.hpp"
 #include "voxel_update_rule.hpp"
 
 namespace occsweep {
-
-/// One parameter of a method, as grid files and results name it.
-struct MethodParameter {
-  std::string name;              ///< key in grid files and results ("p_h", "std_mul")
-  std::string symbol;            ///< as docs/methods.md writes it ("p'_m")
-  std::string meaning;           ///< one line for `occsweep methods`
-  double default_value = 0.0;    ///< what `occsweep map` and the docs use unless told otherwise
-  double lowest = 0.0, highest = 1.0;  ///< the values it may take
-  bool lowest_open = false, highest_open = false;  ///< whether `lowest`, `highest` themselves are refused
-  bool integer = false;          ///< a list of integers in grid files (as k), not a min/max/step range
-  std::string bound_source;      ///< why the bounds hold ("Eq. 12", "l(p(s)) finite")
-};
-
-/// `larger >= smaller` (or `>` when strict) must hold among the values of one map, as Eq. 12's p_u >= p_l.
-struct ParameterRelation {
-  std::string larger, smaller;
-  bool strict = false;
-  std::string source;  ///< "Eq. 12"
-};
 
 /// What a method may need per point of a scan; the engines compute each requested feature once per sweep
 /// (method_features.hpp), for every point of every scan.
@@ -99,7 +81,7 @@ struct MapRule {
 
 /// What a rule may take from the sweep rather than from the grid.
 struct RuleContext {
-  UpdateVariant variant = UpdateVariant::Default;
+  MapSettings map;  ///< the sweep's settings (a rule reads the variant)
 };
 
 /// The values of one map's parameters, in the order of MappingMethod::parameters().
@@ -107,9 +89,7 @@ using MethodValues = std::vector<double>;
 
 /// What a direct build needs besides the values (sweep settings; features are computed on demand).
 struct MapContext {
-  double resolution = 0.1, s_c = 4.0;
-  UpdateVariant variant = UpdateVariant::Default;
-  StatsMode stats = StatsMode::Batch;
+  MapSettings map;
   /// The set's k-NN distances for k and s_c, shared by the maps of a sweep (the direct engine computes each k
   /// once); empty: a method computes its own.
   std::function<const KnnSetDistances&(int k)> knn_distances;
@@ -157,9 +137,7 @@ class MappingMethod {
 // ---------------------------------------------------------------------------------------------------------
 
 inline std::size_t parameterIndex(const MappingMethod& method, const std::string& name) {
-  const std::vector<MethodParameter> parameters = method.parameters();
-  for (std::size_t i = 0; i < parameters.size(); ++i)
-    if (parameters[i].name == name) return i;
+  if (const std::optional<std::size_t> i = findParameter(method.parameters(), name)) return *i;
   throw std::invalid_argument("method " + method.name() + " has no parameter " + name);
 }
 
@@ -178,23 +156,7 @@ inline std::optional<std::string> brokenRelation(const MappingMethod& method, co
   if (values.size() != parameters.size())
     return method.name() + " takes " + std::to_string(parameters.size()) + " parameters, not " +
            std::to_string(values.size());
-  for (std::size_t i = 0; i < parameters.size(); ++i) {
-    const MethodParameter& p = parameters[i];
-    const double v = values[i];
-    const bool low_ok = p.lowest_open ? v > p.lowest : v >= p.lowest;
-    const bool high_ok = p.highest_open ? v < p.highest : v <= p.highest;
-    if (!low_ok || !high_ok || (p.integer && v != double(static_cast<long long>(v))))
-      return p.name + " = " + detail::fmt(v) + " must lie in " + (p.lowest_open ? "(" : "[") + detail::fmt(p.lowest) +
-             ", " + detail::fmt(p.highest) + (p.highest_open ? ")" : "]") + (p.integer ? ", an integer" : "") +
-             " (" + p.bound_source + ")";
-  }
-  for (const ParameterRelation& r : method.relations()) {
-    const double a = parameterValue(method, values, r.larger), b = parameterValue(method, values, r.smaller);
-    if (r.strict ? a > b : a >= b) continue;
-    return "parameters break " + r.source + ": " + r.larger + (r.strict ? " > " : " >= ") + r.smaller +
-           " does not hold (" + r.larger + " = " + detail::fmt(a) + ", " + r.smaller + " = " + detail::fmt(b) + ")";
-  }
-  return std::nullopt;
+  return brokenRelation(parameters, method.relations(), values);
 }
 
 }  // namespace occsweep

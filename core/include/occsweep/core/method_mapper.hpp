@@ -64,15 +64,15 @@ float hitDeltaOf(const MapRule& rule, const PointFeatures& features) {
 inline std::unique_ptr<octomap::OcTree> buildMapByRule(const MappingMethod& method, const PointCloudSet& set,
                                                        const MethodValues& values, const MapContext& context) {
   if (auto why = brokenRelation(method, values)) throw std::invalid_argument(method.name() + ": " + *why);
-  const MapRule rule = method.rule(values, {context.variant});
+  const MapRule rule = method.rule(values, {context.map});
   const bool point_hits = rule.hit.kind != HitRule::Kind::Constant;
   const SetFeature hit_feature =
-      point_hits ? setFeature(set, rule.hit.feature, context.s_c, context.stats) : SetFeature{};
+      point_hits ? setFeature(set, rule.hit.feature, context.map.s_c, context.map.stats) : SetFeature{};
   const SetFeature gate_feature =
-      rule.gate ? setFeature(set, rule.gate->feature, context.s_c, context.stats) : SetFeature{};
-  auto tree = makeTree(context.resolution, parameterValue(method, values, "p_max"),
+      rule.gate ? setFeature(set, rule.gate->feature, context.map.s_c, context.map.stats) : SetFeature{};
+  auto tree = makeTree(context.map.resolution, parameterValue(method, values, "p_max"),
                        parameterValue(method, values, "p_min"), 0.5);
-  ScanEventRecorder recorder(context.resolution);
+  ScanEventRecorder recorder(context.map.resolution);
   ScanEvents events;
   std::vector<double> features;
   for (std::size_t t = 0; t < set.size(); ++t) {
@@ -82,8 +82,8 @@ inline std::unique_ptr<octomap::OcTree> buildMapByRule(const MappingMethod& meth
                    rule.gate ? gate_feature.summaries[t] : FeatureScanSummary{});
     Scan filtered{set[t].origin, {}, set[t].view};
     for (std::uint32_t i : kept) filtered.points.push_back(set[t].points[i]);
-    const std::vector<std::uint32_t> inner = innerPoints(filtered, context.s_c);
-    recorder.recordAll(filtered, inner, context.s_c, events);
+    const std::vector<std::uint32_t> inner = innerPoints(filtered, context.map.s_c);
+    recorder.recordAll(filtered, inner, context.map.s_c, events);
     for (const VoxelEvent& e : events.voxels) {
       const auto hitDelta = [&] {
         features.clear();

@@ -2,6 +2,7 @@
 // sweeps (examples/occupancy_method: a method of its own, registered from outside the library).
 #pragma once
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -89,10 +90,10 @@ inline MethodTable& methodTable() {
 }  // namespace detail
 
 inline bool isReservedParameterName(const std::string& name) {
-  static const std::set<std::string> reserved = {"p_t",   "resolution", "s_c",  "variant", "stats", "truth",
-                                                 "dataset", "out",      "force", "method", "from",  "best",
-                                                 "map_index", "threads", "help"};
-  return reserved.count(name) > 0 || name.rfind("max_", 0) == 0;
+  static const std::set<std::string> reserved = {"p_t",   "truth",     "dataset", "out",  "force",
+                                                 "method", "from",     "best",    "map_index", "threads", "help"};
+  const bool setting = std::find(kMapSettingNames.begin(), kMapSettingNames.end(), name) != kMapSettingNames.end();
+  return setting || reserved.count(name) > 0 || name.rfind("max_", 0) == 0;
 }
 
 inline void registerMethod(std::shared_ptr<const MappingMethod> method) {

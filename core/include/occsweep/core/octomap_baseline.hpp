@@ -29,7 +29,7 @@ inline std::unique_ptr<octomap::OcTree> makeTree(double resolution, double p_max
 
 inline std::unique_ptr<octomap::OcTree> buildOctoMap(const PointCloudSet& set, const OctoMapParams& params) {
   validate(params);
-  auto tree = makeTree(params.resolution, params.p_max, params.p_min, params.p_t);
+  auto tree = makeTree(params.map.resolution, params.p_max, params.p_min, params.p_t);
   tree->setProbHit(params.p_h);
   tree->setProbMiss(params.p_m);
   octomap::Pointcloud cloud;
@@ -37,7 +37,7 @@ inline std::unique_ptr<octomap::OcTree> buildOctoMap(const PointCloudSet& set, c
     cloud.clear();
     cloud.reserve(scan.points.size());
     for (const auto& p : scan.points) cloud.push_back(p);
-    tree->insertPointCloud(cloud, scan.origin, params.s_c);
+    tree->insertPointCloud(cloud, scan.origin, params.map.s_c);
   }
   return tree;
 }

@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "mapping_params.hpp"
+#include "map_settings.hpp"
 #include "scan_events.hpp"
 
 namespace occsweep {

@@ -82,13 +82,19 @@ void recordTextOutput(const std::filesystem::path& file);
 /// is recorded where the ledger cannot be written.
 void claimMadeEntry(const std::filesystem::path& entry);
 void recordMadeEntry(const std::filesystem::path& entry);
-/// Adds to a made entry's record, after occsweep's last write to it, its size and modification time. On a file system
-/// that keeps no birth time, a file a user makes at that name later may get the same inode: such an entry is proven
-/// only by this stamp, so one occsweep was still writing when a kill came stays for the user.
+/// Adds to a made entry's record, after occsweep's last write to it, its size, modification and status-change times.
+/// On a file system that keeps no birth time, a file a user makes at that name later may get the same inode: such an
+/// entry is proven only by this stamp, so one occsweep was still writing when a kill came stays for the user.
 void recordMadeEntryWritten(const std::filesystem::path& entry);
 
-/// True when `entry` is the very entry recorded at that place (a file put there since is another).
-[[nodiscard]] bool isRecordedMadeEntry(const std::filesystem::path& entry);
+/// True when `entry` is the very entry recorded at that place (a file put there since is another). With a
+/// `descriptor`, the file it has open is compared with the record instead of what stands at the name now: a reader
+/// that checks a file it has already opened (and locked) is never fooled by a swap of names in between.
+[[nodiscard]] bool isRecordedMadeEntry(const std::filesystem::path& entry, int descriptor = -1);
+
+/// True when the file system keeps `entry`'s birth time, so that its inode and birth time alone prove it
+/// (recordMadeEntry). Elsewhere a made entry occsweep appends to needs recordMadeEntryWritten after every write.
+[[nodiscard]] bool keepsBirthTime(const std::filesystem::path& entry);
 
 /// Drops the record of an entry occsweep removed.
 void forgetMadeEntry(const std::filesystem::path& entry);

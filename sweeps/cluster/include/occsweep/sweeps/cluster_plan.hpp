@@ -26,8 +26,7 @@ enum class OutputKind {
 /// plan shares and the task's Eq. 16 group.
 struct ExpectedWork {
   std::optional<SweepSelection::Group> group;
-  double resolution = 0.1, s_c = 4.0;
-  std::string variant, stats;
+  MapSettings map;
   TruthMode truth = TruthMode::Full;
   friend bool operator==(const ExpectedWork&, const ExpectedWork&) = default;
 };

@@ -21,8 +21,10 @@ struct SubmitReport {
 SubmitReport submitPlan(const ClusterPlan& plan, const std::filesystem::path& dir, bool resubmit, std::ostream& log);
 
 /// Runs the tasks that are not done on this machine, `jobs` at a time, stage after stage (a stage starts when the
-/// one before succeeded, like afterok). Logs in DIR/logs/local-<stage>-<task>.log; progress on stderr.
-/// Returns the number of failed tasks (0: the plan is done).
-[[nodiscard]] std::size_t runLocal(const ClusterPlan& plan, const std::filesystem::path& dir, int jobs);
+/// one before succeeded, like afterok). Logs in DIR/logs/local-<stage>-<task>.log; progress on stderr unless
+/// `quiet` (failures, warnings and a stop are printed always). Returns the number of failed tasks (0: the plan is
+/// done).
+[[nodiscard]] std::size_t runLocal(const ClusterPlan& plan, const std::filesystem::path& dir, int jobs,
+                                   bool quiet = false);
 
 }  // namespace occsweep

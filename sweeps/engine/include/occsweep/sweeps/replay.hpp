@@ -10,7 +10,7 @@
 #include "occsweep/core/knn_set_distances.hpp"
 #include "occsweep/core/mapping_method.hpp"
 #include "occsweep/core/method_features.hpp"
-#include "occsweep/core/mapping_params.hpp"
+#include "occsweep/core/map_settings.hpp"
 #include "occsweep/core/voxel_update_rule.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/sweeps/grid.hpp"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "occsweep/core/mapping_params.hpp"
+#include "occsweep/core/map_settings.hpp"
 #include "occsweep/sweeps/results.hpp"
 
 namespace occsweep {
@@ -19,10 +19,7 @@ struct SweepConfig {
   /// Results file: a store for ".db"/".sqlite", else JSON. While it runs, OUT.partial (store) or OUT.partial.jsonl
   /// (JSON) holds the finished maps.
   std::filesystem::path out;
-  double resolution = 0.1;        ///< map resolution, metres (paper Section 4.2)
-  double s_c = 4.0;               ///< maximum range, metres
-  UpdateVariant variant = UpdateVariant::Default;
-  StatsMode stats = StatsMode::Batch;
+  MapSettings map;                ///< what every map shares: resolution, s_c, variant, statistics mode
   int threads = 0;                ///< 0: all cores
   std::string engine = "replay";  ///< "replay" (record events once, replay each combination) or "direct"
                                   ///< (build every map: liboctomap for OctoMap, the k-NN mapper): the reference

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <set>
 #include <string>
@@ -11,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/core/mapping_params.hpp"
+#include "occsweep/core/map_settings.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/curve.hpp"
 #include "occsweep/eval/observable_truth.hpp"
@@ -44,8 +45,8 @@ struct ResultsHeader {
   SweepSelection selection;
   std::string dataset_name, dataset_hash;
   nlohmann::json point_cloud_set = nlohmann::json::object();  ///< the data set's `source`: its parameters
-  double resolution = 0.1, s_c = 4.0;
-  std::string variant = toText(UpdateVariant::Default), stats = toText(StatsMode::Batch), engine = "direct";
+  MapSettings map;                             ///< what every map of the file shares ("map" in the file)
+  std::string engine = "direct";
   /// Every engine that produced maps of this file, sorted: a sweep resumed under another engine, or merged shards
   /// of different engines, list both (and `engine` is then "mixed"). Files without the field: {engine}.
   std::vector<std::string> engines;
@@ -94,6 +95,14 @@ void setEngines(ResultsHeader& h, const std::set<std::string>& engines);
 /// A finite number as a JSON number, NaN and infinities as null (JSON has no NaN): how every occsweep JSON output
 /// writes a number that may be undefined.
 [[nodiscard]] nlohmann::json finiteNumber(double v);
+
+/// The settings every map shares as results files, plans and MAP.ot.json write them: {"resolution", "s_c",
+/// "variant", "stats"} (kMapSettingNames).
+[[nodiscard]] nlohmann::json toJson(const MapSettings& settings);
+/// The settings read back from the object `j`; `fail(key, rule)` for a key missing, mistyped or out of range (it must
+/// throw), with the rule in the words `results check` uses.
+[[nodiscard]] MapSettings parseMapSettings(const nlohmann::json& j,
+                                           const std::function<void(const std::string&, const std::string&)>& fail);
 
 [[nodiscard]] nlohmann::json toJson(const ResultsHeader& h);
 /// A map's parameters by name, as results files write them: integers (k) as integers, the rest as numbers.
