@@ -1,14 +1,21 @@
-// Helpers of the output tests (test_robust_outputs, test_robust_faults, test_robust_disk): running the command in
-// a folder, snapshots of folders to show files byte-identical, and the search for leftover temporaries.
+// Helpers of the output tests (test_robust_outputs, test_robust_ownership, test_robust_faults, test_robust_disk):
+// running the command in a folder, killing it once its partial log holds some maps, snapshots of folders to show files
+// byte-identical, and the search for leftover temporaries.
 #pragma once
 
+#include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <sys/wait.h>
 
 #include "test_helpers.hpp"
 
@@ -53,5 +60,29 @@ inline void writeTinyGrid(const std::filesystem::path& file) {
 
 /// A tiny scene: four scans of 16 x 12 rays (milliseconds).
 inline const char* kTinyScene = "scene --scans 4 --width 16 --height 12";
+
+/// What a kill left in a sweep's partial log: whether the command died of the signal, and the log's line breaks then.
+struct KilledRun {
+  bool killed = false;
+  std::size_t lines = 0;
+};
+
+/// Runs `occsweep ARGS` in `dir` (its output discarded) and kills it with SIGKILL once `log` holds `lines` line
+/// breaks (or after 20 s): the state a kill leaves for the next run to resume from.
+inline KilledRun killOnceLogged(const std::filesystem::path& dir, const std::string& args,
+                                const std::filesystem::path& log, std::size_t lines) {
+  const pid_t pid = occsweep::test::startShell("cd " + occsweep::test::shellQuoted(dir) + " && exec " +
+                                               occsweep::test::shellQuoted(occsweep::test::cliUnderTest()) + " " +
+                                               args + " > /dev/null 2>&1");
+  auto logged = [&] {
+    const std::string text = fileBytes(log);
+    return std::size_t(std::count(text.begin(), text.end(), '\n'));
+  };
+  for (int i = 0; i < 20000 && logged() < lines; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return {WIFSIGNALED(status), logged()};
+}
 
 }  // namespace occsweep::test

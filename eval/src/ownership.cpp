@@ -137,12 +137,12 @@ std::string madeIdentity(const fs::path& path, int descriptor = -1) {
   return stamp.empty() ? "" : "made " + stamp;
 }
 
-// What stamps an entry made inside a temporary folder once it is whole: its entryStamp and, for a file, its size and
-// modification time, so that bytes a user writes into it in place (`cp` over it, `>>`) make it theirs.
-std::string contentStamp(const fs::path& path, int descriptor = -1) {
-  struct statx made {};
-  constexpr unsigned kFields = STATX_TYPE | STATX_INO | STATX_BTIME | STATX_SIZE | STATX_MTIME;
-  if (!statEntry(path, descriptor, kFields, made)) return "";
+constexpr unsigned kContentFields = STATX_TYPE | STATX_INO | STATX_BTIME | STATX_SIZE | STATX_MTIME;
+
+// What stamps an entry made inside a temporary folder once it is whole (read with kContentFields): its entryStamp
+// and, for a file, its size and modification time, so that bytes a user writes into it in place (`cp` over it, `>>`)
+// make it theirs.
+std::string contentStampOf(const struct statx& made) {
   std::string stamp = std::to_string(made.stx_ino);  // piece by piece: "a" + std::string trips GCC 12's -Wrestrict
   stamp += ' ';
   stamp += birthText(made);
@@ -156,15 +156,19 @@ std::string contentStamp(const fs::path& path, int descriptor = -1) {
   return stamp;
 }
 
+std::string contentStamp(const fs::path& path, int descriptor = -1) {
+  struct statx made {};
+  return statEntry(path, descriptor, kContentFields, made) ? contentStampOf(made) : "";
+}
+
 // A made entry's stamp after occsweep's last write (recordMadeEntryWritten): its contentStamp and its status-change
 // time, which no user can set (`cp -p` and `touch` set the modification time): on a file system without birth
 // times, a copy restored at a reused inode is another entry.
 std::string writtenStamp(const fs::path& path, int descriptor = -1) {
-  struct statx changed {};
-  if (!statEntry(path, descriptor, STATX_CTIME, changed)) return "";
-  const std::string content = contentStamp(path, descriptor);
-  return content.empty() ? "" : content + " changed " + std::to_string(changed.stx_ctime.tv_sec) + "." +
-                                    std::to_string(changed.stx_ctime.tv_nsec);
+  struct statx made {};  // one read: the content and the change time of the same moment
+  if (!statEntry(path, descriptor, kContentFields | STATX_CTIME, made)) return "";
+  return contentStampOf(made) + " changed " + std::to_string(made.stx_ctime.tv_sec) + "." +
+         std::to_string(made.stx_ctime.tv_nsec);
 }
 
 // An entry inside a temporary folder as its record names it: the FNV-1a hash of its path relative to the folder

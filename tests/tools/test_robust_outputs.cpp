@@ -6,10 +6,6 @@
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
-#include <algorithm>
-#include <csignal>
-#include <thread>
-
 #include "occsweep/sweeps/results.hpp"
 #include "robust_outputs_helpers.hpp"
 #include "test_paths.hpp"
@@ -178,18 +174,9 @@ TEST_CASE("a sweep begun under --engine direct and resumed under replay records 
   REQUIRE(runIn(dir, sweep + " --engine direct --out direct.json").exit_code == 0);
   // A direct run killed once a few maps are logged: the state it leaves is what a replay run resumes from.
   const fs::path partial = dir / "resumed.json.partial.jsonl";
-  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) + " " + sweep +
-                               " --engine direct --out resumed.json > /dev/null 2>&1");
-  auto lines = [&] {
-    const std::string text = fileBytes(partial);
-    return std::count(text.begin(), text.end(), '\n');
-  };
-  for (int i = 0; i < 20000 && lines() < 6; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  ::kill(pid, SIGKILL);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  REQUIRE(WIFSIGNALED(status));
-  REQUIRE(lines() >= 6);  // its header and at least five maps
+  const KilledRun killed = killOnceLogged(dir, sweep + " --engine direct --out resumed.json", partial, 6);
+  REQUIRE(killed.killed);
+  REQUIRE(killed.lines >= 6);  // its header and at least five maps
   const CommandResult r = runIn(dir, sweep + " --engine replay --out resumed.json");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);

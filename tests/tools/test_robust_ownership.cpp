@@ -1093,6 +1093,27 @@ TEST_CASE("a sweep removes its partial output only while it is the file it made,
   }
 }
 
+namespace {
+// A sweep of knn-opt into `dir`/r.json killed once its partial log holds its header and a few maps.
+void killedSweep(const fs::path& dir) {
+  const std::string sweep = "sweep --dataset scene --grid knn-opt --engine direct --threads 1 --quiet --out r.json";
+  REQUIRE(killOnceLogged(dir, sweep, dir / "r.json.partial.jsonl", 4).lines >= 4);
+  REQUIRE_FALSE(fs::exists(dir / "r.json"));
+}
+
+// `sweep` run as it is and with --force: each exits 2 naming `refusal`, and `dir` is left byte for byte as it was.
+void refusedWithAndWithoutForce(const fs::path& dir, const std::string& sweep, const std::string& refusal) {
+  const auto before = snapshot(dir);
+  for (const std::string force : {"", " --force"}) {
+    const CommandResult r = runIn(dir, sweep + force);
+    INFO(force << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, refusal));
+    CHECK(snapshot(dir) == before);
+  }
+}
+}  // namespace
+
 TEST_CASE("a file at a sweep's partial-log name that begins with a copy of occsweep's header is never resumed from, "
           "replaced or removed", "[ownership]") {
   // Old binary: the first line alone made it occsweep's. The sweep resumed from it (exit 0) and then removed it, the
@@ -1108,16 +1129,10 @@ TEST_CASE("a file at a sweep's partial-log name that begins with a copy of occsw
   const std::string users = header.dump() + "\n" + done["maps"][0].dump() + "\nthe user's notes\n";
   fs::rename(dir / "r.json", dir / "done.json");
   writeBytes(dir / "r.json.partial.jsonl", users);
-  const auto before = snapshot(dir);
-  for (const std::string force : {"", " --force"}) {
-    const CommandResult r = runIn(dir, sweep + force);
-    INFO(force << "\n" << r.output);
-    CHECK(r.exit_code == 2);
-    CHECK(mentions(r, "r.json.partial.jsonl: not a partial log of occsweep's (occsweep's ledger does not prove it "
-                      "is the file occsweep made there); occsweep never resumes from, replaces or removes it (even "
-                      "with --force)"));
-    CHECK(snapshot(dir) == before);  // the user's file byte-identical, no r.json, nothing left beside them
-  }
+  // The user's file byte-identical, no r.json, nothing left beside them.
+  refusedWithAndWithoutForce(dir, sweep, "r.json.partial.jsonl: not a partial log of occsweep's (occsweep's ledger does "
+                                         "not prove it is the file occsweep made there); occsweep never resumes from, "
+                                         "replaces or removes it (even with --force)");
   // A copy of the header of other work (another grid): --force would replace occsweep's own log of other work.
   REQUIRE(runIn(dir, "sweep --dataset scene --grid octomap-opt --quiet --out other.json").exit_code == 0);
   nlohmann::json other = nlohmann::json::parse(fileBytes(dir / "other.json"));
@@ -1138,25 +1153,6 @@ TEST_CASE("a file at a sweep's partial-log name that begins with a copy of occsw
   CHECK(fileBytes(dir / "r.json.partial.jsonl") == users);
 }
 
-namespace {
-// A sweep of knn-opt into `dir`/r.json killed once its partial log holds its header and a few maps.
-void killedSweep(const fs::path& dir) {
-  const fs::path partial = dir / "r.json.partial.jsonl";
-  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) +
-                               " sweep --dataset scene --grid knn-opt --engine direct --threads 1 --quiet --out r.json"
-                               " > /dev/null 2>&1");
-  auto lines = [&] {
-    const std::string text = fileBytes(partial);
-    return std::count(text.begin(), text.end(), '\n');
-  };
-  for (int i = 0; i < 20000 && lines() < 4; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  ::kill(pid, SIGKILL);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  REQUIRE(lines() >= 4);
-  REQUIRE_FALSE(fs::exists(dir / "r.json"));
-}
-}  // namespace
 
 TEST_CASE("a killed sweep's log that a user linked to, or wrote into, is never resumed from, replaced or removed",
           "[ownership]") {
@@ -1169,15 +1165,8 @@ TEST_CASE("a killed sweep's log that a user linked to, or wrote into, is never r
   SECTION("a hard link") {
     killedSweep(dir);
     fs::create_hard_link(partial, dir / "keep.jsonl");
-    const auto before = snapshot(dir);
-    for (const std::string force : {"", " --force"}) {
-      const CommandResult r = runIn(dir, sweep + force);
-      INFO(force << "\n" << r.output);
-      CHECK(r.exit_code == 2);
-      CHECK(mentions(r, "r.json.partial.jsonl: has 2 names (a hard link); occsweep never writes into, replaces or "
-                        "removes a partial output that has another name"));
-      CHECK(snapshot(dir) == before);
-    }
+    refusedWithAndWithoutForce(dir, sweep, "r.json.partial.jsonl: has 2 names (a hard link); occsweep never writes "
+                                           "into, replaces or removes a partial output that has another name");
     fs::remove(dir / "keep.jsonl");  // its one name again: resumed
     const CommandResult resumed = runIn(dir, sweep);
     INFO(resumed.output);
@@ -1187,15 +1176,8 @@ TEST_CASE("a killed sweep's log that a user linked to, or wrote into, is never r
   SECTION("lines appended") {
     killedSweep(dir);
     { std::ofstream(partial, std::ios::app) << "the user's notes\n"; }
-    const auto before = snapshot(dir);
-    for (const std::string force : {"", " --force"}) {
-      const CommandResult r = runIn(dir, sweep + force);
-      INFO(force << "\n" << r.output);
-      CHECK(r.exit_code == 2);
-      CHECK(mentions(r, "is not a line occsweep wrote (bytes were written into the log); occsweep never resumes "
-                        "from, replaces or removes it"));
-      CHECK(snapshot(dir) == before);
-    }
+    refusedWithAndWithoutForce(dir, sweep, "is not a line occsweep wrote (bytes were written into the log); occsweep "
+                                           "never resumes from, replaces or removes it");
   }
 }
 
@@ -1211,14 +1193,9 @@ TEST_CASE("a line a kill cut is dropped when the sweep resumes, so a second kill
   const fs::path partial = dir / "r.json.partial.jsonl";
   { std::ofstream(partial, std::ios::app) << "{\"map_index\":17,\"params\":{\"k\""; }  // as a kill cuts a line
   const std::string before = fileBytes(partial);
-  // Resumed, and killed again once it has logged more maps.
-  const pid_t pid = startShell("cd " + shellQuoted(dir) + " && exec " + shellQuoted(cliUnderTest()) + " " + sweep +
-                               "r.json > /dev/null 2>&1");
-  for (int i = 0; i < 20000 && fileBytes(partial).size() < before.size() + 2000; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  ::kill(pid, SIGKILL);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
+  // Resumed, and killed again once it has logged two more maps.
+  const std::size_t lines = std::size_t(std::count(before.begin(), before.end(), '\n'));
+  (void)killOnceLogged(dir, sweep + "r.json", partial, lines + 2);
   REQUIRE_FALSE(fs::exists(dir / "r.json"));
   const CommandResult resumed = runIn(dir, sweep + "r.json");
   INFO(resumed.output);

@@ -212,10 +212,8 @@ void removeSupersededLog(const fs::path& partial, const ResultsHeader& header) {
   if (!fs::is_regular_file(fs::symlink_status(partial, ec))) return;
   try {
     const PartialLock lock = PartialLock::existing(partial);  // never while another sweep writes it
-    if (!isRecordedMadeEntry(partial, lock.descriptor())) return;
-    const std::optional<ResultsHeader> old = logHeader(lock.heldFilePath());
-    if (old && sameWork(*old, header, true, nullptr)) removeOwnLog(partial, lock);
-  } catch (const std::exception&) {  // another sweep writes it, or it cannot be read: left as it is
+    if (sameWork(ownLogHeader(partial, lock), header, true, nullptr)) removeOwnLog(partial, lock);
+  } catch (const std::exception&) {  // another sweep writes it, it is not occsweep's, or it cannot be read: left
   }
 }
 
