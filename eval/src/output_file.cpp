@@ -1,4 +1,4 @@
-// Atomic outputs, refusal of existing ones, and removal of temporaries on errors, signals and after kills
+// Atomic outputs, refusal of existing ones, and removal of this process's temporaries on errors and signals
 // (docs/robustness.md, "Outputs, temporaries and --force").
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/interrupt_guard.hpp"
@@ -50,12 +50,6 @@ void runWithoutInterruptCleaning(const std::function<void()>& step) {
 
 namespace {
 
-// Live temporaries of this process, with their ledger claims (ownership.hpp).
-std::map<fs::path, TemporaryClaim>& registry() {
-  static auto* claims = new std::map<fs::path, TemporaryClaim>;
-  return *claims;
-}
-
 // The device and inode of the entry at `path` itself (not what a link there points to); {0, 0} when it cannot be read.
 std::pair<dev_t, ino_t> entryNumbers(const fs::path& path) {
   struct stat st {};
@@ -63,44 +57,42 @@ std::pair<dev_t, ino_t> entryNumbers(const fs::path& path) {
   return {st.st_dev, st.st_ino};
 }
 
-// The entry each live temporary was made as: an interrupt removes a temporary only while that entry stands at its
-// name. A user's entry is there for a moment when an exchange that put occsweep's output in place is being undone
-// (a partial output's, sweep_partial.cpp), and is never the cleaner's to remove.
-std::map<fs::path, std::pair<dev_t, ino_t>>& madeEntries() {
+// The live temporaries of this process, each with the entry it was made as: removed (on an error, an interrupt, or
+// by its owner's destructor) only while that entry stands at its name. A user's entry is there for a moment when an
+// exchange that put occsweep's output in place is being undone (a partial output's, sweep_partial.cpp), and is never
+// occsweep's to remove.
+std::map<fs::path, std::pair<dev_t, ino_t>>& liveTemporaries() {
   static auto* made = new std::map<fs::path, std::pair<dev_t, ino_t>>;
   return *made;
 }
 
-// Registers `c` and makes its entry (an empty file, opened for writing, or an empty folder) in one step under the
-// registry's lock, which an interrupt's cleaner holds until _exit (cleanOnInterrupt): the entry exists when the
-// cleaner looks, and is removed, or is never made. Made after the lock is released, it could appear just after the
-// cleaner's removal and outlive the exit. Returns the file's descriptor (0 for a folder); on failure, -1 with errno
-// set and nothing registered.
-int registerAndCreate(const TemporaryClaim& c, TemporaryKind kind) {
+// Registers `path` and makes its entry (an empty file, opened for writing, or an empty folder) exclusively, in one
+// step under the registry's lock, which an interrupt's cleaner holds until _exit (cleanOnInterrupt): the entry exists
+// when the cleaner looks, and is removed, or is never made. Made after the lock is released, it could appear just
+// after the cleaner's removal and outlive the exit. Returns the file's descriptor (0 for a folder); on failure, -1
+// with errno set and nothing registered.
+int registerAndCreate(const fs::path& path, TemporaryKind kind) {
   std::lock_guard lock(registryMutex());
-  const int fd = kind == TemporaryKind::File ? ::open(c.path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666)
-                                             : ::mkdir(c.path.c_str(), 0777);
+  const int fd = kind == TemporaryKind::File
+                     ? ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666)
+                     : ::mkdir(path.c_str(), 0777);
   if (fd < 0) return fd;
-  registry()[c.path] = c;
-  madeEntries()[c.path] = entryNumbers(c.path);
-  recordTemporaryMade(c);
+  liveTemporaries()[path] = entryNumbers(path);
   return fd;
 }
 
-// Drops a temporary (removed or committed) from the registry and its record from the ledger.
-void unregisterTemporary(const TemporaryClaim& c) {
+// Drops a temporary (removed, committed or kept) from the registry.
+void unregisterTemporary(const fs::path& path) {
   std::lock_guard lock(registryMutex());
-  registry().erase(c.path);
-  madeEntries().erase(c.path);
-  releaseTemporary(c);
+  liveTemporaries().erase(path);
 }
 
 // Whether the entry this run made as its temporary `path` still stands there: not when a user's entry is at its name
 // (one exchanged there a moment ago, or put there while the run went on), nor once it was committed, kept or removed.
 // Called under registryMutex.
 bool madeEntryStands(const fs::path& path) {
-  const auto made = madeEntries().find(path);
-  return made != madeEntries().end() && made->second == entryNumbers(path);
+  const auto made = liveTemporaries().find(path);
+  return made != liveTemporaries().end() && made->second == entryNumbers(path);
 }
 
 // madeEntryStands, taking the lock.
@@ -151,13 +143,8 @@ void cleanOnInterrupt() {
     ::kill(pid, SIGKILL);
     ::waitpid(pid, nullptr, 0);
   }
-  for (const auto& [path, claim] : registry()) {
-    if (!madeEntryStands(path)) {
-      releaseTemporary(claim);  // another entry at its name (or none): not occsweep's to remove, now or later
-      continue;
-    }
-    if (removeTemporaryEntry(path)) releaseTemporary(claim);  // a record stays for what could not be removed
-  }
+  for (const auto& [path, made] : liveTemporaries())
+    if (madeEntryStands(path)) removeTemporaryEntry(path);  // another entry at its name (or none) is not occsweep's
   const std::string& message = interruptMessage();
   for (std::size_t done = 0; done < message.size();) {
     const ssize_t n = ::write(2, message.data() + done, message.size() - done);
@@ -277,16 +264,12 @@ void requireAsChecked(const fs::path& target, const TargetState& checked, const 
 
 // The user's folder, exchanged out of `target` after it changed meanwhile, goes back. Where the file system refuses
 // the second exchange it stays at the temporary's name, no longer occsweep's to remove: dropped from the registry
-// and the ledger (so neither an interrupt nor the next run removes it) and named. Called under registryMutex.
+// (so that no interrupt removes it) and named. Called under registryMutex.
 [[noreturn]] void exchangeBack(const fs::path& temporary, const fs::path& target) {
   if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) == 0)
     appeared(target, "was changed");
   const int e = errno;
-  if (const auto claim = registry().find(temporary); claim != registry().end()) {
-    releaseTemporary(claim->second);
-    registry().erase(claim);
-  }
-  madeEntries().erase(temporary);
+  liveTemporaries().erase(temporary);
   throw OutputConflict(userVisible(target) + ": was changed while occsweep was writing it, and could not be put " +
                        "back (" + std::strerror(e) + "): what stood there is now at " + temporary.string() +
                        ", occsweep's new output at " + userVisible(target) + "; occsweep removes neither");
@@ -294,7 +277,7 @@ void requireAsChecked(const fs::path& target, const TargetState& checked, const 
 
 void placeOutput(const fs::path& temporary, const fs::path& target, const TargetState& checked, bool folder) {
   // What the writer filled, not an entry put at the temporary's name meanwhile (renamed, it would be the output).
-  if (registry().contains(temporary) && !madeEntryStands(temporary))
+  if (liveTemporaries().contains(temporary) && !madeEntryStands(temporary))
     throw OutputConflict(temporary.string() + ": occsweep's temporary for " + userVisible(target) + " was replaced or " +
                          "removed while occsweep was writing it: nothing was committed, and what stands there is " +
                          "left as it is");
@@ -347,12 +330,9 @@ fs::path outputTarget(const fs::path& target) {
   return p;
 }
 
-ReplaceableOutput recordedTextOutput(const std::string& name, const std::string& first_line) {
+ReplaceableOutput textOutput(const std::string& name, const std::string& first_line) {
   return {name, [first_line](const fs::path& file) {
-            if (!isRecordedTextOutput(file)) return false;
-            std::ifstream in(file);
-            std::string line;
-            return bool(std::getline(in, line)) && line.starts_with(first_line);
+            return notOwnReservedFile(file, first_line).empty() && holdsMarkedBytes(file);
           }};
 }
 
@@ -503,16 +483,6 @@ void requireSeparateOutputs(const std::vector<std::pair<std::string, fs::path>>&
   }
 }
 
-void removeStaleTemporaries(const fs::path& target) {
-  const fs::path t = outputTarget(target);
-  const fs::path dir = t.has_parent_path() ? t.parent_path() : fs::path(".");
-  std::error_code ec;
-  std::vector<fs::path> candidates;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-    if (it->path().filename().string().starts_with(".")) candidates.push_back(it->path());
-  for (const auto& p : candidates) removeStaleTemporary(p, t);  // only what the ledger proves (ownership.hpp)
-}
-
 // ---- OutputFile ----
 
 // A stream buffer on a file descriptor that keeps the errno of the first failed write (ENOSPC, EFBIG, ...),
@@ -550,16 +520,11 @@ struct OutputFile::Buffer : std::streambuf {
 
 OutputFile::OutputFile(const fs::path& target) : target_(outputTarget(target)) {
   createParent(target_);
-  removeStaleTemporaries(target_);
+  reportLeftoverTemporaries(target_);
   checked_ = std::make_unique<TargetState>(checkedState(target_));
-  claim_ = claimTemporary(target_);
-  temporary_ = claim_.path;
-  const int fd = registerAndCreate(claim_, TemporaryKind::File);
-  if (fd < 0) {
-    const int e = errno;
-    releaseTemporary(claim_);
-    fail(target_, e);
-  }
+  temporary_ = temporaryNameFor(target_);
+  const int fd = registerAndCreate(temporary_, TemporaryKind::File);
+  if (fd < 0) fail(target_, errno);
   buffer_ = std::make_unique<Buffer>(fd);
   stream_ = std::make_unique<std::ostream>(buffer_.get());
 }
@@ -570,7 +535,7 @@ OutputFile::~OutputFile() {
     std::error_code ec;
     fs::remove(temporary_, ec);
   }
-  unregisterTemporary(claim_);
+  unregisterTemporary(temporary_);
 }
 
 std::ostream& OutputFile::stream() { return *stream_; }
@@ -584,6 +549,11 @@ void OutputFile::finish() {
   const int fd = buffer_->fd;
   buffer_->fd = -1;
   if (::close(fd) != 0) fail(target_, errno);
+}
+
+void OutputFile::markWritten() {
+  finish();
+  markWrittenBytes(temporary_);
 }
 
 void OutputFile::commit() { commitTogether({this}); }
@@ -603,15 +573,10 @@ void OutputFile::commitTogether(const std::vector<OutputFile*>& files) {
 
 OutputFolder::OutputFolder(const fs::path& target) : target_(outputTarget(target)) {
   createParent(target_);
-  removeStaleTemporaries(target_);
+  reportLeftoverTemporaries(target_);
   checked_ = std::make_unique<TargetState>(checkedState(target_));
-  claim_ = claimTemporary(target_);
-  temporary_ = claim_.path;
-  if (registerAndCreate(claim_, TemporaryKind::Folder) != 0) {
-    const int e = errno;
-    releaseTemporary(claim_);
-    fail(target_, e);
-  }
+  temporary_ = temporaryNameFor(target_);
+  if (registerAndCreate(temporary_, TemporaryKind::Folder) != 0) fail(target_, errno);
 }
 
 OutputFolder::~OutputFolder() {
@@ -619,7 +584,7 @@ OutputFolder::~OutputFolder() {
     std::error_code ec;
     fs::remove_all(temporary_, ec);
   }
-  unregisterTemporary(claim_);
+  unregisterTemporary(temporary_);
 }
 
 void OutputFolder::commit() {
@@ -633,24 +598,20 @@ void OutputFolder::commit() {
 
 ClaimedTemporary::ClaimedTemporary(const fs::path& target, TemporaryKind kind) {
   const fs::path t = outputTarget(target);
-  removeStaleTemporaries(t);
-  claim_ = claimTemporary(t);
-  const int fd = registerAndCreate(claim_, kind);
-  if (fd < 0) {
-    const int e = errno;
-    releaseTemporary(claim_);
-    fail(t, e);
-  }
+  reportLeftoverTemporaries(t);
+  path_ = temporaryNameFor(t);
+  const int fd = registerAndCreate(path_, kind);
+  if (fd < 0) fail(t, errno);
   if (kind == TemporaryKind::File) ::close(fd);
 }
 
 ClaimedTemporary::~ClaimedTemporary() {
-  if (!kept_ && isMadeEntry(claim_.path)) removeTemporaryEntry(claim_.path);
-  unregisterTemporary(claim_);
+  if (!kept_ && isMadeEntry(path_)) removeTemporaryEntry(path_);
+  unregisterTemporary(path_);
 }
 
 void ClaimedTemporary::keep() {
-  unregisterTemporary(claim_);
+  unregisterTemporary(path_);
   kept_ = true;
 }
 
@@ -672,55 +633,28 @@ void writeFileAtomically(const fs::path& target, std::string_view bytes) {
 
 void writeJsonAtomically(const nlohmann::json& j, const fs::path& file) { writeFileAtomically(file, j.dump(1) + '\n'); }
 
-namespace {
-// The claim of this run's registered temporary folder that holds `entry`, if any.
-std::optional<TemporaryClaim> holdingClaim(const fs::path& entry) {
-  std::lock_guard lock(registryMutex());
-  for (fs::path folder = entry.parent_path(); !folder.empty() && folder != folder.parent_path();
-       folder = folder.parent_path())
-    if (const auto it = registry().find(folder); it != registry().end()) return it->second;
-  return std::nullopt;
-}
-
-// Makes `entry` with `make`, recorded in the ledger as the content of the temporary folder that holds it (before
-// and after the making: ownership.hpp), so that a later run removes it after a kill, and nothing else there.
-void makeRecorded(const fs::path& entry, const std::function<void()>& make) {
-  const std::optional<TemporaryClaim> claim = holdingClaim(entry);
-  const fs::path relative = claim ? entry.lexically_relative(claim->path) : fs::path();
-  if (claim) recordTemporaryContent(*claim, relative);
-  make();
-  if (claim) recordTemporaryContentMade(*claim, relative);
-}
-}  // namespace
-
 void writeFileChecked(const fs::path& file, std::string_view bytes) {
-  makeRecorded(file, [&] {  // stamped once whole (size and modification time included)
-    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-    if (fd < 0) fail(file, errno);
-    for (std::size_t done = 0; done < bytes.size();) {
-      const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) {
-        const int e = n < 0 ? errno : EIO;
-        ::close(fd);
-        fail(file, e);
-      }
-      done += std::size_t(n);
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
+  if (fd < 0) fail(file, errno);
+  for (std::size_t done = 0; done < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int e = n < 0 ? errno : EIO;
+      ::close(fd);
+      fail(file, e);
     }
-    if (::close(fd) != 0) fail(file, errno);
-  });
+    done += std::size_t(n);
+  }
+  if (::close(fd) != 0) fail(file, errno);
 }
 
 void makeFolderChecked(const fs::path& folder) {
-  makeRecorded(folder, [&] {
-    if (::mkdir(folder.c_str(), 0777) != 0) fail(folder, errno);
-  });
+  if (::mkdir(folder.c_str(), 0777) != 0) fail(folder, errno);
 }
 
 void makeSymlinkChecked(const fs::path& points_to, const fs::path& link) {
-  makeRecorded(link, [&] {
-    if (::symlink(points_to.c_str(), link.c_str()) != 0) fail(link, errno);
-  });
+  if (::symlink(points_to.c_str(), link.c_str()) != 0) fail(link, errno);
 }
 
 void setInterruptMessage(std::string message) {

@@ -2,6 +2,7 @@
 // left on device" and naming the file, and leaves nothing behind: no temporary, nothing under the final name
 // (docs/robustness.md, "Outputs, temporaries and --force"). Needs `mount` (CI runs as root); skipped otherwise.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <sys/mount.h>
 
 #include "robust_outputs_helpers.hpp"
@@ -84,7 +85,53 @@ TEST_CASE("every command writing to a full disk says no space left, names the fi
       CHECK(r.output.find("no space left on device") != std::string::npos);
       CHECK(r.output.find(c.file) != std::string::npos);
       fs::remove(disk.dir / "filler");
-      CHECK(fs::is_empty(disk.dir));  // no temporary, no partial output, no partial log
+      // No temporary, no partial output; a sweep's partial log only when it keeps finished maps, and says so.
+      const fs::path log = disk.dir / "r.json.partial.jsonl";
+      if (fs::exists(log) && r.output.find("maps finished are kept in disk/r.json.partial.jsonl") != std::string::npos)
+        fs::remove(log);
+      CHECK(fs::is_empty(disk.dir));
     }
+  }
+}
+
+TEST_CASE("a sweep that fills the disk keeps its finished maps, cut to the last whole one, and resumes them to an "
+          "uninterrupted run's results", "[disk]") {
+  // Old binary: exit 2 and the partial log deleted with every map it held (docs/robustness.md, "Outputs,
+  // temporaries and --force").
+  const fs::path dir = scratch("robust_disk_sweep");
+  REQUIRE(runIn(dir, "scene --scans 8 --width 64 --height 48 --out scene").exit_code == 0);
+  // 75 maps of about 1.2 kB each: the log and the results fit the 256 KiB disk together, but not beside the filler.
+  const std::string sweep = "sweep --dataset scene --grid knn-opt --shard 0/6 --threads 1 --quiet --out ";
+  REQUIRE(runIn(dir, sweep + "reference.json").exit_code == 0);
+  SmallDisk disk(dir / "disk");
+  if (!disk.mounted) {
+    WARN("mount -t tmpfs is not permitted here (not root?): full-disk test skipped");
+    return;
+  }
+  // A log that fills the disk, and one that fits but leaves no room for the results.
+  for (const std::size_t free_bytes : {std::size_t(40) << 10, std::size_t(120) << 10}) {
+    INFO(free_bytes << " bytes free");
+    disk.fill(free_bytes);
+    const CommandResult full = runIn(dir, sweep + "disk/r.json");
+    INFO(full.output);
+    CHECK(full.exit_code == 2);
+    CHECK(full.output.find(": no space left on device; the ") != std::string::npos);
+    CHECK(full.output.find("maps finished are kept in disk/r.json.partial.jsonl: free space, then the same command "
+                           "resumes from them") != std::string::npos);
+    const std::string log = fileBytes(disk.dir / "r.json.partial.jsonl");
+    REQUIRE(!log.empty());
+    CHECK(log.back() == '\n');  // cut back to its last whole map
+    const std::size_t lines = std::size_t(std::count(log.begin(), log.end(), '\n'));
+    CHECK(lines >= 2);  // the header and at least one finished map
+    CHECK(full.output.find("the " + std::to_string(lines - 1) + " maps finished") != std::string::npos);
+    fs::remove(disk.dir / "filler");
+    const CommandResult resumed = runIn(dir, sweep + "disk/r.json");
+    INFO(resumed.output);
+    CHECK(resumed.exit_code == 0);
+    const CommandResult same = runIn(dir, "results diff reference.json disk/r.json");
+    INFO(same.output);
+    CHECK(same.exit_code == 0);
+    fs::remove(disk.dir / "r.json");
+    CHECK(fs::is_empty(disk.dir));
   }
 }

@@ -24,7 +24,6 @@
 #include <octomap/AbstractOcTree.h>
 
 #include "occsweep/data/octree_file.hpp"
-#include "occsweep/eval/ownership.hpp"
 #include "test_helpers.hpp"
 
 namespace fs = std::filesystem;
@@ -696,9 +695,6 @@ TEST_CASE("a user's file of gigabytes without a line break at a sweep's partial-
   fs::remove(dir / "r.json");
   { std::ofstream(partial) << ""; }
   fs::resize_file(partial, std::uintmax_t(512) << 20);  // 512 MB of zero bytes, no line break (sparse on disk)
-  // Recorded in the ledger as occsweep's own (what a log made by a sweep is), so that its first line is read.
-  occsweep::recordMadeEntry(partial);
-  occsweep::recordMadeEntryWritten(partial);
   const Run r = runOccsweep("sweep --dataset " + scene().string() + " --grid octomap-opt --quiet --out " +
                             (dir / "r.json").string());
   checkRefused(r, {"r.json.partial.jsonl: not a partial log of occsweep's (its first line is not a sweep's header)",

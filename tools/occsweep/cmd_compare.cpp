@@ -11,7 +11,6 @@
 #include "task_options.hpp"
 #include "compare_tables.hpp"
 #include "occsweep/eval/output_file.hpp"
-#include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/compare.hpp"
 #include "occsweep/sweeps/csv_text.hpp"
 
@@ -161,11 +160,11 @@ void checkOutputs(const CompareTask& o) {
   requireDistinctOutputs(o);
   if (!o.json.empty()) checkOutputTarget(o.json, o.force, jsonOutput("comparison", "occsweep-comparison"));
   if (!o.csv.empty())
-    checkOutputTarget(o.csv, o.force, recordedTextOutput("comparison CSV", "dataset,point_cloud_set,"));
+    checkOutputTarget(o.csv, o.force, textOutput("comparison CSV", "dataset,point_cloud_set,"));
   if (!o.markdown.empty())
-    checkOutputTarget(o.markdown, o.force, recordedTextOutput("comparison Markdown", "<!-- occsweep compare"));
+    checkOutputTarget(o.markdown, o.force, textOutput("comparison Markdown", "<!-- occsweep compare"));
   if (!o.latex.empty())
-    checkOutputTarget(o.latex, o.force, recordedTextOutput("comparison LaTeX", "% occsweep compare"));
+    checkOutputTarget(o.latex, o.force, textOutput("comparison LaTeX", "% occsweep compare"));
 }
 
 CompareStatisticsOptions statisticsOptions(const CompareTask& o) {
@@ -206,10 +205,11 @@ void writeOutputs(const CompareTask& o, const nlohmann::json& comparison, const 
   add(o.markdown, "<!-- occsweep compare --markdown -->\n" + markdownTables(t));
   add(o.latex, latexTables(t));  // its first line names occsweep compare
   std::vector<OutputFile*> all;
-  for (const auto& f : files) all.push_back(f.get());
+  for (const auto& f : files) {
+    f->markWritten();  // the tables: what a later --force may replace (textOutput)
+    all.push_back(f.get());
+  }
   OutputFile::commitTogether(all);
-  for (const std::string& table : {o.csv, o.markdown, o.latex})
-    if (!table.empty()) recordTextOutput(table);  // what a later --force may replace (recordedTextOutput)
 }
 
 int runCompare(const CompareTask& o) {

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <map>
 #include <iostream>
+#include <sys/stat.h>
 
 #include "command_registry.hpp"
 #include "limit_options.hpp"
@@ -78,21 +79,27 @@ std::string figureFormat(const std::string& out) {
                               ".pdf or .svg)");
 }
 
-// A figure occsweep plot drew before (docs/robustness.md, "Ownership"). A PNG whose Software text chunk is exactly
-// "occsweep plot" (plot_results.py writes it): a user's PNG that mentions occsweep in a description is not one. A
-// PDF or SVG, whose metadata a user could write as easily, by the ledger's record of the bytes occsweep wrote there.
-ReplaceableOutput figureOutput(const std::string& format) {
-  if (format == "png") return markedPngOutput("figure", "occsweep plot");
-  return recordedTextOutput("figure", format == "pdf" ? "%PDF-" : "<?xml");
-}
-
-// Whether the script drew a figure at `file`: the format's first bytes and the script's mark (its Creator, or the
-// PNG's Software chunk). A script that exits 0 without drawing leaves no empty figure behind.
+// Whether `file` is a figure occsweep plot drew: a regular file with one name, the format's first bytes and the
+// script's mark (a PNG's Software text chunk exactly "occsweep plot", written by plot_results.py; a PDF's or SVG's
+// Creator). What --force may replace (docs/robustness.md, "Ownership"), and how a script that exits 0 without
+// drawing is caught: it leaves no empty figure behind.
 bool drewFigure(const std::filesystem::path& file, const std::string& format) {
-  if (format == "png") return figureOutput(format).is_own(file);
+  if (format == "png") return markedPngOutput("figure", "occsweep plot").is_own(file);
+  constexpr std::uint64_t kMaxFigureBytes = std::uint64_t(256) << 20;  // a figure is a few MB; a huge file is not one
+  struct stat st {};
+  if (::lstat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_nlink != 1 ||
+      std::uint64_t(st.st_size) > kMaxFigureBytes)
+    return false;
   std::ifstream in(file, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   return bytes.starts_with(format == "pdf" ? "%PDF-" : "<?xml") && bytes.find("occsweep plot") != std::string::npos;
+}
+
+// A PDF's or SVG's metadata a user could write as easily: only the bytes occsweep marked are its own to replace.
+ReplaceableOutput figureOutput(const std::string& format) {
+  return {"figure", [format](const std::filesystem::path& file) {
+            return drewFigure(file, format) && (format == "png" || holdsMarkedBytes(file));
+          }};
 }
 
 // The method `params` draws: --method, or the only one given, or the first that is not the baseline.
@@ -148,9 +155,9 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   // A script that exits 0 without drawing (another Python, another script) leaves no empty figure behind.
   if (!drewFigure(figure.temporary(), format))
     throw std::runtime_error("plot: " + python + " " + script + " exited 0 but drew no figure (nothing written)");
+  if (format != "png") markWrittenBytes(figure.temporary());  // what a later --force may replace (figureOutput)
   if (o.json.empty()) figure.commit();
   else OutputFile::commitTogether({&data_file, &figure});  // neither when the other's name was taken meanwhile
-  if (format != "png") recordTextOutput(o.out);  // what a later --force may replace (figureOutput)
   std::cout << "wrote " << o.out << (o.json.empty() ? "" : " and " + o.json) << '\n';
   return 0;
 }

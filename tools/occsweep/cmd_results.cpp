@@ -9,7 +9,6 @@
 #include "command_registry.hpp"
 #include "limit_options.hpp"
 #include "option_checks.hpp"
-#include "occsweep/eval/ownership.hpp"
 
 #include "occsweep/sweeps/results_diff.hpp"
 #include "occsweep/sweeps/results_export.hpp"
@@ -70,13 +69,13 @@ int runExport(const std::string& source, const ExportTarget& to) {
     return 0;
   }
   const bool csv = isCsvPath(to.out);
-  checkOutputTarget(to.out, to.force, csv ? recordedTextOutput("CSV export", "dataset,") : resultsOutput());
+  checkOutputTarget(to.out, to.force, csv ? textOutput("CSV export", "dataset,") : resultsOutput());
   (void)checkResultsFile(source, "");  // what `results check` refuses fails before anything is written
   OutputFile out(to.out);
   if (csv) exportCsv(source, out.stream());
   else exportJson(source, out.stream());
+  if (csv) out.markWritten();  // what a later --force may replace (textOutput)
   out.commit();
-  if (csv) recordTextOutput(to.out);  // what a later --force may replace (recordedTextOutput)
   std::cout << "wrote " << to.out << '\n';
   return 0;
 }

@@ -106,51 +106,47 @@ class TaskStopper {
 };
 
 /// DIR/run-local.lock, held (flock) while this run-local runs: a second one on the same plan is refused. The
-/// kernel releases it when the process dies, even by SIGKILL; the descriptor is not inherited by the tasks.
+/// kernel releases it when the process dies, even by SIGKILL; the descriptor is not inherited by the tasks. Its
+/// first line marks it run-local's, its second holds the pid.
 class PlanLock {
  public:
   explicit PlanLock(const fs::path& dir) : file_(dir / "run-local.lock") {
-    const bool own = openLockFile();
+    // O_NOFOLLOW: a symbolic link at the name is the user's, never opened (docs/robustness.md, "Ownership").
+    fd_ = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
+    if (fd_ < 0) {
+      const int e = errno;
+      if (e == ELOOP)
+        throw std::runtime_error(file_.string() + ": is a symbolic link: occsweep never writes through one; remove it");
+      throw std::runtime_error(file_.string() + ": cannot open: " + std::strerror(e));
+    }
+    const bool own = notOwnReservedFile(file_, kMark, true).empty();
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      const std::string holder = readFirstLine(file_, 32).value_or("");
+      const std::string holder = own ? holderPid() : "";
       ::close(fd_);
-      // The holder's pid, when the file is one run-local writes it into (else its bytes are not a pid).
-      const bool pid = own && !holder.empty() && holder.find_first_not_of("0123456789") == std::string::npos;
-      throw std::runtime_error(dir.string() + ": another `cluster run-local` " + (pid ? "(pid " + holder + ") " : "") +
+      throw std::runtime_error(dir.string() + ": another `cluster run-local` " +
+                               (holder.empty() ? "" : "(pid " + holder + ") ") +
                                "is running this plan: wait for it or stop it (its tasks end with it)");
     }
-    if (!own) return;  // the user's file (or a link to one) is only locked, never written
-    const std::string pid = std::to_string(::getpid()) + "\n";
-    if (::ftruncate(fd_, 0) != 0 || ::write(fd_, pid.data(), pid.size()) != ssize_t(pid.size()))
+    if (!own) return;  // anything else at the name (a user's file, a hard link to one) is only locked, never written
+    const std::string text = std::string(kMark) + "\n" + std::to_string(::getpid()) + "\n";
+    if (::ftruncate(fd_, 0) != 0 || ::write(fd_, text.data(), text.size()) != ssize_t(text.size()))
       throw std::runtime_error(file_.string() + ": cannot write");
-    recordMadeEntryWritten(file_);
   }
   PlanLock(const PlanLock&) = delete;
   PlanLock& operator=(const PlanLock&) = delete;
   ~PlanLock() { ::close(fd_); }
 
  private:
-  // Opens the lock file, made where nothing stood and recorded in the ledger as run-local's (claimMadeEntry), or the
-  // entry already there. True when run-local may write its pid into it: one it made, proven by the ledger; anything
-  // else there (a user's file, a hard link to one, a lock an older occsweep left) is locked as it is, its bytes kept.
-  // O_NOFOLLOW: a symbolic link at the name is the user's, never opened (docs/robustness.md, "Ownership").
-  bool openLockFile() {
-    std::error_code ec;
-    const bool existed = fs::exists(fs::symlink_status(file_, ec));
-    if (!existed) claimMadeEntry(file_);
-    fd_ = ::open(file_.c_str(), O_RDWR | O_CLOEXEC | O_NOFOLLOW | (existed ? 0 : O_CREAT | O_EXCL), 0644);
-    if (fd_ < 0) {
-      const int e = errno;
-      if (!existed) forgetMadeEntry(file_);  // the claim would prove the name of what stands there
-      if (e == ELOOP)
-        throw std::runtime_error(file_.string() + ": is a symbolic link: occsweep never writes through one; remove it");
-      throw std::runtime_error(file_.string() + ": cannot open: " + std::strerror(e) +
-                               (e == EEXIST ? " (made by someone else a moment ago): run again" : ""));
-    }
-    if (!existed) recordMadeEntry(file_);
-    struct stat opened {}, named {};  // the file opened is the one proven by name
-    return ::fstat(fd_, &opened) == 0 && S_ISREG(opened.st_mode) && ::lstat(file_.c_str(), &named) == 0 &&
-           opened.st_dev == named.st_dev && opened.st_ino == named.st_ino && (!existed || isRecordedMadeEntry(file_));
+  static constexpr const char* kMark = "# occsweep cluster run-local: lock";
+
+  // The pid on the lock's second line, "" when there is none.
+  std::string holderPid() const {
+    char text[128] = {};
+    const ssize_t n = ::pread(fd_, text, sizeof text - 1, 0);
+    std::string line = n > 0 ? std::string(text, std::size_t(n)) : "";
+    line = line.substr(std::min(line.size(), line.find('\n') + 1));
+    line = line.substr(0, line.find('\n'));
+    return !line.empty() && line.find_first_not_of("0123456789") == std::string::npos ? line : "";
   }
 
   fs::path file_;
@@ -179,52 +175,37 @@ fs::path logOf(const fs::path& dir, const ClusterStage& stage, const ClusterTask
   return dir / "logs" / ("local-" + stage.name + "-" + std::to_string(t.index) + ".log");
 }
 
-/// A task's log starts with this line, for the reader. What proves a log occsweep's is the ledger's record of the
-/// entry run-local made (claimMadeEntry: its inode and birth time, ownership.hpp): a log of an earlier run is
-/// replaced; anything else at its name (a user's file, even one starting with this line, or a link) is never removed
-/// or written (docs/robustness.md, "Ownership"), and no task starts.
+/// A task's log starts with this line: what marks it run-local's (a regular file with one name), replaced when the
+/// task runs again; anything else at its name (a user's file, a link) is never removed or written, and no task
+/// starts (docs/robustness.md, "Ownership").
 constexpr const char* kTaskLogMark = "# occsweep cluster run-local: task log";
-
-/// Whether the entry at `log` is a task log run-local made (false when there is none, or another entry).
-bool isOwnTaskLog(const fs::path& log) {
-  std::error_code ec;
-  return fs::is_regular_file(fs::symlink_status(log, ec)) &&  // a user's link there is never removed
-         isRecordedMadeEntry(log);
-}
 
 /// Why `logs` (the task logs at the names of tasks to run) stop run-local: each names an entry that is not a task log
 /// run-local made; "" when none does.
 std::string foreignTaskLogs(const std::vector<fs::path>& logs) {
-  std::vector<fs::path> foreign;
+  std::vector<std::string> foreign;
   std::error_code ec;
   for (const fs::path& log : logs)
-    if (fs::exists(fs::symlink_status(log, ec)) && !isOwnTaskLog(log)) foreign.push_back(log);
+    if (fs::exists(fs::symlink_status(log, ec)))
+      if (const std::string why = notOwnReservedFile(log, kTaskLogMark); !why.empty())
+        foreign.push_back(log.string() + " " + why);
   if (foreign.empty()) return "";
-  std::string names = foreign.front().string();
-  for (std::size_t i = 1; i < std::min<std::size_t>(foreign.size(), 5); ++i) names += ", " + foreign[i].string();
-  if (foreign.size() > 5) names += " and " + std::to_string(foreign.size() - 5) + " more";
-  return names + (foreign.size() == 1 ? ": exists and is not a task log" : ": exist and are not task logs") +
-         " occsweep can prove it made (a file of yours, a log an older occsweep wrote, one written where occsweep's "
-         "ledger could not be written, or, on a file system that keeps no birth time, the log of a task still running "
-         "when run-local was killed): never replaced; move " + (foreign.size() == 1 ? "it" : "them") +
+  std::string names = foreign.front();
+  for (std::size_t i = 1; i < std::min<std::size_t>(foreign.size(), 5); ++i) names += "; " + foreign[i];
+  if (foreign.size() > 5) names += "; and " + std::to_string(foreign.size() - 5) + " more";
+  return names + ": " + (foreign.size() == 1 ? "it is" : "they are") + " not run-local's task log" +
+         (foreign.size() == 1 ? "" : "s") + ", never replaced; move " + (foreign.size() == 1 ? "it" : "them") +
          " away and run again";
 }
 
 void startTaskLog(const fs::path& log, const std::string& label) {
   std::error_code ec;
-  if (fs::exists(fs::symlink_status(log, ec))) {  // an earlier run's log, proven once, or run-local stops
-    if (!isOwnTaskLog(log)) throw std::runtime_error(foreignTaskLogs({log}));
+  if (fs::exists(fs::symlink_status(log, ec))) {  // an earlier run's log, or run-local stops
+    if (const std::string why = foreignTaskLogs({log}); !why.empty()) throw std::runtime_error(why);
     fs::remove(log);
-    forgetMadeEntry(log);
   }
-  claimMadeEntry(log);  // before it is made: whenever a kill comes, the next run proves the log its own
   const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    const int e = errno;
-    forgetMadeEntry(log);  // the claim would prove the name of what stands there
-    throw std::runtime_error(log.string() + ": cannot create: " + std::strerror(e));
-  }
-  recordMadeEntry(log);  // its inode and birth time: a file put at its name later is another entry
+  if (fd < 0) throw std::runtime_error(log.string() + ": cannot create: " + std::strerror(errno));
   const std::string header = std::string(kTaskLogMark) + "\n# " + label + "\n";
   const bool written = ::write(fd, header.data(), header.size()) == ssize_t(header.size());
   ::close(fd);
@@ -305,7 +286,6 @@ class StageRun {
     stopper_.forget(it->second.slot);
     free_slots_.push_back(it->second.slot);
     removeRunningMarker(it->second.marker);
-    recordMadeEntryWritten(logOf(dir_, stage_, t));  // the task has ended: its log is whole
     running_.erase(it);
     if (stopper_.signal()) return;  // stopped: the task did not fail, it was ended
     ++finished_;
@@ -400,14 +380,6 @@ void requireNoForeignMarkers(const ClusterPlan& plan, const std::vector<std::vec
         throw std::runtime_error(foreignMarkerMessage(m));
 }
 
-/// The tasks, which run in the plan folder, given run-local's own ledger: where it is found by a relative
-/// OCCSWEEP_STATE_DIR, XDG_STATE_HOME or HOME, OCCSWEEP_STATE_DIR names its folder by an absolute path
-/// (docs/robustness.md, "Ownership").
-void useAbsoluteStateFolder() {
-  const fs::path ledger = ownershipLedger();
-  if (!ledger.empty() && ledger.is_relative())
-    ::setenv("OCCSWEEP_STATE_DIR", fs::absolute(ledger.parent_path()).lexically_normal().c_str(), 1);
-}
 }  // namespace
 
 std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs, bool quiet) {
@@ -419,7 +391,6 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
                                "running markers inside the plan folder only; remove it");
     fs::create_directories(dir / folder);
   }
-  useAbsoluteStateFolder();
   const PlanLock lock(dir);
   refuseLiveTasks(plan, dir);
   removeStaleMarkers(dir);  // none is live

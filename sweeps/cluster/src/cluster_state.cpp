@@ -26,64 +26,72 @@ fs::path runningMarker(const fs::path& dir, const std::string& stage, std::uint6
   return dir / "running" / (stage + "-" + std::to_string(task) + ".pid");
 }
 
+namespace {
+/// A running marker's first line: what marks it run-local's; the task's pid follows on the second.
+constexpr const char* kMarkerMark = "# occsweep cluster run-local: running task";
+}  // namespace
+
 std::string foreignMarkerMessage(const fs::path& marker) {
-  return marker.string() + ": exists and is not a running marker occsweep can prove it made (a file of yours, or one a "
-         "killed run-local left where occsweep's ledger could not be written): occsweep never removes it; once no task "
-         "of the plan runs, remove it yourself";
+  std::string why = notOwnReservedFile(marker, kMarkerMark, true);
+  if (why.empty()) why = "is run-local's";
+  return marker.string() + ": " + why + ", where run-local keeps a running task's marker: occsweep never removes "
+         "it; once no task of the plan runs, move it away";
 }
 
 RunningMarker createRunningMarker(const fs::path& dir, const std::string& stage, std::uint64_t task) {
   RunningMarker m{runningMarker(dir, stage, task)};
-  claimMadeEntry(m.path);  // before it is made: whenever a kill comes, the next run proves the marker its own
   const int fd = ::open(m.path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
   struct stat made {};
-  if (fd < 0 || ::fstat(fd, &made) != 0) {
+  const std::string mark = std::string(kMarkerMark) + "\n";
+  if (fd < 0 || ::fstat(fd, &made) != 0 || ::write(fd, mark.data(), mark.size()) != ssize_t(mark.size())) {
     const int e = errno;
     if (fd >= 0) ::close(fd);
-    forgetMadeEntry(m.path);  // the claim would prove the name of what stands there
     throw std::runtime_error(e == EEXIST ? foreignMarkerMessage(m.path) : m.path.string() + ": " + std::strerror(e));
   }
   ::close(fd);
   m.device = made.st_dev, m.inode = made.st_ino;
-  recordMadeEntry(m.path);  // its inode and birth time: a file put at its name later is another entry
   return m;
 }
 
 void writeRunningMarker(const RunningMarker& marker, pid_t pid) {
-  const int fd = ::open(marker.path.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
+  const int fd = ::open(marker.path.c_str(), O_WRONLY | O_APPEND | O_NOFOLLOW | O_CLOEXEC);
   struct stat now {};
   if (fd < 0) return;  // removed meanwhile: the task runs without one, as one killed before it was written
   const std::string text = std::to_string(pid) + "\n";
   const bool same = ::fstat(fd, &now) == 0 && now.st_dev == marker.device && now.st_ino == marker.inode;
   if (same) (void)!::write(fd, text.data(), text.size());  // a marker without its pid only hides a live task
   ::close(fd);
-  if (same) recordMadeEntryWritten(marker.path);
 }
 
 void removeRunningMarker(const RunningMarker& marker) {
   struct stat now {};
   if (::lstat(marker.path.c_str(), &now) != 0 || now.st_dev != marker.device || now.st_ino != marker.inode) return;
   std::error_code ec;
-  if (fs::remove(marker.path, ec)) forgetMadeEntry(marker.path);
+  fs::remove(marker.path, ec);
 }
 
 void removeStaleMarkers(const fs::path& dir) {
   std::error_code ec;
   std::vector<fs::path> markers;
   for (fs::directory_iterator it(dir / "running", ec), end; !ec && it != end; it.increment(ec))
-    if (isRecordedMadeEntry(it->path())) markers.push_back(it->path());
-  for (const auto& m : markers)
-    if (fs::remove(m, ec)) forgetMadeEntry(m);
+    if (it->path().extension() == ".pid" && notOwnReservedFile(it->path(), kMarkerMark, true).empty())
+      markers.push_back(it->path());
+  for (const auto& m : markers) fs::remove(m, ec);
 }
 
 pid_t liveLocalTask(const fs::path& dir, const std::string& stage, std::uint64_t task) {
   // Never read through a link, and never a FIFO, which would block status and run-local: a marker is a regular file.
   const fs::path marker = runningMarker(dir, stage, task);
   std::error_code ec;
-  if (!fs::is_regular_file(fs::symlink_status(marker, ec))) return 0;
-  const std::optional<std::string> line = readFirstLine(marker, 32);
+  if (!notOwnReservedFile(marker, kMarkerMark).empty()) return 0;
+  std::string text;
+  try {
+    text = readFileBytes(marker, 128);  // the mark's line, then the pid's
+  } catch (const DataError&) {
+    return 0;  // longer than a marker: not one run-local is still writing
+  }
   long pid = 0;
-  if (!line || !(std::istringstream(*line) >> pid) || pid <= 0) return 0;
+  if (!(std::istringstream(text.substr(std::min(text.size(), text.find('\n') + 1))) >> pid) || pid <= 0) return 0;
   // Alive and not a zombie.
   const std::optional<ProcessStat> stat = processStat(pid);
   if (!stat || stat->state == 'Z') return 0;

@@ -1,7 +1,6 @@
 // Helpers of runSweep (sweep_run.cpp, sweep_partial.cpp); not part of the public API.
 #pragma once
 
-#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -61,8 +60,8 @@ void requireOwnablePartial(const std::filesystem::path& file);
 /// Finished maps of an interrupted run: OUT.partial.jsonl, a header line then one map per line. A line cut by a
 /// kill is ignored (its map is simply done again). With `twin` (the observable-truth results of the same maps,
 /// SweepConfig::observable_out), only lines carrying the twin's counts count, which go into `*twin`. The log is
-/// locked into `lock`. Only the log occsweep's ledger recorded making there (PartialLog) is read: any other file is
-/// refused, even with `force`, and so is a log with bytes written into it (a line other than a last one cut by a
+/// locked into `lock`. Only a regular file with one name whose first line is a sweep's header is read: any other file
+/// is refused, even with `force`, and so is a log with bytes written into it (a line other than a last one cut by a
 /// kill that is not JSON); one of other work too unless `force` (then `lock` is held and nothing is returned: the log
 /// is started anew).
 [[nodiscard]] std::map<std::uint64_t, MapResult> loadPartial(const std::filesystem::path& partial,
@@ -72,17 +71,15 @@ void requireOwnablePartial(const std::filesystem::path& file);
                                                              PartialLock& lock);
 
 /// Removes occsweep's own partial log of the same work as `header` that a complete output superseded (a kill came
-/// between the results' rename and the log's removal): only the log the ledger recorded, never while another sweep
-/// holds it, with its record.
+/// between the results' rename and the log's removal): never while another sweep holds it.
 void removeSupersededLog(const std::filesystem::path& partial, const ResultsHeader& header);
 
 /// A partial-log line's field holding the twin's thresholds and AUC.
 inline constexpr const char* kTwinField = "observable";
 
-/// OUT.partial.jsonl while a sweep runs: a header line, then one line per finished map, each flushed; recorded in the
-/// ledger as occsweep's (ownership.hpp, recordMadeEntry) in one step with its appearance at its name. It is what a
-/// killed sweep resumes from, so an error keeps it, unless it holds no finished map or a write failed (a full
-/// disk): then it is removed rather than leave the disk full (docs/robustness.md).
+/// OUT.partial.jsonl while a sweep runs: a header line, then one line per finished map, each flushed. It is what a
+/// killed or failed sweep resumes from, so an error keeps it when it holds a finished map; a failed write (a full
+/// disk) cuts it back to its last whole map (docs/robustness.md).
 class PartialLog {
  public:
   /// Continues the log of `maps_done` finished maps, or (none) starts it anew with `header`'s line. Throws
@@ -93,15 +90,15 @@ class PartialLog {
   PartialLog(const PartialLog&) = delete;
   PartialLog& operator=(const PartialLog&) = delete;
 
-  /// Appends a finished map's line; safe from several threads. Throws OutputError when the write fails.
+  /// Appends a finished map's line; safe from several threads. Throws OutputError when the write fails, saying
+  /// how many maps the log keeps (keptNote).
   void append(const nlohmann::json& line);
-  /// Writing the results failed (a full disk): the log is removed with the error.
-  void dropOnError() { write_failed_ = true; }
+  /// "; the N maps finished are kept in FILE: ...", what an error message adds ("" when none is finished).
+  [[nodiscard]] std::string keptNote() const;
   /// The results are written: closes and removes the log.
   void remove();
 
  private:
-  [[nodiscard]] OutputError writeFailed();
   void removeUnlessResumable() noexcept;
 
   std::filesystem::path file_;
@@ -109,8 +106,9 @@ class PartialLog {
   std::ofstream out_;
   std::mutex mutex_;
   std::size_t maps_;
-  bool stamp_each_write_ = false;  ///< its file system keeps no birth time (ownership.hpp, keepsBirthTime)
-  std::atomic<bool> write_failed_{false};
+  std::uintmax_t whole_bytes_ = 0;  ///< the log's size at the end of its last whole line
+  bool failed_ = false;             ///< a write failed: the log was cut back, and takes no more lines
+  std::string failure_;
 };
 
 /// True when `file` holds complete results of the same work as `header` (the twin of a finished sweep); false

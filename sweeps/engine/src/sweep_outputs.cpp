@@ -121,8 +121,8 @@ ResultsFile finishSweep(ResultsHeader h, FinishedMaps& finished, CountedMaps cou
   return f;
 }
 
-// Writes the files atomically, the twin first: a complete main file promises a complete twin. A failed write
-// takes the partial log with it (a full disk).
+// Writes the files atomically, the twin first: a complete main file promises a complete twin. A failed write (a full
+// disk) keeps the partial log, and says so.
 void writeSweepResults(const ResultsFile& f, FinishedMaps& finished, const SweepConfig& c,
                        PartialLog& log) {
   try {
@@ -137,9 +137,8 @@ void writeSweepResults(const ResultsFile& f, FinishedMaps& finished, const Sweep
     writeResults(f, c.out);
   } catch (const OutputConflict&) {
     throw;  // a file put at --out meanwhile: every map stays in the log, for a run once it is moved away
-  } catch (const OutputError&) {
-    log.dropOnError();  // a failed write (a full disk): the log goes rather than keep the disk full
-    throw;
+  } catch (const OutputError& e) {
+    throw OutputError(e.what() + log.keptNote());
   }
   log.remove();
 }

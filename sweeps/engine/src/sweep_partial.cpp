@@ -13,7 +13,6 @@
 
 #include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/interrupt_guard.hpp"
-#include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 #include "sweep_internal.hpp"
 
@@ -59,18 +58,10 @@ std::optional<ResultsHeader> logHeader(const fs::path& partial) {
   }
 }
 
-// The header of occsweep's partial log at `partial`. A header is bytes a user could copy: the log is occsweep's only
-// when the ledger holds the record of its making at that name (PartialLog, docs/robustness.md, "Ownership"), and a
-// file without a header was never occsweep's; neither is ever resumed from, replaced or removed.
+// The header of occsweep's partial log at `partial`, held by `lock` (a regular file with one name:
+// PartialLock::existing). A file at that reserved name whose first line is not a sweep's header is a user's: never
+// resumed from, replaced or removed (docs/robustness.md, "Ownership").
 ResultsHeader ownLogHeader(const fs::path& partial, const PartialLock& lock) {
-  if (!isRecordedMadeEntry(partial, lock.descriptor()))  // the file locked, whatever its name holds by now
-    throw std::runtime_error(
-        partial.string() + ": not a partial log of occsweep's (" +
-        (ownershipLedger().empty()
-             ? std::string("no ledger to prove it: none of OCCSWEEP_STATE_DIR, XDG_STATE_HOME and HOME is set")
-             : std::string("occsweep's ledger does not prove it is the file occsweep made there")) +
-        "); occsweep never resumes from, replaces or removes it (even with --force): run with the ledger it was "
-        "written with (OCCSWEEP_STATE_DIR), remove it, or choose another --out");
   std::optional<ResultsHeader> header = logHeader(lock.heldFilePath());
   if (!header)
     throw std::runtime_error(partial.string() + ": not a partial log of occsweep's (its first line is not a sweep's "
@@ -79,16 +70,9 @@ ResultsHeader ownLogHeader(const fs::path& partial, const PartialLock& lock) {
   return std::move(*header);
 }
 
-// Removes occsweep's log at `partial` while it is the file `lock` holds, with its ledger record, in one step. The
-// record goes first: while the log stands at its name no other sweep can make one there.
+// Removes occsweep's log at `partial` while it is the file `lock` holds.
 void removeOwnLog(const fs::path& partial, const PartialLock& lock) {
-  runWithoutInterruptCleaning([&] {
-    if (!lock.holdsFile(partial)) return;
-    forgetMadeEntry(partial);
-    if (lock.removeHeldFile(partial)) return;
-    recordMadeEntry(partial);  // not removed (a folder without write permission): still occsweep's, and proven so
-    if (!keepsBirthTime(partial)) recordMadeEntryWritten(partial);
-  });
+  runWithoutInterruptCleaning([&] { lock.removeHeldFile(partial); });
 }
 
 }  // namespace
@@ -170,9 +154,9 @@ void replaceHeldPartial(ClaimedTemporary& claimed, const fs::path& file, const P
 PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replacing,
                                  const std::function<void(const fs::path&)>& make,
                                  const std::function<void(const PartialLock&)>& published) {
-  // Claimed and registered as OutputFile's temporaries are (docs/robustness.md, "Ownership"): an interrupt removes
-  // it while it is the file made there, and what a kill leaves the next run removes. A user's file is at that name
-  // only while an exchange is undone (putBackUsersFile), or once kept.
+  // Made and registered as OutputFile's temporaries are (docs/robustness.md, "Ownership"): an interrupt removes
+  // it while it is the file made there; what a kill leaves the next run names. A user's file is at that name only
+  // while an exchange is undone (putBackUsersFile), or once kept.
   // Its destructor removes the temporary's name, and only while it names the file made there.
   ClaimedTemporary claimed(file, TemporaryKind::File);  // `make` fills it, never creates it
   const fs::path& temporary = claimed.path();
@@ -205,16 +189,6 @@ void requireOwnablePartial(const fs::path& file) {
                              "never writes through, replaces or removes it (even with --force): remove it, or choose "
                              "another --out");
   requireRegularFile(file);  // a FIFO would block the sweep
-}
-
-void removeSupersededLog(const fs::path& partial, const ResultsHeader& header) {
-  std::error_code ec;
-  if (!fs::is_regular_file(fs::symlink_status(partial, ec))) return;
-  try {
-    const PartialLock lock = PartialLock::existing(partial);  // never while another sweep writes it
-    if (sameWork(ownLogHeader(partial, lock), header, true, nullptr)) removeOwnLog(partial, lock);
-  } catch (const std::exception&) {  // another sweep writes it, it is not occsweep's, or it cannot be read: left
-  }
 }
 
 namespace {
@@ -257,11 +231,49 @@ void dropCutLine(const fs::path& partial, const PartialLock& lock, std::uintmax_
   runWithoutInterruptCleaning([&] {
     if (::truncate(lock.heldFilePath().c_str(), off_t(whole)) != 0)
       throw std::runtime_error(partial.string() + ": cannot drop the line a kill cut (" + std::strerror(errno) + ")");
-    if (!keepsBirthTime(partial)) recordMadeEntryWritten(partial);  // occsweep's own write
   });
 }
 
+// The end of a log's last whole line, and whether a line after it was cut (only a kill cuts a line, and only the
+// last, before its line break).
+struct LogEnd {
+  std::uintmax_t whole = 0;
+  bool cut = false;
+};
+
+// Reads every map line of the log `lock` holds, after its header, each passed to `take` when given. Every whole line
+// must be JSON: one that is not was written into the log by someone else, and the log is not replaced or removed.
+LogEnd readLogLines(const fs::path& partial, const PartialLock& lock,
+                    const std::function<void(const json&)>& take) {
+  std::ifstream in(lock.heldFilePath());  // the file locked, whatever is put at its name meanwhile
+  std::string line;
+  std::getline(in, line);
+  LogEnd end{std::uintmax_t(in.tellg()), false};
+  for (std::size_t number = 2; std::getline(in, line); ++number) {
+    if (in.eof()) {  // a cut line: its map is counted again
+      end.cut = true;
+      break;
+    }
+    end.whole += line.size() + 1;
+    const json j = loggedLine(line, partial, number);
+    if (take) take(j);
+  }
+  return end;
+}
+
 }  // namespace
+
+void removeSupersededLog(const fs::path& partial, const ResultsHeader& header) {
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(partial, ec))) return;
+  try {
+    const PartialLock lock = PartialLock::existing(partial);  // never while another sweep writes it
+    if (!sameWork(ownLogHeader(partial, lock), header, true, nullptr)) return;
+    (void)readLogLines(partial, lock, {});  // only what occsweep wrote
+    removeOwnLog(partial, lock);
+  } catch (const std::exception&) {  // another sweep writes it, it is not occsweep's, or it cannot be read: left
+  }
+}
 
 std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const ResultsHeader& header, bool force,
                                                std::map<std::uint64_t, std::string>& engine_of,
@@ -271,24 +283,17 @@ std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const Re
   if (!fs::exists(fs::symlink_status(partial, ec))) return done;
   lock = PartialLock::existing(partial);
   const ResultsHeader old = ownLogHeader(partial, lock);
-  std::ifstream in(lock.heldFilePath());  // the file locked, whatever is put at its name meanwhile
-  std::string line;
-  std::getline(in, line);
   std::string why;
-  if (!sameWork(old, header, true, &why)) {
+  const bool same = sameWork(old, header, true, &why);
+  const LogEnd end = readLogLines(partial, lock, [&](const json& j) {
+    if (same) takeLoggedMap(j, partial, header, old.engine, done, engine_of, twin);
+  });
+  if (!same) {
     if (force) return done;  // occsweep's of other work: replaced when the log starts
     throw std::runtime_error(partial.string() + ": an interrupted sweep of other work (" + why +
                              "); --force replaces it, or choose another --out");
   }
-  std::uintmax_t whole = std::uintmax_t(in.tellg());  // the end of the last line with a line break
-  for (std::size_t number = 2; std::getline(in, line); ++number) {
-    if (in.eof()) {  // only a kill cuts a line, and only the last, before its line break: its map is counted again
-      dropCutLine(partial, lock, whole);
-      break;
-    }
-    whole += line.size() + 1;
-    takeLoggedMap(loggedLine(line, partial, number), partial, header, old.engine, done, engine_of, twin);
-  }
+  if (end.cut) dropCutLine(partial, lock, end.whole);  // the next line then starts on a line of its own
   return done;
 }
 
@@ -297,36 +302,16 @@ PartialLog::PartialLog(fs::path file, const ResultsHeader& header, std::size_t m
   if (maps_done == 0) {
     // The header is written before the log appears under its name: a log without it is never occsweep's.
     lock_ = PartialLock::publish(file_, lock_.held() ? &lock_ : nullptr, [&](const fs::path& temporary) {
-      std::ofstream first(temporary, std::ios::in | std::ios::out);  // the claimed empty file; never created here
+      std::ofstream first(temporary, std::ios::in | std::ios::out);  // the made empty file; never created here
       first << toJson(header).dump() << '\n' << std::flush;
       if (!first) throw OutputError(writeFailure(file_, errno));
-    },
-    // ... and recorded in the ledger in the same step as it appears at its name: a sweep that lost the race for the
-    // name never writes a record, an interrupt comes before both or after both, and only a SIGKILL between the two
-    // leaves a log no run resumes or removes (the user's to remove).
-    [&](const PartialLock& made) {
-      recordMadeEntry(file_);
-      stamp_each_write_ = !keepsBirthTime(file_);
-      if (stamp_each_write_) recordMadeEntryWritten(file_);
-      if (!made.holdsFile(file_)) forgetMadeEntry(file_);  // a file put at its name at that moment is not the log
     });
-    // Where the file system has no rename without replacing, the log was linked and its temporary name removed after
-    // the stamp: that removal changed its status-change time.
-    if (stamp_each_write_) recordMadeEntryWritten(file_);
-    if (!isRecordedMadeEntry(file_))
-      std::cerr << "warning: " << file_.string() << ": occsweep's ledger could not record this partial log ("
-                << (ownershipLedger().empty() ? "none of OCCSWEEP_STATE_DIR, XDG_STATE_HOME and HOME is set"
-                                              : "its folder cannot be written")
-                << "): a killed sweep will not resume from it (docs/robustness.md, \"Ownership\")\n";
-  } else {
-    stamp_each_write_ = !keepsBirthTime(file_);
-    // Without birth times bytes written into the log since it was proven (loadPartial) would be taken for occsweep's
-    // by the next stamp.
-    if (stamp_each_write_ && !isRecordedMadeEntry(file_, lock_.descriptor())) partialReplacedMeanwhile(file_);
   }
+  struct stat held {};
+  whole_bytes_ = ::fstat(lock_.descriptor(), &held) == 0 ? std::uintmax_t(held.st_size) : 0;
   out_.open(lock_.heldFilePath(), std::ios::app);  // never by name: a file put there meanwhile is a user's
   if (!out_) {
-    OutputError error = writeFailed();
+    const OutputError error(writeFailure(file_, errno));
     removeUnlessResumable();  // the destructor does not run for a constructor that throws
     throw error;
   }
@@ -336,15 +321,30 @@ PartialLog::~PartialLog() { removeUnlessResumable(); }
 
 void PartialLog::append(const json& line) {
   std::lock_guard lock(mutex_);
+  if (failed_) throw OutputError(failure_);
   const std::string text = line.dump() + '\n';
-  // Whole or not at all when an interrupt comes. Without birth times a file a user makes at the name later may reuse
-  // the inode: the stamp of this write tells them apart (ownership.hpp, recordMadeEntryWritten).
-  runWithoutInterruptCleaning([&] {
+  bool written = false;
+  runWithoutInterruptCleaning([&] {  // whole or not at all when an interrupt comes
     out_ << text << std::flush;
-    if (out_ && stamp_each_write_) recordMadeEntryWritten(file_);
+    written = bool(out_);
+    if (written) whole_bytes_ += text.size();
   });
-  if (!out_) throw writeFailed();
+  if (!written) {
+    const int error_number = errno;
+    failed_ = true;
+    out_.close();  // what it still holds is dropped below
+    // What a full disk cut off the last line goes: the log ends with its last whole map (docs/robustness.md).
+    const bool cut = ::truncate(lock_.heldFilePath().c_str(), off_t(whole_bytes_)) == 0;
+    failure_ = writeFailure(file_, error_number) + (cut ? keptNote() : "; the partial log could not be cut back");
+    throw OutputError(failure_);
+  }
   ++maps_;
+}
+
+std::string PartialLog::keptNote() const {
+  if (maps_ == 0) return "";
+  return "; the " + std::to_string(maps_) + " maps finished are kept in " + file_.string() +
+         ": free space, then the same command resumes from them";
 }
 
 bool PartialLock::holdsFile(const fs::path& file) const noexcept {
@@ -367,16 +367,11 @@ void PartialLog::remove() {
   removeOwnLog(file_, lock_);
 }
 
-OutputError PartialLog::writeFailed() {
-  write_failed_ = true;
-  return OutputError(writeFailure(file_, errno));
-}
-
 void PartialLog::removeUnlessResumable() noexcept {
-  if (maps_ != 0 && !write_failed_) return;
+  if (maps_ != 0) return;  // finished maps are kept, whatever stopped the sweep
   try {
     removeOwnLog(file_, lock_);
-  } catch (...) {  // out of memory: what was not removed stays, unproven, for the user
+  } catch (...) {  // out of memory: what was not removed stays for the user
   }
 }
 

@@ -69,10 +69,10 @@ ReplaceableOutput reportOutput() {
 }
 
 // An entry of a reproduction folder that is occsweep's (docs/robustness.md, "Ownership"): a step file whose
-// "format" is its own; report.md under its first-line mark; a PNG carrying the figures' Software mark; a temporary
-// the ledger proves a killed run left; the data, sweeps and maps folders, whose every file is proven again when a
-// run rewrites it (its kind's check: a data set's manifest, a results header, a map's PLY comment, a ranking's
-// format). Any other name, or content without its proof, makes the folder a user's.
+// "format" is its own; report.md under its first-line mark; a PNG carrying the figures' Software mark; a temporary a
+// killed run left (reported, never removed: ownership.hpp); the data, sweeps and maps folders, whose every file is
+// proven again when a run rewrites it (its kind's check: a data set's manifest, a results header, a map's PLY
+// comment, a ranking's format). Any other name, or content without its proof, makes the folder a user's.
 bool isOwnReproductionEntry(const fs::directory_entry& entry) {
   const std::string name = entry.path().filename().string();
   std::error_code ec;
@@ -86,7 +86,7 @@ bool isOwnReproductionEntry(const fs::directory_entry& entry) {
     if (entry.path().extension() == ".png")
       return markedPngOutput("", kReproductionFigureMark).is_own(entry.path());
   }
-  return isStaleTemporaryOf(entry.path(), entry.path().parent_path() / outputNameOf(name));
+  return isLeftoverTemporaryOf(entry.path(), entry.path().parent_path() / outputNameOf(name));
 }
 
 // The first entry of `dir` that is not occsweep's; empty when every one is (a folder a re-run resumes in).

@@ -46,10 +46,11 @@ struct ReplaceableOutput {
 /// rewrites it in a folder it resumes in, may replace (docs/robustness.md, "Ownership").
 [[nodiscard]] ReplaceableOutput jsonOutput(const std::string& name, const std::string& format);
 
-/// A text output of occsweep's in a format with no field of its own for a mark (a CSV, Markdown or LaTeX table),
-/// proven by the record of the bytes occsweep wrote there (isRecordedTextOutput, ownership.hpp), its first line
-/// starting with `first_line` besides: what --force may replace. Record it with recordTextOutput once committed.
-[[nodiscard]] ReplaceableOutput recordedTextOutput(const std::string& name, const std::string& first_line);
+/// A text output of occsweep's in a format with no field of its own for a mark (a CSV, Markdown or LaTeX table): a
+/// regular file with one name, its first line starting with `first_line`, holding the bytes occsweep marked
+/// (markWrittenBytes, ownership.hpp): what --force may replace (docs/robustness.md, "Ownership"). Mark it before its
+/// commit (OutputFile::markWritten).
+[[nodiscard]] ReplaceableOutput textOutput(const std::string& name, const std::string& first_line);
 
 /// The folders on the way to `dir` (itself included) that do not exist, innermost first: what a command about to
 /// create `dir` makes, and removes again on failure with removeEmptyFolders.
@@ -79,10 +80,6 @@ void requireCompanionName(const std::filesystem::path& target, const std::string
 /// file or a broken symbolic link, before any is written; empty paths are outputs not asked for.
 void requireSeparateOutputs(const std::vector<std::pair<std::string, std::filesystem::path>>& flagged_outputs);
 
-/// Removes temporaries of `target` (`.NAME.tmp-PID-TOKEN`) left by a killed process, those the ledger proves
-/// occsweep's (ownership.hpp); an entry of any other name, or not recorded, is left alone.
-void removeStaleTemporaries(const std::filesystem::path& target);
-
 struct TargetState;
 
 /// One file written under `.NAME.tmp-PID-TOKEN` beside `target`; `commit()` flushes, checks and renames it into
@@ -101,6 +98,8 @@ class OutputFile {
   [[nodiscard]] const std::filesystem::path& temporary() const { return temporary_; }
   /// Flushes, checks, syncs and closes the temporary: another program may then read or write it by its path.
   void finish();
+  /// finish(), then marks the bytes written (markWrittenBytes): a text output a later --force may replace.
+  void markWritten();
   void commit();
   /// The outputs of one command, committed together: every target is checked first, so that one created or
   /// changed meanwhile (OutputConflict) or a failed write stops the command before any of them is committed.
@@ -109,7 +108,6 @@ class OutputFile {
  private:
   struct Buffer;
   std::filesystem::path target_, temporary_;
-  TemporaryClaim claim_;
   std::unique_ptr<TargetState> checked_;
   std::unique_ptr<Buffer> buffer_;
   std::unique_ptr<std::ostream> stream_;
@@ -130,7 +128,6 @@ class OutputFolder {
 
  private:
   std::filesystem::path target_, temporary_;
-  TemporaryClaim claim_;
   std::unique_ptr<TargetState> checked_;
   bool committed_ = false;
 };
@@ -142,24 +139,25 @@ void renameIntoPlace(const std::filesystem::path& from, const std::filesystem::p
 /// What a ClaimedTemporary makes at its name: an empty file or an empty folder.
 enum class TemporaryKind { File, Folder };
 
-/// A temporary claimed beside `target` (ownership.hpp), made empty and registered in one step: removed with what it
-/// holds (and an SQLite `-journal` beside it) on SIGINT, SIGTERM or SIGHUP, or when destroyed. For writers that fill
-/// it themselves and then link or rename it into place (a sweep's partial output, a script's figures). They open it
-/// without creating it: a temporary an interrupt has removed is then never made again before the exit.
+/// A temporary of `target` (ownership.hpp), made exclusively, empty, and registered in one step: removed with what
+/// it holds (and an SQLite `-journal` beside it) on SIGINT, SIGTERM or SIGHUP, or when destroyed, while it is the
+/// entry made there. For writers that fill it themselves and then link or rename it into place (a sweep's partial
+/// output, a script's figures). They open it without creating it: a temporary an interrupt has removed is then never
+/// made again before the exit.
 class ClaimedTemporary {
  public:
   ClaimedTemporary(const std::filesystem::path& target, TemporaryKind kind);
   ~ClaimedTemporary();
   ClaimedTemporary(const ClaimedTemporary&) = delete;
   ClaimedTemporary& operator=(const ClaimedTemporary&) = delete;
-  [[nodiscard]] const std::filesystem::path& path() const { return claim_.path; }
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
   /// Leaves what stands at path() where it is, no longer occsweep's: a user's entry exchanged there that could not be
-  /// put back. Neither this object, nor an interrupt, nor the next run removes it.
+  /// put back. Neither this object nor an interrupt removes it.
   void keep();
   [[nodiscard]] bool kept() const { return kept_; }
 
  private:
-  TemporaryClaim claim_;
+  std::filesystem::path path_;
   bool kept_ = false;
 };
 
@@ -168,18 +166,16 @@ void writeFileAtomically(const std::filesystem::path& target, std::string_view b
 /// `j` as `file`, one space of indent and a final newline, atomically: every JSON output of occsweep.
 void writeJsonAtomically(const nlohmann::json& j, const std::filesystem::path& file);
 
-/// `bytes` as `file` directly, every write checked: for files inside an OutputFolder's temporary folder. Inside one,
-/// the file is recorded as the folder's content (ownership.hpp), as are the entries of the two below: after a kill,
-/// the next run removes the folder with what it proves occsweep made there, and nothing else.
+/// `bytes` as `file` directly, every write checked: for files inside an OutputFolder's temporary folder.
 void writeFileChecked(const std::filesystem::path& file, std::string_view bytes);
-/// A folder made at `folder` (mkdir, checked: OutputError naming it), recorded as writeFileChecked's files are.
+/// A folder made at `folder` (mkdir, checked: OutputError naming it).
 void makeFolderChecked(const std::filesystem::path& folder);
-/// A symbolic link at `link` to `points_to` (checked: OutputError naming it), recorded as writeFileChecked's files are.
+/// A symbolic link at `link` to `points_to` (checked: OutputError naming it).
 void makeSymlinkChecked(const std::filesystem::path& points_to, const std::filesystem::path& link);
 
 /// Removes every registered temporary then exits 128 + signal on SIGINT, SIGTERM or SIGHUP; makes SIGXFSZ a
 /// write error (EFBIG) instead of a kill. Call once at the start of main(). A SIGKILL cannot be caught: the next
-/// run writing the same target removes what it left (removeStaleTemporaries).
+/// run writing the same target names what it left, with the command that removes it (reportLeftoverTemporaries).
 void removeTemporariesOnInterrupt();
 /// What the interrupt's cleaner prints on stderr once the temporaries are removed, before the exit: for a command
 /// that resumes, what it kept and the command that resumes (set by the command line). Empty: nothing.

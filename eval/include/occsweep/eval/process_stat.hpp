@@ -1,5 +1,5 @@
 // What Linux says of a process by its PID (/proc/PID/stat and status): whether it runs, since when, and its peak
-// memory. One reader for the ownership ledger (a temporary's process gone?) and run-local (a task still running? how
+// memory. One reader for leftover temporaries (a temporary's process gone?) and run-local (a task still running? how
 // much memory did it take?).
 #pragma once
 

@@ -29,20 +29,19 @@ struct RunningMarker {
   dev_t device = 0;
   ino_t inode = 0;
 };
-/// Why run-local stops at an entry standing at a marker's name that no record proves run-local's.
+/// Why run-local stops at an entry standing at a marker's name that is not a stale marker of its own.
 [[nodiscard]] std::string foreignMarkerMessage(const std::filesystem::path& marker);
-/// Makes the task's marker, empty, where nothing stands (never over or through another entry): before the task's
-/// process starts. std::runtime_error naming the marker when an entry stands there.
+/// Makes the task's marker, holding its mark line, where nothing stands (never over or through another entry): before
+/// the task's process starts. std::runtime_error naming the marker when an entry stands there.
 [[nodiscard]] RunningMarker createRunningMarker(const std::filesystem::path& dir, const std::string& stage,
                                                 std::uint64_t task);
-/// Writes the task's pid into its marker, while it is the entry createRunningMarker made. That one recorded the marker
-/// in occsweep's ledger (recordMadeEntry), which proves it occsweep's to a later run-local after a kill
-/// (removeStaleMarkers).
+/// Appends the task's pid to its marker, while it is the entry createRunningMarker made.
 void writeRunningMarker(const RunningMarker& marker, pid_t pid);
 /// Removes the marker while it is the entry createRunningMarker made; anything put at its name since stays.
 void removeRunningMarker(const RunningMarker& marker);
-/// Removes the markers in DIR/running that the ledger proves run-local wrote (their tasks are not live: checked
-/// before); any other entry stays (docs/robustness.md, "Ownership").
+/// Removes the markers in DIR/running that a killed run-local left (their tasks are not live: checked before): a
+/// regular file with one name that starts with the marker's mark line, or an empty one; any other entry stays
+/// (docs/robustness.md, "Ownership").
 void removeStaleMarkers(const std::filesystem::path& dir);
 /// The pid in the task's marker when that process is alive (not a zombie) and runs in DIR; 0 otherwise (no
 /// marker, or one left by a run-local killed with SIGKILL whose task has ended since).
