@@ -24,11 +24,4 @@ std::optional<ProcessStat> processStat(long pid) {
   return out;
 }
 
-std::uint64_t peakResidentBytes(long pid) {
-  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-  for (std::string line; std::getline(status, line);)
-    if (line.rfind("VmHWM:", 0) == 0) return std::strtoull(line.c_str() + 6, nullptr, 10) * 1024;  // "N kB"
-  return 0;
-}
-
 }  // namespace occsweep

@@ -424,19 +424,27 @@ TEST_CASE("a path on a machine's own file system is named as local, as stat -f n
 // their own CPU time (not wall time, which a loaded machine stretches while CPU time falls short) before they write their output (an `exists` output, so their check passes; the sweeps after them fail theirs).
 namespace {
 
-PlanConfig busyGeneration(const fs::path& dir, std::vector<std::string> datasets, int mb, double seconds) {
-  const fs::path task = dir / "busy.sh";
-  // exec: the task's process is the one that holds the memory (its peak is its own, docs/cluster.md).
-  std::ofstream(task) << "#!/bin/sh\n# busy --out OUT\nexec python3 -c \"import os, sys, time\nb = bytearray(" << mb
-                      << " * 1024 * 1024)\nt = time.process_time()\nwhile time.process_time() - t < " << seconds
-                      << ": pass\nos.makedirs(os.path.dirname(sys.argv[3]) or '.', exist_ok=True)\n"
-                         "open(sys.argv[3], 'a').close()\" \"$@\"\n";
+/// A plan whose tasks run the shell script `body` as their occsweep binary; a generation task gets `busy --out OUT`
+/// ($3 is its output, of kind `exists`).
+PlanConfig scriptedGeneration(const fs::path& dir, std::vector<std::string> datasets, const std::string& body) {
+  const fs::path task = dir / "task.sh";
+  std::ofstream(task) << "#!/bin/sh\n# busy --out OUT\n" << body;
   fs::permissions(task, fs::perms::owner_all);
   PlanConfig c = sceneConfig(std::move(datasets), {{"octomap-opt", 2, false}});
   c.occsweep = task.string();
   c.generate = "busy --out {out}";
   c.generate_kind = OutputKind::Exists;
   return c;
+}
+
+PlanConfig busyGeneration(const fs::path& dir, std::vector<std::string> datasets, int mb, double seconds) {
+  // exec: the task's process is the one that holds the memory.
+  std::ostringstream body;
+  body << "exec python3 -c \"import os, sys, time\nb = bytearray(" << mb
+       << " * 1024 * 1024)\nt = time.process_time()\nwhile time.process_time() - t < " << seconds
+       << ": pass\nos.makedirs(os.path.dirname(sys.argv[3]) or '.', exist_ok=True)\n"
+          "open(sys.argv[3], 'a').close()\" \"$@\"\n";
+  return scriptedGeneration(dir, std::move(datasets), body.str());
 }
 
 }  // namespace
@@ -481,6 +489,34 @@ TEST_CASE("run-local records each task's wall time, CPU time and peak memory, an
   CHECK_THAT(r.output, Catch::Contains("measured by run-local"));
   CHECK_THAT(r.output, Catch::Contains("  stage generate: 3 of 3 tasks, wall "));
   CHECK_THAT(r.output, !Catch::Contains("  stage sweep: "));
+}
+
+// Old binary: the peak of a task that ended before run-local's second look (50 ms) was its first sample, taken as the
+// task started (4 KB for a 16.6 MB task), and `status` and `--estimate-from` carried it on. Oracle: dd's 32 MiB
+// buffer, filled from /dev/zero, in a task that ends within milliseconds.
+TEST_CASE("run-local records a short task's peak memory as at least what the task touched") {
+  const auto dir = test::scratch("cluster-measured-short");
+  const std::uint64_t buffer = 32u << 20;
+  const ClusterPlan p = buildPlan(scriptedGeneration(dir, {"x", "y", "z"}, "echo >> \"$3\" && exec dd if=/dev/zero "
+                                                     "of=/dev/null bs=32M count=1 status=none\n"));
+  writePlan(p, dir / "plan", false);
+  fs::create_directories(dir / "plan" / "data");  // no mkdir in the task: it ends sooner
+  const auto ran = test::runCli("cluster run-local " + (dir / "plan").string() + " --quiet");
+  INFO(ran.output);
+  std::size_t generated = 0;
+  for (const TaskMeasurement& m : readMeasurements(dir / "plan")) {
+    if (m.stage != "generate") continue;
+    INFO(m.label << ": " << m.wall_seconds << " s");
+    ++generated;
+    CHECK(m.peak_bytes >= buffer);
+    CHECK(m.peak_bytes < buffer + (256u << 20));  // KiB read as KiB: not 1024 times more
+  }
+  CHECK(generated == 3);
+  const auto r = test::runCli("cluster status " + (dir / "plan").string());
+  INFO(r.output);
+  const auto at = r.output.find("peak memory ", r.output.find("  stage generate: 3 of 3 tasks"));
+  REQUIRE(at != std::string::npos);
+  CHECK(std::stod(r.output.substr(at + 12)) >= double(buffer) / 1e6);
 }
 
 TEST_CASE("cluster plan warns when the binary or the plan folder is on a file system compute nodes do not share") {
@@ -562,7 +598,7 @@ TEST_CASE("cluster plan --estimate-from carries measured tasks to a new plan and
   std::string names;
   for (const std::string& n : c.datasets) names += " --name " + n;
   const std::string plan_args = "cluster plan --unranked --blocks 1 --generate 'busy --out {out}' --generate-out "
-                                "'data/{dataset}' --grid octomap-opt:2 --occsweep " + (dir / "busy.sh").string() + names;
+                                "'data/{dataset}' --grid octomap-opt:2 --occsweep " + c.occsweep + names;
   const auto r = test::runCli(plan_args + " --out " + (dir / "new").string() + " --estimate-from " +
                               (dir / "measured").string() + " --mem merge=2G");
   INFO(r.output);

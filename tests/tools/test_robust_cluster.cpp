@@ -404,6 +404,29 @@ TEST_CASE("run-local and status never block on a FIFO, never follow a link out o
   CHECK(test::bytesOf(dir / "notes.txt") == "the user's notes\n");
 }
 
+// Old binary: `cluster submit` opened a FIFO at a stage's script to compare it with the plan's and waited for a
+// writer forever. It reads every script before it calls sbatch, so no Slurm is needed to see it.
+TEST_CASE("cluster submit refuses a FIFO at a stage's script, submissions.jsonl or plan.json at once, naming it") {
+  const fs::path dir = test::scratch("robust-cluster-submit-fifo");
+  makePlanInputs(dir);
+  REQUIRE(test::runIn(dir, planWith("p")).exit_code == 0);
+  const std::string script = "slurm/" + readPlan(dir / "p").stages.at(0).name + ".sbatch";
+  for (const std::string& name : {script, std::string("submissions.jsonl"), std::string("plan.json")}) {
+    INFO(name);
+    const fs::path entry = dir / "p" / name, kept = dir / "kept";
+    const bool existed = fs::exists(entry);
+    if (existed) fs::rename(entry, kept);
+    REQUIRE(::mkfifo(entry.c_str(), 0600) == 0);
+    const auto r = test::runShell("cd " + test::shellQuoted(dir) + " && timeout 30 " +
+                                  test::shellQuoted(test::cliUnderTest()) + " cluster submit p 2>&1");
+    INFO(r.output);
+    CHECK(r.exit_code == 2);  // not timeout's 124: it did not block
+    CHECK_THAT(r.output, Contains("p/" + name + ": is a FIFO (named pipe), expected a regular file"));
+    fs::remove(entry);
+    if (existed) fs::rename(kept, entry);
+  }
+}
+
 // docs/cluster.md: `cluster plan --force` is every command's --force: it replaces occsweep's own earlier plan
 // (proven by plan.json's own "format" field) and nothing else; a user's plan.json is refused with or without it,
 // byte-identical afterwards, and no plan file is written beside it. --replace is no flag.

@@ -21,7 +21,6 @@
 #include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/ownership.hpp"
-#include "occsweep/eval/process_stat.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 #include "occsweep/sweeps/progress.hpp"
 
@@ -251,8 +250,7 @@ class StageRun {
     writeRunningMarker(marker, pid);
   }
 
-  /// Waits for one task to end and checks its output, reading the running tasks' peak memory meanwhile; a signal
-  /// returns at once.
+  /// Waits for one task to end and checks its output; a signal returns at once.
   void reap() {
     for (;;) {
       int status = 0;
@@ -260,25 +258,21 @@ class StageRun {
       const pid_t pid = ::wait4(-1, &status, WNOHANG, &usage);
       if (pid < 0 && errno != EINTR) throw std::runtime_error(std::string("wait4 failed: ") + std::strerror(errno));
       if (pid > 0) return finish(pid, status, usage);
-      sampleMemory();
-      if (pid < 0 || ::usleep(kMemorySampleMicroseconds) != 0) return;  // interrupted: the caller sees the signal
+      if (pid < 0 || ::usleep(kPollMicroseconds) != 0) return;  // interrupted: the caller sees the signal
     }
   }
 
  private:
-  // How often a running task's peak memory is read (/proc/PID/status VmHWM: its own, since its exec).
-  static constexpr useconds_t kMemorySampleMicroseconds = 50'000;
-
-  void sampleMemory() {
-    for (auto& [pid, task] : running_) task.peak_bytes = std::max(task.peak_bytes, peakResidentBytes(pid));
-  }
+  // How often run-local looks for a task that has ended.
+  static constexpr useconds_t kPollMicroseconds = 50'000;
 
   void finish(pid_t pid, int status, const struct rusage& usage) {
     const auto it = running_.find(pid);
     if (it == running_.end()) return;
     const ClusterTask& t = stage_.tasks[it->second.task];
-    // A task too short for a sample: getrusage's peak, which also counts run-local's pages at the fork.
-    const std::uint64_t peak = it->second.peak_bytes > 0 ? it->second.peak_bytes : std::uint64_t(usage.ru_maxrss) * 1024;
+    // The kernel's peak over the task's whole life (KiB on Linux): samples of /proc while it runs would miss what a
+    // task does between two, and all of a task shorter than one (docs/cluster.md, "Measured tasks").
+    const std::uint64_t peak = std::uint64_t(usage.ru_maxrss) * 1024;
     const TaskMeasurement measured{stage_.name, t.index, t.label, t.argv,
                                    std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                                                  it->second.started).count(),
@@ -325,7 +319,6 @@ class StageRun {
     std::size_t slot;
     std::chrono::steady_clock::time_point started;
     RunningMarker marker;
-    std::uint64_t peak_bytes = 0;  ///< the largest VmHWM read while it ran
   };
   const ClusterStage& stage_;
   std::size_t tasks_;

@@ -1,6 +1,7 @@
 // `cluster select`: one folder of links per data set, pcs-NNNN and rank-N, over the rankings of every generation
 // block, so that sweep tasks planned before generation can name "the 800th ranked point cloud set" (paper 4.3).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -59,11 +60,49 @@ bool isSelectionFolder(const fs::path& dir) {
   return !ec;
 }
 
+/// The fields of ranking.json that name the generation whose sets it ranks (writeRanking,
+/// tools/stereo/src/ranking.cpp): one data set, scale, seed, point cloud grid and options. Sets of two generations
+/// are not one data set's ranking (docs/cluster.md, "Decisions the definitions leave open").
+constexpr std::array<const char*, 5> kGenerationFields = {"dataset", "scale", "seed", "pointcloud_grid", "options"};
+
+nlohmann::json generationOf(const nlohmann::json& ranking) {
+  nlohmann::json generation = nlohmann::json::object();
+  for (const char* field : kGenerationFields)
+    if (ranking.contains(field)) generation[field] = ranking[field];
+  return generation;
+}
+
+/// Refuses a ranking of another generation than the first one's, naming both files and the first field that differs.
+void requireSameGeneration(const nlohmann::json& generation, const nlohmann::json& first, const fs::path& first_file) {
+  const auto shown = [](const nlohmann::json& g, const char* field) {
+    return g.contains(field) ? g[field].dump() : std::string("none recorded");
+  };
+  for (const char* field : kGenerationFields)
+    if (shown(generation, field) != shown(first, field))
+      throw std::runtime_error(std::string(field) + " " + shown(generation, field) + ", but " + first_file.string() +
+                               " has " + shown(first, field) + ": select ranks the blocks of one data set's "
+                               "generation together; give only rankings of the same data set, scale, seed, point "
+                               "cloud grid and options (nothing was written)");
+}
+
+/// `cluster select` has no --force: it replaces only a folder it wrote (isSelectionFolder); anything else at --out is
+/// refused, saying what to do (a link is refused by checkOutputTarget).
+void requireNoOtherFolder(const fs::path& out) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(out, ec);
+  const bool empty_folder = fs::is_directory(st) && fs::is_empty(out, ec);
+  if (!fs::exists(st) || fs::is_symlink(st) || empty_folder || isSelectionFolder(out)) return;
+  throw std::runtime_error(out.string() + ": exists and is not occsweep's folder of selected point cloud sets (its "
+                           "sets.json and the links it lists, nothing else), the only folder select replaces: move it "
+                           "away, or give another --out (nothing was written)");
+}
+
 }  // namespace
 
 std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& out) {
   std::vector<RankedSet> sets;
   std::set<std::uint64_t> ids;
+  nlohmann::json generation;
   for (const auto& file : rankings) {
     const std::string text = readFileBytes(file);  // refuses folders and FIFOs by name
     nlohmann::json j;
@@ -71,6 +110,8 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
       j = nlohmann::json::parse(text);
       if (j.value("format", "") != "occsweep-pointcloud-ranking")
         throw std::runtime_error("format: expected \"occsweep-pointcloud-ranking\"");
+      if (generation.is_null()) generation = generationOf(j);  // the first ranking's
+      requireSameGeneration(generationOf(j), generation, rankings.front());
       for (const auto& s : j.at("sets")) {
         RankedSet r{s.at("folder").get<std::string>(), {}, s.at("id").get<std::uint64_t>(), NAN, NAN};
         // The folder names a link in --out: one name, never a path that leads elsewhere (docs/cluster.md).
@@ -94,6 +135,7 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
   std::stable_sort(sets.begin(), sets.end(), better);
   // Built beside `out` and renamed into place: a killed task leaves no half folder.
   const fs::path target = fs::absolute(out);
+  requireNoOtherFolder(target);
   checkOutputTarget(target, true, {"folder of selected point cloud sets", isSelectionFolder});
   OutputFolder folder(target);
   const fs::path& tmp = folder.path();
@@ -106,7 +148,10 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
   }
   // Written in the temporary folder directly: an interrupt that removed the folder makes this write fail, where
   // an atomic write would make the folder again.
-  writeFileChecked(tmp / "sets.json", nlohmann::json{{"format", "occsweep-selected-sets"}, {"sets", list}}.dump(1) + '\n');
+  nlohmann::json selected = generation;  // which data set's sets these are
+  selected["format"] = "occsweep-selected-sets";
+  selected["sets"] = list;
+  writeFileChecked(tmp / "sets.json", selected.dump(1) + '\n');
   folder.commit();
   return sets.size();
 }

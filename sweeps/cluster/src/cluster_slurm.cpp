@@ -1,10 +1,9 @@
 // Talking to Slurm: reading its records of a plan's array tasks, and submitting stages as chained job arrays.
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 
 namespace occsweep {
@@ -36,9 +35,14 @@ std::string firstWord(const std::string& s) { return s.substr(0, s.find(' ')); }
 /// task = array index, ignoring the offset of a split array, and one edited by hand is not the plan's.
 void requireCurrentScript(const ClusterPlan& plan, const ClusterStage& stage, const fs::path& dir) {
   const fs::path script = dir / "slurm" / (stage.name + ".sbatch");
-  std::ifstream in(script, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.good() && !in.eof()) throw std::runtime_error(script.string() + ": cannot read the stage's script");
+  std::string bytes;
+  try {
+    bytes = readFileBytes(script);  // a FIFO there is refused at once, never waited on
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string(e.what()) + " (the stage's script): move away what stands at that name, "
+                             "write the plan again with the same `occsweep cluster plan` command, then submit "
+                             "(nothing was submitted)");
+  }
   if (bytes != sbatchScript(plan, stage))
     throw std::runtime_error(script.string() + ": not the script this occsweep writes for the plan (one an earlier "
                              "occsweep wrote, or edited by hand): write the plan again with the same `occsweep "

@@ -6,7 +6,6 @@
 #include <cstring>
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <set>
 
@@ -126,17 +125,12 @@ std::string checkOutput(const ClusterTask& task, const fs::path& dir) {
     switch (task.kind) {
       case OutputKind::Exists:
         return "";
-      case OutputKind::Dataset: {
+      case OutputKind::Dataset: {  // readJsonFile refuses a FIFO, which would block `cluster status`
         if (!fs::exists(file / "manifest.json")) return "no manifest.json";
-        requireRegularFile(file / "manifest.json");  // a FIFO would block `cluster status`
-        std::ifstream in(file / "manifest.json");
-        const auto manifest = nlohmann::json::parse(in);
-        return manifest.is_object() ? "" : "manifest.json is not an object";
+        return readJsonFile(file / "manifest.json").is_object() ? "" : "manifest.json is not an object";
       }
       case OutputKind::Comparison: {
-        requireRegularFile(file);
-        std::ifstream in(file);
-        const auto j = nlohmann::json::parse(in);
+        const auto j = readJsonFile(file);
         if (!j.is_object() || j.value("format", "") != "occsweep-comparison" || !j.contains("rows") ||
             !j["rows"].is_array())
           return "not an occsweep-comparison file";
@@ -207,15 +201,20 @@ bool outputStale(const ClusterTask& task, const fs::path& dir) {
 namespace {
 
 /// One whole line appended to a plan file, never through a symbolic link at its name (docs/robustness.md,
-/// "Ownership"); O_APPEND: one write, one line.
+/// "Ownership"), and only to a regular file: O_NONBLOCK, so that a FIFO there is refused, never waited on; O_APPEND:
+/// one write, one line.
 void appendLine(const fs::path& file, const std::string& line) {
-  const int fd = ::open(file.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-  if (fd < 0)
-    throw std::runtime_error(file.string() + (errno == ELOOP ? ": is a symbolic link: occsweep never writes through "
-                                                               "one; remove it"
-                                                             : ": cannot open: " + std::string(std::strerror(errno))));
-  const bool written = ::write(fd, line.data(), line.size()) == ssize_t(line.size());
-  ::close(fd);
+  const int fd = ::open(file.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
+  const int error = fd < 0 ? errno : 0;  // ENXIO: a FIFO that no process reads
+  struct stat opened {};
+  const bool regular = fd >= 0 && ::fstat(fd, &opened) == 0 && S_ISREG(opened.st_mode);
+  const bool written = regular && ::write(fd, line.data(), line.size()) == ssize_t(line.size());
+  if (fd >= 0) ::close(fd);
+  if (error == ELOOP)
+    throw std::runtime_error(file.string() + ": is a symbolic link: occsweep never writes through one; remove it");
+  if (error != 0 && error != ENXIO) throw std::runtime_error(file.string() + ": cannot open: " + std::strerror(error));
+  if (!regular)
+    throw std::runtime_error(file.string() + ": is not a regular file: occsweep appends only to one; move it away");
   if (!written) throw std::runtime_error(file.string() + ": cannot append");
 }
 
