@@ -284,6 +284,11 @@ TEST_CASE("cluster select replaces its own folder of links, never a user's folde
   INFO(r.output);
   CHECK(r.exit_code == 2);
   CHECK(mentions(r, "w: exists and is not occsweep's"));
+  // What to do instead, and no word of --force, which cluster select does not have (old binary: "refused even with
+  // --force").
+  CHECK(mentions(r, "nothing was changed: move or remove it, or give --out another path"));
+  CHECK_FALSE(mentions(r, "--force"));
+  CHECK_FALSE(mentions(runIn(dir, "cluster select --help"), "--force"));
   CHECK(snapshot(dir) == before);
   CHECK(leftovers(dir).empty());
 }

@@ -59,6 +59,18 @@ bool isSelectionFolder(const fs::path& dir) {
   return !ec;
 }
 
+// `cluster select` has no --force: it replaces its own folder of links and nothing else, so a folder that is not its
+// own is refused with what to do instead (checkOutputTarget would say "even with --force").
+void requireOwnSelectionFolder(const fs::path& target) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(target, ec);
+  const bool empty_folder = fs::is_directory(status) && fs::is_empty(target, ec);
+  if (!fs::exists(status) || fs::is_symlink(status) || empty_folder || isSelectionFolder(target)) return;
+  throw OutputError(target.string() + ": exists and is not occsweep's folder of selected point cloud sets (its "
+                    "sets.json and the links that lists, nothing else); nothing was changed: move or remove it, or "
+                    "give --out another path");
+}
+
 }  // namespace
 
 std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& out) {
@@ -94,6 +106,7 @@ std::size_t selectRanked(const std::vector<fs::path>& rankings, const fs::path& 
   std::stable_sort(sets.begin(), sets.end(), better);
   // Built beside `out` and renamed into place: a killed task leaves no half folder.
   const fs::path target = fs::absolute(out);
+  requireOwnSelectionFolder(target);
   checkOutputTarget(target, true, {"folder of selected point cloud sets", isSelectionFolder});
   OutputFolder folder(target);
   const fs::path& tmp = folder.path();
