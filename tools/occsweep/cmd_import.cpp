@@ -149,10 +149,12 @@ struct ImportCommands {
 /// Options every import has; scan imports name the data set from --name, truth keeps the data set's name.
 void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
   for (CLI::App* sub : {subs.depth, subs.graph, subs.cloud, subs.truth}) {
-    CLI::Option* files = sub->add_option("files", o.files, "Input files, in scan order");
+    CLI::Option* files = sub->add_option("files", o.files, "Input files, in scan order")->type_name(kPath);
     // depth and cloud check it themselves (requireFramesBeforePoses): a --poses before the frames takes them all
     if (sub == subs.graph || sub == subs.truth) files->required();
-    sub->add_option("--out", o.out, "Output data-set folder (written atomically; a new one, or occsweep's own with --force)")->required();
+    sub->add_option("--out", o.out, "Output data-set folder (written atomically; a new one, or occsweep's own with "
+                                    "--force)")
+        ->type_name(kPath)->required();
     sub->add_flag("--force", o.force, "Replace occsweep's own previous data set at --out (nothing else)");
     if (sub != subs.truth) sub->add_option("--name", o.name, "Data-set name (default: the output folder's name)");
   }
@@ -174,6 +176,7 @@ void addDepthOptions(CLI::App& depth, ImportOptions& o) {
   DepthImportConfig& c = o.depth;
   depth.add_option("--poses", o.poses, "Pose file, camera-to-world: one for all images (one pose each, or a TUM "
                                       "trajectory matched by timestamp), or one per image in order; after the images")
+      ->type_name(kPath)
       ->required();
   addPoseOptions(&depth, o);
   depth.add_option("--depth-scale", c.depth_scale, "Raw units per metre (1000 = mm; TUM/ICL-NUIM 5000)")->capture_default_str();
@@ -187,7 +190,7 @@ void addDepthOptions(CLI::App& depth, ImportOptions& o) {
 
 void addCloudOptions(CLI::App& cloud, ImportOptions& o) {
   cloud.add_option("--poses", o.poses, "Pose file, sensor-to-world: one for all clouds, or one per cloud in order; "
-                                      "after the clouds (default: clouds in world frame)");
+                                      "after the clouds (default: clouds in world frame)")->type_name(kPath);
   addPoseOptions(&cloud, o);
   cloud.add_option("--origin", o.origin, "Sensor origin of every cloud when there is no pose file")->expected(3);
   cloud.add_option("--view-axis", o.view_axis, "X Y Z: the sensor's cone axis, in the sensor frame with --poses "
@@ -216,7 +219,7 @@ std::optional<ConeView> coneOfFlags(const ImportOptions& o) {
 }
 
 void addTruthOptions(CLI::App& truth, ImportOptions& o) {
-  truth.add_option("--dataset", o.dataset, "Data set to add the truth to")->required();
+  truth.add_option("--dataset", o.dataset, "Data set to add the truth to")->type_name(kPath)->required();
   truth.add_option("--region", o.region, "Evaluation region: minx miny minz maxx maxy maxz (default: the truth's bounding box grown by 0.5 m)")->expected(6);
 }
 

@@ -86,9 +86,9 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   CLI::App* check = app.add_subcommand("check", "Exit 0 when FILE is a complete, consistent results file (docs/results-format.md)");
   auto dataset = std::make_shared<std::string>();
   addExample(*check, "occsweep results check knn.json");
-  check->add_option("file", *file, "Results file")->required();
+  check->add_option("file", *file, "Results file")->type_name(kPath)->required();
   check->add_option("--dataset", *dataset, "Also check against this data set: its content hash, and every threshold "
-                                           "counting its region's and its truth's voxels");
+                                           "counting its region's and its truth's voxels")->type_name(kPath);
   addLimitOptions(*check, {Limit::Combinations});  // the grid is enumerated to check every map
   CLI::App* diff = app.add_subcommand("diff", "Exit 0 when NEW has GOLDEN's confusion counts and AUCs, else 1 with a "
                                               "table of what changed (docs/results-format.md)");
@@ -97,8 +97,8 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
                     "occsweep results diff knn.json knn-direct.json");
   auto candidate = std::make_shared<std::string>();
   auto auc_tolerance = std::make_shared<double>(0.0);
-  diff->add_option("golden", *golden, "The results file to match")->required();
-  diff->add_option("new", *candidate, "The results file to check")->required();
+  diff->add_option("golden", *golden, "The results file to match")->type_name(kPath)->required();
+  diff->add_option("new", *candidate, "The results file to check")->type_name(kPath)->required();
   addLimitOptions(*diff, {Limit::Combinations});  // each file's grid is enumerated to check its maps
   diff->add_option("--auc-tolerance", *auc_tolerance, "How far an AUC may move (default 0: exactly)")
       ->check(numberAtLeast(0.0));
@@ -112,8 +112,9 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   auto source = std::make_shared<std::string>();
   addExample(*export_, "occsweep results export knn.json --out knn.csv");
   auto to = std::make_shared<ExportTarget>();
-  export_->add_option("file", *source, "Results file or store")->required();
-  export_->add_option("--out", to->out, "The converted file: .csv, .db/.sqlite or JSON, by its name")->required();
+  export_->add_option("file", *source, "Results file or store")->type_name(kPath)->required();
+  export_->add_option("--out", to->out, "The converted file: .csv, .db/.sqlite or JSON, by its name")
+      ->type_name(kPath)->required();
   export_->add_flag("--force", to->force, "Replace occsweep's own output of the same kind at the target");
   addLimitOptions(*export_, {Limit::Combinations});  // the grid is enumerated to check every map
   app.require_subcommand(1);

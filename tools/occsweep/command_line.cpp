@@ -58,6 +58,7 @@ int runCommandLine(int argc, char** argv) {
     CLI::App* sub = app.add_subcommand(spec.name, spec.help);
     runners[sub] = {&spec, spec.setup(*sub)};
   }
+  refuseEmptyPaths(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -15,6 +15,10 @@
 
 namespace occsweep::cli {
 
+/// The value name of an option that takes a file or a folder (`--out PATH` in --help): an empty value is refused
+/// as one that "needs a path" (refuseEmptyPaths, usage_errors.hpp).
+inline constexpr const char* kPath = "PATH";
+
 /// A bound as a person writes it: 0.5, 1, 1e-06 (not 0.500000).
 inline std::string plainNumber(double v) {
   char buf[32];
