@@ -121,10 +121,10 @@ std::pair<CLI::App*, std::function<int()>> addDatasetMiddlebury(CLI::App& datase
       ->capture_default_str();
   mb->add_option("--out", o->out, "Output folder")->type_name(kPath)->required();
   mb->add_option("--leaf", o->leaf, "Truth voxel size and the voxel filter's leaf, metres (sweep at this resolution)")
-      ->capture_default_str()->check(numberAbove(0));
+      ->capture_default_str()->check(voxelLeaf());
   auto* filter = mb->add_option("--voxel-filter", o->voxel_filter, "LEAF metres: PCL VoxelGrid's filter at this leaf "
                                 "instead of --leaf (truth stays at --leaf), as import's flag")
-                     ->check(numberAbove(0));
+                     ->check(voxelLeaf());
   mb->add_flag("--no-voxel-filter", o->no_voxel_filter, "Write the raw reprojected points, one per valid disparity "
                "(truth stays at --leaf), as dataset generate's flag")->excludes(filter);
   mb->add_option("--focal", o->focal, "Focal length, pixels (full size)")->capture_default_str()->check(numberAbove(0));

@@ -168,7 +168,7 @@ void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
         ->expected(3);
     sub->add_option("--voxel-filter", o.voxel_filter, "LEAF metres: per scan, PCL VoxelGrid's filter (one point per "
                     "voxel at its points' centroid), after --shift; recorded as source.voxel_filter_leaf (default: off)")
-        ->check(numberAbove(0));
+        ->check(voxelLeaf());
   }
 }
 

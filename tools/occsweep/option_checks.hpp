@@ -82,4 +82,10 @@ inline CLI::Validator numberAtLeast(double lo) {
 /// A probability: [0, 1].
 inline CLI::Validator probability() { return numberIn(0.0, 1.0); }
 
+/// The leaf of a voxel filter or of the truth's voxels, metres: a micrometre at least. Finer, float32 coordinates a
+/// few metres from the origin lie farther apart than a leaf (nothing would be filtered), and a voxel's index, a
+/// coordinate over the leaf, soon passes the 62 bits it is kept in (core/voxel_filter.hpp): 1e-300 failed on the
+/// first point.
+inline CLI::Validator voxelLeaf() { return numberAtLeast(1e-6); }
+
 }  // namespace occsweep::cli
