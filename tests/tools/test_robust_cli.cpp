@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_help.hpp"
+#include "occsweep/eval/control_characters.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "robust_cli_helpers.hpp"
 
@@ -363,6 +364,48 @@ TEST_CASE("import truth keeps the name of --dataset, as its help says") {
   REQUIRE(r.exit_code == 0);
   CHECK(readDataset(dir / "ds").name == readDataset(dir / "raw").name);
   CHECK_THAT(r.output, Contains("data set \"" + readDataset(dir / "raw").name + "\""));
+}
+
+TEST_CASE("import --name refuses control characters, as a grid's name does, and shows them escaped") {
+  // Old binary: the name was kept, and `compare` printed its line break and escape sequence as they are: a cleared
+  // screen and a forged line "knn 0.99".
+  const fs::path dir = test::scratch("robust-cli-name-controls");
+  std::ofstream(dir / "a.xyz") << "1 0 0\n";
+  // printf's octal escapes (the tests' shell is sh): a line break and ESC [2J, a tab, DEL, the C1 control CSI
+  // (U+009B) and the bidirectional override U+202E, each as UTF-8.
+  const std::vector<std::pair<std::string, std::string>> names = {
+      {"a\\n\\033[2Jknn 0.99", "'a\\n\\x1b[2Jknn 0.99'"}, {"tab\\there", "'tab\\there'"}, {"del\\177", "'del\\x7f'"},
+      {"c1\\302\\23331m", "'c1\\u009b31m'"}, {"bidi\\342\\200\\256fdp", "'bidi\\u202efdp'"}};
+  for (const auto& [octal, shown] : names)
+    requireUsageError("import cloud " + (dir / "a.xyz").string() + " --name \"$(printf '" + octal + "')\" --out " +
+                          (dir / "ds").string(),
+                      "--name must be UTF-8 text without control characters (line breaks, tabs, escape sequences), "
+                      "got " + shown, dir);
+  // A name of letters beyond ASCII is a name like another.
+  const auto r =
+      test::run("import cloud " + (dir / "a.xyz").string() + " --name 'Łódź 名字' --out " + (dir / "ds").string());
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(readDataset(dir / "ds").name == "Łódź 名字");
+}
+
+// RFC 3629 worked by hand: what a terminal would act on, or could not show, is escaped; any other UTF-8 stays.
+TEST_CASE("names shown on a terminal keep UTF-8 and escape control characters and bytes that are not UTF-8") {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"Łódź 名字 \xf0\x9f\x98\x80 a\\b", "Łódź 名字 \xf0\x9f\x98\x80 a\\b"},  // kept, a backslash too
+      {"a\nb\r\t\x1b[2J\x7f", "a\\nb\\r\\t\\x1b[2J\\x7f"},          // C0 and DEL
+      {"\xc2\x85\xc2\x9b\xe2\x80\xae\xe2\x81\xa6", "\\u0085\\u009b\\u202e\\u2066"},  // C1, bidirectional
+      {"\xc2\xa0|\xe2\x80\xaf", "\xc2\xa0|\xe2\x80\xaf"},  // U+00A0 after the C1 controls, U+202F after U+202E
+      {"\xc0\xaf", "\\xc0\\xaf"},                            // an overlong '/'
+      {"\xed\xa0\x80", "\\xed\\xa0\\x80"},                  // a surrogate
+      {"\xf4\x90\x80\x80", "\\xf4\\x90\\x80\\x80"},          // above U+10FFFF
+      {"\xe5\x90", "\\xe5\\x90"},                            // cut short
+      {"\xff", "\\xff"}};
+  for (const auto& [text, shown] : cases) {
+    INFO(shown);
+    CHECK(escapedControlCharacters(text) == shown);
+    CHECK(hasControlCharacters(text) == (shown != text));
+  }
 }
 
 TEST_CASE("progress into a log is whole lines, and mapdiff prints its JSON alone") {

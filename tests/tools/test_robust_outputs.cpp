@@ -271,6 +271,28 @@ TEST_CASE("compare's CSV, Markdown and LaTeX show 24 names of random printable c
   CHECK(read.output == all_same);
 }
 
+TEST_CASE("compare and sweep show a data set name's line breaks and escape sequences escaped, forging no line",
+          "[outputs]") {
+  // Old binary: the name (from a data set folder made by hand, or another program's results) was printed as it is:
+  // ESC [2J cleared the terminal and the line break put a forged "knn 0.99" line under it.
+  const fs::path dir = withScene("robust_outputs/terminal_names");
+  const std::string forged = "a\nknn     AUC 0.9900 \x1b[2J\r\xc2\x9b" "2K\xe2\x80\xae";  // CSI (U+009B), then 2K
+  const std::string shown = "a\\nknn     AUC 0.9900 \\x1b[2J\\r\\u009b2K\\u202e";
+  nlohmann::json manifest = nlohmann::json::parse(fileBytes(dir / "scene/manifest.json"));
+  manifest["name"] = forged;
+  writeBytes(dir / "scene/manifest.json", manifest.dump());
+  const CommandResult sweep = runIn(dir, "sweep --dataset scene --grid tiny.json --out r.json");  // its phases
+  REQUIRE(sweep.exit_code == 0);
+  const CommandResult compare = runIn(dir, "compare r.json");
+  REQUIRE(compare.exit_code == 0);
+  for (const CommandResult& r : {sweep, compare}) {
+    INFO(r.output);
+    CHECK(mentions(r, shown));
+    for (const std::string control : {"\x1b", "\r", "\xc2\x9b", "\xe2\x80\xae"}) CHECK_FALSE(mentions(r, control));
+    CHECK_FALSE(mentions(r, "\nknn     AUC 0.9900"));
+  }
+}
+
 TEST_CASE("cluster select replaces its own folder of links, never a user's folder", "[outputs]") {
   const fs::path dir = scratch("robust_outputs/select");
   fs::create_directories(dir / "ds/pcs-0000");

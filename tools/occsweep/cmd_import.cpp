@@ -14,6 +14,7 @@
 #include "occsweep/core/limits.hpp"
 #include "occsweep/core/map_settings.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
+#include "occsweep/eval/control_characters.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_cloud.hpp"
@@ -60,8 +61,8 @@ void shiftOrWarn(Dataset& d, const ImportOptions& o, bool placed = false) {
   for (std::size_t a = 0; a < 3; ++a)
     if (!range.holds(b.min[a]) || !range.holds(b.max[a])) {
       const auto s = centringShift(d.scans, range);
-      std::cerr << "occsweep import: warning: " << o.out << ": the scans reach [" << b.min[a] << ", " << b.max[a]
-                << "] m on axis " << "xyz"[a] << ", outside OctoMap's key range " << range.text()
+      std::cerr << "occsweep import: warning: " << escapedControlCharacters(o.out) << ": the scans reach [" << b.min[a]
+                << ", " << b.max[a] << "] m on axis " << "xyz"[a] << ", outside OctoMap's key range " << range.text()
                 << ": map and sweep will refuse them at that resolution; import with --shift " << s[0] << ' ' << s[1]
                 << ' ' << s[2] << " to centre them\n";
       return;
@@ -109,7 +110,8 @@ int finish(Dataset d, const ImportOptions& o, const std::string& region_origin) 
   d.name = !o.name.empty() ? o.name : outputTarget(o.out).filename().string();  // "ds/" is named ds
   if (d.name.empty()) d.name = "imported";
   writeDataset(d, o.out);  // atomic: built beside the target, then renamed
-  std::cout << "wrote " << o.out << ": data set \"" << d.name << "\", " << d.scans.size() << " scans, " << pointCount(d.scans) << " points";
+  std::cout << "wrote " << escapedControlCharacters(o.out) << ": data set \"" << escapedControlCharacters(d.name)
+            << "\", " << d.scans.size() << " scans, " << pointCount(d.scans) << " points";
   if (d.truth.boxes.empty() && d.truth.mesh.empty() && d.truth.points.empty())
     std::cout << ", no ground truth (region = bounding box)";
   else
@@ -156,9 +158,11 @@ void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
                                     "--force)")
         ->type_name(kPath)->required();
     sub->add_flag("--force", o.force, "Replace occsweep's own previous data set at --out (nothing else)");
-    if (sub != subs.truth) sub->add_option("--name", o.name, "Data-set name (default: the output folder's name)");
+    if (sub != subs.truth)
+      sub->add_option("--name", o.name, "Data-set name (default: the output folder's name)")->check(printableName());
   }
-  subs.truth->add_option("--name", o.name, "Data-set name (default: the name of --dataset, kept)");
+  subs.truth->add_option("--name", o.name, "Data-set name (default: the name of --dataset, kept)")
+      ->check(printableName());
   addLimitOptions(*subs.depth, {Limit::ImagePixels, Limit::Points});
   for (CLI::App* sub : {subs.graph, subs.cloud, subs.truth}) addLimitOptions(*sub, {Limit::Points});
   for (CLI::App* sub : {subs.depth, subs.graph, subs.cloud}) {

@@ -35,20 +35,22 @@ int runDiff(const std::string& golden_file, const std::string& new_file, double 
   const ResultsDiff diff = diffResults(golden, candidate, auc_tolerance, counts);
   const std::string checked = std::string(counts == CountsCheck::Exact ? "confusion counts exact, " : "") +
                               "AUC within " + plainNumber(auc_tolerance);
+  const std::string shown_new = escapedControlCharacters(new_file);
+  const std::string shown_golden = escapedControlCharacters(golden_file);
   if (diff.empty()) {
-    std::cout << new_file << ": same numbers as " << golden_file << ": " << diff.golden_maps << " maps, "
+    std::cout << shown_new << ": same numbers as " << shown_golden << ": " << diff.golden_maps << " maps, "
               << diff.golden_combinations << " combinations, " << checked << '\n';
     return 0;
   }
   if (!diff.header.empty()) {
     printDifferences(diff.header);
-    std::cout << new_file << ": not comparable with " << golden_file << ": " << diff.header.size()
+    std::cout << shown_new << ": not comparable with " << shown_golden << ": " << diff.header.size()
               << " header field(s) differ; no combination compared\n";
     return 1;
   }
   printDifferences(diff.combinations);
-  std::cout << new_file << ": " << diff.combinations.size() << " difference(s) from " << golden_file
-            << " (" << checked << ")\n";
+  std::cout << shown_new << ": " << diff.combinations.size() << " difference(s) from " << shown_golden << " ("
+            << checked << ")\n";
   return 1;
 }
 
@@ -66,7 +68,7 @@ int runExport(const std::string& source, const ExportTarget& to) {
     // What `results check` refuses is never exported; checked and read in one pass, so what is written is what was
     // checked even when the source is replaced at its name meanwhile.
     writeResultsStore(readCheckedResults(source, MapDetail::Full), to.out);
-    std::cout << "wrote " << to.out << '\n';
+    std::cout << "wrote " << escapedControlCharacters(to.out) << '\n';
     return 0;
   }
   const bool csv = isCsvPath(to.out);
@@ -77,7 +79,7 @@ int runExport(const std::string& source, const ExportTarget& to) {
   else exportJson(source, out.stream());
   out.commit();
   if (csv) recordTextOutput(to.out);  // what a later --force may replace (recordedTextOutput)
-  std::cout << "wrote " << to.out << '\n';
+  std::cout << "wrote " << escapedControlCharacters(to.out) << '\n';
   return 0;
 }
 
@@ -122,7 +124,7 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
     return runChosen({{check, [=] {
                          const ResultsCheck f = checkResultsFile(*file, *dataset);
                          // docs/results-format.md lists what each line vouches for.
-                         std::cout << *file << ": complete, " << f.maps << " maps";
+                         std::cout << escapedControlCharacters(*file) << ": complete, " << f.maps << " maps";
                          if (f.grid_checked)
                            std::cout << ", every map and threshold of the selection once, parameters match grid ";
                          else if (f.header.selection.shard_count == 1)
@@ -133,7 +135,8 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
                                         "grid ";
                          std::cout << f.header.grid_name;
                          if (f.header.truth == TruthMode::Observable) std::cout << ", observable truth (map.truth)";
-                         if (!dataset->empty()) std::cout << "; counts match the region and truth of " << *dataset;
+                         if (!dataset->empty())
+                           std::cout << "; counts match the region and truth of " << escapedControlCharacters(*dataset);
                          std::cout << '\n';
                          return 0;
                        }},

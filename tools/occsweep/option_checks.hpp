@@ -13,6 +13,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "occsweep/eval/control_characters.hpp"
+
 namespace occsweep::cli {
 
 /// The value name of an option that takes a file or a folder (`--out PATH` in --help): an empty value is refused
@@ -87,5 +89,18 @@ inline CLI::Validator probability() { return numberIn(0.0, 1.0); }
 /// coordinate over the leaf, soon passes the 62 bits it is kept in (core/voxel_filter.hpp): 1e-300 failed on the
 /// first point.
 inline CLI::Validator voxelLeaf() { return numberAtLeast(1e-6); }
+
+/// A name that tables and terminals show (a data set's, `import --name`): UTF-8 without control characters, since a
+/// line break or an escape sequence in it would forge or erase lines wherever it is printed; the same rule as a
+/// grid's name (path_component.hpp).
+inline CLI::Validator printableName() {
+  return CLI::Validator(
+      [](std::string& text) {
+        return hasControlCharacters(text) ? "must be UTF-8 text without control characters (line breaks, tabs, escape "
+                                            "sequences), got '" + escapedControlCharacters(text) + "'"
+                                          : std::string();
+      },
+      "");
+}
 
 }  // namespace occsweep::cli

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <cctype>
 
+#include "occsweep/eval/control_characters.hpp"
 #include "option_checks.hpp"
 
 namespace occsweep::cli {
@@ -149,7 +150,8 @@ void refuseEmptyPaths(CLI::App& app) {
 int reportParseError(CLI::App& app, const CLI::ParseError& error, int argc, char** argv) {
   if (error.get_exit_code() == 0) return app.exit(error);  // --help, --version
   const Diagnosis d = diagnose(app, argc, argv);
-  std::cerr << d.path << ": error: " << (d.message.empty() ? reworded(*d.command, error) : d.message) << '\n'
+  const std::string message = d.message.empty() ? reworded(*d.command, error) : d.message;
+  std::cerr << d.path << ": error: " << escapedControlCharacters(message) << '\n'
             << "Run '" << d.path << " --help' for the options.\n";
   return 2;
 }
