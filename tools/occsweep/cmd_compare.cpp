@@ -219,6 +219,7 @@ void writeOutputs(const CompareTask& o, const nlohmann::json& comparison, const 
 int runCompare(const CompareTask& o) {
   checkOutputs(o);
   const std::vector<ResultsFile> in = readChecked(o.files, MapDetail::Summary);
+  if (!o.latex.empty()) requireLatexCharacters(in, o.files);  // before any table is printed
   if (const std::string why = mixedTruths(in, o.files); !why.empty()) throw std::runtime_error("cannot compare: " + why);
   const TruthMode truth = in.front().header.truth;
   const auto mixed = checkMixed(in, o);
