@@ -6,6 +6,7 @@ usage: plot_results.py DATA.json FIG
 """
 import json
 import math
+import re
 import sys
 import textwrap
 import warnings
@@ -215,6 +216,21 @@ def params(d, st):
 FIGURES = {"curves": curves, "budget": budget, "improvement": improvement, "params": params}
 
 
+def missing_glyph(d, warning):
+    """What matplotlib's "Glyph N (...) missing from current font" warning means, and the fix: the character, the
+    data set or method name that holds it, the font; None for another warning."""
+    found = re.match(r"Glyph (\d+) ", str(warning))
+    if not found:
+        return None
+    ch = chr(int(found.group(1)))
+    names = [("data set", s["set"]) for s in d.get("sets", [])]
+    names += [("method", m["name"]) for m in d["style"]["methods"].values()]
+    held = next((f" of the {what} name {name!r}" for what, name in names if ch in name), "")
+    return (f"the font ({plt.rcParams['font.sans-serif'][0]}) has no glyph for the character {ch!r} (U+{ord(ch):04X}){held}: import the data set "
+            "again under a name without it (occsweep import --name), give the method a display name without it "
+            "(--style), or name a font that has it first in font.sans-serif of a matplotlibrc")
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
@@ -236,8 +252,11 @@ def main():
         style = Style(d)
         save(FIGURES[d["kind"]](d, style), sys.argv[2], figure_format, style)
     except (DoesNotFit, UserWarning) as e:
-        sys.exit(f"plot_results.py: the {d['kind']} figure's text does not fit or cannot be drawn: {e}; choose a "
-                 "wider --print-width, a smaller --font-size or shorter display names (--style)")
+        glyph = missing_glyph(d, e)
+        if glyph:
+            sys.exit(f"plot_results.py: cannot draw the {d['kind']} figure: {glyph}")
+        sys.exit(f"plot_results.py: the {d['kind']} figure's text does not fit: {e}; choose a wider --print-width, a "
+                 "smaller --font-size or shorter display names (--style)")
     except Exception as e:  # one line, never a traceback: occsweep reports the failure and writes nothing
         first = str(e).splitlines()[0] if str(e) else ""
         sys.exit(f"plot_results.py: cannot draw the {d['kind']} figure: {type(e).__name__}: {first}")

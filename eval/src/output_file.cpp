@@ -382,6 +382,9 @@ void checkOutputTarget(const fs::path& target, bool force, const ReplaceableOutp
   if (fs::is_symlink(fs::symlink_status(t, ec)))
     throw OutputError(target.string() + ": is a symbolic link: occsweep never writes through or replaces one, even "
                       "with --force (nothing was changed); give the path it points to, or choose another path");
+  // A FIFO, socket or device is no one's output, and reading it for occsweep's mark would wait for ever on a FIFO:
+  // refused at once, named by what it is (docs/robustness.md, "Limits and non-regular files").
+  if (fs::is_other(fs::symlink_status(t, ec))) requireRegularFile(t);
   TargetState state = stateOf(t);
   if (state.exists && !state.empty_folder) {
     if (!force)

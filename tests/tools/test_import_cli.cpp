@@ -160,6 +160,27 @@ TEST_CASE("import --voxel-filter: each scan is the voxel filter of the unfiltere
   }
 }
 
+TEST_CASE("import --voxel-filter below a micrometre is refused before any file is read, naming the value and bound") {
+  // Old binary: "voxelFilter: point 0 is not finite or too far out" for 1e-300, naming neither the flag nor the
+  // file, once every file was read.
+  const fs::path dir = test::scratch("import_voxel_leaf");
+  std::ofstream(dir / "a.xyz") << "0.01 0.02 0.03\n1 1 1\n";
+  for (const std::string input : {"a.xyz", "missing.xyz"})  // the leaf is refused before the file is opened
+    for (const std::string leaf : {"1e-300", "1e-7"}) {
+      const auto r = test::runCli("import cloud " + (dir / input).string() + " --voxel-filter " + leaf + " --out " +
+                                  (dir / "out").string());
+      INFO(r.output);
+      CHECK(r.exit_code == 2);
+      CHECK(r.output.find("--voxel-filter must be a number >= 1e-06, got " + leaf) != std::string::npos);
+      CHECK_FALSE(fs::exists(dir / "out"));
+    }
+  const auto at_bound = test::runCli("import cloud " + (dir / "a.xyz").string() + " --voxel-filter 1e-6 --out " +
+                                     (dir / "out").string());
+  INFO(at_bound.output);
+  CHECK(at_bound.exit_code == 0);
+  CHECK(readDataset(dir / "out").scans[0].points.size() == 2);
+}
+
 namespace {
 
 // A georeferenced coordinate (UTM-like: hundreds of km east, thousands north, a height) with centimetre digits.

@@ -285,3 +285,23 @@ TEST_CASE("a style file names, colours, marks and lines a method alike in every 
     CHECK_FALSE(fs::exists(dir / "bad.png"));
   }
 }
+
+TEST_CASE("a name with a character the figure's font lacks is refused naming the character and the name, not the width") {
+  // Old binary: "the curves figure's text does not fit or cannot be drawn: Glyph 21517 ... missing from current font;
+  // choose a wider --print-width, a smaller --font-size or shorter display names": a width would not help.
+  if (!haveMatplotlib()) {
+    WARN("no matplotlib: occsweep plot cannot draw here");
+    return;
+  }
+  const auto dir = test::processScratch("plot-glyph");
+  json named = json::parse(test::bytesOf(kGolden / "octomap-opt.json"));
+  named["dataset"]["name"] = "名字";
+  std::ofstream(dir / "zh.json") << named.dump();
+  const auto r = test::runIn(dir, "plot curves zh.json --out zh.png");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("has no glyph for the character '名' (U+540D) of the data set name '名字'") != std::string::npos);
+  CHECK(r.output.find("occsweep import --name") != std::string::npos);
+  CHECK(r.output.find("--print-width") == std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "zh.png"));
+}

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_help.hpp"
+#include "occsweep/eval/control_characters.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "robust_cli_helpers.hpp"
 
@@ -75,6 +77,22 @@ TEST_CASE("numeric flags are refused with their rule in plain numbers, exit 2, n
   requireUsageError("cluster run-local " + dir.string() + " --threads 0", "--threads must be an integer from 1 to 1024, got 0", dir);
 }
 
+TEST_CASE("a numeric flag's value that looks like an option (-inf, -nan) is read as its value and refused by its rule") {
+  // Old binary: "unknown option -inf": the message's own walk of the line took the value for a flag, which CLI11 had
+  // read as the value.
+  const fs::path dir = test::scratch("robust-cli-minus-inf");
+  const std::string ds = tinyScene().string(), out = (dir / "m.ot").string();
+  for (const std::string value : {"-inf", "-nan", "-infinity", "-INF"})
+    requireUsageError("results diff a.json b.json --auc-tolerance " + value,
+                      "--auc-tolerance must be a number >= 0, got " + value, dir);
+  requireUsageError("map --dataset " + ds + " --s-c -inf --out " + out, "--s-c must be a number > 0, got -inf", dir);
+  requireUsageError("map --dataset " + ds + " --p-t -nan --out " + out, "--p-t must be a number in [0, 1], got -nan", dir);
+  requireUsageError("scene --out " + (dir / "s").string() + " --noise -infinity",
+                    "--noise must be a number in [0, 1000], got -infinity", dir);
+  // An option after the value is still checked: a typo there is named.
+  requireUsageError("results diff a.json b.json --auc-tolerance -inf --auc-onyl", "unknown option --auc-onyl", dir);
+}
+
 TEST_CASE("a typo in a command or an option is exit 2 with the nearest valid name") {
   const fs::path dir = test::scratch("robust-cli-typos");
   const std::string ds = tinyScene().string(), out = (dir / "m.ot").string();
@@ -90,6 +108,71 @@ TEST_CASE("a typo in a command or an option is exit 2 with the nearest valid nam
   // A missing subcommand names the choices; a missing option names itself.
   requireUsageError("grid", "a command is required: one of count, list, shards", dir);
   requireUsageError("map --dataset " + ds, "--out is required", dir);
+}
+
+// An unset shell variable (`--out "$OUT"`) gives an empty path: refused naming the flag, before anything is read or
+// written (docs/robustness.md, "Messages, formats and the cluster").
+TEST_CASE("an empty path (an unset shell variable) is refused naming its flag, for every command with an --out") {
+  // Old binary: "filesystem error: cannot make absolute path" (scene, sweep, merge, import, results export,
+  // reproduce), a refusal of the name's ending (map, plot), nothing written without a word (compare --csv ''), or
+  // the output written into the current folder (cluster plan, dataset middlebury, dataset generate).
+  const fs::path dir = test::scratch("robust-cli-empty-paths"), real = test::sourceTree() / "tests/data/real";
+  copyDataset(tinyScene(), dir / "ds");
+  std::ofstream(dir / "a.xyz") << "1 0 0\n0 1 0\n";
+  std::ofstream(dir / "boxes.json") << R"({"boxes": [{"min": [-1, -1, 0], "max": [1, 1, 1]}]})";
+  fs::create_directories(dir / "gen/pcs-0000");
+  std::ofstream(dir / "gen/ranking.json") << R"({"format": "occsweep-pointcloud-ranking",
+    "sets": [{"folder": "pcs-0000", "id": 0, "naive": {"fdr": 0.1, "tpr": 0.9}}]})";
+  std::string images;
+  for (int i = 1; i <= 5; ++i) images += " " + (real / "slambook_joinMap/depth" / (std::to_string(i) + ".pgm")).string();
+  REQUIRE(test::runIn(dir, "sweep --dataset ds --grid octomap-opt --quiet --out r.json").exit_code == 0);
+  const std::map<std::string, std::string> before_out = {
+      {"cluster plan", "--experiment sweep --dataset ds --grid octomap-opt:1"},
+      {"cluster select", "gen/ranking.json"},
+      {"dataset generate", "--name parking-plain-I --pcs 0 --no-preview --quiet"},
+      {"dataset middlebury", "--quiet"},
+      {"import cloud", "a.xyz"},
+      {"import depth", images + " --poses " + (real / "slambook_joinMap/pose.txt").string() +
+                           " --fx 518 --fy 519 --cx 325.5 --cy 253.5"},
+      {"import graph", (real / "octomap_share_data/spherical_scan.graph").string()},
+      {"import truth", "boxes.json --dataset ds"},
+      {"map", "--dataset ds"},
+      {"merge", "r.json"},
+      {"plot budget", "r.json"},
+      {"plot curves", "r.json"},
+      {"plot improvement", "r.json"},
+      {"plot params", "r.json"},
+      {"reproduce", "--scale ci --no-figures --quiet --name parking-plain-I --steps fits"},
+      {"results export", "r.json"},
+      {"scene", "--scans 2 --width 8 --height 6"},
+      {"sweep", "--dataset ds --grid octomap-opt --quiet"}};
+  auto requireRefused = [&dir](const std::string& args, const std::string& flag) {
+    INFO("occsweep " << args);
+    const auto before = test::listing(dir);
+    const auto r = test::runIn(dir, args);  // in `dir`: what an empty path would put in the current folder shows
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output, Contains(flag + " needs a path, got an empty value (an unset shell variable?)"));
+    CHECK(test::listing(dir) == before);
+  };
+  std::map<std::string, test::LeafHelp> leaves;
+  test::walkHelp("", leaves);
+  std::size_t with_out = 0;
+  for (const auto& [command, help] : leaves) {
+    if (!help.flags.count("--out")) continue;
+    ++with_out;
+    INFO(command << " takes --out: give it its other arguments in this test");
+    REQUIRE(before_out.count(command));
+    requireRefused(command + " " + before_out.at(command) + " --out ''", "--out");
+  }
+  CHECK(with_out >= 14);
+  // compare's tables and plot's data, and paths read.
+  for (const std::string flag : {"--json", "--csv", "--markdown", "--latex"})
+    requireRefused("compare r.json " + flag + " ''", flag);
+  requireRefused("plot budget r.json --out b.png --json ''", "--json");
+  requireRefused("map --dataset '' --out m.ot", "--dataset");
+  requireRefused("results check ''", "file");
+  requireRefused("compare r.json ''", "files");
 }
 
 TEST_CASE("help and version (--help, --version) still exit 0") {
@@ -281,6 +364,48 @@ TEST_CASE("import truth keeps the name of --dataset, as its help says") {
   REQUIRE(r.exit_code == 0);
   CHECK(readDataset(dir / "ds").name == readDataset(dir / "raw").name);
   CHECK_THAT(r.output, Contains("data set \"" + readDataset(dir / "raw").name + "\""));
+}
+
+TEST_CASE("import --name refuses control characters, as a grid's name does, and shows them escaped") {
+  // Old binary: the name was kept, and `compare` printed its line break and escape sequence as they are: a cleared
+  // screen and a forged line "knn 0.99".
+  const fs::path dir = test::scratch("robust-cli-name-controls");
+  std::ofstream(dir / "a.xyz") << "1 0 0\n";
+  // printf's octal escapes (the tests' shell is sh): a line break and ESC [2J, a tab, DEL, the C1 control CSI
+  // (U+009B) and the bidirectional override U+202E, each as UTF-8.
+  const std::vector<std::pair<std::string, std::string>> names = {
+      {"a\\n\\033[2Jknn 0.99", "'a\\n\\x1b[2Jknn 0.99'"}, {"tab\\there", "'tab\\there'"}, {"del\\177", "'del\\x7f'"},
+      {"c1\\302\\23331m", "'c1\\u009b31m'"}, {"bidi\\342\\200\\256fdp", "'bidi\\u202efdp'"}};
+  for (const auto& [octal, shown] : names)
+    requireUsageError("import cloud " + (dir / "a.xyz").string() + " --name \"$(printf '" + octal + "')\" --out " +
+                          (dir / "ds").string(),
+                      "--name must be UTF-8 text without control characters (line breaks, tabs, escape sequences), "
+                      "got " + shown, dir);
+  // A name of letters beyond ASCII is a name like another.
+  const auto r =
+      test::run("import cloud " + (dir / "a.xyz").string() + " --name 'Łódź 名字' --out " + (dir / "ds").string());
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(readDataset(dir / "ds").name == "Łódź 名字");
+}
+
+// RFC 3629 worked by hand: what a terminal would act on, or could not show, is escaped; any other UTF-8 stays.
+TEST_CASE("names shown on a terminal keep UTF-8 and escape control characters and bytes that are not UTF-8") {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"Łódź 名字 \xf0\x9f\x98\x80 a\\b", "Łódź 名字 \xf0\x9f\x98\x80 a\\b"},  // kept, a backslash too
+      {"a\nb\r\t\x1b[2J\x7f", "a\\nb\\r\\t\\x1b[2J\\x7f"},          // C0 and DEL
+      {"\xc2\x85\xc2\x9b\xe2\x80\xae\xe2\x81\xa6", "\\u0085\\u009b\\u202e\\u2066"},  // C1, bidirectional
+      {"\xc2\xa0|\xe2\x80\xaf", "\xc2\xa0|\xe2\x80\xaf"},  // U+00A0 after the C1 controls, U+202F after U+202E
+      {"\xc0\xaf", "\\xc0\\xaf"},                            // an overlong '/'
+      {"\xed\xa0\x80", "\\xed\\xa0\\x80"},                  // a surrogate
+      {"\xf4\x90\x80\x80", "\\xf4\\x90\\x80\\x80"},          // above U+10FFFF
+      {"\xe5\x90", "\\xe5\\x90"},                            // cut short
+      {"\xff", "\\xff"}};
+  for (const auto& [text, shown] : cases) {
+    INFO(shown);
+    CHECK(escapedControlCharacters(text) == shown);
+    CHECK(hasControlCharacters(text) == (shown != text));
+  }
 }
 
 TEST_CASE("progress into a log is whole lines, and mapdiff prints its JSON alone") {

@@ -436,6 +436,30 @@ TEST_CASE("FIFOs, folders and symlink loops are refused by name wherever a file 
   }
 }
 
+TEST_CASE("a FIFO at an output's name is refused by name at once, with or without --force, never opened") {
+  // Old binary: `plot ... --out fig.png --force` opened the FIFO to look for occsweep's mark in it and waited for a
+  // writer for ever; compare's tables on a FIFO were refused as "not occsweep's", saying nothing of what it is.
+  const fs::path dir = occsweep::test::scratch("limits_fifo_outputs");
+  const std::string golden = (occsweep::test::sourceTree() / "results/builtin/octomap-opt.json").string();
+  for (const char* name : {"fig.png", "fig.pdf", "fig.svg", "table", "m.ot"})
+    REQUIRE(::mkfifo((dir / name).c_str(), 0600) == 0);
+  const std::string table = (dir / "table").string();
+  for (const std::string force : {"", " --force"}) {
+    for (const std::string figure : {"fig.png", "fig.pdf", "fig.svg"})
+      checkRefused(runOccsweep("plot budget " + golden + " --out " + (dir / figure).string() + force, 3072, 20),
+                   {figure + ": is a FIFO (named pipe)"});
+    checkRefused(runOccsweep("plot budget " + golden + " --out " + (dir / "b.png").string() + " --json " + table + force,
+                             3072, 20),
+                 {"table: is a FIFO (named pipe)"});
+    for (const std::string flag : {"--json", "--csv", "--markdown", "--latex"})
+      checkRefused(runOccsweep("compare " + golden + " " + flag + " " + table + force, 3072, 20),
+                   {"table: is a FIFO (named pipe)"});
+    checkRefused(runOccsweep("map --dataset " + scene().string() + " --out " + (dir / "m.ot").string() + force, 3072, 20),
+                 {"m.ot: is a FIFO (named pipe)"});
+  }
+  CHECK_FALSE(fs::exists(dir / "b.png"));
+}
+
 TEST_CASE("bad_alloc never escapes as an abort: a raised limit meeting a memory cap ends in a message, exit 2") {
   if (kSanitized) {
     WARN("skipped under sanitizers: they cannot run under an address-space cap");

@@ -271,6 +271,75 @@ TEST_CASE("compare's CSV, Markdown and LaTeX show 24 names of random printable c
   CHECK(read.output == all_same);
 }
 
+TEST_CASE("compare and sweep show a data set name's line breaks and escape sequences escaped, forging no line",
+          "[outputs]") {
+  // Old binary: the name (from a data set folder made by hand, or another program's results) was printed as it is:
+  // ESC [2J cleared the terminal and the line break put a forged "knn 0.99" line under it.
+  const fs::path dir = withScene("robust_outputs/terminal_names");
+  const std::string forged = "a\nknn     AUC 0.9900 \x1b[2J\r\xc2\x9b" "2K\xe2\x80\xae";  // CSI (U+009B), then 2K
+  const std::string shown = "a\\nknn     AUC 0.9900 \\x1b[2J\\r\\u009b2K\\u202e";
+  nlohmann::json manifest = nlohmann::json::parse(fileBytes(dir / "scene/manifest.json"));
+  manifest["name"] = forged;
+  writeBytes(dir / "scene/manifest.json", manifest.dump());
+  const CommandResult sweep = runIn(dir, "sweep --dataset scene --grid tiny.json --out r.json");  // its phases
+  REQUIRE(sweep.exit_code == 0);
+  const CommandResult compare = runIn(dir, "compare r.json");
+  REQUIRE(compare.exit_code == 0);
+  for (const CommandResult& r : {sweep, compare}) {
+    INFO(r.output);
+    CHECK(mentions(r, shown));
+    for (const std::string control : {"\x1b", "\r", "\xc2\x9b", "\xe2\x80\xae"}) CHECK_FALSE(mentions(r, control));
+    CHECK_FALSE(mentions(r, "\nknn     AUC 0.9900"));
+  }
+}
+
+TEST_CASE("compare --latex refuses a name pdflatex cannot typeset, naming it and what to do, and the rest compiles",
+          "[outputs]") {
+  // Old binary: exit 0 with a table pdflatex stops on ("Unicode character ... not set up for use with LaTeX").
+  const fs::path dir = withScene("robust_outputs/latex_names");
+  REQUIRE(runIn(dir, "sweep --dataset scene --grid tiny.json --quiet --out r.json").exit_code == 0);
+  const nlohmann::json swept = nlohmann::json::parse(fileBytes(dir / "r.json"));
+  auto named = [&](const std::string& file, const std::string& name) {
+    nlohmann::json j = swept;
+    j["dataset"]["name"] = name;
+    writeBytes(dir / file, j.dump());
+  };
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {"名字", "'名' (U+540D)"}, {"set \xf0\x9f\x98\x80", "'\xf0\x9f\x98\x80' (U+1F600)"}, {"Ħ", "'Ħ' (U+0126)"},
+      {"esc\x1b", "'\\x1b' (U+001B)"}};
+  for (const auto& [name, character] : refused) {
+    named("n.json", name);
+    const auto before = snapshot(dir);
+    const CommandResult r = runIn(dir, "compare n.json --latex t.tex --csv t.csv");
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "--latex: n.json: the data set name '"));
+    CHECK(mentions(r, "holds " + character + ", which pdflatex cannot typeset"));
+    CHECK(mentions(r, "write --markdown or --csv, which hold any character, or import the data set again under a "
+                      "name pdflatex can typeset (import --name)"));
+    CHECK(snapshot(dir) == before);  // no table written, the CSV neither
+  }
+  // Every character the check lets through: printable ASCII and U+00A0-U+017E but the eight T1 has no glyph for.
+  std::string latin = "ASCII ~^_$ ";
+  for (char32_t c = 0xA0; c <= 0x17E; ++c)
+    if (c != 0x126 && c != 0x127 && c != 0x138 && c != 0x13F && c != 0x140 && c != 0x149 && c != 0x166 && c != 0x167)
+      latin += std::string{char(0xC0 | (c >> 6)), char(0x80 | (c & 0x3F))};  // UTF-8: two bytes below U+0800
+  named("latin.json", latin);
+  const CommandResult r = runIn(dir, "compare latin.json --latex latin.tex");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  if (runShell("command -v pdflatex").exit_code != 0) {
+    WARN("pdflatex not installed: the table of every Latin character is not compiled");
+    return;
+  }
+  writeBytes(dir / "doc.tex", "\\documentclass{article}\n\\usepackage[T1]{fontenc}\n\\usepackage{booktabs}\n"
+                              "\\usepackage{graphicx}\n\\usepackage{array}\n\\begin{document}\n\\input{latin.tex}\n"
+                              "\\end{document}\n");
+  const CommandResult tex = runShell("cd " + shellQuoted(dir) + " && pdflatex -interaction=nonstopmode -halt-on-error doc.tex");
+  INFO(tex.output);
+  CHECK(tex.exit_code == 0);
+}
+
 TEST_CASE("cluster select replaces its own folder of links, never a user's folder", "[outputs]") {
   const fs::path dir = scratch("robust_outputs/select");
   fs::create_directories(dir / "ds/pcs-0000");
@@ -284,6 +353,11 @@ TEST_CASE("cluster select replaces its own folder of links, never a user's folde
   INFO(r.output);
   CHECK(r.exit_code == 2);
   CHECK(mentions(r, "w: exists and is not occsweep's"));
+  // What to do instead, and no word of --force, which cluster select does not have (old binary: "refused even with
+  // --force").
+  CHECK(mentions(r, "move it away, or give another --out (nothing was written)"));
+  CHECK_FALSE(mentions(r, "--force"));
+  CHECK_FALSE(mentions(runIn(dir, "cluster select --help"), "--force"));
   CHECK(snapshot(dir) == before);
   CHECK(leftovers(dir).empty());
 }

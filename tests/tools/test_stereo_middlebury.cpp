@@ -190,6 +190,21 @@ TEST_CASE("dataset middlebury --no-voxel-filter writes the raw points, and a bad
   CHECK(bad.output.find("--leaf") != std::string::npos);
 }
 
+TEST_CASE("dataset middlebury refuses a leaf below a micrometre before the pair is read, naming the flag and bound",
+          "[stereo][middlebury][cli]") {
+  // Old binary: "voxelFilter: point 0 is not finite or too far out" for either flag at 1e-300, once the pair was
+  // read and matched.
+  const fs::path dir = test::processScratch("middlebury-tiny-leaf");
+  for (const std::string flag : {"--voxel-filter", "--leaf"}) {
+    const auto r = test::runCli("dataset middlebury " + flag + " 1e-300 --left " + (dir / "missing.png").string() +
+                                " --out " + (dir / "out").string());
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find(flag + " must be a number >= 1e-06, got 1e-300") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "out"));
+  }
+}
+
 TEST_CASE("dataset middlebury --voxel-filter filters at its own leaf while truth stays at --leaf", "[stereo][middlebury][cli]") {
   const fs::path dir = test::processScratch("middlebury-filter-leaf-cli");
   REQUIRE(test::runCli("dataset middlebury --leaf 0.1 --out " + (dir / "at-leaf").string()).exit_code == 0);

@@ -109,12 +109,14 @@ struct PlanOptions {
 /// The generation and selection options of `cluster plan`.
 void addPlanDataOptions(CLI::App& plan, PlanOptions& o) {
   PlanConfig& c = o.config;
-  plan.add_option("--dataset", o.dataset_dirs, "--experiment sweep: a data-set folder to sweep (repeatable)");
+  plan.add_option("--dataset", o.dataset_dirs, "--experiment sweep: a data-set folder to sweep (repeatable)")
+      ->type_name(kPath);
   plan.add_option("--name", o.dataset_names, "--experiment reproduce: a paper data set to generate and sweep "
                                              "(repeatable; default the paper's 20)");
   plan.add_option("--generate", c.generate, "Generation command, occsweep arguments; {dataset} {index} {seed} {block} {blocks} {out} {scale}")
       ->capture_default_str();
-  plan.add_option("--generate-out", c.generate_out, "What one generation task writes, relative to the plan folder")->capture_default_str();
+  plan.add_option("--generate-out", c.generate_out, "What one generation task writes, relative to the plan folder")
+      ->type_name(kPath)->capture_default_str();
   plan.add_option("--generate-kind", o.kind, "How a generation output is checked")
       ->check(CLI::IsMember({"exists", "dataset"}))->capture_default_str();
   plan.add_option("--scale", c.scale, "{scale} of the generation command")->capture_default_str();
@@ -141,7 +143,7 @@ void addPlanRunOptions(CLI::App& plan, PlanOptions& o) {
   plan.add_option("--threads", c.sweep_threads, "--threads of each sweep (0: --cpus-per-task)")->capture_default_str()
       ->check(threadCount());
   plan.add_option("--sweep-args", o.sweep_args, "More `occsweep sweep` settings for every sweep, e.g. --s-c,4")->delimiter(',');
-  plan.add_option("--occsweep", c.occsweep, "occsweep binary the tasks run (default: this one)");
+  plan.add_option("--occsweep", c.occsweep, "occsweep binary the tasks run (default: this one)")->type_name(kPath);
   plan.add_option("--cpus-per-task", c.slurm.cpus_per_task, "sbatch --cpus-per-task")->capture_default_str()->check(integerAtLeast<int>(1));
   plan.add_option("--mem", o.mem, "sbatch --mem: VALUE for every stage, or STAGE=VALUE for one (repeatable)")
       ->default_str(c.slurm.mem);
@@ -152,7 +154,8 @@ void addPlanRunOptions(CLI::App& plan, PlanOptions& o) {
                   "(sbatch --array=...%N; 0: no limit)")->capture_default_str()
       ->check(integerIn<std::uint64_t>(0, kMaxArrayThrottle));
   plan.add_option("--estimate-from", o.estimate_from, "A plan folder run-local ran: print what this plan will cost "
-                  "from its measured tasks, and set each stage's --time and --mem from it unless given");
+                  "from its measured tasks, and set each stage's --time and --mem from it unless given")
+      ->type_name(kPath);
   plan.add_option("--max-array-size", c.slurm.max_array_size, "Slurm's MaxArraySize: larger stages are submitted as "
                   "several arrays (0: read from scontrol show config at submit, else 1001)")->capture_default_str()
       ->check(integerIn<std::uint64_t>(0, kMaxArraySizeLimit));
@@ -312,7 +315,7 @@ Subcommand addPlan(CLI::App& app) {
   addExample(*plan, "occsweep cluster plan --out plan --experiment sweep --dataset ds --grid octomap-opt:2");
   plan->add_option("--experiment", o->config.experiment, "reproduce: generate data, sweep, merge, compare; sweep: existing data sets")
       ->check(CLI::IsMember({"reproduce", "sweep"}))->capture_default_str();
-  plan->add_option("--out", o->dir, "Plan folder (tasks run there; outputs go under it)")->required();
+  plan->add_option("--out", o->dir, "Plan folder (tasks run there; outputs go under it)")->type_name(kPath)->required();
   addPlanDataOptions(*plan, *o);
   addPlanRunOptions(*plan, *o);
   plan->add_flag("--force", o->force, "Replace occsweep's own different plan.json in --out (nothing else)");
@@ -340,7 +343,7 @@ Subcommand addSubmit(CLI::App& app, bool resubmit) {
   addExample(*sub, resubmit ? "occsweep cluster resubmit splan"
                             : "occsweep cluster plan --out splan --experiment sweep --dataset ds --grid octomap-opt:1\n"
                               "occsweep cluster submit splan\noccsweep cluster status splan --wait --timeout 600");
-  sub->add_option("dir", *dir, "Plan folder")->required();
+  sub->add_option("dir", *dir, "Plan folder")->type_name(kPath)->required();
   return {sub, [dir, resubmit] { return (void)submitPlan(readPlan(*dir), *dir, resubmit, std::cout), 0; }};
 }
 
@@ -372,7 +375,7 @@ Subcommand addStatus(CLI::App& app) {
   auto o = std::make_shared<StatusOptions>();
   CLI::App* status = app.add_subcommand("status", "Done, running, pending, failed and missing shards (exit 0: all done)");
   addExample(*status, "occsweep cluster status plan");
-  status->add_option("dir", o->dir, "Plan folder")->required();
+  status->add_option("dir", o->dir, "Plan folder")->type_name(kPath)->required();
   status->add_flag("--wait", o->wait, "Wait until no task is running or pending, then print");
   status->add_option("--timeout", o->timeout, "With --wait: give up after this many seconds (0: never)")->capture_default_str();
   status->add_option("--poll", o->poll, "With --wait: seconds between looks")->capture_default_str()->check(numberAbove(0));
@@ -387,7 +390,7 @@ Subcommand addRunLocal(CLI::App& app) {
   auto quiet = std::make_shared<bool>(false);
   CLI::App* local = app.add_subcommand("run-local", "Run the plan's unfinished shards on this machine");
   addExample(*local, "occsweep cluster run-local plan --threads 2");
-  local->add_option("dir", *dir, "Plan folder")->required();
+  local->add_option("dir", *dir, "Plan folder")->type_name(kPath)->required();
   local->add_option("--threads", *threads, "Tasks run at a time (each sweep task uses the plan's --threads)")
       ->capture_default_str()->check(threadCount(1));
   local->add_flag("--quiet", *quiet, "No progress on stderr (failures, warnings and a stop are still printed)");

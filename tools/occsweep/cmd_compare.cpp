@@ -10,6 +10,7 @@
 #include "limit_options.hpp"
 #include "task_options.hpp"
 #include "compare_tables.hpp"
+#include "occsweep/eval/control_characters.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/compare.hpp"
 #include "occsweep/sweeps/csv_text.hpp"
@@ -53,7 +54,8 @@ std::vector<std::string> checkMixed(const std::vector<ResultsFile>& in, const Co
     throw std::runtime_error("cannot compare: " + mixed.front() +
                              (mixed.size() > 1 ? " (and " + std::to_string(mixed.size() - 1) + " more)" : "") +
                              "; pass --allow-mixed to compare anyway");
-  for (const auto& m : mixed) std::cerr << "occsweep compare: warning (--allow-mixed): " << m << '\n';
+  for (const auto& m : mixed)
+    std::cerr << "occsweep compare: warning (--allow-mixed): " << escapedControlCharacters(m) << '\n';
   return mixed;
 }
 
@@ -87,11 +89,13 @@ std::string bestMapLines(const BestMap& best, const std::string& file, const std
 
 // Within kTerminalColumns whatever the parameters, paths and names: each data set's line, then one line per method
 // with its AUC, its improvement over the baseline and the file and map behind it, then the map's parameters
-// (docs/statistics.md, "In occsweep compare"). Every digit is in --json and --csv.
+// (docs/statistics.md, "In occsweep compare"). Every digit is in --json and --csv. Names and paths, from users' files
+// and arguments, show their control characters escaped: a line break or an escape sequence in a name would forge or
+// erase lines of the table.
 void printRow(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
               const std::vector<std::string>& methods, const std::string& baseline) {
   const std::string set = r.point_cloud_set == "-" ? "" : " (point cloud set " + r.point_cloud_set + ")";
-  std::printf("%s", cutLines(r.dataset + set, 0, kTerminalColumns).c_str());
+  std::printf("%s", cutLines(escapedControlCharacters(r.dataset + set), 0, kTerminalColumns).c_str());
   std::size_t name_width = 16;  // the AUCs in one column, however long a method's name (up to half a line)
   for (const std::string& m : methods)
     name_width = std::max(name_width, std::min<std::size_t>(m.size(), kTerminalColumns / 2));
@@ -106,7 +110,7 @@ void printRow(const ComparisonRow& r, const std::vector<ResultsFile>& in, const 
       continue;
     }
     const std::string parameters = bestParametersText(*best, in) + changedSettingsText(in[best->file].header.map);
-    std::printf("\n%s", bestMapLines(*best, files[best->file], parameters).c_str());
+    std::printf("\n%s", bestMapLines(*best, escapedControlCharacters(files[best->file]), parameters).c_str());
   }
 }
 
@@ -215,6 +219,7 @@ void writeOutputs(const CompareTask& o, const nlohmann::json& comparison, const 
 int runCompare(const CompareTask& o) {
   checkOutputs(o);
   const std::vector<ResultsFile> in = readChecked(o.files, MapDetail::Summary);
+  if (!o.latex.empty()) requireLatexCharacters(in, o.files);  // before any table is printed
   if (const std::string why = mixedTruths(in, o.files); !why.empty()) throw std::runtime_error("cannot compare: " + why);
   const TruthMode truth = in.front().header.truth;
   const auto mixed = checkMixed(in, o);
@@ -227,7 +232,8 @@ int runCompare(const CompareTask& o) {
   // Before anything is printed: a --baseline that was not given is refused with no table above the error.
   const std::vector<MethodStatistics> statistics = statisticsOf(rows, in, o, notes);
   for (const auto& r : rows) printRow(r, in, o.files, shown, o.baseline);
-  for (const auto& n : notes) std::cout << "note: " << wrappedLines(n, 6, kTerminalColumns).substr(6);
+  for (const auto& n : notes)
+    std::cout << "note: " << wrappedLines(escapedControlCharacters(n), 6, kTerminalColumns).substr(6);
   printTruth(truth);
   std::vector<std::string> methods;
   for (const auto& s : statistics) methods.push_back(s.method);

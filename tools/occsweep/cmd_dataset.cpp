@@ -100,7 +100,7 @@ const RegisterCommand kDataset{"dataset", "Generate the paper's 20 stereo data s
   addExample(*gen, "occsweep dataset generate --name building-plain-I --scale ci --pcs 0,1 --out gen");
   gen->add_option("--name", o->name, "ENV-TEXTURE-LAYOUT: {building,parking}-{plain,voronoi}-{I,O,T,L,S}");
   gen->add_flag("--all", o->all, "All 20 data sets (also writes OUT/summary.json)");
-  gen->add_option("--out", o->out, "Output folder")->required();
+  gen->add_option("--out", o->out, "Output folder")->type_name(kPath)->required();
   gen->add_option("--scale", o->scale, "ci (320x180, 24 keyframes, 3 sets), small (640x360, 48, 9), paper (1280x720, 144, 1600)")
       ->check(CLI::IsMember({"ci", "small", "paper"}))->capture_default_str();
   gen->add_option("--sgbm", o->sgbm, "One custom point cloud set: blockSize=5,uniquenessRatio=10,speckleWindowSize=100,"

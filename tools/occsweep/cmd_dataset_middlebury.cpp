@@ -114,16 +114,17 @@ std::pair<CLI::App*, std::function<int()>> addDatasetMiddlebury(CLI::App& datase
   CLI::App* mb = dataset.add_subcommand("middlebury", "A real stereo pair with ground-truth disparity (Middlebury 2006; "
                                                       "default: Aloe from Debian's opencv-doc) as OUT/pcs-*/ data sets");
   addExample(*mb, "occsweep dataset middlebury --out aloe");
-  mb->add_option("--left", o->left, "Left image (JPEG or 8-bit PNG)")->capture_default_str();
-  mb->add_option("--right", o->right, "Right image")->capture_default_str();
+  mb->add_option("--left", o->left, "Left image (JPEG or 8-bit PNG)")->type_name(kPath)->capture_default_str();
+  mb->add_option("--right", o->right, "Right image")->type_name(kPath)->capture_default_str();
   mb->add_option("--gt", o->gt, "Ground-truth disparity of the left image: 8-bit PNG, full-size pixels, 0 unknown")
+      ->type_name(kPath)
       ->capture_default_str();
-  mb->add_option("--out", o->out, "Output folder")->required();
+  mb->add_option("--out", o->out, "Output folder")->type_name(kPath)->required();
   mb->add_option("--leaf", o->leaf, "Truth voxel size and the voxel filter's leaf, metres (sweep at this resolution)")
-      ->capture_default_str()->check(numberAbove(0));
+      ->capture_default_str()->check(voxelLeaf());
   auto* filter = mb->add_option("--voxel-filter", o->voxel_filter, "LEAF metres: PCL VoxelGrid's filter at this leaf "
                                 "instead of --leaf (truth stays at --leaf), as import's flag")
-                     ->check(numberAbove(0));
+                     ->check(voxelLeaf());
   mb->add_flag("--no-voxel-filter", o->no_voxel_filter, "Write the raw reprojected points, one per valid disparity "
                "(truth stays at --leaf), as dataset generate's flag")->excludes(filter);
   mb->add_option("--focal", o->focal, "Focal length, pixels (full size)")->capture_default_str()->check(numberAbove(0));

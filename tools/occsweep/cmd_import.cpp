@@ -14,6 +14,7 @@
 #include "occsweep/core/limits.hpp"
 #include "occsweep/core/map_settings.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
+#include "occsweep/eval/control_characters.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_cloud.hpp"
@@ -60,8 +61,8 @@ void shiftOrWarn(Dataset& d, const ImportOptions& o, bool placed = false) {
   for (std::size_t a = 0; a < 3; ++a)
     if (!range.holds(b.min[a]) || !range.holds(b.max[a])) {
       const auto s = centringShift(d.scans, range);
-      std::cerr << "occsweep import: warning: " << o.out << ": the scans reach [" << b.min[a] << ", " << b.max[a]
-                << "] m on axis " << "xyz"[a] << ", outside OctoMap's key range " << range.text()
+      std::cerr << "occsweep import: warning: " << escapedControlCharacters(o.out) << ": the scans reach [" << b.min[a]
+                << ", " << b.max[a] << "] m on axis " << "xyz"[a] << ", outside OctoMap's key range " << range.text()
                 << ": map and sweep will refuse them at that resolution; import with --shift " << s[0] << ' ' << s[1]
                 << ' ' << s[2] << " to centre them\n";
       return;
@@ -109,7 +110,8 @@ int finish(Dataset d, const ImportOptions& o, const std::string& region_origin) 
   d.name = !o.name.empty() ? o.name : outputTarget(o.out).filename().string();  // "ds/" is named ds
   if (d.name.empty()) d.name = "imported";
   writeDataset(d, o.out);  // atomic: built beside the target, then renamed
-  std::cout << "wrote " << o.out << ": data set \"" << d.name << "\", " << d.scans.size() << " scans, " << pointCount(d.scans) << " points";
+  std::cout << "wrote " << escapedControlCharacters(o.out) << ": data set \"" << escapedControlCharacters(d.name)
+            << "\", " << d.scans.size() << " scans, " << pointCount(d.scans) << " points";
   if (d.truth.boxes.empty() && d.truth.mesh.empty() && d.truth.points.empty())
     std::cout << ", no ground truth (region = bounding box)";
   else
@@ -149,14 +151,18 @@ struct ImportCommands {
 /// Options every import has; scan imports name the data set from --name, truth keeps the data set's name.
 void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
   for (CLI::App* sub : {subs.depth, subs.graph, subs.cloud, subs.truth}) {
-    CLI::Option* files = sub->add_option("files", o.files, "Input files, in scan order");
+    CLI::Option* files = sub->add_option("files", o.files, "Input files, in scan order")->type_name(kPath);
     // depth and cloud check it themselves (requireFramesBeforePoses): a --poses before the frames takes them all
     if (sub == subs.graph || sub == subs.truth) files->required();
-    sub->add_option("--out", o.out, "Output data-set folder (written atomically; a new one, or occsweep's own with --force)")->required();
+    sub->add_option("--out", o.out, "Output data-set folder (written atomically; a new one, or occsweep's own with "
+                                    "--force)")
+        ->type_name(kPath)->required();
     sub->add_flag("--force", o.force, "Replace occsweep's own previous data set at --out (nothing else)");
-    if (sub != subs.truth) sub->add_option("--name", o.name, "Data-set name (default: the output folder's name)");
+    if (sub != subs.truth)
+      sub->add_option("--name", o.name, "Data-set name (default: the output folder's name)")->check(printableName());
   }
-  subs.truth->add_option("--name", o.name, "Data-set name (default: the name of --dataset, kept)");
+  subs.truth->add_option("--name", o.name, "Data-set name (default: the name of --dataset, kept)")
+      ->check(printableName());
   addLimitOptions(*subs.depth, {Limit::ImagePixels, Limit::Points});
   for (CLI::App* sub : {subs.graph, subs.cloud, subs.truth}) addLimitOptions(*sub, {Limit::Points});
   for (CLI::App* sub : {subs.depth, subs.graph, subs.cloud}) {
@@ -166,7 +172,7 @@ void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
         ->expected(3);
     sub->add_option("--voxel-filter", o.voxel_filter, "LEAF metres: per scan, PCL VoxelGrid's filter (one point per "
                     "voxel at its points' centroid), after --shift; recorded as source.voxel_filter_leaf (default: off)")
-        ->check(numberAbove(0));
+        ->check(voxelLeaf());
   }
 }
 
@@ -174,6 +180,7 @@ void addDepthOptions(CLI::App& depth, ImportOptions& o) {
   DepthImportConfig& c = o.depth;
   depth.add_option("--poses", o.poses, "Pose file, camera-to-world: one for all images (one pose each, or a TUM "
                                       "trajectory matched by timestamp), or one per image in order; after the images")
+      ->type_name(kPath)
       ->required();
   addPoseOptions(&depth, o);
   depth.add_option("--depth-scale", c.depth_scale, "Raw units per metre (1000 = mm; TUM/ICL-NUIM 5000)")->capture_default_str();
@@ -187,7 +194,7 @@ void addDepthOptions(CLI::App& depth, ImportOptions& o) {
 
 void addCloudOptions(CLI::App& cloud, ImportOptions& o) {
   cloud.add_option("--poses", o.poses, "Pose file, sensor-to-world: one for all clouds, or one per cloud in order; "
-                                      "after the clouds (default: clouds in world frame)");
+                                      "after the clouds (default: clouds in world frame)")->type_name(kPath);
   addPoseOptions(&cloud, o);
   cloud.add_option("--origin", o.origin, "Sensor origin of every cloud when there is no pose file")->expected(3);
   cloud.add_option("--view-axis", o.view_axis, "X Y Z: the sensor's cone axis, in the sensor frame with --poses "
@@ -216,7 +223,7 @@ std::optional<ConeView> coneOfFlags(const ImportOptions& o) {
 }
 
 void addTruthOptions(CLI::App& truth, ImportOptions& o) {
-  truth.add_option("--dataset", o.dataset, "Data set to add the truth to")->required();
+  truth.add_option("--dataset", o.dataset, "Data set to add the truth to")->type_name(kPath)->required();
   truth.add_option("--region", o.region, "Evaluation region: minx miny minz maxx maxy maxz (default: the truth's bounding box grown by 0.5 m)")->expected(6);
 }
 

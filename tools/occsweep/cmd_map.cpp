@@ -110,8 +110,9 @@ std::vector<std::string> methodNames() {
 }
 
 void addMapOptions(CLI::App& app, MapOptions& o) {
-  app.add_option("--dataset", o.dataset, "Data-set folder")->required();
-  app.add_option("--out", o.out, "Output map, .ot (written with MAP.ot.json; .bt is refused)")->required();
+  app.add_option("--dataset", o.dataset, "Data-set folder")->type_name(kPath)->required();
+  app.add_option("--out", o.out, "Output map, .ot (written with MAP.ot.json; .bt is refused)")
+      ->type_name(kPath)->required();
   app.add_flag("--force", o.force, "Replace occsweep's own previous map and settings at --out (nothing else)");
   o.settings["--method"] = app.add_option("--method", o.method, "Mapping method: " + registeredMethodNames())
                               ->check(CLI::IsMember(methodNames()))
@@ -126,7 +127,7 @@ void addMapOptions(CLI::App& app, MapOptions& o) {
                                                            "first; docs/results-format.md)")
                              ->check(CLI::IsMember(kTruthModeNames.list()))->capture_default_str();
   app.add_option("--from", o.from, "Rebuild a map a results file (.json or .db) scored, with every parameter and setting "
-                                   "it stored; its counts must be reproduced at every p_t")
+                                   "it stored; its counts must be reproduced at every p_t")->type_name(kPath)
       ->check(CLI::ExistingFile);
   app.add_flag("--best", o.best, "With --from: the map of the best AUC (as compare picks it)");
   app.add_option("--map-index", o.map_index, "With --from: the map of this index")

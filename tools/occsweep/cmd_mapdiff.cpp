@@ -78,8 +78,8 @@ const RegisterCommand kMapDiff{"mapdiff", "Count the voxels two maps (.ot) disag
     double p_t = 0.5;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("a", o->a, "First map, .ot")->required();
-  app.add_option("b", o->b, "Second map, .ot (same resolution)")->required();
+  app.add_option("a", o->a, "First map, .ot")->type_name(kPath)->required();
+  app.add_option("b", o->b, "Second map, .ot (same resolution)")->type_name(kPath)->required();
   app.add_option("--p-t", o->p_t, "Occupancy threshold")->capture_default_str()->check(probability());
   addLimitOptions(app, {Limit::MapVoxels});
   return [o] {

@@ -177,18 +177,20 @@ const RegisterCommand kPlot{"plot", "Figures of a comparison: best curves, budge
     CLI::App* sub = app.add_subcommand(k, what.at(k));
     addExample(*sub, "occsweep plot " + k + " oct.json knn.json --out " + k + ".png\n"
                      "occsweep plot " + k + " oct.json knn.json --print-width column --out " + k + ".pdf");
-    sub->add_option("files", o->files, "Complete results files (as for compare)")->required();
-    sub->add_option("--out", o->out, "The figure: PNG, PDF or SVG by the name's ending (.png, .pdf, .svg)")->required();
-    sub->add_option("--json", o->json, "Also write the plotted data");
+    sub->add_option("files", o->files, "Complete results files (as for compare)")->type_name(kPath)->required();
+    sub->add_option("--out", o->out, "The figure: PNG, PDF or SVG by the name's ending (.png, .pdf, .svg)")
+        ->type_name(kPath)->required();
+    sub->add_option("--json", o->json, "Also write the plotted data")->type_name(kPath);
     sub->add_option("--baseline", o->baseline, "Method the others are measured against")->capture_default_str();
     if (k == "params") sub->add_option("--method", o->method, "Method whose grid is drawn (default: the first not the baseline)");
     sub->add_option("--style", o->style, "A style file: each method's display name, colour, marker and line "
-                                         "(docs/statistics.md, \"Figures\")");
+                                         "(docs/statistics.md, \"Figures\")")->type_name(kPath);
     sub->add_option("--print-width", o->width, "Width in print: column (3.5 in), page (7.16 in) or inches; no "
                                                "title then, the caption says it (default: a screen size)");
     sub->add_option("--font-size", o->font_size, "Text size, points (default 8 at a --print-width, else 10)")
         ->check(numberIn(6, 24));
-    sub->add_option("--python", o->python, "Python 3 with matplotlib (default $OCCSWEEP_PYTHON, /usr/bin/python3)");
+    sub->add_option("--python", o->python, "Python 3 with matplotlib (default $OCCSWEEP_PYTHON, /usr/bin/python3)")
+        ->type_name(kPath);
     sub->add_flag("--force", o->force, "Replace occsweep's own previous figure or data (nothing else)");
     addLimitOptions(*sub, {Limit::Combinations});
     subs->emplace_back(k, sub);

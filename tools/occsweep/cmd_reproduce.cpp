@@ -94,9 +94,10 @@ const RegisterCommand kReproduce{"reproduce",
   auto o = std::make_shared<ReproduceOptions>();
   app.add_option("--scale", o->scale, "ci (under 10 min on 2 cores), small, paper: data scale and reductions")
       ->check(CLI::IsMember({"ci", "small", "paper"}))->capture_default_str();
-  app.add_option("--out", o->out, "Output folder: *.json, report.md, fig*.png, maps/, sweeps/, data/")->required();
+  app.add_option("--out", o->out, "Output folder: *.json, report.md, fig*.png, maps/, sweeps/, data/")
+      ->type_name(kPath)->required();
   app.add_option("--data-root", o->data, "Folder of generated data sets to use, one folder per name (default "
-                                       "OUT/data; missing ones are generated)");
+                                       "OUT/data; missing ones are generated)")->type_name(kPath);
   app.add_option("--name", o->datasets, "Only this paper data set (repeatable; default: the paper's 20)");
   app.add_flag("--realistic", o->realistic, "Data with the realism options the experiments of docs/fidelity.md point "
                "to (dataset generate --realistic); report.md says which data was used");
@@ -108,7 +109,7 @@ const RegisterCommand kReproduce{"reproduce",
   app.add_option("--runtime-repeats", o->runtime_repeats, "Times each Fig. 7 build is timed, fastest kept (default per scale)")
       ->check(integerAtLeast<int>(1));
   app.add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str()->check(threadCount());
-  app.add_option("--python", o->python, "Python 3 with matplotlib for the figures (default: search)");
+  app.add_option("--python", o->python, "Python 3 with matplotlib for the figures (default: search)")->type_name(kPath);
   app.add_flag("--no-figures", o->no_figures, "JSON and report.md only");
   app.add_flag("--quiet", o->quiet, "No progress on stderr");
   return [o] {

@@ -34,20 +34,22 @@ int runDiff(const std::string& golden_file, const std::string& new_file, double 
   const ResultsDiff diff = diffResults(golden, candidate, auc_tolerance, counts);
   const std::string checked = std::string(counts == CountsCheck::Exact ? "confusion counts exact, " : "") +
                               "AUC within " + plainNumber(auc_tolerance);
+  const std::string shown_new = escapedControlCharacters(new_file);
+  const std::string shown_golden = escapedControlCharacters(golden_file);
   if (diff.empty()) {
-    std::cout << new_file << ": same numbers as " << golden_file << ": " << diff.golden_maps << " maps, "
+    std::cout << shown_new << ": same numbers as " << shown_golden << ": " << diff.golden_maps << " maps, "
               << diff.golden_combinations << " combinations, " << checked << '\n';
     return 0;
   }
   if (!diff.header.empty()) {
     printDifferences(diff.header);
-    std::cout << new_file << ": not comparable with " << golden_file << ": " << diff.header.size()
+    std::cout << shown_new << ": not comparable with " << shown_golden << ": " << diff.header.size()
               << " header field(s) differ; no combination compared\n";
     return 1;
   }
   printDifferences(diff.combinations);
-  std::cout << new_file << ": " << diff.combinations.size() << " difference(s) from " << golden_file
-            << " (" << checked << ")\n";
+  std::cout << shown_new << ": " << diff.combinations.size() << " difference(s) from " << shown_golden << " ("
+            << checked << ")\n";
   return 1;
 }
 
@@ -65,7 +67,7 @@ int runExport(const std::string& source, const ExportTarget& to) {
     // What `results check` refuses is never exported; checked and read in one pass, so what is written is what was
     // checked even when the source is replaced at its name meanwhile.
     writeResultsStore(readCheckedResults(source, MapDetail::Full), to.out);
-    std::cout << "wrote " << to.out << '\n';
+    std::cout << "wrote " << escapedControlCharacters(to.out) << '\n';
     return 0;
   }
   const bool csv = isCsvPath(to.out);
@@ -76,7 +78,7 @@ int runExport(const std::string& source, const ExportTarget& to) {
   else exportJson(source, out.stream());
   if (csv) out.markWritten();  // what a later --force may replace (textOutput)
   out.commit();
-  std::cout << "wrote " << to.out << '\n';
+  std::cout << "wrote " << escapedControlCharacters(to.out) << '\n';
   return 0;
 }
 
@@ -85,9 +87,9 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   CLI::App* check = app.add_subcommand("check", "Exit 0 when FILE is a complete, consistent results file (docs/results-format.md)");
   auto dataset = std::make_shared<std::string>();
   addExample(*check, "occsweep results check knn.json");
-  check->add_option("file", *file, "Results file")->required();
+  check->add_option("file", *file, "Results file")->type_name(kPath)->required();
   check->add_option("--dataset", *dataset, "Also check against this data set: its content hash, and every threshold "
-                                           "counting its region's and its truth's voxels");
+                                           "counting its region's and its truth's voxels")->type_name(kPath);
   addLimitOptions(*check, {Limit::Combinations});  // the grid is enumerated to check every map
   CLI::App* diff = app.add_subcommand("diff", "Exit 0 when NEW has GOLDEN's confusion counts and AUCs, else 1 with a "
                                               "table of what changed (docs/results-format.md)");
@@ -96,8 +98,8 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
                     "occsweep results diff knn.json knn-direct.json");
   auto candidate = std::make_shared<std::string>();
   auto auc_tolerance = std::make_shared<double>(0.0);
-  diff->add_option("golden", *golden, "The results file to match")->required();
-  diff->add_option("new", *candidate, "The results file to check")->required();
+  diff->add_option("golden", *golden, "The results file to match")->type_name(kPath)->required();
+  diff->add_option("new", *candidate, "The results file to check")->type_name(kPath)->required();
   addLimitOptions(*diff, {Limit::Combinations});  // each file's grid is enumerated to check its maps
   diff->add_option("--auc-tolerance", *auc_tolerance, "How far an AUC may move (default 0: exactly)")
       ->check(numberAtLeast(0.0));
@@ -111,8 +113,9 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   auto source = std::make_shared<std::string>();
   addExample(*export_, "occsweep results export knn.json --out knn.csv");
   auto to = std::make_shared<ExportTarget>();
-  export_->add_option("file", *source, "Results file or store")->required();
-  export_->add_option("--out", to->out, "The converted file: .csv, .db/.sqlite or JSON, by its name")->required();
+  export_->add_option("file", *source, "Results file or store")->type_name(kPath)->required();
+  export_->add_option("--out", to->out, "The converted file: .csv, .db/.sqlite or JSON, by its name")
+      ->type_name(kPath)->required();
   export_->add_flag("--force", to->force, "Replace occsweep's own output of the same kind at the target");
   addLimitOptions(*export_, {Limit::Combinations});  // the grid is enumerated to check every map
   app.require_subcommand(1);
@@ -120,7 +123,7 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
     return runChosen({{check, [=] {
                          const ResultsCheck f = checkResultsFile(*file, *dataset);
                          // docs/results-format.md lists what each line vouches for.
-                         std::cout << *file << ": complete, " << f.maps << " maps";
+                         std::cout << escapedControlCharacters(*file) << ": complete, " << f.maps << " maps";
                          if (f.grid_checked)
                            std::cout << ", every map and threshold of the selection once, parameters match grid ";
                          else if (f.header.selection.shard_count == 1)
@@ -131,7 +134,8 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
                                         "grid ";
                          std::cout << f.header.grid_name;
                          if (f.header.truth == TruthMode::Observable) std::cout << ", observable truth (map.truth)";
-                         if (!dataset->empty()) std::cout << "; counts match the region and truth of " << *dataset;
+                         if (!dataset->empty())
+                           std::cout << "; counts match the region and truth of " << escapedControlCharacters(*dataset);
                          std::cout << '\n';
                          return 0;
                        }},

@@ -20,7 +20,8 @@ const RegisterCommand kScene{"scene", "Write the built-in scene (four boxes in a
     bool force = false;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("--out", o->out, "Output data-set folder (a new one, or occsweep's own with --force)")->required();
+  app.add_option("--out", o->out, "Output data-set folder (a new one, or occsweep's own with --force)")
+      ->type_name(kPath)->required();
   app.add_flag("--force", o->force, "Replace occsweep's own previous data set at --out (nothing else)");
   app.add_option("--seed", o->config.seed, "Seed of noise and outliers")->capture_default_str();
   app.add_option("--scans", o->config.scans, "Keyframes over both orbits")->capture_default_str()->check(integerIn<int>(1, 100000));

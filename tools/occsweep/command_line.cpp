@@ -13,6 +13,7 @@
 #include "command_registry.hpp"
 #include "install_paths.hpp"
 #include "occsweep/eval/child_process.hpp"
+#include "occsweep/eval/control_characters.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/sweeps/grid.hpp"
 #include "occsweep/sweeps/version.hpp"
@@ -58,6 +59,7 @@ int runCommandLine(int argc, char** argv) {
     CLI::App* sub = app.add_subcommand(spec.name, spec.help);
     runners[sub] = {&spec, spec.setup(*sub)};
   }
+  refuseEmptyPaths(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -76,8 +78,8 @@ int runCommandLine(int argc, char** argv) {
       std::cerr << "occsweep " << sub->get_name() << ": error: " << outOfMemoryMessage(sub->get_name(), argc, argv)
                 << '\n';
       return 2;
-    } catch (const std::exception& e) {
-      std::cerr << "occsweep " << sub->get_name() << ": error: " << e.what() << '\n';
+    } catch (const std::exception& e) {  // a name or path in it shows its control characters escaped
+      std::cerr << "occsweep " << sub->get_name() << ": error: " << escapedControlCharacters(e.what()) << '\n';
       return 2;
     }
   }

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "method_style.hpp"
+#include "occsweep/eval/control_characters.hpp"
 #include "occsweep/sweeps/csv_text.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
@@ -169,6 +170,15 @@ std::string latexEscaped(const std::string& s) {
   return out;
 }
 
+// Whether pdflatex typesets `c` in the set-up the tables are for (T1 fonts, LaTeX's UTF-8 input): printable ASCII,
+// line breaks and tabs (spaces in the table), and the Latin letters and signs of U+00A0-U+017E but the eight T1 has
+// no glyph for (tried one by one with pdflatex).
+bool latexTypesets(char32_t c) {
+  static constexpr char32_t kNotInT1[] = {0x126, 0x127, 0x138, 0x13F, 0x140, 0x149, 0x166, 0x167};
+  if (c == '\n' || c == '\r' || c == '\t' || (c >= 0x20 && c <= 0x7E)) return true;
+  return c >= 0xA0 && c <= 0x17E && std::find(std::begin(kNotInT1), std::end(kNotInT1), c) == std::end(kNotInT1);
+}
+
 // `c` with every method name in it (a row's first cell, a word of a header: "knn AUC", "holds octomap's best")
 // shown by its display name. Data set names, which a user chooses, are cells of their own and stay as they are.
 Cells withDisplayNames(Cells c, const std::vector<std::string>& methods, std::size_t name_columns) {
@@ -265,6 +275,21 @@ std::vector<ResultsFile> readChecked(const std::vector<std::string>& files, MapD
 
 // Within 100 columns: a block per method, one labelled line per statistic (the wide table is --csv's, --markdown's
 // and --latex's), then each verdict's basis; a value too long for its line goes on under its label's end.
+void requireLatexCharacters(const std::vector<ResultsFile>& files, const std::vector<std::string>& names) {
+  for (std::size_t i = 0; i < files.size(); ++i)
+    for (const Utf8Character& c : utf8Characters(files[i].header.dataset_name)) {
+      if (latexTypesets(c.code_point)) continue;
+      char code[16];
+      std::snprintf(code, sizeof code, "U+%04X", static_cast<unsigned>(c.code_point));
+      throw std::invalid_argument(
+          "--latex: " + names[i] + ": the data set name '" + files[i].header.dataset_name + "' holds '" +
+          std::string(c.bytes) + "' (" + (c.code_point == kNotUtf8 ? std::string("a byte that is not UTF-8") : code) +
+          "), which pdflatex cannot typeset in the T1 fonts the table is for (printable ASCII and the Latin letters "
+          "of U+00A0-U+017E; docs/statistics.md): write --markdown or --csv, which hold any character, or import the "
+          "data set again under a name pdflatex can typeset (import --name) and sweep that");
+    }
+}
+
 std::string statisticsText(const ComparisonTables& t) {
   if (t.statistics.empty()) return "";
   const Cells c = statisticsCells(t.statistics, t.baseline);

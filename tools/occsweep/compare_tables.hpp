@@ -31,6 +31,11 @@ struct ComparisonTables {
 /// (compare: no thresholds held) is checked against its grid map by map; its counts are `results check`'s.
 [[nodiscard]] std::vector<ResultsFile> readChecked(const std::vector<std::string>& files, MapDetail detail);
 
+/// Refuses (std::invalid_argument naming the file, the name and the character) a data set name of `files` (named by
+/// `names`) with a character the --latex tables cannot show: pdflatex would stop on it. (A point cloud set is shown
+/// by its number.)
+void requireLatexCharacters(const std::vector<ResultsFile>& files, const std::vector<std::string>& names);
+
 /// The statistics block printed after the table.
 [[nodiscard]] std::string statisticsText(const ComparisonTables& t);
 /// Every parameter of a best map, the grid's fixed ones too, in the method's order and to the 1e-6 grids keep:

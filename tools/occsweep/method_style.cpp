@@ -7,6 +7,7 @@
 
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/eval/control_characters.hpp"
 #include "occsweep/eval/data_error.hpp"
 
 namespace occsweep::cli {
@@ -27,28 +28,11 @@ bool isColour(const std::string& s) {
          });
 }
 
-// The code points of UTF-8 text (the style file is valid UTF-8: the JSON reader refused it otherwise).
-std::vector<char32_t> codePoints(const std::string& s) {
-  std::vector<char32_t> out;
-  for (std::size_t i = 0; i < s.size();) {
-    const auto lead = static_cast<unsigned char>(s[i]);
-    const std::size_t n = lead < 0x80 ? 1 : lead < 0xE0 ? 2 : lead < 0xF0 ? 3 : 4;
-    char32_t c = n == 1 ? lead : lead & (0x7F >> n);
-    for (std::size_t k = 1; k < n && i + k < s.size(); ++k) c = (c << 6) | (static_cast<unsigned char>(s[i + k]) & 0x3F);
-    out.push_back(c);
-    i += n;
-  }
-  return out;
-}
-
-// A control character (C0, DEL, C1) or a bidirectional control, which would hide or reorder the name's text.
-bool isControl(char32_t c) {
-  return c < 0x20 || (c >= 0x7F && c <= 0x9F) || (c >= 0x202A && c <= 0x202E) || (c >= 0x2066 && c <= 0x2069);
-}
-
+// 1 to kMaxDisplayName characters, no control or bidirectional-control character, which would hide or reorder the
+// name's text (the style file is valid UTF-8: the JSON reader refused it otherwise).
 bool isDisplayName(const std::string& s) {
-  const std::vector<char32_t> characters = codePoints(s);
-  return !characters.empty() && characters.size() <= kMaxDisplayName && std::none_of(characters.begin(), characters.end(), isControl);
+  const std::vector<Utf8Character> characters = utf8Characters(s);
+  return !characters.empty() && characters.size() <= kMaxDisplayName && !hasControlCharacters(s);
 }
 
 const LineStyle& lineStyle(const std::string& name) {

@@ -13,7 +13,13 @@
 
 #include <CLI/CLI.hpp>
 
+#include "occsweep/eval/control_characters.hpp"
+
 namespace occsweep::cli {
+
+/// The value name of an option that takes a file or a folder (`--out PATH` in --help): an empty value is refused
+/// as one that "needs a path" (refuseEmptyPaths, usage_errors.hpp).
+inline constexpr const char* kPath = "PATH";
 
 /// A bound as a person writes it: 0.5, 1, 1e-06 (not 0.500000).
 inline std::string plainNumber(double v) {
@@ -77,5 +83,24 @@ inline CLI::Validator numberAtLeast(double lo) {
 }
 /// A probability: [0, 1].
 inline CLI::Validator probability() { return numberIn(0.0, 1.0); }
+
+/// The leaf of a voxel filter or of the truth's voxels, metres: a micrometre at least. Finer, float32 coordinates a
+/// few metres from the origin lie farther apart than a leaf (nothing would be filtered), and a voxel's index, a
+/// coordinate over the leaf, soon passes the 62 bits it is kept in (core/voxel_filter.hpp): 1e-300 failed on the
+/// first point.
+inline CLI::Validator voxelLeaf() { return numberAtLeast(1e-6); }
+
+/// A name that tables and terminals show (a data set's, `import --name`): UTF-8 without control characters, since a
+/// line break or an escape sequence in it would forge or erase lines wherever it is printed; the same rule as a
+/// grid's name (path_component.hpp).
+inline CLI::Validator printableName() {
+  return CLI::Validator(
+      [](std::string& text) {
+        return hasControlCharacters(text) ? "must be UTF-8 text without control characters (line breaks, tabs, escape "
+                                            "sequences), got '" + escapedControlCharacters(text) + "'"
+                                          : std::string();
+      },
+      "");
+}
 
 }  // namespace occsweep::cli

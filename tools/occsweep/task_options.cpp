@@ -8,12 +8,13 @@
 namespace occsweep::cli {
 
 void addSweepOptions(CLI::App& app, SweepOptions& o) {
-  app.add_option("--dataset", o.dataset, "Data-set folder");
+  app.add_option("--dataset", o.dataset, "Data-set folder")->type_name(kPath);
   app.add_option("--grid", o.grids, "Grid name (sweeps/grids) or path; several (--grid A --grid B) share one read "
                                     "and one recording of the data set, each with its --out in order")
       ->allow_extra_args(false);
   app.add_option("--out", o.outs, "Results file: a store for .db or .sqlite (written as it runs), else JSON; the same "
                                   "sweep's own file, or OUT.partial (store) / OUT.partial.jsonl (JSON), resumes")
+      ->type_name(kPath)
       ->allow_extra_args(false);
   app.add_flag("--force", o.config.force, "Replace occsweep's own results of other work at --out (nothing else)");
   app.add_option("--shard", o.shard, "I/N: the I-th of N contiguous blocks of the grid's maps (I from 0)");
@@ -77,18 +78,20 @@ SweepConfig sharedSweepSettings(const std::vector<std::string>& args) {
 }
 
 void addMergeOptions(CLI::App& app, MergeTask& task) {
-  app.add_option("files", task.files, "Results files of one sweep's shards")->required();
-  app.add_option("--out", task.out, "Merged results file")->required();
+  app.add_option("files", task.files, "Results files of one sweep's shards")->type_name(kPath)->required();
+  app.add_option("--out", task.out, "Merged results file")->type_name(kPath)->required();
   app.add_flag("--force", task.force, "Replace occsweep's own previous results file at --out (nothing else)");
 }
 
 void addCompareOptions(CLI::App& app, CompareTask& task) {
   app.add_option("files", task.files, "Complete results files of whole grids (any mix of methods and data sets; "
-                                      "each passes `results check`)")->required();
-  app.add_option("--json", task.json, "Also write the table and the statistics as JSON");
-  app.add_option("--csv", task.csv, "Also write the table as CSV: one line per set, best parameters as fields");
-  app.add_option("--markdown", task.markdown, "Also write the table and the statistics as Markdown");
-  app.add_option("--latex", task.latex, "Also write the table and the statistics as LaTeX (booktabs)");
+                                      "each passes `results check`)")->type_name(kPath)->required();
+  app.add_option("--json", task.json, "Also write the table and the statistics as JSON")->type_name(kPath);
+  app.add_option("--csv", task.csv, "Also write the table as CSV: one line per set, best parameters as fields")
+      ->type_name(kPath);
+  app.add_option("--markdown", task.markdown, "Also write the table and the statistics as Markdown")->type_name(kPath);
+  app.add_option("--latex", task.latex, "Also write the table and the statistics as LaTeX (booktabs)")
+      ->type_name(kPath);
   app.add_option("--baseline", task.baseline, "Method every other one is compared with (docs/statistics.md)")
       ->capture_default_str();
   app.add_option("--alpha", task.alpha, "Significance level of the verdicts, after Holm's correction over the methods "
@@ -105,8 +108,9 @@ void addCompareOptions(CLI::App& app, CompareTask& task) {
 }
 
 void addSelectOptions(CLI::App& app, SelectTask& task) {
-  app.add_option("--out", task.out, "Folder of links to write")->required();
-  app.add_option("rankings", task.rankings, "ranking.json of every generation block of the data set")->required();
+  app.add_option("--out", task.out, "Folder of links to write")->type_name(kPath)->required();
+  app.add_option("rankings", task.rankings, "ranking.json of every generation block of the data set")
+      ->type_name(kPath)->required();
 }
 
 }  // namespace occsweep::cli

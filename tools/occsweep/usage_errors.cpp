@@ -7,6 +7,9 @@
 #include <numeric>
 #include <cctype>
 
+#include "occsweep/eval/control_characters.hpp"
+#include "option_checks.hpp"
+
 namespace occsweep::cli {
 namespace {
 
@@ -86,19 +89,24 @@ Diagnosis diagnose(const CLI::App& app, int argc, char** argv) {
     if (token == "--") break;
     if (!isOptionToken(token)) continue;
     const std::string name = token.substr(0, token.find('='));
-    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    if (const CLI::Option* option = d.command->get_option_no_throw(name)) {
+      // The words it takes are its values whatever they look like (`--auc-tolerance -inf`), as CLI11 reads them.
+      if (name == token) i += std::min(option->get_type_size_min(), option->get_items_expected_min());
+      continue;
+    }
     d.message = "unknown option " + name + didYouMean(nearest(name, known));
     return d;
   }
   return d;
 }
 
-/// CLI11's own message, reworded where it is unclear: "--k: must be ..." -> "--k must be ..."; a missing subcommand
-/// lists the choices.
+/// CLI11's own message, reworded where it is unclear: "--k: must be ..." -> "--k must be ..." (and "--out: needs
+/// ..."); a missing subcommand lists the choices.
 std::string reworded(const CLI::App& command, const CLI::ParseError& error) {
   std::string text = error.what();
   if (dynamic_cast<const CLI::ValidationError*>(&error)) {
-    const auto colon = text.find(": must be ");
+    auto colon = text.find(": must be ");
+    if (colon == std::string::npos) colon = text.find(": needs ");
     if (colon != std::string::npos) text.erase(colon, 1);
   }
   if (text.rfind("A subcommand is required", 0) == 0 || text.rfind("Requires at least", 0) == 0)
@@ -128,10 +136,22 @@ std::size_t editDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+void refuseEmptyPaths(CLI::App& app) {
+  const CLI::Validator non_empty(
+      [](std::string& path) {
+        return path.empty() ? "needs a path, got an empty value (an unset shell variable?)" : "";
+      },
+      "");
+  for (CLI::Option* option : app.get_options())
+    if (option->get_type_name() == kPath) option->check(non_empty);
+  for (CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) refuseEmptyPaths(*sub);
+}
+
 int reportParseError(CLI::App& app, const CLI::ParseError& error, int argc, char** argv) {
   if (error.get_exit_code() == 0) return app.exit(error);  // --help, --version
   const Diagnosis d = diagnose(app, argc, argv);
-  std::cerr << d.path << ": error: " << (d.message.empty() ? reworded(*d.command, error) : d.message) << '\n'
+  const std::string message = d.message.empty() ? reworded(*d.command, error) : d.message;
+  std::cerr << d.path << ": error: " << escapedControlCharacters(message) << '\n'
             << "Run '" << d.path << " --help' for the options.\n";
   return 2;
 }

@@ -7,6 +7,8 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
+#include "occsweep/eval/control_characters.hpp"
+
 namespace occsweep {
 
 std::string durationText(double seconds) {
@@ -43,7 +45,8 @@ std::string progressLine(const std::string& label, const std::string& unit, std:
 }
 
 Progress::Progress(std::string label, std::uint64_t total, bool quiet, std::string unit)
-    : label_(std::move(label)), unit_(std::move(unit)), total_(total), quiet_(quiet), tty_(::isatty(2) != 0),
+    : label_(escapedControlCharacters(label)),  // a data set's name in it shows its control characters escaped
+      unit_(std::move(unit)), total_(total), quiet_(quiet), tty_(::isatty(2) != 0),
       start_(std::chrono::steady_clock::now()), last_(start_) {}
 
 Progress::~Progress() {
@@ -88,7 +91,7 @@ void Progress::print(bool final) {
 
 void announcePhase(const std::string& what, bool quiet) {
   if (quiet) return;
-  std::cerr << what << '\n';
+  std::cerr << escapedControlCharacters(what) << '\n';  // a data set's name or path, a grid's name
 }
 
 }  // namespace occsweep

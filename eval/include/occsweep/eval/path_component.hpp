@@ -5,6 +5,8 @@
 #include <string>
 #include <string_view>
 
+#include "occsweep/eval/control_characters.hpp"
+
 namespace occsweep {
 
 /// The rule `name` breaks as a single, harmless path component, or none: it must not be empty, hold `/` or `\`,
@@ -14,9 +16,9 @@ namespace occsweep {
 [[nodiscard]] inline std::optional<std::string> brokenPathComponentRule(std::string_view name) {
   const std::string rule = "must be a single path component (no '/' or '\\', no leading '.', no control characters), "
                            "since it names output files and folders";
-  if (name.empty() || name.front() == '.') return rule;
-  for (const char c : name)
-    if (c == '/' || c == '\\' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return rule;
+  if (name.empty() || name.front() == '.' || name.find_first_of("/\\") != std::string_view::npos ||
+      hasControlCharacters(name))
+    return rule;
   return std::nullopt;
 }
 
