@@ -1,4 +1,5 @@
 #include "occsweep/eval/control_characters.hpp"
+#include "occsweep/eval/child_process.hpp"
 
 #include <cstdio>
 
@@ -59,6 +60,13 @@ std::string escapedControlCharacters(std::string_view text) {
       out += c.bytes;
   }
   return out;
+}
+
+std::string shownShellWord(const std::string& arg) {
+  if (!hasControlCharacters(arg)) return shellWord(arg);
+  std::string quoted;  // \ and ' first: the escapes added next are bash's own
+  for (const char c : arg) quoted += c == '\\' ? std::string("\\\\") : c == '\'' ? std::string("\\'") : std::string(1, c);
+  return "$'" + escapedControlCharacters(quoted) + "'";
 }
 
 }  // namespace occsweep

@@ -12,10 +12,8 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
-#include <fstream>
 #include <functional>
 #include <map>
-#include <optional>
 #include <mutex>
 #include <set>
 #include <streambuf>
@@ -144,7 +142,7 @@ void cleanOnInterrupt() {
     ::waitpid(pid, nullptr, 0);
   }
   for (const auto& [path, made] : liveTemporaries())
-    if (madeEntryStands(path)) removeTemporaryEntry(path);  // another entry at its name (or none) is not occsweep's
+    if (made == entryNumbers(path)) removeTemporaryEntry(path);  // another entry at its name (or none) is a user's
   const std::string& message = interruptMessage();
   for (std::size_t done = 0; done < message.size();) {
     const ssize_t n = ::write(2, message.data() + done, message.size() - done);

@@ -1,10 +1,12 @@
 // Temporary names, and what a killed run left beside an output (docs/robustness.md, "Ownership").
 #include "occsweep/eval/ownership.hpp"
-#include "occsweep/eval/bounded_read.hpp"
-#include "occsweep/eval/child_process.hpp"
+#include "occsweep/eval/control_characters.hpp"
 #include "occsweep/eval/fnv1a.hpp"
 #include "occsweep/eval/process_stat.hpp"
 
+#include <algorithm>
+#include <cstring>
+#include <fcntl.h>
 #include <iostream>
 #include <mutex>
 #include <random>
@@ -88,21 +90,45 @@ void reportLeftoverTemporaries(const fs::path& target) {
   std::vector<fs::path> leftovers;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
     if (isLeftoverTemporaryOf(it->path(), target)) leftovers.push_back(it->path());
-  for (const fs::path& p : leftovers)
-    std::cerr << "occsweep: warning: " << p.string() << " is named as a temporary of " << target.string()
-              << " that a killed occsweep left; occsweep never removes it. If it is not yours, remove it:\n  rm -r -- "
-              << shellWord(p.string()) << '\n';
+  for (const fs::path& p : leftovers) {
+    std::string command = "rm -r -- " + shownShellWord(p.string());
+    const fs::path journal = p.string() + "-journal";  // what a kill of a store being written there leaves
+    if (fs::exists(fs::symlink_status(journal, ec))) command += " " + shownShellWord(journal.string());
+    std::cerr << "occsweep: warning: " << escapedControlCharacters(p.string()) << " is named as a temporary of "
+              << escapedControlCharacters(target.string()) << " whose process does not run on this machine (a "
+              << "killed occsweep's, unless another machine's occsweep writes this folder); occsweep never removes "
+              << "it. Once it is not in use, remove it:\n  " << command << '\n';
+  }
+}
+
+std::string readReservedFile(const fs::path& file, std::size_t max_bytes, std::string& head) {
+  head.clear();
+  struct stat named {}, opened {};
+  if (::lstat(file.c_str(), &named) != 0) return "cannot be read";
+  if (S_ISLNK(named.st_mode)) return "is a symbolic link";
+  if (!S_ISREG(named.st_mode)) return "is not a regular file";
+  // Opened without following a link or waiting on a FIFO, and read only if it is still the file looked at.
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return "cannot be read";
+  std::string why;
+  if (::fstat(fd, &opened) != 0 || opened.st_dev != named.st_dev || opened.st_ino != named.st_ino)
+    why = "was replaced while occsweep read it";
+  else if (opened.st_nlink != 1)
+    why = "has " + std::to_string(opened.st_nlink) + " names (a hard link shares its bytes)";
+  if (why.empty()) {
+    head.resize(std::min<std::size_t>(max_bytes, std::size_t(opened.st_size)));
+    const ssize_t n = ::pread(fd, head.data(), head.size(), 0);
+    head.resize(n > 0 ? std::size_t(n) : 0);
+  }
+  ::close(fd);
+  return why;
 }
 
 std::string notOwnReservedFile(const fs::path& file, const std::string& mark, bool empty_is_own) {
-  struct stat st {};
-  if (::lstat(file.c_str(), &st) != 0) return "cannot be read";
-  if (S_ISLNK(st.st_mode)) return "is a symbolic link";
-  if (!S_ISREG(st.st_mode)) return "is not a regular file";
-  if (st.st_nlink != 1) return "has " + std::to_string(st.st_nlink) + " names (a hard link shares its bytes)";
-  if (empty_is_own && st.st_size == 0) return "";
-  const std::optional<std::string> line = readFirstLine(file, std::size_t(1) << 20);  // a mark line is short
-  return line && line->starts_with(mark) ? "" : "does not start with occsweep's line \"" + mark + "\"";
+  std::string head;
+  if (std::string why = readReservedFile(file, mark.size(), head); !why.empty()) return why;
+  if (empty_is_own && head.empty()) return "";
+  return head == mark ? "" : "does not start with occsweep's line \"" + mark + "\"";
 }
 
 namespace {
@@ -117,7 +143,11 @@ std::string hashOfFile(const fs::path& file) {
 
 void markWrittenBytes(const fs::path& file) {
   const std::string hash = hashOfFile(file);
-  (void)::lsetxattr(file.c_str(), kMarkAttribute, hash.data(), hash.size(), 0);  // ENOTSUP: never replaced
+  if (::lsetxattr(file.c_str(), kMarkAttribute, hash.data(), hash.size(), 0) == 0) return;
+  const fs::path shown = file.parent_path() / outputNameOf(file.filename().string());
+  std::cerr << "occsweep: warning: " << escapedControlCharacters(shown.string()) << ": cannot mark it as occsweep's ("
+            << std::strerror(errno) << ": a file system without user attributes): a later --force will not "
+            << "replace it; remove it first to write it again (docs/robustness.md, \"Ownership\")\n";
 }
 
 bool holdsMarkedBytes(const fs::path& file) {

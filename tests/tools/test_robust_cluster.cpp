@@ -344,7 +344,10 @@ TEST_CASE("run-local removes only the running markers it wrote, never a user's f
   const fs::path running = dir / "p" / "running";
   fs::create_directories(running);
   const std::string mine = "999999\n";
-  for (const char* name : {"sweep-0.pid", "notes.pid"}) std::ofstream(running / name) << mine;
+  for (const char* name : {"sweep-0.pid", "notes.pid", "sweep-2.pid"}) std::ofstream(running / name) << mine;
+  std::ofstream(running / "sweep-2.pid", std::ios::trunc) << "";  // an empty file is no marker either
+  // What a killed run-local leaves: its mark line and a task's pid no process has any more.
+  std::ofstream(running / "sweep-1.pid") << "# occsweep cluster run-local: running task\n999999\n";
   auto r = test::runIn(dir, "cluster run-local p --threads 2");
   INFO(r.output);
   CHECK(r.exit_code == 2);
@@ -352,6 +355,9 @@ TEST_CASE("run-local removes only the running markers it wrote, never a user's f
   CHECK_FALSE(fs::exists(dir / "p" / "sweeps"));  // no task started
   CHECK(test::bytesOf(running / "sweep-0.pid") == mine);
   CHECK(test::bytesOf(running / "notes.pid") == mine);
+  CHECK(test::bytesOf(running / "sweep-2.pid").empty());
+  CHECK_FALSE(fs::exists(running / "sweep-1.pid"));  // stale and run-local's: removed
+  fs::remove(running / "sweep-2.pid");
   // Moved away, the plan runs; the file at a name no task uses stays as it was.
   fs::rename(running / "sweep-0.pid", dir / "sweep-0.pid");
   r = test::runIn(dir, "cluster run-local p --threads 2");

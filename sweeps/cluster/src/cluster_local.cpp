@@ -4,7 +4,6 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
-#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
@@ -18,7 +17,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "occsweep/eval/bounded_read.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
@@ -118,7 +116,7 @@ class PlanLock {
         throw std::runtime_error(file_.string() + ": is a symbolic link: occsweep never writes through one; remove it");
       throw std::runtime_error(file_.string() + ": cannot open: " + std::strerror(e));
     }
-    const bool own = notOwnReservedFile(file_, kMark, true).empty();
+    const bool own = isOwnLock();
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       const std::string holder = own ? holderPid() : "";
       ::close(fd_);
@@ -137,6 +135,16 @@ class PlanLock {
 
  private:
   static constexpr const char* kMark = "# occsweep cluster run-local: lock";
+
+  // Whether the file opened (not what its name holds by now) is run-local's to write: a regular file with one name,
+  // empty (what a kill right after its creation leaves) or starting with the mark.
+  bool isOwnLock() const {
+    struct stat st {};
+    if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode) || st.st_nlink != 1) return false;
+    std::string head(std::strlen(kMark), '\0');
+    const ssize_t n = ::pread(fd_, head.data(), head.size(), 0);
+    return st.st_size == 0 || (n == ssize_t(head.size()) && head == kMark);
+  }
 
   // The pid on the lock's second line, "" when there is none.
   std::string holderPid() const {

@@ -31,8 +31,8 @@ constexpr const char* kMarkerMark = "# occsweep cluster run-local: running task"
 }  // namespace
 
 std::string foreignMarkerMessage(const fs::path& marker) {
-  std::string why = notOwnReservedFile(marker, kMarkerMark, true);
-  if (why.empty()) why = "is run-local's";
+  std::string why = notOwnReservedFile(marker, kMarkerMark);
+  if (why.empty()) why = "is the marker of a task still running";
   return marker.string() + ": " + why + ", where run-local keeps a running task's marker: occsweep never removes "
          "it; once no task of the plan runs, move it away";
 }
@@ -73,7 +73,7 @@ void removeStaleMarkers(const fs::path& dir) {
   std::error_code ec;
   std::vector<fs::path> markers;
   for (fs::directory_iterator it(dir / "running", ec), end; !ec && it != end; it.increment(ec))
-    if (it->path().extension() == ".pid" && notOwnReservedFile(it->path(), kMarkerMark, true).empty())
+    if (it->path().extension() == ".pid" && notOwnReservedFile(it->path(), kMarkerMark).empty())
       markers.push_back(it->path());
   for (const auto& m : markers) fs::remove(m, ec);
 }
@@ -82,13 +82,8 @@ pid_t liveLocalTask(const fs::path& dir, const std::string& stage, std::uint64_t
   // Never read through a link, and never a FIFO, which would block status and run-local: a marker is a regular file.
   const fs::path marker = runningMarker(dir, stage, task);
   std::error_code ec;
-  if (!notOwnReservedFile(marker, kMarkerMark).empty()) return 0;
-  std::string text;
-  try {
-    text = readFileBytes(marker, 128);  // the mark's line, then the pid's
-  } catch (const DataError&) {
-    return 0;  // longer than a marker: not one run-local is still writing
-  }
+  std::string text;  // the mark's line, then the pid's
+  if (!readReservedFile(marker, 128, text).empty() || !text.starts_with(kMarkerMark)) return 0;
   long pid = 0;
   if (!(std::istringstream(text.substr(std::min(text.size(), text.find('\n') + 1))) >> pid) || pid <= 0) return 0;
   // Alive and not a zombie.

@@ -31,11 +31,9 @@ class PartialLock {
   /// A new partial output: `make` writes it at a temporary beside `file`, which is locked, then put at `file`:
   /// in place of the one `replacing` holds (occsweep's own, locked by the caller; a file put at the name meanwhile
   /// stays and this throws), or, without `replacing`, only if there is none (another sweep made one meanwhile:
-  /// thrown as above). Nothing is left at the temporary on an error. `published` runs in one step with its
-  /// appearance at `file` (an interrupt's cleaning never comes between them), given the new lock.
+  /// thrown as above). Nothing is left at the temporary on an error.
   [[nodiscard]] static PartialLock publish(const std::filesystem::path& file, const PartialLock* replacing,
-                                           const std::function<void(const std::filesystem::path&)>& make,
-                                           const std::function<void(const PartialLock&)>& published = {});
+                                           const std::function<void(const std::filesystem::path&)>& make);
   [[nodiscard]] bool held() const { return fd_ >= 0; }
   /// The open file this lock holds (-1: none).
   [[nodiscard]] int descriptor() const { return fd_; }

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/results_file.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
@@ -147,7 +148,9 @@ void writeSweepResults(const ResultsFile& f, FinishedMaps& finished, const Sweep
 class OutputBase : public GridOutput {
  public:
   OutputBase(const SweepConfig& c, const ResultsHeader& h, std::string engine)
-      : c_(c), h_(h), engine_(std::move(engine)), partial_(partialOutputPath(c.out)) {}
+      : c_(c), h_(h), engine_(std::move(engine)), partial_(partialOutputPath(c.out)) {
+    reportLeftoverTemporaries(partial_);  // a resumed partial output makes no temporary that would name them
+  }
   const std::optional<ResultsFile>& complete() const override { return existing_; }
   fs::path partial() const override { return partial_; }
 

@@ -8,7 +8,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <iostream>
 #include <optional>
 
 #include "occsweep/eval/bounded_read.hpp"
@@ -71,9 +70,7 @@ ResultsHeader ownLogHeader(const fs::path& partial, const PartialLock& lock) {
 }
 
 // Removes occsweep's log at `partial` while it is the file `lock` holds.
-void removeOwnLog(const fs::path& partial, const PartialLock& lock) {
-  runWithoutInterruptCleaning([&] { lock.removeHeldFile(partial); });
-}
+void removeOwnLog(const fs::path& partial, const PartialLock& lock) { lock.removeHeldFile(partial); }
 
 }  // namespace
 
@@ -127,10 +124,9 @@ namespace {
 
 // Puts the sweep's new partial output (`claimed`, locked by `made`) at `file` in place of the one `replacing` holds,
 // and removes that one. Exchanged atomically, then checked: a file a user put at the name meanwhile (the sweep
-// prepared its data for minutes) goes back, and the sweep stops naming it. `published` runs in one step with the
-// exchange (runWithoutInterruptCleaning).
+// prepared its data for minutes) goes back, and the sweep stops naming it.
 void replaceHeldPartial(ClaimedTemporary& claimed, const fs::path& file, const PartialLock& replacing,
-                        const PartialLock& made, const std::function<void(const PartialLock&)>& published) {
+                        const PartialLock& made) {
   const fs::path& temporary = claimed.path();
   bool users_file_exchanged = false;
   runWithoutInterruptCleaning([&] {
@@ -143,7 +139,6 @@ void replaceHeldPartial(ClaimedTemporary& claimed, const fs::path& file, const P
       users_file_exchanged = true;
       return;
     }
-    if (published) published(made);
     replacing.removeHeldFile(temporary);  // the old partial output, now at the temporary's name (if exchanged)
   });
   if (users_file_exchanged) putBackUsersFile(claimed, file, made);
@@ -152,8 +147,7 @@ void replaceHeldPartial(ClaimedTemporary& claimed, const fs::path& file, const P
 }  // namespace
 
 PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replacing,
-                                 const std::function<void(const fs::path&)>& make,
-                                 const std::function<void(const PartialLock&)>& published) {
+                                 const std::function<void(const fs::path&)>& make) {
   // Made and registered as OutputFile's temporaries are (docs/robustness.md, "Ownership"): an interrupt removes
   // it while it is the file made there; what a kill leaves the next run names. A user's file is at that name only
   // while an exchange is undone (putBackUsersFile), or once kept.
@@ -165,7 +159,7 @@ PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replac
   // Locked before it appears under its name: a second sweep finds it locked. Neither the exchange nor the rename
   // below replaces a file.
   if (replacing) {
-    replaceHeldPartial(claimed, file, *replacing, lock, published);
+    replaceHeldPartial(claimed, file, *replacing, lock);
     return lock;
   }
   // Renamed without replacing (never a second name a kill could leave behind), else linked: neither replaces a file.
@@ -177,7 +171,6 @@ PartialLock PartialLock::publish(const fs::path& file, const PartialLock* replac
         throw std::runtime_error(file.string() + ": cannot create (" + std::strerror(errno) + ")");
       }
     }
-    if (published) published(lock);
   });
   return lock;
 }
@@ -228,10 +221,8 @@ void takeLoggedMap(const json& j, const fs::path& partial, const ResultsHeader& 
 // Cuts the log held by `lock` at `whole`, the end of its last line with a line break: what a kill cut off a line
 // goes, so that the next line starts on a line of its own.
 void dropCutLine(const fs::path& partial, const PartialLock& lock, std::uintmax_t whole) {
-  runWithoutInterruptCleaning([&] {
-    if (::truncate(lock.heldFilePath().c_str(), off_t(whole)) != 0)
-      throw std::runtime_error(partial.string() + ": cannot drop the line a kill cut (" + std::strerror(errno) + ")");
-  });
+  if (::truncate(lock.heldFilePath().c_str(), off_t(whole)) != 0)
+    throw std::runtime_error(partial.string() + ": cannot drop the line a kill cut (" + std::strerror(errno) + ")");
 }
 
 // The end of a log's last whole line, and whether a line after it was cut (only a kill cuts a line, and only the
@@ -308,7 +299,8 @@ PartialLog::PartialLog(fs::path file, const ResultsHeader& header, std::size_t m
     });
   }
   struct stat held {};
-  whole_bytes_ = ::fstat(lock_.descriptor(), &held) == 0 ? std::uintmax_t(held.st_size) : 0;
+  if (::fstat(lock_.descriptor(), &held) != 0) throw OutputError(writeFailure(file_, errno));
+  whole_bytes_ = std::uintmax_t(held.st_size);
   out_.open(lock_.heldFilePath(), std::ios::app);  // never by name: a file put there meanwhile is a user's
   if (!out_) {
     const OutputError error(writeFailure(file_, errno));
@@ -324,13 +316,14 @@ void PartialLog::append(const json& line) {
   if (failed_) throw OutputError(failure_);
   const std::string text = line.dump() + '\n';
   bool written = false;
+  int error_number = 0;
   runWithoutInterruptCleaning([&] {  // whole or not at all when an interrupt comes
     out_ << text << std::flush;
     written = bool(out_);
     if (written) whole_bytes_ += text.size();
+    else error_number = errno;
   });
   if (!written) {
-    const int error_number = errno;
     failed_ = true;
     out_.close();  // what it still holds is dropped below
     // What a full disk cut off the last line goes: the log ends with its last whole map (docs/robustness.md).

@@ -30,4 +30,8 @@ inline constexpr char32_t kNotUtf8 = 0xFFFFFFFF;
 /// Whether `text` holds a control character or a byte that is not UTF-8.
 [[nodiscard]] inline bool hasControlCharacters(std::string_view text) { return escapedControlCharacters(text) != text; }
 
+/// `arg` as one shell word a terminal shows as it is and bash reads back as `arg`: shellWord (child_process.hpp)
+/// where it holds no control character, else bash's $'...' quoting with escapedControlCharacters' escapes.
+[[nodiscard]] std::string shownShellWord(const std::string& arg);
+
 }  // namespace occsweep

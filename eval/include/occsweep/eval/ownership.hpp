@@ -21,18 +21,24 @@ inline constexpr std::size_t kFileNameMax = 255;
 /// The name a user knows for a temporary's component (`.NAME.tmp-PID-TOKEN` is `NAME`); other names unchanged.
 [[nodiscard]] std::string outputNameOf(const std::string& component);
 
-/// True when `entry` is named as a temporary of `target` whose process no longer runs on this machine: what a
-/// killed run left. (A process of that PID on another machine sharing the folder cannot be seen from here.)
+/// True when `entry` is named as a temporary of `target` whose process does not run on this machine: what a killed
+/// run left, or what a run on another machine sharing the folder is writing (its process cannot be seen from here).
 [[nodiscard]] bool isLeftoverTemporaryOf(const std::filesystem::path& entry, const std::filesystem::path& target);
 
-/// Prints on stderr, once per target and process, each leftover temporary of `target` with the command that removes
-/// it. occsweep never removes them: it cannot tell a killed run's from an entry a user made at that name.
+/// Prints on stderr, once per target and process, each leftover temporary of `target` (and SQLite's journal beside
+/// it) with the command that removes it. occsweep never removes them: it cannot tell a killed run's from an entry a
+/// user made at that name, or from one another machine's run is writing.
 void reportLeftoverTemporaries(const std::filesystem::path& target);
 
-/// Why the entry at a name occsweep reserves (a run-local lock, marker or task log) is not occsweep's to write into,
-/// replace or remove: "" when it is a regular file with one name whose first line starts with `mark` (or, with
-/// `empty_is_own`, an empty one: what a kill right after its creation leaves); else what it is ("is a symbolic
-/// link", "is not a regular file", "has 2 names", "does not start with MARK"). Never blocks on a FIFO.
+/// Why the entry at a name occsweep reserves is not a regular file with one name ("" when it is; else "is a symbolic
+/// link", "is not a regular file", "has 2 names ..."), and its first `max_bytes` bytes in `head`: read through a
+/// descriptor opened without following a link or waiting on a FIFO, and only while it is the entry looked at.
+[[nodiscard]] std::string readReservedFile(const std::filesystem::path& file, std::size_t max_bytes,
+                                           std::string& head);
+
+/// Why the entry at a name occsweep reserves (a run-local lock, marker or task log, a table) is not occsweep's to
+/// write into, replace or remove: "" when readReservedFile accepts it and it starts with `mark` (or, with
+/// `empty_is_own`, is empty: what a kill right after its creation leaves); else why not.
 [[nodiscard]] std::string notOwnReservedFile(const std::filesystem::path& file, const std::string& mark,
                                              bool empty_is_own = false);
 

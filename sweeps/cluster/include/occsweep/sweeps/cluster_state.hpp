@@ -40,8 +40,8 @@ void writeRunningMarker(const RunningMarker& marker, pid_t pid);
 /// Removes the marker while it is the entry createRunningMarker made; anything put at its name since stays.
 void removeRunningMarker(const RunningMarker& marker);
 /// Removes the markers in DIR/running that a killed run-local left (their tasks are not live: checked before): a
-/// regular file with one name that starts with the marker's mark line, or an empty one; any other entry stays
-/// (docs/robustness.md, "Ownership").
+/// regular file with one name that starts with the marker's mark line; any other entry stays (docs/robustness.md,
+/// "Ownership").
 void removeStaleMarkers(const std::filesystem::path& dir);
 /// The pid in the task's marker when that process is alive (not a zombie) and runs in DIR; 0 otherwise (no
 /// marker, or one left by a run-local killed with SIGKILL whose task has ended since).
