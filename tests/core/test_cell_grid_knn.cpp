@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "occsweep/core/knn_average_distance.hpp"
+#include "occsweep/core/limits.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;
@@ -148,4 +149,46 @@ TEST_CASE("the grid search and the former k-d tree give the same s_i on random c
       REQUIRE(grid[i] == Approx(tree[i]).epsilon(1e-12));
     }
   }
+}
+
+TEST_CASE("k past the sorted array's 128, up to and past the cloud's size, equals brute force bit for bit") {
+  // Beyond 128 the k nearest are gathered and cut back by nth_element (NearestSoFar): the cut's bound prunes
+  // cells and rings, and ties at it must still give the exact k smallest.
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    SplitMix64 rng(400 + seed);
+    auto pts = seed % 2 ? denseSurface(rng, 500 + rng.below(700)) : test::randomCloud(rng, 150 + rng.below(400), 2.0);
+    addDuplicatesAndOutliers(rng, pts);
+    const int n = int(pts.size());
+    for (int k : {129, 130 + int(rng.below(300)), n / 2, n - 2, n - 1, n, 100000}) {
+      INFO("seed " << seed << " n " << n << " k " << k);
+      requireBitIdentical(averageKnnDistances(pts, k), averageKnnDistancesBruteForce(pts, k), "large k");
+    }
+  }
+  std::vector<octomap::point3d> lattice;  // shells of equal distances around every point
+  for (int x = 0; x < 9; ++x)
+    for (int y = 0; y < 9; ++y)
+      for (int z = 0; z < 9; ++z) lattice.emplace_back(0.1f * float(x), 0.1f * float(y), 0.1f * float(z) + 3.0f);
+  for (int k : {129, 200, 400, 727, 728, 1000})
+    requireBitIdentical(averageKnnDistances(lattice, k), averageKnnDistancesBruteForce(lattice, k),
+                        "lattice k " + std::to_string(k));
+}
+
+TEST_CASE("k-NN refuses more neighbour distances than the limit before searching, n x min(k, n - 1) of them") {
+  SplitMix64 rng(5);
+  const auto pts = test::randomCloud(rng, 1000, 2.0);
+  const std::uint64_t saved = limits().neighbour_distances;
+  limits().neighbour_distances = 1000 * 999;  // k capped at the 999 others
+  CHECK(averageKnnDistances(pts, 100000) == averageKnnDistancesBruteForce(pts, 100000));
+  limits().neighbour_distances = 1000 * 999 - 1;
+  std::string message;
+  try {
+    (void)averageKnnDistances(pts, 100000);
+  } catch (const LimitError& e) {
+    message = e.what();
+  }
+  limits().neighbour_distances = saved;
+  INFO(message);
+  for (const char* word : {"knn: k 100000 on the 1000 points", "999000 is more than the limit of 998999",
+                           "--max-neighbour-distances"})
+    CHECK(message.find(word) != std::string::npos);
 }

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "core/point_filter_cases.hpp"
+#include "occsweep/core/limits.hpp"
 #include "occsweep/core/point_filters.hpp"
 
 using namespace occsweep;
@@ -180,4 +181,105 @@ TEST_CASE("ROR by hand: a neighbour exactly at the radius counts, the point itse
   CHECK(radiusOutlierRemoval({}, 1.0, 1).empty());
   CHECK_THROWS_AS(rorKeeps(3, -1), std::invalid_argument);
   CHECK_THROWS_AS(rorNeighbourCounts(pts, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+}
+
+namespace {
+
+/// rorNeighbourCounts by brute force: the other points at !(r^2 < double(FLANN d2)) (radius_outlier_removal.hpp:104).
+std::vector<std::uint32_t> rorCountsOracle(const std::vector<point3d>& pts, double radius) {
+  std::vector<std::uint32_t> counts(pts.size(), 0);
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    for (std::size_t j = 0; j < pts.size(); ++j)
+      counts[i] += j != i && !(radius * radius < double(flannL2(pts[i], pts[j])));
+  return counts;
+}
+
+/// The radius of the cloud's farthest pair by FLANN's d2: that pair lies exactly at it or a rounding beside it.
+double diameter(const std::vector<point3d>& pts) {
+  float d2 = 0;
+  for (const auto& a : pts)
+    for (const auto& b : pts) d2 = std::max(d2, flannL2(a, b));
+  return std::sqrt(double(d2));
+}
+
+/// limits().neighbour_distances set for one scope.
+struct NeighbourLimit {
+  explicit NeighbourLimit(std::uint64_t limit) : saved(limits().neighbour_distances) {
+    limits().neighbour_distances = limit;
+  }
+  ~NeighbourLimit() { limits().neighbour_distances = saved; }
+  std::uint64_t saved;
+};
+
+}  // namespace
+
+TEST_CASE("ROR counts equal brute force for radii from below the spacing to past the whole cloud") {
+  // The counting tree settles whole boxes inside or outside the sphere; the cloud's farthest pair sits on the
+  // boundary at its diameter, and every point is everyone's neighbour past it.
+  for (std::uint64_t seed = 1; seed <= test::kFilterSeeds; ++seed) {
+    const auto c = test::filterCase(seed);
+    std::vector<double> radii = c.radii;
+    const double d = diameter(c.points);
+    radii.insert(radii.end(), {d, std::nextafter(d, 0.0), d / 2, 2 * d, 1e6, 0.0});
+    for (double radius : radii) {
+      INFO("seed " << seed << " (" << c.kind << ", " << c.points.size() << " points), radius " << radius);
+      REQUIRE(rorNeighbourCounts(c.points, radius) == rorCountsOracle(c.points, radius));
+    }
+  }
+}
+
+TEST_CASE("ROR's count tree measures no distance for a radius past the cloud, and few for half of it") {
+  // The finding: radius 100 on a 200,000-point scan measured every pair (n^2). Here boxes settle every pair.
+  SplitMix64 rng(11);
+  std::vector<point3d> pts;
+  for (int i = 0; i < 20000; ++i)
+    pts.emplace_back(float(rng.uniform() * 4), float(rng.uniform() * 4), float(rng.uniform()));
+  for (double radius : {6.0, 100.0, 1e6}) {
+    detail::RadiusCountTree tree(pts);
+    for (const auto& p : pts) REQUIRE(tree.countWithin(p, radius * radius) == pts.size());
+    CHECK(tree.distancesMeasured() == 0);
+  }
+  detail::RadiusCountTree tree(pts);
+  const std::size_t n = pts.size();
+  for (std::size_t i = 0; i < n; i += 100) (void)tree.countWithin(pts[i], 2.0 * 2.0);
+  INFO("distances measured for 200 queries at radius 2: " << tree.distancesMeasured());
+  CHECK(tree.distancesMeasured() < 200 * n / 10);  // brute force measures 200 n
+}
+
+TEST_CASE("SOR with k past the sorted array and past the cloud's size (PCL caps it) equals the oracle bit for bit") {
+  for (std::uint64_t seed = 1; seed <= 30; ++seed) {
+    const auto c = test::filterCase(seed);
+    const int n = int(c.points.size());
+    for (int mean_k : {129, n / 2 + 1, n - 1, n, n + 1, 100000}) {
+      if (mean_k < 1) continue;
+      INFO("seed " << seed << " (" << c.kind << ", " << n << " points, mean_k " << mean_k << ")");
+      const SorDistances d = sorDistances(c.points, mean_k);
+      const SorOracle o = sorOracle(c.points, mean_k);
+      REQUIRE(d.mean_distance == o.distances);
+      REQUIRE(sameBits(d.threshold_mean, o.mean));
+      REQUIRE(sameBits(d.threshold_stddev, o.stddev));
+    }
+  }
+}
+
+TEST_CASE("SOR refuses more neighbour distances than the limit before searching, n x min(k, n - 1) of them") {
+  SplitMix64 rng(3);
+  std::vector<point3d> pts;
+  for (int i = 0; i < 1000; ++i) pts.emplace_back(float(rng.uniform()), float(rng.uniform()), float(rng.uniform()));
+  {
+    const NeighbourLimit exactly(1000 * 999);  // k capped at the 999 others
+    CHECK(sorDistances(pts, 100000).mean_distance.size() == 1000);
+  }
+  const NeighbourLimit below(1000 * 999 - 1);
+  CHECK(sorDistances(pts, 998).mean_distance.size() == 1000);
+  try {
+    (void)statisticalOutlierRemoval(pts, 100000, 1.0);
+    FAIL("no LimitError");
+  } catch (const LimitError& e) {
+    const std::string message = e.what();
+    INFO(message);
+    for (const char* word : {"sor-octomap: k 100000", "1000 points", "999000 is more than the limit of 998999",
+                             "--max-neighbour-distances"})
+      CHECK(message.find(word) != std::string::npos);
+  }
 }

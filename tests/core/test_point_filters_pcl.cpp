@@ -115,6 +115,29 @@ TEST_CASE("radiusOutlierRemoval keeps exactly what PCL's RadiusOutlierRemoval ke
   CHECK(removals > 10000);
 }
 
+TEST_CASE("k past the cloud's size (PCL caps it) and radii past the whole cloud keep exactly what PCL keeps") {
+  // docs/methods.md, "Neighbour searches": the searches that stopped growing with k and the radius.
+  QuietPcl quiet;
+  for (std::uint64_t seed = 1; seed <= test::kFilterSeeds; seed += 2) {
+    const auto c = test::filterCase(seed);
+    const int n = int(c.points.size());
+    INFO("seed " << seed << " (" << c.kind << ", " << n << " points)");
+    const auto cloud = pclCloud(c.points);
+    for (int mean_k : {129, n - 1, n, 100000})
+      for (double std_mul : {-0.5, 0.0, 1.0}) {
+        if (mean_k < 1) continue;
+        INFO("mean_k " << mean_k << " std_mul " << std_mul);
+        REQUIRE(statisticalOutlierRemoval(c.points, mean_k, std_mul) == pclSor(cloud, mean_k, std_mul));
+      }
+    for (double radius : {c.radii.back() * 8, 20.0, 1e6})
+      for (int min_pts : {0, 2, n - 1, n}) {
+        if (min_pts < 0) continue;
+        INFO("radius " << radius << " min_neighbors " << min_pts);
+        REQUIRE(radiusOutlierRemoval(c.points, radius, min_pts) == pclRor(cloud, radius, min_pts));
+      }
+  }
+}
+
 TEST_CASE("PCL's ROR on a lattice: a neighbour exactly at the radius counts (1.0 is exact in float and double)") {
   QuietPcl quiet;
   const std::vector<octomap::point3d> pts = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {4, 0, 0}};

@@ -131,6 +131,17 @@ const fs::path& scene() {
 json readJson(const fs::path& file) { return json::parse(std::ifstream(file)); }
 void writeText(const fs::path& file, const std::string& text) { std::ofstream(file, std::ios::binary) << text; }
 
+/// mapdiff finds the two maps equal: every voxel known in both (and some), none disagreeing.
+void checkSameMap(const fs::path& a, const fs::path& b) {
+  const Run diff = runOccsweep("mapdiff " + a.string() + " " + b.string());
+  REQUIRE(diff.exit_code == 0);
+  const json d = json::parse(diff.output.substr(diff.output.find('{')));
+  CHECK(d.at("disagree") == 0);
+  CHECK(d.at("known_only_a") == 0);
+  CHECK(d.at("known_only_b") == 0);
+  CHECK(d.at("known_both").get<std::uint64_t>() > 0);
+}
+
 /// knn-opt with k = 1..100000: 405 M combinations from a 1 MB file (old: 3.9 GB, then bad_alloc naming no file).
 void writeManyKGrid(const fs::path& file) {
   json g = readJson(occsweep::test::sourceTree() / "sweeps" / "grids" / "knn-opt.json");
@@ -197,13 +208,7 @@ TEST_CASE("k-NN maps with a large s_c or a fine resolution: a correct map or a r
   checkPeak(wide);
   const Run near = runOccsweep("map --dataset " + scene().string() + " --method knn --s-c 20 --out " + (dir / "near.ot").string());
   REQUIRE(near.exit_code == 0);
-  const Run diff = runOccsweep("mapdiff " + (dir / "wide.ot").string() + " " + (dir / "near.ot").string());
-  REQUIRE(diff.exit_code == 0);
-  const json d = json::parse(diff.output.substr(diff.output.find('{')));
-  CHECK(d.at("disagree") == 0);
-  CHECK(d.at("known_only_a") == 0);
-  CHECK(d.at("known_only_b") == 0);
-  CHECK(d.at("known_both").get<std::uint64_t>() > 0);
+  checkSameMap(dir / "wide.ot", dir / "near.ot");
 
   // A resolution of 0.00493 m: the scene's extent holds too many voxels for a window (or the region): refused by
   // name, with the size and the limit, before anything big is allocated; no map left.
@@ -492,6 +497,49 @@ TEST_CASE("scene bounds the product of its sizes by the points limit, and its no
   CHECK(at.exit_code == 0);
   checkRefused(runOccsweep("scene --scans 8 --width 32 --height 24 --max-points 6143 --out " + (dir / "over").string()),
                {"6144 is more than the limit of 6143"});
+  CHECK(leftovers(dir).empty());
+}
+
+TEST_CASE("neighbour searches a parameter made quadratic: ROR's radius runs in time, SOR's and k-NN's k past the "
+          "neighbour-distance limit are refused at once") {
+  // Finding H4: on one 200,000-point scan, map --method ror-octomap --radius 100 and --method sor-octomap --k 100000
+  // ran silently past 100 s (every pair measured; k nearest kept in arrays sorted by shifting), within the methods'
+  // bounds. docs/methods.md, "Neighbour searches". The guard kills a run still going after 60 s: `hung`.
+  const fs::path dir = occsweep::test::processScratch("limits_neighbours");
+  const std::string scan = (dir / "scan").string();
+  const Run made = runOccsweep("scene --scans 1 --width 640 --height 480 --out " + scan);
+  REQUIRE(made.exit_code == 0);
+  REQUIRE(made.output.find("203094 points") != std::string::npos);
+  // Radius 100 m: every point is every other's neighbour, none is removed, so the map is plain OctoMap's.
+  const Run ror = runOccsweep("map --dataset " + scan + " --method ror-octomap --radius 100 --out " +
+                              (dir / "ror.ot").string(), 3072, 60);
+  INFO(ror.output);
+  CHECK_FALSE(ror.hung);
+  REQUIRE(ror.exit_code == 0);
+  checkPeak(ror);
+  const Run plain = runOccsweep("map --dataset " + scan + " --method octomap --out " + (dir / "octomap.ot").string());
+  REQUIRE(plain.exit_code == 0);
+  checkSameMap(dir / "ror.ot", dir / "octomap.ot");
+  // k 100000: 203,094 x 100,000 neighbour distances, past the limit of 2^29: refused before any search, by flag.
+  for (const std::string method : {"sor-octomap", "knn"}) {
+    const fs::path out = dir / (method + ".ot");
+    checkRefused(runOccsweep("map --dataset " + scan + " --method " + method + " --k 100000 --out " + out.string(),
+                             3072, 60),
+                 {method + ": k 100000", "is more than the limit of 536870912", "--max-neighbour-distances"});
+    CHECK_FALSE(fs::exists(out));
+  }
+  json g = readJson(occsweep::test::sourceTree() / "sweeps" / "grids" / "sor-octomap-opt.json");
+  g["name"] = "sor-k";
+  g["parameters"]["k"] = {100000};
+  writeText(dir / "sor-k.json", g.dump());
+  checkRefused(runOccsweep("sweep --dataset " + scan + " --grid " + (dir / "sor-k.json").string() + " --out " +
+                           (dir / "sor.json").string(), 3072, 60),
+               {"sor-octomap: k 100000 on a scan of 203094 points", "--max-neighbour-distances"});
+  CHECK_FALSE(fs::exists(dir / "sor.json"));
+  // The flag moves the limit: the default k 50 is 10,154,700 distances.
+  checkRefused(runOccsweep("map --dataset " + scan + " --method sor-octomap --max-neighbour-distances 10154699 --out " +
+                           (dir / "low.ot").string()),
+               {"10154700 is more than the limit of 10154699"});
   CHECK(leftovers(dir).empty());
 }
 

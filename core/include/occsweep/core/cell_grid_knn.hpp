@@ -171,27 +171,54 @@ struct NearestOne {
   void offer(double d) { d2 = std::min(d2, d); }
 };
 
-/// The k smallest squared distances offered so far, ascending (a new one after those equal to it).
+/// The k smallest squared distances offered so far. Up to kSortedUpTo of them in an array kept sorted: an offer
+/// shifts the larger ones, fastest for the grids' small k. More are gathered unsorted and cut back to the k smallest
+/// (nth_element) whenever twice k have come: O(1) an offer, where the sorted array's O(k) made a k near the cloud's
+/// size cubic in it (docs/methods.md, "Neighbour searches"). worst() is then the k-th smallest at the last cut, at
+/// or above the k-th so far: a search that prunes by it is still exact (it may read a little more), and fewer than
+/// 2k points lie below it once every point has been offered.
+template <class Distance>
 class NearestSoFar {
  public:
-  NearestSoFar(std::vector<double>& d2, std::size_t capacity) : d2_(d2), capacity_(capacity) { d2_.clear(); }
-  [[nodiscard]] bool full() const { return d2_.size() == capacity_; }
-  [[nodiscard]] double worst() const { return full() ? d2_.back() : std::numeric_limits<double>::infinity(); }
-  void clear() { d2_.clear(); }
-  void offer(double d2) {
-    if (full()) {
-      if (!(d2 < d2_.back())) return;
-    } else {
-      d2_.push_back(d2);  // room for one more; capacity_ is reached once and kept
-    }
+  static constexpr std::size_t kSortedUpTo = 128;
+  NearestSoFar(std::vector<Distance>& d2, std::size_t capacity)
+      : d2_(d2), capacity_(capacity), gathered_(capacity > kSortedUpTo) {
+    clear();
+  }
+  [[nodiscard]] bool full() const { return gathered_ ? cut_ < kNone : d2_.size() == capacity_; }
+  [[nodiscard]] Distance worst() const { return gathered_ ? cut_ : full() ? d2_.back() : kNone; }
+  void clear() { d2_.clear(), cut_ = kNone; }
+  void offer(Distance d2) {
+    if (full() && !(d2 < worst())) return;
+    if (gathered_) return gather(d2);
+    if (!full()) d2_.push_back(d2);  // room for one more; capacity_ is reached once and kept
     std::size_t at = d2_.size() - 1;  // the last place is free (new) or the worst (dropped)
     for (; at > 0 && d2_[at - 1] > d2; --at) d2_[at] = d2_[at - 1];
     d2_[at] = d2;
   }
+  /// The k smallest ascending, in the vector given (after the last offer).
+  void sortAscending() {
+    if (!gathered_) return;
+    if (d2_.size() > capacity_) cutToCapacity();
+    std::sort(d2_.begin(), d2_.end());
+  }
 
  private:
-  std::vector<double>& d2_;
+  static constexpr Distance kNone = std::numeric_limits<Distance>::infinity();
+  void gather(Distance d2) {
+    d2_.push_back(d2);
+    if (d2_.size() == (full() ? 2 * capacity_ : capacity_)) cutToCapacity();
+  }
+  void cutToCapacity() {
+    std::nth_element(d2_.begin(), d2_.begin() + std::ptrdiff_t(capacity_ - 1), d2_.end());
+    d2_.resize(capacity_);
+    cut_ = d2_.back();  // the k-th smallest: those before it are no larger
+  }
+
+  std::vector<Distance>& d2_;
   std::size_t capacity_;
+  bool gathered_;
+  Distance cut_ = kNone;
 };
 
 }  // namespace detail
@@ -441,6 +468,7 @@ inline void CellGridKnn::nearestOtherSquaredDistances(std::size_t i, int k, std:
   const auto& p = points_[i];
   const Query q{p.x(), p.y(), p.z(), std::uint32_t(i)};
   searchRings(q, cellOf(q.x, q.y, q.z), 0, nearest);
+  nearest.sortAscending();
 }
 
 // Cells in the order of their first point: for a range scan's points (in image order) the next cell is a
@@ -467,6 +495,7 @@ void CellGridKnn::forEachPointNearestOthers(int k, Visit&& visit) const {
           if (!nearest.full() || gaps.of(b) < nearest.worst()) offerCell(q, b.start, b.end, nearest);
         if (!certain(q, c, 1, nearest)) searchRings(q, c, 2, nearest);
       }
+      nearest.sortAscending();
       visit(std::size_t(q.index), static_cast<const std::vector<double>&>(d2));
     }
   }

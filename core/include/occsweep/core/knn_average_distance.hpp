@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include <octomap/octomap_types.h>
 
 #include "cell_grid_knn.hpp"
+#include "limits.hpp"
 
 namespace occsweep {
 
@@ -20,13 +22,18 @@ namespace occsweep {
 /// are; none: +inf (docs/definitions.md, k-NN inverse sensor model). Distances are computed in double from the
 /// float coordinates and summed in ascending order, so s_i is one number whichever of several equally distant
 /// points is taken: tied points have equal distances, and any order of equal values sums to the same double.
-/// Searched over a grid of cells (cell_grid_knn.hpp, docs/performance.md).
+/// Searched over a grid of cells (cell_grid_knn.hpp, docs/performance.md), after checkNeighbourDistances.
 [[nodiscard]] std::vector<double> averageKnnDistances(const std::vector<octomap::point3d>& points, int k);
 
 /// The same for several k from one search with the largest: each k's s_i sums the first k of the same
 /// ascending distances, so it equals averageKnnDistances(points, k) bit for bit. One vector per entry of ks.
 [[nodiscard]] std::vector<std::vector<double>> averageKnnDistancesForEachK(const std::vector<octomap::point3d>& points,
                                                                           const std::vector<int>& ks);
+
+/// Refuses, before a search for the k nearest other points of each of n points starts, more neighbour distances
+/// than limits().neighbour_distances: n x min(k, n - 1), k capped at the cloud's size as PCL caps it, which gives
+/// the same distances (docs/methods.md, "Neighbour searches"). `what` names the method, its k and the points.
+void checkNeighbourDistances(const std::string& what, std::uint64_t n, std::uint64_t k);
 
 /// The same by brute force, O(n^2): the oracle the tests compare the searches against.
 [[nodiscard]] std::vector<double> averageKnnDistancesBruteForce(const std::vector<octomap::point3d>& points,
@@ -69,6 +76,12 @@ inline double meanOfRoots(const std::vector<double>& ascending_d2, std::size_t c
 
 }  // namespace detail
 
+inline void checkNeighbourDistances(const std::string& what, std::uint64_t n, std::uint64_t k) {
+  checkLimit(what + ": neighbour distances (points x min(k, points - 1))",
+             saturatingProduct(n, std::min(k, n == 0 ? 0 : n - 1)), limits().neighbour_distances,
+             "--max-neighbour-distances, or a smaller k");
+}
+
 inline std::vector<double> averageKnnDistances(const std::vector<octomap::point3d>& points, int k) {
   return std::move(averageKnnDistancesForEachK(points, {k}).front());
 }
@@ -79,6 +92,9 @@ inline std::vector<std::vector<double>> averageKnnDistancesForEachK(const std::v
   const int k_max = ks.empty() ? 0 : *std::max_element(ks.begin(), ks.end());
   std::vector<std::vector<double>> s(ks.size(), std::vector<double>(n, std::numeric_limits<double>::infinity()));
   if (n < 2 || k_max < 1) return s;
+  checkNeighbourDistances(
+      "knn: k " + std::to_string(k_max) + " on the " + std::to_string(n) + " points of a scan within s_c", n,
+      std::uint64_t(k_max));
   const CellGridKnn grid(points, k_max);
   grid.forEachPointNearestOthers(k_max, [&](std::size_t i, const std::vector<double>& ascending_d2) {
     for (std::size_t m = 0; m < ks.size(); ++m)

@@ -17,6 +17,7 @@
 #include <octomap/octomap_types.h>
 
 #include "occsweep/core/knn_average_distance.hpp"  // detail::PointVectorAdaptor, detail::KdTree
+#include "occsweep/core/radius_count_tree.hpp"     // detail::flannSquaredDistance, detail::RadiusCountTree
 
 namespace occsweep {
 
@@ -33,7 +34,8 @@ struct SorDistances {
 /// points (PCL then reads the zeros its buffer was filled with, :64 and kdtree_flann.hpp:243-247), then rounded to
 /// float (:94). Mean and stddev over all points (:99-107): sample variance (n-1) by the one-pass formula, squares
 /// taken in float (`distance * distance` of a float); one point gives 0/0 = NaN, an empty cloud NaN for both.
-/// Points must be finite; mean_k >= 1 (PCL's mean_k 0 divides by zero). Throws std::invalid_argument otherwise.
+/// Points must be finite; mean_k >= 1 (PCL's mean_k 0 divides by zero). Throws std::invalid_argument otherwise,
+/// LimitError for more than limits().neighbour_distances (checkNeighbourDistances) before searching.
 [[nodiscard]] SorDistances sorDistances(const std::vector<octomap::point3d>& points, int mean_k);
 /// PCL's distance_threshold = mean + std_mul * stddev, computed exactly as PCL does (:110).
 [[nodiscard]] double sorThreshold(const SorDistances& d, double std_mul);
@@ -52,7 +54,8 @@ struct SorDistances {
 /// (count >= min_neighbors) for every min_neighbors >= 0 and radius != 0 (min_neighbors 0 keeps every point:
 /// k = 1 finds the point itself at 0). radius 0 is PCL's "No radius defined" branch (:51-57): nothing is kept,
 /// whatever the counts; radiusOutlierRemoval reproduces it. A negative radius acts as |radius| (only its square
-/// is used, :81). Points must be finite, radius not NaN; throws std::invalid_argument otherwise.
+/// is used, :81). Points must be finite, radius not NaN; throws std::invalid_argument otherwise. Counted in a
+/// RadiusCountTree (radius_count_tree.hpp): the cost does not grow with the radius.
 [[nodiscard]] std::vector<std::uint32_t> rorNeighbourCounts(const std::vector<octomap::point3d>& points,
                                                             double radius);
 /// PCL's keep test for a point with `neighbours` other points within the radius (radius != 0). min_neighbors < 0
@@ -64,18 +67,6 @@ struct SorDistances {
 
 // ---------------------------------------------------------------------------------------------------------
 namespace detail {
-
-/// FLANN's L2_Simple<float> (flann/algorithms/dist.h), PCL KdTreeFLANN's metric: float differences, squared and
-/// summed in float over x, y, z in that order (nanoflann's L2_Simple_Adaptor computes the same; the project builds
-/// with -ffp-contract=off and Debian's libpcl has no FMA instructions, so no fused multiply-add on either side).
-inline float flannSquaredDistance(const octomap::point3d& a, const octomap::point3d& b) {
-  float result = 0.0f;
-  for (unsigned dim = 0; dim < 3; ++dim) {
-    const float diff = a(dim) - b(dim);
-    result += diff * diff;
-  }
-  return result;
-}
 
 inline void requireFinite(const std::vector<octomap::point3d>& points, const char* who) {
   for (const auto& p : points)
@@ -94,7 +85,7 @@ inline float searchBound(double squared_distance) {
                   std::numeric_limits<float>::min());
 }
 
-/// Exact neighbour distances over one cloud: nanoflann finds candidates, FLANN's metric decides (see searchBound).
+/// Exact nearest distances over one cloud: nanoflann finds candidates, FLANN's metric decides (see searchBound).
 class ExactNeighbours {
  public:
   explicit ExactNeighbours(const std::vector<octomap::point3d>& points)
@@ -102,45 +93,42 @@ class ExactNeighbours {
     tree_.buildIndex();
   }
 
-  /// Every point j with FLANN's d2(i, j) < bound (point i itself included): indices and exact d2.
-  void within(std::size_t i, float bound) {
-    const float q[3] = {points_[i].x(), points_[i].y(), points_[i].z()};
-    found_.clear();
-    tree_.radiusSearch(q, bound, found_, nanoflann::SearchParams(32, 0.0f, false));
-    index.clear();
-    d2.clear();
-    for (const auto& [j, unused] : found_) {
-      index.push_back(j);
-      d2.push_back(flannSquaredDistance(points_[i], points_[j]));
-    }
-  }
-
   /// PCL's nn_dists of nearestKSearch(i, want) in d2: the `want` smallest squared distances to all points (i
   /// included, at 0), ascending; fewer when the cloud is smaller (kdtree_flann.hpp:243-247). Ties are equal
-  /// values, so which tied point a tree returns cannot change them. (`index` is not sorted along.)
+  /// values, so which tied point a tree returns cannot change them.
   void nearest(std::size_t i, std::size_t want) {
     const float q[3] = {points_[i].x(), points_[i].y(), points_[i].z()};
-    knn_index_.resize(want);
-    knn_d2_.resize(want);
-    const std::size_t got = tree_.knnSearch(q, want, knn_index_.data(), knn_d2_.data());
-    // The want-th smallest distance is at most the largest over any `want` real points, such as those found.
-    float worst = 0.0f;
-    for (std::size_t j = 0; j < got; ++j)
-      worst = std::max(worst, flannSquaredDistance(points_[i], points_[knn_index_[j]]));
-    within(i, searchBound(worst));
-    std::sort(d2.begin(), d2.end());
-    d2.resize(std::min(d2.size(), want));
+    // PCL caps k at the cloud's size (kdtree_flann.hpp:243-247): the same distances, no buffer beyond it.
+    NearestSoFar<float> so_far(knn_d2_, std::min(want, points_.size()));
+    NearestResults results{so_far};
+    tree_.findNeighbors(results, q, nanoflann::SearchParams());
+    // The want-th smallest distance is at most worst(), the want-th of some real points' nanoflann distances
+    // (FLANN's formula; searchBound's margin would cover a last-bit difference too). Every point below the bound,
+    // each distance recomputed, then the want smallest.
+    const float bound = so_far.full() ? searchBound(so_far.worst()) : std::numeric_limits<float>::infinity();
+    found_.clear();
+    tree_.radiusSearch(q, bound, found_, nanoflann::SearchParams(32, 0.0f, false));
+    NearestSoFar<float> exact(d2, want);
+    for (const auto& [j, unused] : found_) exact.offer(flannSquaredDistance(points_[i], points_[j]));
+    exact.sortAscending();
   }
 
-  std::vector<std::uint32_t> index;  // of the last within()
-  std::vector<float> d2;             // of the last within() or nearest()
+  std::vector<float> d2;  ///< of the last nearest()
 
  private:
+  /// nanoflann's result-set interface over NearestSoFar: nanoflann's own KNNResultSet keeps its array sorted,
+  /// O(want) an offer, which made SOR's cost grow with the square of k.
+  struct NearestResults {
+    NearestSoFar<float>& so_far;
+    [[nodiscard]] float worstDist() const { return so_far.worst(); }
+    [[nodiscard]] bool full() const { return so_far.full(); }
+    bool addPoint(float d2, std::uint32_t) { return so_far.offer(d2), true; }
+  };
+
   const std::vector<octomap::point3d>& points_;
   PointVectorAdaptor adaptor_;
   KdTree tree_;
   std::vector<std::pair<std::uint32_t, float>> found_;
-  std::vector<std::uint32_t> knn_index_;
   std::vector<float> knn_d2_;
 };
 
@@ -151,6 +139,9 @@ inline SorDistances sorDistances(const std::vector<octomap::point3d>& points, in
   detail::requireFinite(points, "sorDistances");
   SorDistances out;
   const std::size_t n = points.size();
+  checkNeighbourDistances(
+      "sor-octomap: k " + std::to_string(mean_k) + " on a scan of " + std::to_string(n) + " points", n,
+      std::uint64_t(mean_k));
   out.mean_distance.resize(n);
   if (n > 0) {
     detail::ExactNeighbours search(points);
@@ -198,14 +189,10 @@ inline std::vector<std::uint32_t> rorNeighbourCounts(const std::vector<octomap::
   std::vector<std::uint32_t> counts(n, 0);
   if (n == 0) return counts;
   const double nn_dists_max = radius * radius;  // radius_outlier_removal.hpp:81, double
-  detail::ExactNeighbours search(points);
-  const float bound = detail::searchBound(nn_dists_max);
-  for (std::size_t i = 0; i < n; ++i) {
-    search.within(i, bound);
-    for (std::size_t c = 0; c < search.index.size(); ++c)
-      // :104 removes when nn_dists_max < nn_dists[k-1]: a neighbour counts iff that is false.
-      if (search.index[c] != i && !(nn_dists_max < double(search.d2[c]))) ++counts[i];
-  }
+  // :104 removes when nn_dists_max < nn_dists[k-1]: a neighbour counts iff that is false; the point itself, at 0,
+  // always does.
+  detail::RadiusCountTree tree(points);
+  for (std::size_t i = 0; i < n; ++i) counts[i] = tree.countWithin(points[i], nn_dists_max) - 1;
   return counts;
 }
 
