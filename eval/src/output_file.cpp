@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -136,16 +137,18 @@ extern "C" void forwardSignal(int sig) {
   errno = saved_errno;
 }
 
-void cleanOnInterrupt() {
-  unsigned char sig = 0;
-  for (;;) {
-    const ssize_t n = ::read(interrupt_pipe[0], &sig, 1);
-    if (n == 1) break;
-    if (n == 0 || errno != EINTR) return;  // the pipe is gone: no signal can be forwarded any more
+// Writes `text` whole to stderr, as far as it goes.
+void writeToStderr(const std::string& text) {
+  for (std::size_t done = 0; done < text.size();) {
+    const ssize_t n = ::write(2, text.data() + done, text.size() - done);
+    if (n <= 0 && errno != EINTR) break;
+    done += n > 0 ? std::size_t(n) : 0;
   }
-  // The lock is held until _exit: a commit (which takes it too) cannot rename a temporary into place after, or
-  // while, its files are removed here (a SIGTERM'd `scene` once renamed a folder holding only manifest.json).
-  registryMutex().lock();
+}
+
+// Removes every registered temporary, prints `message` and exits with `status`; the caller holds the registry's lock
+// (cleanOnInterrupt, exitRemovingTemporaries).
+[[noreturn]] void removeTemporariesAndExit(int status, const std::string& message) {
   // A child still writing (a figure script) would recreate a temporary removed under it: it ends first.
   for (const pid_t pid : children()) {
     ::kill(pid, SIGKILL);
@@ -158,13 +161,21 @@ void cleanOnInterrupt() {
     }
     if (removeTemporaryEntry(path)) releaseTemporary(claim);  // a record stays for what could not be removed
   }
-  const std::string& message = interruptMessage();
-  for (std::size_t done = 0; done < message.size();) {
-    const ssize_t n = ::write(2, message.data() + done, message.size() - done);
-    if (n <= 0 && errno != EINTR) break;
-    done += n > 0 ? std::size_t(n) : 0;
+  writeToStderr(message);
+  ::_exit(status);
+}
+
+void cleanOnInterrupt() {
+  unsigned char sig = 0;
+  for (;;) {
+    const ssize_t n = ::read(interrupt_pipe[0], &sig, 1);
+    if (n == 1) break;
+    if (n == 0 || errno != EINTR) return;  // the pipe is gone: no signal can be forwarded any more
   }
-  ::_exit(128 + sig);
+  // The lock is held until _exit: a commit (which takes it too) cannot rename a temporary into place after, or
+  // while, its files are removed here (a SIGTERM'd `scene` once renamed a folder holding only manifest.json).
+  registryMutex().lock();
+  removeTemporariesAndExit(128 + sig, interruptMessage());
 }
 
 // ---- names ----
@@ -375,12 +386,7 @@ ReplaceableOutput jsonOutput(const std::string& name, const std::string& format)
   return {name, [format](const fs::path& file) {
             std::error_code ec;
             if (!fs::is_regular_file(fs::symlink_status(file, ec))) return false;
-            try {
-              const nlohmann::json j = readJsonFile(file);
-              return j.is_object() && j.value("format", "") == format;
-            } catch (const std::exception&) {
-              return false;
-            }
+            return jsonFormatField(file) == format;  // its first bytes: a file of gigabytes is never read whole
           }};
 }
 
@@ -729,6 +735,19 @@ void setInterruptMessage(std::string message) {
 }
 
 int interruptSignalReceived() { return g_interrupt_signal.load(); }
+
+void exitRemovingTemporaries(int status, const std::string& message) {
+  // A thread that failed holding the lock (this one, inside a commit) never releases it: after a second the exit
+  // leaves the temporaries to the next run, as a SIGKILL does (removeStaleTemporaries).
+  for (int waited_ms = 0; !registryMutex().try_lock(); waited_ms += 10) {
+    if (waited_ms >= 1000) {
+      writeToStderr(message);
+      ::_exit(status);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  removeTemporariesAndExit(status, message);
+}
 
 pid_t forkRegisteredChild() {
   // Under the registry's lock, which the interrupt cleaner takes first: it either sees the child, or has begun

@@ -48,7 +48,8 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
   auto o = std::make_shared<SweepOptions>();
   addSweepOptions(app, *o);  // task_options.cpp: also what `cluster plan` tasks are parsed with
   for (const char* needed : {"--dataset", "--grid", "--out"}) app.get_option(needed)->required();
-  addLimitOptions(app, {Limit::WindowVoxels, Limit::Combinations, Limit::RegionVoxels, Limit::Points});
+  addLimitOptions(app, {Limit::WindowVoxels, Limit::Combinations, Limit::RegionVoxels, Limit::Points,
+                        Limit::JsonBytes});
   return [o] {
     const std::vector<SweepConfig> configs = sweepConfigsOf(*o);
     for (const SweepConfig& c : configs) refuseLargeJson(c);

@@ -10,7 +10,7 @@
 
 namespace occsweep::cli {
 
-enum class Limit { WindowVoxels, Combinations, RegionVoxels, MapVoxels, ImagePixels, Points };
+enum class Limit { WindowVoxels, Combinations, RegionVoxels, MapVoxels, ImagePixels, Points, JsonBytes };
 
 inline void addLimitOptions(CLI::App& app, std::initializer_list<Limit> which) {
   Limits& l = limits();
@@ -25,6 +25,7 @@ inline void addLimitOptions(CLI::App& app, std::initializer_list<Limit> which) {
       case Limit::MapVoxels: add("--max-map-voxels", l.map_voxels, "Finest-depth voxels of a .ot map read"); break;
       case Limit::ImagePixels: add("--max-image-pixels", l.image_pixels, "Pixels of one depth image"); break;
       case Limit::Points: add("--max-points", l.points, "Points of all scans together"); break;
+      case Limit::JsonBytes: add("--max-json-bytes", l.json_bytes, "Bytes of a JSON file read whole"); break;
     }
   }
 }

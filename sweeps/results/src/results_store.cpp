@@ -20,6 +20,7 @@
 
 #include <sqlite3.h>
 
+#include "occsweep/core/limits.hpp"
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
@@ -316,8 +317,10 @@ ResultsStore ResultsStore::open(const fs::path& file, bool writable) {
   if (c->meta("format") != kStoreFormat) fail(file, std::string("meta.format: must be \"") + kStoreFormat + "\"");
   if (c->meta("version") != std::to_string(kStoreVersion)) fail(file, "meta.version: unsupported store version");
   json header;
+  const std::string header_text = c->meta("header");
+  checkLimit(file.string() + ": meta.header: bytes of JSON", header_text.size(), limits().json_bytes, "--max-json-bytes");
   try {
-    header = json::parse(c->meta("header"));
+    header = json::parse(header_text);
   } catch (const json::exception&) {
     fail(file, "meta.header: is not JSON");
   }
