@@ -597,6 +597,26 @@ TEST_CASE("merge into JSON past 200,000 combinations is refused from the first h
   checkPeak(check);
 }
 
+TEST_CASE("results export into JSON past 200,000 combinations is refused as sweep refuses it, pointing at --out NAME.db") {
+  // Old binary: this store of one map of 240,001 thresholds exported to JSON, exit 0: a JSON results file that no
+  // sweep writes, which every reader then reads whole.
+  const fs::path dir = occsweep::test::processScratch("limits_export_json");
+  writeFinePtGrid(dir / "one.json", 1, "0.000004");
+  const fs::path store = dir / "s.db", json_out = dir / "e.json";
+  const Run s = runOccsweep("sweep --quiet --dataset " + scene().string() + " --grid " + (dir / "one.json").string() +
+                            " --out " + store.string(), 1024);
+  REQUIRE(s.exit_code == 0);
+  const Run r = runOccsweep("results export " + store.string() + " --out " + json_out.string(), 1024);
+  checkRefused(r, {"--out " + json_out.string() + ": a JSON results file holds at most 200000 combinations and the "
+                   "export of " + store.string() + " writes 240001", "use --out NAME.db"});
+  CHECK_FALSE(fs::exists(json_out));
+  CHECK(leftovers(dir).empty());
+  // CSV is written row by row and read by other programs: not bounded by it.
+  const Run csv = runOccsweep("results export " + store.string() + " --out " + (dir / "e.csv").string(), 1024);
+  INFO(csv.output);
+  CHECK(csv.exit_code == 0);
+}
+
 namespace {
 
 /// A JSON object of about `megabytes` MB holding one array of [1,2] pairs, as a user's data file might: nlohmann's

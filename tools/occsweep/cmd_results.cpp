@@ -71,7 +71,8 @@ int runExport(const std::string& source, const ExportTarget& to) {
   }
   const bool csv = isCsvPath(to.out);
   checkOutputTarget(to.out, to.force, csv ? recordedTextOutput("CSV export", "dataset,") : resultsOutput());
-  (void)checkResultsFile(source, "");  // what `results check` refuses fails before anything is written
+  const ResultsCheck checked = checkResultsFile(source, "");  // what `results check` refuses fails before writing
+  if (!csv) refuseLargeJson(to.out, "the export of " + source, checked.combinations);  // as sweep into JSON does
   OutputFile out(to.out);
   if (csv) exportCsv(source, out.stream());
   else exportJson(source, out.stream());
