@@ -5,53 +5,11 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <set>
 #include <utility>
 #include <vector>
 
 namespace occsweep {
 
-nlohmann::json parseJsonText(std::string_view text, const std::filesystem::path& file) {
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
-    throw DataError(file, "", std::string("not valid JSON: ") + e.what());
-  }
-}
-
-nlohmann::json parseJsonTextUniqueKeys(std::string_view text, const std::filesystem::path& file) {
-  using nlohmann::json;
-  std::vector<std::pair<std::string, std::set<std::string>>> objects;  // path and keys of each open object
-  std::string last_key;
-  const json::parser_callback_t check = [&](int, json::parse_event_t event, json& parsed) {
-    if (event == json::parse_event_t::object_start) {
-      std::string path = objects.empty() ? "" : objects.back().first;
-      if (!objects.empty()) path += (path.empty() ? "" : ".") + last_key;
-      objects.emplace_back(path, std::set<std::string>{});
-    } else if (event == json::parse_event_t::object_end) {
-      objects.pop_back();
-    } else if (event == json::parse_event_t::key) {
-      last_key = parsed.get<std::string>();
-      if (!objects.back().second.insert(last_key).second) {
-        const std::string& at = objects.back().first;
-        throw DataError(file, at.empty() ? last_key : at + "." + last_key,
-                        "key given twice in one object (JSON would keep only the last): give each key once");
-      }
-    }
-    return true;
-  };
-  try {
-    return json::parse(text, check);
-  } catch (const json::exception& e) {
-    throw DataError(file, "", std::string("not valid JSON: ") + e.what());
-  }
-}
-
-nlohmann::json readJsonFile(const std::filesystem::path& file) {
-  // readFileBytes refuses folders and FIFOs by name. A key given twice is refused: JSON keeps the last, another
-  // reader (a script, a person) the first, so two readers would see two files (docs/results-format.md).
-  return parseJsonTextUniqueKeys(readFileBytes(file), file);
-}
 namespace fs = std::filesystem;
 
 void requireRegularFile(const fs::path& file) {

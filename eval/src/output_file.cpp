@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -126,6 +127,29 @@ extern "C" void forwardSignal(int sig) {
   errno = saved_errno;
 }
 
+// Writes `text` whole to stderr, as far as it goes.
+void writeToStderr(const std::string& text) {
+  for (std::size_t done = 0; done < text.size();) {
+    const ssize_t n = ::write(2, text.data() + done, text.size() - done);
+    if (n <= 0 && errno != EINTR) break;
+    done += n > 0 ? std::size_t(n) : 0;
+  }
+}
+
+// Removes every registered temporary, prints `message` and exits with `status`; the caller holds the registry's lock
+// (cleanOnInterrupt, exitRemovingTemporaries).
+[[noreturn]] void removeTemporariesAndExit(int status, const std::string& message) {
+  // A child still writing (a figure script) would recreate a temporary removed under it: it ends first.
+  for (const pid_t pid : children()) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, nullptr, 0);
+  }
+  for (const auto& [path, made] : liveTemporaries())
+    if (made == entryNumbers(path)) removeTemporaryEntry(path);  // another entry at its name (or none) is a user's
+  writeToStderr(message);
+  ::_exit(status);
+}
+
 void cleanOnInterrupt() {
   unsigned char sig = 0;
   for (;;) {
@@ -136,20 +160,7 @@ void cleanOnInterrupt() {
   // The lock is held until _exit: a commit (which takes it too) cannot rename a temporary into place after, or
   // while, its files are removed here (a SIGTERM'd `scene` once renamed a folder holding only manifest.json).
   registryMutex().lock();
-  // A child still writing (a figure script) would recreate a temporary removed under it: it ends first.
-  for (const pid_t pid : children()) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, nullptr, 0);
-  }
-  for (const auto& [path, made] : liveTemporaries())
-    if (made == entryNumbers(path)) removeTemporaryEntry(path);  // another entry at its name (or none) is a user's
-  const std::string& message = interruptMessage();
-  for (std::size_t done = 0; done < message.size();) {
-    const ssize_t n = ::write(2, message.data() + done, message.size() - done);
-    if (n <= 0 && errno != EINTR) break;
-    done += n > 0 ? std::size_t(n) : 0;
-  }
-  ::_exit(128 + sig);
+  removeTemporariesAndExit(128 + sig, interruptMessage());
 }
 
 // ---- names ----
@@ -353,12 +364,7 @@ ReplaceableOutput jsonOutput(const std::string& name, const std::string& format)
   return {name, [format](const fs::path& file) {
             std::error_code ec;
             if (!fs::is_regular_file(fs::symlink_status(file, ec))) return false;
-            try {
-              const nlohmann::json j = readJsonFile(file);
-              return j.is_object() && j.value("format", "") == format;
-            } catch (const std::exception&) {
-              return false;
-            }
+            return jsonFormatField(file) == format;  // its first bytes: a file of gigabytes is never read whole
           }};
 }
 
@@ -664,6 +670,19 @@ void setInterruptMessage(std::string message) {
 }
 
 int interruptSignalReceived() { return g_interrupt_signal.load(); }
+
+void exitRemovingTemporaries(int status, const std::string& message) {
+  // A thread that failed holding the lock (this one, inside a commit) never releases it: after a second the exit
+  // leaves the temporaries to the next run, as a SIGKILL does (removeStaleTemporaries).
+  for (int waited_ms = 0; !registryMutex().try_lock(); waited_ms += 10) {
+    if (waited_ms >= 1000) {
+      writeToStderr(message);
+      ::_exit(status);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  removeTemporariesAndExit(status, message);
+}
 
 pid_t forkRegisteredChild() {
   // Under the registry's lock, which the interrupt cleaner takes first: it either sees the child, or has begun

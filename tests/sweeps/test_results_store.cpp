@@ -442,13 +442,19 @@ std::vector<std::string> readersOf(const fs::path& file, const fs::path& good, c
           "results diff " + test::shellQuoted(good) + " " + f};
 }
 
-}  // namespace
-
-TEST_CASE("every damaged or edited results file results check refuses, every reader of results refuses too") {
-  const auto dir = test::scratch("store-corpus");
+// A fresh scratch folder `name` with the small scene's octomap-opt sweep in both formats, r.db and r.json.
+fs::path sweptBothWays(const std::string& name) {
+  const auto dir = test::scratch(name);
   const auto data = smallScene(dir);
   (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "r.db"));
   (void)sweepToFile(quietSweep(data, "octomap-opt", dir / "r.json"));
+  return dir;
+}
+
+}  // namespace
+
+TEST_CASE("every damaged or edited results file results check refuses, every reader of results refuses too") {
+  const fs::path dir = sweptBothWays("store-corpus");
   const std::uint64_t best = bestMapIndex(readResults(dir / "r.json"));
   const fs::path corpus = dir / "corpus";
   fs::create_directories(corpus);
@@ -487,6 +493,59 @@ TEST_CASE("every damaged or edited results file results check refuses, every rea
   }
   WARN(refused << " of " << files.size() << " damaged files refused by results check and by every reader");
   CHECK(refused >= 50);
+}
+
+namespace {
+
+// What every reader says of the good store `store` beside which a file stands at `store-journal`: each exits 2 naming
+// the journal with `advice`, never blaming the store, and leaves the journal as it was.
+void checkReadersNameTheJournal(const fs::path& store, const fs::path& good, const fs::path& dir,
+                                const std::string& advice) {
+  const fs::path journal = store.string() + "-journal";
+  const std::string bytes = test::bytesOf(journal);
+  std::vector<std::string> readers = readersOf(store, good, dir);
+  readers.push_back("results check " + test::shellQuoted(store));
+  for (const std::string& reader : readers) {
+    const auto r = test::runCli(reader);
+    INFO(reader << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(test::joinedLines(r.output), Contains(journal.string() + ": ") && Contains(advice));
+    CHECK_THAT(r.output, !Contains("not an occsweep results store"));
+    CHECK(test::bytesOf(journal) == bytes);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("a file at a store's journal name is named by every reader, which never blames the store") {
+  // Old binary: every reader opened the good store read-only, SQLite took the file for the journal of an
+  // interrupted write it could not roll back, and each said "attempt to write a readonly database (not an occsweep
+  // results store?)" of the store.
+  const fs::path dir = sweptBothWays("store-journal-beside");
+  const fs::path journal = dir / "r.db-journal";
+  SECTION("a user's file at SQLite's reserved name") {
+    std::ofstream(journal) << "my notes, not SQLite's\n";
+    checkReadersNameTheJournal(dir / "r.db", dir / "r.json", dir, "move it away");
+    fs::remove(journal);
+  }
+  SECTION("SQLite's own journal of a write that was killed") {
+    const pid_t writer = ::fork();
+    if (writer == 0) {  // a program writing the store, killed before its commit: its pages spilled to the file
+      sqlite3* db = nullptr;
+      sqlite3_open((dir / "r.db").c_str(), &db);
+      sqlite3_exec(db, "PRAGMA cache_size = 1; BEGIN; DELETE FROM thresholds; DELETE FROM maps;", nullptr, nullptr,
+                   nullptr);
+      ::_exit(0);
+    }
+    int status = -1;
+    REQUIRE(::waitpid(writer, &status, 0) == writer);
+    REQUIRE(status == 0);
+    REQUIRE(fs::file_size(journal) > 0);
+    checkReadersNameTheJournal(dir / "r.db", dir / "r.json", dir, "roll it back by opening the store once for writing");
+    editStore(dir / "r.db", "PRAGMA quick_check");  // what the message says: SQLite rolls the write back
+    CHECK_FALSE(fs::exists(journal));
+  }
+  CHECK(checkError(dir / "r.db") == "passed");
 }
 
 namespace {

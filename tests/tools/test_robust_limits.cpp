@@ -668,6 +668,91 @@ TEST_CASE("merge into JSON past 200,000 combinations is refused from the first h
   checkPeak(check);
 }
 
+TEST_CASE("results export into JSON past 200,000 combinations is refused as sweep refuses it, pointing at --out NAME.db") {
+  // Old binary: this store of one map of 240,001 thresholds exported to JSON, exit 0: a JSON results file that no
+  // sweep writes, which every reader then reads whole.
+  const fs::path dir = occsweep::test::processScratch("limits_export_json");
+  writeFinePtGrid(dir / "one.json", 1, "0.000004");
+  const fs::path store = dir / "s.db", json_out = dir / "e.json";
+  const Run s = runOccsweep("sweep --quiet --dataset " + scene().string() + " --grid " + (dir / "one.json").string() +
+                            " --out " + store.string(), 1024);
+  REQUIRE(s.exit_code == 0);
+  const Run r = runOccsweep("results export " + store.string() + " --out " + json_out.string(), 1024);
+  checkRefused(r, {"--out " + json_out.string() + ": a JSON results file holds at most 200000 combinations and the "
+                   "export of " + store.string() + " writes 240001", "use --out NAME.db"});
+  CHECK_FALSE(fs::exists(json_out));
+  CHECK(leftovers(dir).empty());
+  // CSV is written row by row and read by other programs: not bounded by it.
+  const Run csv = runOccsweep("results export " + store.string() + " --out " + (dir / "e.csv").string(), 1024);
+  INFO(csv.output);
+  CHECK(csv.exit_code == 0);
+}
+
+namespace {
+
+/// A JSON object of about `megabytes` MB holding one array of [1,2] pairs, as a user's data file might: nlohmann's
+/// tree of it takes about 18 times its bytes.
+void writeBigJson(const fs::path& file, int megabytes) {
+  std::string pairs;
+  while (pairs.size() < (std::size_t(1) << 20)) pairs += "[1,2],";
+  std::ofstream out(file, std::ios::binary);
+  out << "{\"data\": [";
+  for (int i = 0; i < megabytes; ++i) out << pairs;
+  out << "[1,2]]}";
+}
+
+}  // namespace
+
+TEST_CASE("a JSON file of 100 MB at an output or as an input is refused, or ends in the out-of-memory message, never "
+          "an abort") {
+  // Old binary, under this test's 1 GB cap: each command below parsed the whole file into nlohmann's tree, ran out
+  // of memory, and again while that tree was freed during unwinding (its destructor allocates): std::terminate,
+  // "terminate called after throwing an instance of 'std::bad_alloc'", exit 134.
+  if (kSanitized) {
+    WARN("skipped under sanitizers: they cannot run under an address-space cap");
+    return;
+  }
+  const fs::path dir = occsweep::test::processScratch("limits_big_json");
+  const fs::path big = dir / "big.json";
+  writeBigJson(big, 100);
+  const std::uintmax_t size = fs::file_size(big);
+  const std::string sweep = "sweep --quiet --dataset " + scene().string() + " --grid octomap-opt --out ";
+  REQUIRE(runOccsweep(sweep + (dir / "r.json").string()).exit_code == 0);
+  // At an output, whose it is comes from its first bytes ("format"): never read whole, and not replaced.
+  for (const std::string& command : {"merge " + (dir / "r.json").string() + " --out " + big.string() + " --force",
+                                     sweep + big.string()}) {
+    INFO(command);
+    checkRefused(runOccsweep(command, 1024), {big.string() + ": exists and is not occsweep's results file"});
+    CHECK(fs::file_size(big) == size);
+  }
+  // The same file as a map's settings without their map (what an interrupted `map` leaves) is no settings of occsweep's.
+  fs::create_hard_link(big, dir / "m.ot.json");
+  checkRefused(runOccsweep("map --dataset " + scene().string() + " --method octomap --out " + (dir / "m.ot").string(),
+                           1024),
+               {(dir / "m.ot.json").string() + ": exists: occsweep replaces nothing unless asked"});
+  CHECK_FALSE(fs::exists(dir / "m.ot"));
+  fs::remove(dir / "m.ot.json");
+  {  // As an input within the limit, its tree past the cap: main's out-of-memory message, exit 2.
+    const Run check = runOccsweep("results check " + big.string(), 1024);
+    INFO(check.output.substr(0, 2000));
+    CHECK(check.signal == 0);
+    CHECK(check.exit_code == 2);
+    CHECK(check.output.find("out of memory while running `occsweep results` on " + big.string()) != std::string::npos);
+  }
+  // Past the limit: refused by its size before a byte is read.
+  checkRefused(runOccsweep("results check " + big.string() + " --max-json-bytes 50000000", 1024),
+               {big.string() + ": bytes of JSON: " + std::to_string(size) + " is more than the limit of 50000000",
+                "--max-json-bytes"});
+  fs::remove(big);
+  // The default limit, 128 MiB (2^27), on a file one byte longer (sparse: nothing to write).
+  { std::ofstream(big) << ""; }
+  fs::resize_file(big, (std::uintmax_t(1) << 27) + 1);
+  checkRefused(runOccsweep("compare " + big.string(), 1024),
+               {big.string() + ": bytes of JSON: 134217729 is more than the limit of 134217728", "--max-json-bytes"});
+  fs::remove(big);
+  CHECK(leftovers(dir).empty());
+}
+
 // docs/robustness.md, "Limits": a replay batch holds at most 2^18 thresholds, so 3 maps of 96,001 are cut into a
 // batch of 2 and one of 1; the cut batches count exactly what the direct engine builds.
 TEST_CASE("replay batches cut at their thresholds count what the direct engine counts") {

@@ -253,7 +253,8 @@ const RegisterCommand kCompare{"compare", "Best AUC of every method per data set
   addExample(app, "occsweep compare oct.json knn.json --latex table.tex");
   auto task = std::make_shared<CompareTask>();
   addCompareOptions(app, *task);  // task_options.cpp: also what `cluster plan` tasks are parsed with
-  addLimitOptions(app, {Limit::Combinations});  // each file's grid is enumerated to check its maps
+  // Each file's grid is enumerated to check its maps; a JSON file is read whole.
+  addLimitOptions(app, {Limit::Combinations, Limit::JsonBytes});
   return [task] { return runCompare(*task); };
 }};
 

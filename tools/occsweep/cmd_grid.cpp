@@ -38,7 +38,8 @@ GridCommands addGridOptions(CLI::App& app, GridOptions& o) {
   addExample(*subs.count, "occsweep grid count reduction --groups 20");
   addExample(*subs.list, "occsweep grid list octomap-opt");
   addExample(*subs.shards, "occsweep grid shards reduction --groups 20 --seed 0");
-  for (CLI::App* sub : {subs.count, subs.list, subs.shards}) addLimitOptions(*sub, {Limit::Combinations});
+  for (CLI::App* sub : {subs.count, subs.list, subs.shards})
+    addLimitOptions(*sub, {Limit::Combinations, Limit::JsonBytes});
   for (CLI::App* sub : {subs.count, subs.shards})
     sub->add_option("--groups", o.groups, "Number of groups N_d (Eq. 16)")->capture_default_str()->check(integerAtLeast<std::uint64_t>(1));
   subs.shards->add_option("--seed", o.seed, "Permutation seed")->capture_default_str();

@@ -164,7 +164,8 @@ void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
   subs.truth->add_option("--name", o.name, "Data-set name (default: the name of --dataset, kept)")
       ->check(printableName());
   addLimitOptions(*subs.depth, {Limit::ImagePixels, Limit::Points});
-  for (CLI::App* sub : {subs.graph, subs.cloud, subs.truth}) addLimitOptions(*sub, {Limit::Points});
+  for (CLI::App* sub : {subs.graph, subs.cloud}) addLimitOptions(*sub, {Limit::Points});
+  addLimitOptions(*subs.truth, {Limit::Points, Limit::JsonBytes});  // --dataset's manifest is read whole
   for (CLI::App* sub : {subs.depth, subs.graph, subs.cloud}) {
     sub->add_flag("--skip-empty", o.skip_empty, "Drop scans without a valid point instead of refusing them");
     sub->add_option("--shift", o.shift, "X Y Z metres added to every point and origin after the poses (far-away, "

@@ -134,7 +134,8 @@ void addMapOptions(CLI::App& app, MapOptions& o) {
       ->check(integerIn<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
   app.add_option("--threads", o.threads, "Worker threads of the build (0: all cores; the map is the same)")
       ->capture_default_str()->check(threadCount());
-  addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points, Limit::NeighbourDistances});
+  addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points, Limit::NeighbourDistances,
+                        Limit::JsonBytes});
 }
 
 bool given(const CLI::Option* option) { return option->count() > 0; }

@@ -15,7 +15,7 @@ const RegisterCommand kMerge{"merge", "Merge the shards of one sweep (refuses mi
   addExample(app, "occsweep sweep --dataset ds --grid knn-opt --shard 0/2 --out s0.json\noccsweep sweep --dataset ds --grid knn-opt --shard 1/2 --out s1.json\noccsweep merge s0.json s1.json --out merged.json");
   auto t = std::make_shared<MergeTask>();
   addMergeOptions(app, *t);  // task_options.cpp: also what `cluster plan` tasks are parsed with
-  addLimitOptions(app, {Limit::Combinations});
+  addLimitOptions(app, {Limit::Combinations, Limit::JsonBytes});
   return [t] {
     for (const std::string& in : t->files)  // --force would replace a shard before it is read
       if (outputsCollide(in, t->out))

@@ -192,7 +192,7 @@ const RegisterCommand kPlot{"plot", "Figures of a comparison: best curves, budge
     sub->add_option("--python", o->python, "Python 3 with matplotlib (default $OCCSWEEP_PYTHON, /usr/bin/python3)")
         ->type_name(kPath);
     sub->add_flag("--force", o->force, "Replace occsweep's own previous figure or data (nothing else)");
-    addLimitOptions(*sub, {Limit::Combinations});
+    addLimitOptions(*sub, {Limit::Combinations, Limit::JsonBytes});
     subs->emplace_back(k, sub);
   }
   app.require_subcommand(1);

@@ -72,7 +72,8 @@ int runExport(const std::string& source, const ExportTarget& to) {
   }
   const bool csv = isCsvPath(to.out);
   checkOutputTarget(to.out, to.force, csv ? textOutput("CSV export", "dataset,") : resultsOutput());
-  (void)checkResultsFile(source, "");  // what `results check` refuses fails before anything is written
+  const ResultsCheck checked = checkResultsFile(source, "");  // what `results check` refuses fails before writing
+  if (!csv) refuseLargeJson(to.out, "the export of " + source, checked.combinations);  // as sweep into JSON does
   OutputFile out(to.out);
   if (csv) exportCsv(source, out.stream());
   else exportJson(source, out.stream());
@@ -90,7 +91,8 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   check->add_option("file", *file, "Results file")->type_name(kPath)->required();
   check->add_option("--dataset", *dataset, "Also check against this data set: its content hash, and every threshold "
                                            "counting its region's and its truth's voxels")->type_name(kPath);
-  addLimitOptions(*check, {Limit::Combinations});  // the grid is enumerated to check every map
+  // The grid is enumerated to check every map; a JSON file is read whole.
+  addLimitOptions(*check, {Limit::Combinations, Limit::JsonBytes});
   CLI::App* diff = app.add_subcommand("diff", "Exit 0 when NEW has GOLDEN's confusion counts and AUCs, else 1 with a "
                                               "table of what changed (docs/results-format.md)");
   auto golden = std::make_shared<std::string>();
@@ -100,7 +102,7 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   auto auc_tolerance = std::make_shared<double>(0.0);
   diff->add_option("golden", *golden, "The results file to match")->type_name(kPath)->required();
   diff->add_option("new", *candidate, "The results file to check")->type_name(kPath)->required();
-  addLimitOptions(*diff, {Limit::Combinations});  // each file's grid is enumerated to check its maps
+  addLimitOptions(*diff, {Limit::Combinations, Limit::JsonBytes});  // as check, for each file
   diff->add_option("--auc-tolerance", *auc_tolerance, "How far an AUC may move (default 0: exactly)")
       ->check(numberAtLeast(0.0));
   auto auc_only = std::make_shared<bool>(false);
@@ -117,7 +119,7 @@ const RegisterCommand kResults{"results", "Check results files, compare one with
   export_->add_option("--out", to->out, "The converted file: .csv, .db/.sqlite or JSON, by its name")
       ->type_name(kPath)->required();
   export_->add_flag("--force", to->force, "Replace occsweep's own output of the same kind at the target");
-  addLimitOptions(*export_, {Limit::Combinations});  // the grid is enumerated to check every map
+  addLimitOptions(*export_, {Limit::Combinations, Limit::JsonBytes});  // as check
   app.require_subcommand(1);
   return [=] {
     return runChosen({{check, [=] {

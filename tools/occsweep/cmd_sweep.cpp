@@ -33,13 +33,7 @@ std::uint64_t sweptCombinations(const SweepConfig& c) {
 
 /// Before anything is read or written: a JSON --out past kMaxJsonCombinations is refused, pointing at a store.
 void refuseLargeJson(const SweepConfig& c) {
-  if (isStorePath(c.out)) return;
-  const std::uint64_t n = sweptCombinations(c);
-  if (n > kMaxJsonCombinations)
-    throw std::invalid_argument("--out " + c.out.string() + ": a JSON results file holds at most " +
-                                std::to_string(kMaxJsonCombinations) + " combinations and this sweep of " +
-                                c.grid + " writes " + std::to_string(n) + "; use --out NAME.db (a results store, "
-                                "written batch by batch; docs/results-format.md)");
+  if (!isStorePath(c.out)) occsweep::refuseLargeJson(c.out, "this sweep of " + c.grid, sweptCombinations(c));
 }
 
 const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one map per combination but p_t",
@@ -49,7 +43,7 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
   addSweepOptions(app, *o);  // task_options.cpp: also what `cluster plan` tasks are parsed with
   for (const char* needed : {"--dataset", "--grid", "--out"}) app.get_option(needed)->required();
   addLimitOptions(app, {Limit::WindowVoxels, Limit::Combinations, Limit::RegionVoxels, Limit::Points,
-                        Limit::NeighbourDistances});
+                        Limit::NeighbourDistances, Limit::JsonBytes});
   return [o] {
     const std::vector<SweepConfig> configs = sweepConfigsOf(*o);
     for (const SweepConfig& c : configs) refuseLargeJson(c);

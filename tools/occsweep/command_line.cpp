@@ -5,9 +5,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <exception>
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <new>
 
 #include "command_registry.hpp"
@@ -40,10 +42,45 @@ std::string resumeMessage(const CommandSpec& spec, int argc, char** argv) {
          (ec ? "" : "cd " + shellWord(folder.string()) + " && ") + shellCommand(argc, argv) + "\n";
 }
 
+// What a bad_alloc prints (outOfMemoryMessage): made before the command runs, since after one no memory may be left
+// to make it.
+std::string& outOfMemoryReport() {
+  static std::string report;
+  return report;
+}
+
+// Address space set aside at the start and given back when memory runs out, so that the exit can still allocate.
+std::unique_ptr<char[]>& memoryReserve() {
+  static std::unique_ptr<char[]> reserve;
+  return reserve;
+}
+
+// A bad_alloc no catch reaches ends in std::terminate: thrown in a destructor (nlohmann::json's allocates to free a
+// tree, so a parse that ran out of memory failed again while unwinding: exit 134), in a noexcept function or on a
+// thread. It ends as one run() throws: the message, temporaries removed, exit 2. Any other exception keeps the
+// default: its type printed, abort.
+std::terminate_handler g_default_terminate = nullptr;
+[[noreturn]] void terminateOnOutOfMemory() {
+  bool out_of_memory = false;
+  if (const std::exception_ptr e = std::current_exception()) {
+    try {
+      std::rethrow_exception(e);
+    } catch (const std::bad_alloc&) {
+      out_of_memory = true;
+    } catch (...) {
+    }
+  }
+  if (!out_of_memory) g_default_terminate();
+  memoryReserve().reset();
+  exitRemovingTemporaries(2, outOfMemoryReport());
+}
+
 }  // namespace
 
 int runCommandLine(int argc, char** argv) {
   removeTemporariesOnInterrupt();  // before any thread: SIGINT/SIGTERM remove unfinished outputs
+  memoryReserve() = std::make_unique_for_overwrite<char[]>(std::size_t(8) << 20);  // untouched: no resident memory
+  g_default_terminate = std::set_terminate(terminateOnOutOfMemory);
   // A reader that goes away (`occsweep grid list | head -1`) fails a write with EPIPE instead of killing occsweep
   // mid-work by SIGPIPE: a sweep finishes and commits its results, nothing partial is left (docs/robustness.md).
   ::signal(SIGPIPE, SIG_IGN);
@@ -70,13 +107,14 @@ int runCommandLine(int argc, char** argv) {
     const auto& [spec, run] = spec_and_run;
     if (!spec->kept_on_interrupt.empty())
       setInterruptMessage(resumeMessage(*spec, argc, argv));
+    outOfMemoryReport() = "occsweep " + sub->get_name() + ": error: " + outOfMemoryMessage(sub->get_name(), argc, argv) +
+                          '\n';
     try {
       return run();
     } catch (const CLI::ParseError& e) {
       return e.get_exit_code() == 0 ? sub->exit(e) : reportParseError(app, e, argc, argv);
     } catch (const std::bad_alloc&) {  // never an abort; the limits should have refused the input first
-      std::cerr << "occsweep " << sub->get_name() << ": error: " << outOfMemoryMessage(sub->get_name(), argc, argv)
-                << '\n';
+      std::cerr << outOfMemoryReport();
       return 2;
     } catch (const std::exception& e) {  // a name or path in it shows its control characters escaped
       std::cerr << "occsweep " << sub->get_name() << ": error: " << escapedControlCharacters(e.what()) << '\n';

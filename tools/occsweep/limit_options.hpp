@@ -10,7 +10,8 @@
 
 namespace occsweep::cli {
 
-enum class Limit { WindowVoxels, Combinations, RegionVoxels, MapVoxels, ImagePixels, Points, NeighbourDistances };
+enum class Limit { WindowVoxels, Combinations, RegionVoxels, MapVoxels, ImagePixels, Points, NeighbourDistances,
+                   JsonBytes };
 
 inline void addLimitOptions(CLI::App& app, std::initializer_list<Limit> which) {
   Limits& l = limits();
@@ -26,6 +27,7 @@ inline void addLimitOptions(CLI::App& app, std::initializer_list<Limit> which) {
       case Limit::ImagePixels: add("--max-image-pixels", l.image_pixels, "Pixels of one depth image"); break;
       case Limit::Points: add("--max-points", l.points, "Points of all scans together"); break;
       case Limit::NeighbourDistances: add("--max-neighbour-distances", l.neighbour_distances, "k nearest of one scan: points x min(k, points - 1)"); break;
+      case Limit::JsonBytes: add("--max-json-bytes", l.json_bytes, "Bytes of a JSON file read whole"); break;
     }
   }
 }

@@ -140,7 +140,7 @@ GridSpec parseGrid(const json& j, const std::string& file) {
 }
 
 GridSpec loadGrid(const std::filesystem::path& file) {
-  const std::string bytes = readFileBytes(file);  // refuses folders and FIFOs by name
+  const std::string bytes = readJsonBytes(file);  // refuses folders, FIFOs and files past --max-json-bytes by name
   GridSpec g = parseGrid(parseJsonTextUniqueKeys(bytes, file), file.string());
   Fnv1a h;
   h.feed(bytes);

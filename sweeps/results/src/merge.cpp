@@ -165,13 +165,8 @@ std::uint64_t mergedCombinations(const ResultsHeader& merged, const std::filesys
 // merged file holds its grid's or its Eq. 16 group's combinations), before any file is checked or read in full.
 void refuseLargeJson(const std::vector<std::filesystem::path>& files, const std::filesystem::path& out) {
   if (files.empty()) return;  // mergeHeaders says so
-  const std::uint64_t n = mergedCombinations(readResultsHeader(files.front()).header, files.front());
-  if (n > kMaxJsonCombinations)
-    throw std::invalid_argument("--out " + out.string() + ": a JSON results file holds at most " +
-                                std::to_string(kMaxJsonCombinations) + " combinations and the merge of " +
-                                std::to_string(files.size()) + (files.size() == 1 ? " file" : " files") + " writes " +
-                                std::to_string(n) +
-                                "; use --out NAME.db (a results store, written batch by batch; docs/results-format.md)");
+  const std::string merge = "the merge of " + std::to_string(files.size()) + (files.size() == 1 ? " file" : " files");
+  occsweep::refuseLargeJson(out, merge, mergedCombinations(readResultsHeader(files.front()).header, files.front()));
 }
 
 }  // namespace

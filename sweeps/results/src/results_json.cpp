@@ -93,6 +93,14 @@ void setEngines(ResultsHeader& h, const std::set<std::string>& engines) {
   h.engine = engines.size() == 1 ? *engines.begin() : "mixed";
 }
 
+void refuseLargeJson(const std::filesystem::path& out, const std::string& writer, std::uint64_t combinations) {
+  if (combinations > kMaxJsonCombinations)
+    throw std::invalid_argument("--out " + out.string() + ": a JSON results file holds at most " +
+                                std::to_string(kMaxJsonCombinations) + " combinations and " + writer + " writes " +
+                                std::to_string(combinations) + "; use --out NAME.db (a results store, written batch "
+                                "by batch; docs/results-format.md)");
+}
+
 bool sameWork(const ResultsHeader& a, const ResultsHeader& b, bool compare_shard, std::string* why) {
   const auto fields = incomparableHeaderFields(a, b, compare_shard);
   if (fields.empty()) return true;

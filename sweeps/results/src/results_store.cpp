@@ -20,6 +20,7 @@
 
 #include <sqlite3.h>
 
+#include "occsweep/core/limits.hpp"
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 
@@ -161,6 +162,18 @@ void requireStoredNumbers(const MapResult& m, const fs::path& file, const std::s
   if (!std::isfinite(m.seconds) || m.seconds < 0) fail(file, where + ": seconds must be a finite number >= 0");
 }
 
+// A regular file that begins with SQLite's rollback-journal header (sqlite.org/fileformat.html, "The Rollback
+// Journal"): what a kill of a write leaves beside a store.
+bool isRollbackJournal(const fs::path& journal) {
+  static constexpr unsigned char kJournalMagic[8] = {0xd9, 0xd5, 0x05, 0xf9, 0x20, 0xa1, 0x63, 0xd7};
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(journal, ec))) return false;
+  char head[sizeof kJournalMagic] = {};
+  std::ifstream in(journal, std::ios::binary);
+  in.read(head, sizeof head);
+  return in.gcount() == sizeof head && std::memcmp(head, kJournalMagic, sizeof head) == 0;
+}
+
 }  // namespace
 
 struct ResultsStore::Connection {
@@ -203,6 +216,25 @@ struct ResultsStore::Connection {
       fail(file, "region: region and truth must be integers with 0 <= truth <= region <= 2^48");
     region = std::uint64_t(r), truth = std::uint64_t(t);
     if (s.step()) fail(file, "region: holds more than one row (a store has exactly one region)");
+  }
+  // A read-only connection (every reader's) reads nothing of a store while a file stands at STORE-journal that
+  // SQLite takes for the journal of an interrupted write: it cannot roll it back. The journal is named, not the store
+  // blamed (docs/results-format.md, "Reading").
+  void requireNoJournalInTheWay() {
+    if (sqlite3_exec(db, "PRAGMA schema_version", nullptr, nullptr, nullptr) == SQLITE_OK ||
+        sqlite3_errcode(db) == SQLITE_BUSY)
+      return;
+    const fs::path journal = file.string() + "-journal";
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(journal, ec))) return;  // the reads that follow say what is wrong
+    if (isRollbackJournal(journal))
+      fail(journal, "the rollback journal of a write to " + file.string() + " that was interrupted (a program "
+                    "writing the store was killed): SQLite reads nothing of the store until it is rolled back, which "
+                    "occsweep, reading stores read-only, never does; roll it back by opening the store once for "
+                    "writing (sqlite3 " + file.string() + " 'PRAGMA quick_check'), then run again");
+    fail(journal, "stands at the name SQLite reserves for the rollback journal of " + file.string() + ", and is not "
+                  "one: SQLite takes it for an interrupted write and reads nothing of the store (opened for writing, "
+                  "it would delete the file); move it away, then run again");
   }
   // The schema as occsweep writes it: its four tables, the `combinations` view with its own SQL, and no other table,
   // view or trigger (each would change what a reader or a resumed sweep sees); an index a user adds for their own
@@ -312,12 +344,15 @@ ResultsStore ResultsStore::open(const fs::path& file, bool writable) {
   const int flags = writable ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
   if (openDatabase(file, flags, &c->db) != SQLITE_OK)
     fail(file, std::string("cannot open: ") + (c->db ? sqlite3_errmsg(c->db) : "out of memory"));
+  if (!writable) c->requireNoJournalInTheWay();  // a writer rolls a journal back (requireOnlyRollbackJournalBeside)
   c->requireTables();
   if (c->meta("format") != kStoreFormat) fail(file, std::string("meta.format: must be \"") + kStoreFormat + "\"");
   if (c->meta("version") != std::to_string(kStoreVersion)) fail(file, "meta.version: unsupported store version");
   json header;
+  const std::string header_text = c->meta("header");
+  checkLimit(file.string() + ": meta.header: bytes of JSON", header_text.size(), limits().json_bytes, "--max-json-bytes");
   try {
-    header = json::parse(c->meta("header"));
+    header = json::parse(header_text);
   } catch (const json::exception&) {
     fail(file, "meta.header: is not JSON");
   }
@@ -507,15 +542,10 @@ void requireNothingBeside(const fs::path& store, std::initializer_list<const cha
 void requireNoJournalBeside(const fs::path& store) { requireNothingBeside(store, {"-journal", "-wal", "-shm"}); }
 
 void requireOnlyRollbackJournalBeside(const fs::path& store) {
-  // SQLite's journal header begins with these 8 bytes (sqlite.org/fileformat.html, "The Rollback Journal").
-  static constexpr unsigned char kJournalMagic[8] = {0xd9, 0xd5, 0x05, 0xf9, 0x20, 0xa1, 0x63, 0xd7};
   const fs::path journal = store.string() + "-journal";
   std::error_code ec;
   if (!fs::is_regular_file(fs::symlink_status(journal, ec))) return requireNoJournalBeside(store);
-  char head[sizeof kJournalMagic] = {};
-  std::ifstream in(journal, std::ios::binary);
-  in.read(head, sizeof head);
-  if (in.gcount() != sizeof head || std::memcmp(head, kJournalMagic, sizeof head) != 0)
+  if (!isRollbackJournal(journal))
     throw OutputError(journal.string() + ": is not a rollback journal SQLite wrote (no journal header), and SQLite "
                       "would take it for the unfinished transaction of the store occsweep is to resume at " +
                       store.string() + " and delete it: nothing was written; move it away");

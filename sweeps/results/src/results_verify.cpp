@@ -354,6 +354,7 @@ ResultsCheck readCheckedResults(const std::filesystem::path& file, const std::fi
     grid.add(m);
     if (data) data->add(m);
     ++out.maps;
+    out.combinations += m.thresholds.size();
     if (visit) visit(std::move(m));
   });
   claims.finish();

@@ -3,6 +3,8 @@
 #include <fstream>
 #include <string>
 
+#include "occsweep/eval/bounded_read.hpp"
+
 namespace occsweep {
 
 namespace fs = std::filesystem;
@@ -10,7 +12,8 @@ namespace fs = std::filesystem;
 bool isMapSettingsFile(const fs::path& file) {
   if (!fs::is_regular_file(file)) return false;  // a FIFO would block the read below
   if (jsonOutput("", kMapSettingsFormat).is_own(file)) return true;
-  try {  // written before the format field existed: occsweep's keys
+  try {  // written before the format field existed: occsweep's keys, in a few hundred bytes (never read past them)
+    if (fs::file_size(file) > kJsonFormatPrefixBytes) return false;
     std::ifstream in(file);
     const auto j = nlohmann::json::parse(in);
     return j.is_object() && j.contains("method") && j.contains("parameters") && j.contains("dataset_hash");

@@ -17,6 +17,7 @@ struct Limits {
   std::uint64_t image_pixels = std::uint64_t(1) << 23;    ///< one depth image (--max-image-pixels)
   std::uint64_t points = std::uint64_t(1) << 24;          ///< points of a data set or an import (--max-points)
   std::uint64_t neighbour_distances = std::uint64_t(1) << 29;  ///< k nearest in a scan (--max-neighbour-distances)
+  std::uint64_t json_bytes = std::uint64_t(1) << 27;      ///< bytes of a JSON input parsed whole (--max-json-bytes)
 };
 
 /// The process's limits: the defaults above, raised by the command's flags before it runs (then read-only).

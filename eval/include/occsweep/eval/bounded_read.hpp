@@ -34,10 +34,21 @@ void requireRegularFile(const std::filesystem::path& file);
 /// line occsweep writes is short; a file of gigabytes without a line break is never read whole).
 [[nodiscard]] std::optional<std::string> readFirstLine(const std::filesystem::path& file, std::size_t max_bytes);
 
-/// The whole file parsed as JSON: readFileBytes' refusals, then a DataError "FILE: not valid JSON: ..." when it is
-/// not (a syntax error, a truncated file, a number like 1e999 that no double holds). One home for every JSON input:
-/// manifests, grids, results, plans, rankings.
+/// The whole file parsed as JSON: readJsonBytes' refusals, then a DataError "FILE: not valid JSON: ..." when it is
+/// not (a syntax error, a truncated file, a number like 1e999 that no double holds), or gives a key twice in one
+/// object. One home for every JSON input: manifests, results, plans.
 [[nodiscard]] nlohmann::json readJsonFile(const std::filesystem::path& file);
+/// The bytes of a JSON input (readJsonFile, a grid): readFileBytes' refusals, and a LimitError naming the file and
+/// --max-json-bytes for one past limits().json_bytes, before a byte is read.
+[[nodiscard]] std::string readJsonBytes(const std::filesystem::path& file);
+
+/// How much of a file jsonFormatField reads: every JSON output of occsweep has its "format" within its first
+/// kilobytes (the keys before it, in name order, are short: "complete", "dataset", "files", ...).
+inline constexpr std::size_t kJsonFormatPrefixBytes = std::size_t(1) << 20;
+/// The top-level "format" string of a regular file that begins as a JSON object, read from its first
+/// kJsonFormatPrefixBytes alone (an output of gigabytes is never read whole to learn whose it is): nothing when it
+/// is not a regular file, cannot be read, or has no such field there.
+[[nodiscard]] std::optional<std::string> jsonFormatField(const std::filesystem::path& file);
 /// `text` (the bytes of `file`) parsed as JSON, with readJsonFile's error.
 [[nodiscard]] nlohmann::json parseJsonText(std::string_view text, const std::filesystem::path& file);
 /// parseJsonText, and a key given twice in one object is refused (DataError naming the file and the key's path):

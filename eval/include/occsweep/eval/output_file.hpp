@@ -177,6 +177,10 @@ void makeSymlinkChecked(const std::filesystem::path& points_to, const std::files
 /// write error (EFBIG) instead of a kill. Call once at the start of main(). A SIGKILL cannot be caught: the next
 /// run writing the same target names what it left, with the command that removes it (reportLeftoverTemporaries).
 void removeTemporariesOnInterrupt();
+/// Removes every registered temporary as an interrupt's cleaner does, prints `message` and exits with `status`: for a
+/// failure no catch reaches (a bad_alloc in a destructor, command_line.cpp). A lock held past a second (by a thread
+/// that failed inside a commit) leaves the temporaries to the next run, as a SIGKILL does.
+[[noreturn]] void exitRemovingTemporaries(int status, const std::string& message);
 /// What the interrupt's cleaner prints on stderr once the temporaries are removed, before the exit: for a command
 /// that resumes, what it kept and the command that resumes (set by the command line). Empty: nothing.
 void setInterruptMessage(std::string message);

@@ -25,9 +25,12 @@ namespace occsweep {
 /// The most combinations a JSON results file may take: it is built in memory while the sweep runs and
 /// read back whole by every reader (about 1.9 KB a combination writing, 1.4 KB reading: 200,000 is about 380 MB),
 /// whereas a store (--out NAME.db) is written batch by batch for grids of any size. The paper's largest grid
-/// (reduction) has 112,500. `sweep`, `merge` and `cluster plan` refuse more (docs/robustness.md, "Limits and non-regular
-/// files").
+/// (reduction) has 112,500. `sweep`, `merge`, `results export` and `cluster plan` refuse more (docs/robustness.md,
+/// "Limits and non-regular files").
 inline constexpr std::uint64_t kMaxJsonCombinations = 200'000;
+/// Refuses (std::invalid_argument, exit 2) a JSON results file `out` into which `writer` ("this sweep of knn-opt",
+/// "the merge of 2 files") would write more than kMaxJsonCombinations `combinations`, pointing at a store.
+void refuseLargeJson(const std::filesystem::path& out, const std::string& writer, std::uint64_t combinations);
 
 /// The engines a results file may name in map.engines (docs/results-format.md): the sweep engines' names.
 inline constexpr const char* kDirectEngine = "direct";

@@ -71,7 +71,7 @@ void verifyAgainstDataset(const ResultsFile& f, const std::string& file, const s
 /// What `results check` found: a complete, consistent file of either format, read map by map.
 struct ResultsCheck {
   ResultsHeader header;
-  std::uint64_t maps = 0;
+  std::uint64_t maps = 0, combinations = 0;
   bool grid_checked = false;  ///< the grid file was found with the same hash, and every map checked against it
 };
 /// Every claim of `file` (ClaimsChecker), against its grid when found (GridChecker) and against `dataset` when
