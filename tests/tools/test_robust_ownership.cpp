@@ -293,8 +293,10 @@ TEST_CASE("a killed run's temporary is named by the next run writing that target
     const CommandResult r = runIn(dir, std::string(kTinyScene) + " --out w");
     INFO(r.output);
     REQUIRE(r.exit_code == 0);
-    CHECK(mentions(r, "rm -r -- " + shellWord((fs::path(".") / left.filename()).string())));
-    CHECK(mentions(r, "a killed occsweep left; occsweep never removes it"));
+    const std::string shown = (fs::path(".") / left.filename()).string();
+    CHECK(mentions(r, "rm -r -- " + shellWord(shown) + " " + shellWord(shown + "-journal")));  // and its journal
+    CHECK(mentions(r, "whose process does not run on this machine"));
+    CHECK(mentions(r, "occsweep never removes it. Once it is not in use, remove it:"));
     CHECK_FALSE(mentions(r, live.filename().string()));
     auto after = snapshot(dir);
     std::erase_if(after, [](const auto& kv) { return fs::path(kv.first).begin()->string() == "w"; });
