@@ -394,6 +394,11 @@ void checkOutputTarget(const fs::path& target, bool force, const ReplaceableOutp
     if (!force)
       throw OutputError(target.string() + ": exists: occsweep replaces nothing unless asked (--force replaces " +
                         "occsweep's own previous " + kind.name + "; or choose another path)");
+    // A second name (a hard link) is the user's hold on these bytes, as a symbolic link is ("Ownership").
+    if (struct stat st {}; ::lstat(t.c_str(), &st) == 0 && S_ISREG(st.st_mode) && st.st_nlink != 1)
+      throw OutputError(target.string() + ": has " + std::to_string(st.st_nlink) + " names (a hard link): occsweep " +
+                        "never replaces a file another name shares, even with --force (nothing was changed); remove " +
+                        "the other name, or choose another path");
     if (!kind.is_own(t))
       throw OutputError(target.string() + ": exists and is not occsweep's " + kind.name +
                         ": refused even with --force (nothing was changed)");

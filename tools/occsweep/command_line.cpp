@@ -25,10 +25,10 @@ namespace occsweep::cli {
 
 namespace {
 
-// `argv` as a shell reads it back (shellWord: plain arguments as they are, others in single quotes).
+// `argv` as a shell reads it back, shown safely on a terminal (shownShellWord).
 std::string shellCommand(int argc, char** argv) {
   std::string line;
-  for (int i = 0; i < argc; ++i) line += (i ? " " : "") + shellWord(argv[i]);
+  for (int i = 0; i < argc; ++i) line += (i ? " " : "") + shownShellWord(argv[i]);
   return line;
 }
 
@@ -39,7 +39,7 @@ std::string resumeMessage(const CommandSpec& spec, int argc, char** argv) {
   const std::filesystem::path folder = std::filesystem::current_path(ec);
   return std::string(::isatty(STDERR_FILENO) ? "\n" : "") + "occsweep " + spec.name + ": interrupted; " +
          spec.kept_on_interrupt + ". The same command in the same folder resumes it:\n  " +
-         (ec ? "" : "cd " + shellWord(folder.string()) + " && ") + shellCommand(argc, argv) + "\n";
+         (ec ? "" : "cd " + shownShellWord(folder.string()) + " && ") + shellCommand(argc, argv) + "\n";
 }
 
 // What a bad_alloc prints (outOfMemoryMessage): made before the command runs, since after one no memory may be left

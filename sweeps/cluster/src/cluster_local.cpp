@@ -17,6 +17,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "occsweep/eval/control_characters.hpp"
 #include "occsweep/eval/output_file.hpp"
 #include "occsweep/eval/ownership.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
@@ -420,7 +421,7 @@ std::size_t runLocal(const ClusterPlan& plan, const fs::path& plan_dir, int jobs
   if (const int signal = stopper.signal()) {
     std::cerr << "run-local: stopped by signal " << signal << " (" << strsignal(signal)
               << "); its tasks are ended, done tasks are kept. The rest runs with:\n  occsweep cluster run-local "
-              << shellWord(plan_dir.string()) << " --threads " << jobs << (quiet ? " --quiet" : "") << '\n';
+              << shownShellWord(plan_dir.string()) << " --threads " << jobs << (quiet ? " --quiet" : "") << '\n';
     // Die of the same signal, as the shell and a parent expect of a stopped program.
     ::signal(signal, SIG_DFL);
     ::raise(signal);

@@ -198,13 +198,24 @@ json loggedLine(const std::string& line, const fs::path& partial, std::size_t nu
   }
 }
 
-// A whole line's map (and the twin's counts of it) into `done`. A map of no use to this run (without the twin's
-// counts) is left out: it is counted again.
-void takeLoggedMap(const json& j, const fs::path& partial, const ResultsHeader& header, const std::string& old_engine,
-                   std::map<std::uint64_t, MapResult>& done, std::map<std::uint64_t, std::string>& engine_of,
-                   std::map<std::uint64_t, MapResult>* twin) {
+[[noreturn]] void notOwnLine(const fs::path& partial, std::size_t number, const std::string& why) {
+  throw std::runtime_error(partial.string() + ": line " + std::to_string(number) + " is not a map line occsweep " +
+                           "wrote (" + why + "); occsweep never resumes from, replaces or removes it (even with " +
+                           "--force): remove it, or choose another --out");
+}
+
+// A whole line's map (and the twin's counts of it) into `done`. A line that is no map was written by someone else;
+// a map of no use to this run (without the twin's counts) is left out: it is counted again.
+void takeLoggedMap(const json& j, std::size_t number, const fs::path& partial, const ResultsHeader& header,
+                   const std::string& old_engine, std::map<std::uint64_t, MapResult>& done,
+                   std::map<std::uint64_t, std::string>& engine_of, std::map<std::uint64_t, MapResult>* twin) {
+  MapResult m;
   try {
-    MapResult m = parseMapResult(j, header.parameters, partial.string(), "line");
+    m = parseMapResult(j, header.parameters, partial.string(), "line");
+  } catch (const std::exception& e) {
+    notOwnLine(partial, number, e.what());
+  }
+  try {
     if (twin) {
       json t = j;  // the same map with the twin's thresholds and AUC, checked as strictly
       t["thresholds"] = j.at(kTwinField).at("thresholds");
@@ -235,7 +246,7 @@ struct LogEnd {
 // Reads every map line of the log `lock` holds, after its header, each passed to `take` when given. Every whole line
 // must be JSON: one that is not was written into the log by someone else, and the log is not replaced or removed.
 LogEnd readLogLines(const fs::path& partial, const PartialLock& lock,
-                    const std::function<void(const json&)>& take) {
+                    const std::function<void(const json&, std::size_t)>& take) {
   std::ifstream in(lock.heldFilePath());  // the file locked, whatever is put at its name meanwhile
   std::string line;
   std::getline(in, line);
@@ -247,9 +258,28 @@ LogEnd readLogLines(const fs::path& partial, const PartialLock& lock,
     }
     end.whole += line.size() + 1;
     const json j = loggedLine(line, partial, number);
-    if (take) take(j);
+    if (take) take(j, number);
   }
   return end;
+}
+
+// Every resumed map is one of this sweep's grid, with its own parameters and ids, and all count one region, as
+// `results check` verifies (ClaimsChecker, GridChecker): a line copied into the log from another map or another
+// sweep is refused, never written into results.
+void requireMapsOfThisSweep(const fs::path& partial, const ResultsHeader& header,
+                            const std::map<std::uint64_t, MapResult>& done) {
+  try {
+    ClaimsChecker claims(header, false, partial.string());
+    GridChecker grid(header, false, partial.string());
+    for (const auto& [index, m] : done) {
+      claims.add(m);
+      grid.add(m);
+    }
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string(e.what()) + ": not the maps occsweep wrote for this sweep; occsweep never " +
+                             "resumes from, replaces or removes this partial log (even with --force): remove it, or " +
+                             "choose another --out");
+  }
 }
 
 }  // namespace
@@ -276,14 +306,15 @@ std::map<std::uint64_t, MapResult> loadPartial(const fs::path& partial, const Re
   const ResultsHeader old = ownLogHeader(partial, lock);
   std::string why;
   const bool same = sameWork(old, header, true, &why);
-  const LogEnd end = readLogLines(partial, lock, [&](const json& j) {
-    if (same) takeLoggedMap(j, partial, header, old.engine, done, engine_of, twin);
+  const LogEnd end = readLogLines(partial, lock, [&](const json& j, std::size_t number) {
+    if (same) takeLoggedMap(j, number, partial, header, old.engine, done, engine_of, twin);
   });
   if (!same) {
     if (force) return done;  // occsweep's of other work: replaced when the log starts
     throw std::runtime_error(partial.string() + ": an interrupted sweep of other work (" + why +
                              "); --force replaces it, or choose another --out");
   }
+  requireMapsOfThisSweep(partial, header, done);
   if (end.cut) dropCutLine(partial, lock, end.whole);  // the next line then starts on a line of its own
   return done;
 }
