@@ -107,8 +107,8 @@ int runCommandLine(int argc, char** argv) {
     const auto& [spec, run] = spec_and_run;
     if (!spec->kept_on_interrupt.empty())
       setInterruptMessage(resumeMessage(*spec, argc, argv));
-    outOfMemoryReport() = "occsweep " + sub->get_name() + ": error: " + outOfMemoryMessage(sub->get_name(), argc, argv) +
-                          '\n';
+    const std::string& name = sub->get_name();
+    outOfMemoryReport() = "occsweep " + name + ": error: " + outOfMemoryMessage(name, argc, argv) + '\n';
     try {
       return run();
     } catch (const CLI::ParseError& e) {

@@ -31,7 +31,7 @@ void forEachResultsMap(const fs::path& file, MapDetail detail, const MapVisitor&
   if (isResultsStore(file)) return ResultsStore::open(file).forEachMap(detail, visit);
   ResultsFile f = readResults(file);
   for (MapResult& m : f.maps) {
-    if (detail == MapDetail::Summary) m.thresholds.clear();
+    if (detail == MapDetail::Summary) m.dropThresholds();
     visit(std::move(m));
   }
 }
@@ -40,7 +40,7 @@ ResultsFile readResultsAt(const fs::path& file, MapDetail detail) {
   if (!isResultsStore(file)) {
     ResultsFile f = readResults(file);
     if (detail == MapDetail::Summary)
-      for (MapResult& m : f.maps) m.thresholds = {};
+      for (MapResult& m : f.maps) m.dropThresholds();
     return f;
   }
   ResultsFile f = readResultsHeader(file);
