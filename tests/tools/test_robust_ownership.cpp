@@ -946,6 +946,22 @@ TEST_CASE("a file at a sweep's partial-log name holding a user's lines, or no sw
   refusedWithAndWithoutForce(dir, sweep, "r.json.partial.jsonl: line 3 is not a line occsweep wrote (bytes were "
                                          "written into the log); occsweep never resumes from, replaces or removes it "
                                          "(even with --force)");
+  // Lines a hostile pass put in a copied header's log: JSON that is no map (old binary: skipped, then removed with
+  // the log), and occsweep's own map line under another map's index (old binary: exit 0, results that results check
+  // refuses).
+  writeBytes(dir / "r.json.partial.jsonl", header.dump() + "\n{\"mine\": 1}\n");
+  refusedWithAndWithoutForce(dir, sweep, "r.json.partial.jsonl: line 2 is not a map line occsweep wrote");
+  // A grid found by its name (octomap-opt): each resumed map is checked against it.
+  const std::string opt = "sweep --dataset scene --grid octomap-opt --quiet --out o.json";
+  REQUIRE(runIn(dir, opt).exit_code == 0);
+  nlohmann::json opt_header = nlohmann::json::parse(fileBytes(dir / "o.json"));
+  nlohmann::json moved = opt_header["maps"][0];
+  moved["map_index"] = opt_header["maps"][1]["map_index"];
+  for (const char* key : {"maps", "complete", "seconds"}) opt_header.erase(key);
+  fs::remove(dir / "o.json");
+  writeBytes(dir / "o.json.partial.jsonl", opt_header.dump() + "\n" + moved.dump() + "\n");
+  refusedWithAndWithoutForce(dir, opt, "parameters differ from the grid's");
+  fs::remove(dir / "o.json.partial.jsonl");
   // A file without a sweep's header.
   writeBytes(dir / "r.json.partial.jsonl", "the user's notes\n");
   refusedWithAndWithoutForce(dir, sweep, "r.json.partial.jsonl: not a partial log of occsweep's (its first line is not "
@@ -1076,6 +1092,30 @@ TEST_CASE("a user's symbolic link at an output's name is never replaced, even wi
     CHECK(fs::is_symlink(fs::symlink_status(dir / "link-compare.json")));
     CHECK(fileBytes(dir / "own.json") == own);
     CHECK(fileBytes(dir / "own-compare.json") == own_compare);
+  }
+}
+
+TEST_CASE("an output with a second name (a hard link) is never replaced, even with --force", "[ownership]") {
+  // Found by a hostile pass: compare --json, merge, sweep and map replaced such an output with --force, exit 0 (the
+  // other name kept the old bytes, but the rule of docs/robustness.md, "Ownership", refuses both kinds of link).
+  const fs::path dir = scratch("ownership/hardlink_force");
+  REQUIRE(runIn(dir, "scene --scans 4 --width 32 --height 24 --out s").exit_code == 0);
+  writeTinyGrid(dir / "tiny.json");
+  REQUIRE(runIn(dir, "sweep --dataset s --grid tiny.json --quiet --out r.json").exit_code == 0);
+  REQUIRE(runIn(dir, "merge r.json --out m.json").exit_code == 0);
+  REQUIRE(runIn(dir, "compare r.json --json c.json").exit_code == 0);
+  REQUIRE(runIn(dir, "map --dataset s --method octomap --out m.ot").exit_code == 0);
+  for (const char* name : {"m.json", "c.json", "r.json", "m.ot"})
+    fs::create_hard_link(dir / name, dir / (std::string("kept-") + name));
+  const auto before = snapshot(dir);
+  for (const std::string command : {"merge r.json --out m.json --force", "compare r.json --json c.json --force",
+                                    "sweep --dataset s --grid octomap-opt --quiet --out r.json --force",
+                                    "map --dataset s --method knn --out m.ot --force"}) {
+    const CommandResult r = runIn(dir, command);
+    INFO(command << "\n" << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(mentions(r, "has 2 names (a hard link): occsweep never replaces a file another name shares"));
+    CHECK(snapshot(dir) == before);
   }
 }
 
