@@ -102,8 +102,8 @@ TEST_CASE("a sweep that fills the disk keeps its finished maps, cut to the last 
   // temporaries and --force").
   const fs::path dir = scratch("robust_disk_sweep");
   REQUIRE(runIn(dir, "scene --scans 8 --width 64 --height 48 --out scene").exit_code == 0);
-  // 75 maps of about 1.2 kB each: the log and the results fit the 256 KiB disk together, but not beside the filler.
-  const std::string sweep = "sweep --dataset scene --grid knn-opt --shard 0/6 --threads 1 --quiet --out ";
+  // 45 maps of about 2 kB each: the log and the results fit the 256 KiB disk together, but not beside the filler.
+  const std::string sweep = "sweep --dataset scene --grid knn-opt --shard 0/10 --threads 1 --quiet --out ";
   REQUIRE(runIn(dir, sweep + "reference.json").exit_code == 0);
   SmallDisk disk(dir / "disk");
   if (!disk.mounted) {
