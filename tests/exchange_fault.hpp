@@ -1,5 +1,5 @@
 // A file system that refuses to put things back, for the tests of what occsweep does when an exchange it must undo
-// cannot be undone (docs/robustness.md, "Ownership"). Included by one test program's one source file: its
+// cannot be undone (docs/io.md, "Ownership"). Included by one test program's one source file: its
 // definitions of renameat2(2) and rename(2) take the place of the C library's in that program, so the library's
 // own calls reach them; disarmed, they pass every call on unchanged.
 #pragma once

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/data_error.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;

@@ -10,12 +10,13 @@
 #include <unistd.h>
 
 #include "occsweep/core/limits.hpp"
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/data_error.hpp"
 #include "occsweep/eval/dataset.hpp"
-#include "occsweep/eval/fnv1a.hpp"
-#include "occsweep/eval/output_file.hpp"
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/fnv1a.hpp"
+#include "occsweep/io/output_file.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/eval/sensor_view_json.hpp"
+#include "occsweep/eval/json_input.hpp"
 
 namespace occsweep {
 
@@ -207,7 +208,7 @@ static std::set<fs::path> datasetFiles(const json& manifest) {
 
 static bool isDatasetFolder(const fs::path& dir) {
   // Only what writeDataset wrote for this manifest: a folder that also holds a user's file (even a
-  // scans/000099.f32 the manifest does not name) is not occsweep's to remove (docs/robustness.md, "Ownership").
+  // scans/000099.f32 the manifest does not name) is not occsweep's to remove (docs/io.md, "Ownership").
   std::set<fs::path> own;
   try {
     const json m = readJsonFile(dir / "manifest.json");

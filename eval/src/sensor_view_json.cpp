@@ -2,7 +2,7 @@
 
 #include <climits>
 
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/data_error.hpp"
 
 namespace occsweep {
 namespace {

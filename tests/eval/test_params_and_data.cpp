@@ -7,7 +7,7 @@
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/data_error.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;

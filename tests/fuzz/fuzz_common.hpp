@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/data_error.hpp"
 
 namespace occsweep::fuzz {
 

@@ -12,7 +12,7 @@ import tempfile
 
 ROOT = pathlib.Path(sys.argv[1]).resolve()
 CHECK = ROOT / "tools" / "ci" / "check_layers.py"
-CODE = ["CMakeLists.txt", "core", "eval", "sweeps", "tools", "tests", "bench", "examples"]
+CODE = ["CMakeLists.txt", "io", "core", "eval", "sweeps", "tools", "tests", "bench", "examples"]
 
 
 def skip(folder, names):
@@ -45,6 +45,10 @@ CASES = [
     # (what, file, planted text, where, what the message must name)
     ("core includes a sweeps header", "core/include/occsweep/core/log_odds.hpp",
      '#include "occsweep/sweeps/grid.hpp"\n', "top", "core/include/occsweep/core/log_odds.hpp:1: core includes"),
+    ("io includes the data-set model (io knows no data set)", "io/src/output_file.cpp",
+     '#include "occsweep/eval/dataset.hpp"\n', "top", "io/src/output_file.cpp:1: io includes"),
+    ("io includes core", "io/src/ownership.cpp",
+     '#include "occsweep/core/limits.hpp"\n', "top", "io/src/ownership.cpp:1: io includes"),
     ("eval includes an importer", "eval/src/dataset_io.cpp",
      '#include "occsweep/data/import_cloud.hpp"\n', "top", "eval/src/dataset_io.cpp:1: eval includes"),
     ("results includes the engine", "sweeps/results/src/merge.cpp",

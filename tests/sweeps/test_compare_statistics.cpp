@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "occsweep/core/splitmix64.hpp"
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/sweeps/compare_statistics.hpp"
 #include "test_helpers.hpp"
 

@@ -13,7 +13,7 @@
 
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/data_error.hpp"
 #include "occsweep/eval/observable_truth.hpp"
 #include "test_helpers.hpp"
 

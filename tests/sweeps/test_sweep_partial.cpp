@@ -1,6 +1,6 @@
 // A sweep's partial output against a user who moves it away while the sweep runs: what the sweep writes goes into
-// the file it locked, never into a file put at its name (docs/robustness.md, "Ownership"). These test the engine's
-// internal PartialLock and PartialLog directly: through the command the moment between locking and writing cannot
+// the file it locked, never into a file put at its name (docs/io.md, "Ownership"). These test the engine's
+// LockedFile (io) and PartialLog directly: through the command the moment between locking and writing cannot
 // be hit on purpose.
 #include <catch2/catch.hpp>
 
@@ -12,7 +12,8 @@
 
 namespace fs = std::filesystem;
 using occsweep::ResultsHeader;
-using occsweep::sweep_detail::PartialLock;
+using occsweep::LockedFile;
+using occsweep::sweep_detail::lockPartial;
 using occsweep::sweep_detail::PartialLog;
 using occsweep::test::bytesOf;
 using occsweep::test::scratch;
@@ -31,7 +32,7 @@ TEST_CASE("a resumed partial log appends to the file it locked, not to a user's 
   const fs::path log_file = dir / "r.json.partial.jsonl";
   const std::string header = "{\"a sweep's header\":1}\n";
   writeText(log_file, header);
-  PartialLock lock = PartialLock::existing(log_file);
+  LockedFile lock = lockPartial(log_file);
   fs::rename(log_file, dir / "moved");
   writeText(log_file, "the user's notes\n");
   CHECK_FALSE(lock.holdsFile(log_file));
@@ -54,19 +55,19 @@ TEST_CASE("a --force sweep's new partial output takes the old one's place, never
   auto header = [](const fs::path& temporary) { writeText(temporary, "{\"new header\":1}\n"); };
   SECTION("the old partial output still there: replaced") {
     writeText(partial, "{\"old header\":1}\n");
-    const PartialLock old = PartialLock::existing(partial);
-    const PartialLock now = PartialLock::publish(partial, &old, header);
+    const LockedFile old = lockPartial(partial);
+    const LockedFile now = LockedFile::publish(partial, &old, header);
     CHECK(bytesOf(partial) == "{\"new header\":1}\n");
     CHECK(now.holdsFile(partial));
     CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 1);
   }
   SECTION("a user's file at its name by then: kept, and the sweep stops naming it") {
     writeText(partial, "{\"old header\":1}\n");
-    const PartialLock old = PartialLock::existing(partial);
+    const LockedFile old = lockPartial(partial);
     fs::rename(partial, dir / "moved");
     writeText(partial, "the user's notes\n");
-    CHECK_THROWS_WITH(PartialLock::publish(partial, &old, header),
-                      Catch::Contains("r.json.partial.jsonl: was replaced while occsweep was preparing the sweep"));
+    CHECK_THROWS_WITH(LockedFile::publish(partial, &old, header),
+                      Catch::Contains("r.json.partial.jsonl: was replaced while occsweep was preparing it"));
     CHECK(bytesOf(partial) == "the user's notes\n");
     CHECK(bytesOf(dir / "moved") == "{\"old header\":1}\n");
     CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 2);
@@ -79,7 +80,7 @@ TEST_CASE("a --force sweep's new partial output takes the old one's place, never
       return;
     }
     writeText(partial, "{\"old header\":1}\n");
-    const PartialLock old = PartialLock::existing(partial);
+    const LockedFile old = lockPartial(partial);
     fs::rename(partial, dir / "moved");
     writeText(partial, "the user's notes\n");
     auto temporaries = [&] {
@@ -90,16 +91,16 @@ TEST_CASE("a --force sweep's new partial output takes the old one's place, never
     };
     {
       const occsweep::test::ExchangeFault fault(1, false);
-      CHECK_THROWS_WITH(PartialLock::publish(partial, &old, header),
-                        Catch::Contains("r.json.partial.jsonl: was replaced while occsweep was preparing the sweep"));
+      CHECK_THROWS_WITH(LockedFile::publish(partial, &old, header),
+                        Catch::Contains("r.json.partial.jsonl: was replaced while occsweep was preparing it"));
     }
     CHECK(bytesOf(partial) == "the user's notes\n");
     CHECK(temporaries().empty());
     {
       const occsweep::test::ExchangeFault fault(1, true);
-      CHECK_THROWS_WITH(PartialLock::publish(partial, &old, header),
-                        Catch::Contains("r.json.partial.jsonl: was replaced while occsweep was preparing the "
-                                        "sweep, and could not be put back (exchange: Input/output error; rename: "
+      CHECK_THROWS_WITH(LockedFile::publish(partial, &old, header),
+                        Catch::Contains("r.json.partial.jsonl: was replaced while occsweep was preparing it, "
+                                        "and could not be put back (exchange: Input/output error; rename: "
                                         "Input/output error): the file that stood there is now at " +
                                         (dir / ".r.json.partial.jsonl.tmp-").string()));
     }

@@ -9,7 +9,7 @@
 #include <octomap/math/Quaternion.h>
 #include <png.h>
 
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_depth.hpp"
 #include "occsweep/data/import_pose.hpp"

@@ -8,7 +8,7 @@
 #include <octomap/OcTree.h>
 #include <octomap/ScanGraph.h>
 
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_depth.hpp"
 #include "occsweep/data/import_graph.hpp"

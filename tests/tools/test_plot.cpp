@@ -9,8 +9,9 @@
 #include <map>
 #include <optional>
 
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/sweeps/results.hpp"
+#include "occsweep/eval/json_input.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;

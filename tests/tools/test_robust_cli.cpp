@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_help.hpp"
-#include "occsweep/eval/control_characters.hpp"
+#include "occsweep/io/control_characters.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "robust_cli_helpers.hpp"
 

@@ -334,7 +334,7 @@ TEST_CASE("a grid named ../../../victim or a plan output outside the plan folder
   CHECK(test::bytesOf(dir / "victim.json") == victim);
 }
 
-// docs/robustness.md, "Ownership": run-local removes a running marker only when it starts with run-local's mark line;
+// docs/io.md, "Ownership": run-local removes a running marker only when it starts with run-local's mark line;
 // a user's file named like one (even one holding a dead process's number) stays byte-identical.
 TEST_CASE("run-local removes only the running markers it wrote, never a user's file named like one") {
   // Old binary: every regular `running/*.pid` holding a number was removed, the user's too, exit 0.

@@ -1,6 +1,6 @@
 // Fault test: scene, import, map, sweep and merge killed at seeded random moments (SIGKILL and SIGTERM
 // alternately, 20 kills each). After every kill no final output is partial; the next run names what a SIGKILL left
-// with the command that removes it, and its output equals an uninterrupted run's (docs/robustness.md, "Ownership").
+// with the command that removes it, and its output equals an uninterrupted run's (docs/io.md, "Ownership").
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <csignal>
@@ -11,7 +11,7 @@
 #include <sys/wait.h>
 #include <thread>
 
-#include "occsweep/eval/child_process.hpp"
+#include "occsweep/io/child_process.hpp"
 #include "occsweep/sweeps/results.hpp"
 #include "robust_outputs_helpers.hpp"
 

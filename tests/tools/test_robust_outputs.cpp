@@ -1,6 +1,6 @@
 // No data loss or corruption: no command replaces what a user owns, outputs appear whole or not at all,
 // temporaries do not outlive their run, and a resumed sweep records every engine that made its maps
-// (docs/robustness.md, "Outputs, temporaries and --force"). OCCSWEEP_TEST_CLI=/path/to/occsweep runs these claims
+// (docs/io.md, "Outputs and --force"). OCCSWEEP_TEST_CLI=/path/to/occsweep runs these claims
 // against another binary (the original one fails them).
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

@@ -1,4 +1,4 @@
-// Ownership by the rule of reserved names (docs/robustness.md, "Ownership"): entries named like occsweep's temporaries
+// Ownership by the rule of reserved names (docs/io.md, "Ownership"): entries named like occsweep's temporaries
 // survive every writing command; an output created or changed while a command runs is never replaced; --force
 // replaces only what carries occsweep's mark; a figure script never outlives `plot`.
 #include <catch2/catch.hpp>
@@ -11,12 +11,13 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <thread>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/eval/child_process.hpp"
-#include "occsweep/eval/output_file.hpp"
-#include "occsweep/eval/ownership.hpp"
+#include "occsweep/io/child_process.hpp"
+#include "occsweep/io/output_file.hpp"
+#include "occsweep/io/ownership.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "exchange_fault.hpp"
 #include "robust_outputs_helpers.hpp"
@@ -131,7 +132,7 @@ std::string temporaryLookalike(const std::string& n, std::uint64_t pattern, Spli
   }
 }
 
-// The look-alikes a writer must refuse to write beside, exit 2 naming one (docs/robustness.md, "Ownership"): a
+// The look-alikes a writer must refuse to write beside, exit 2 naming one (docs/io.md, "Ownership"): a
 // user's entry at a store's journal names would be taken by SQLite for the new store's transaction, and one at a
 // sweep's partial results name for its resume file. Any other look-alike is simply left alone.
 std::set<std::string> refusedLookalikes(const Writer& w, const std::set<std::string>& names) {
@@ -276,7 +277,7 @@ TEST_CASE("an interrupted run removes its temporary only while it is the entry t
 
 TEST_CASE("a killed run's temporary is named by the next run writing that target, with the command that removes it, "
           "and stays whole", "[ownership]") {
-  // docs/robustness.md, "Ownership": occsweep cannot tell what a killed run left from an entry a user made at that
+  // docs/io.md, "Ownership": occsweep cannot tell what a killed run left from an entry a user made at that
   // name (no state outside the outputs' folders), so it removes neither: it names the leftover and the command.
   for (const std::string folder : {"plain", "a\nb"}) {  // a folder of any name
     INFO("folder " << folder);
@@ -399,8 +400,8 @@ TEST_CASE("an output whose '..' follows a symbolic link is refused before anythi
 namespace {
 
 // A child process that makes and drops temporaries of every kind on two threads, in a loop (a results store at an
-// OutputFile's temporary, as `results export` writes one, an OutputFolder, a store at a ClaimedTemporary file, as a
-// sweep's partial store is made, a ClaimedTemporary folder), and sends itself SIGINT after `delay_us`. Returns its exit code (130 when the interrupt's cleaner ended it).
+// OutputFile's temporary, as `results export` writes one, an OutputFolder, a store at a RegisteredTemporary file, as a
+// sweep's partial store is made, a RegisteredTemporary folder), and sends itself SIGINT after `delay_us`. Returns its exit code (130 when the interrupt's cleaner ended it).
 int interruptedWhileMaking(const fs::path& dir, const ResultsHeader& header, unsigned delay_us) {
   const pid_t child = ::fork();
   if (child == 0) {
@@ -412,9 +413,9 @@ int interruptedWhileMaking(const fs::path& dir, const ResultsHeader& header, uns
             OutputFile file(dir / "f.db");
             (void)ResultsStore::create(file.temporary(), header, StoreUse::Temporary);
             const OutputFolder folder(dir / "d");
-            const ClaimedTemporary store(dir / "s.db", TemporaryKind::File);
+            const RegisteredTemporary store(dir / "s.db", TemporaryKind::File);
             (void)ResultsStore::create(store.path(), header, StoreUse::Temporary);
-            const ClaimedTemporary figures(dir / "figures", TemporaryKind::Folder);
+            const RegisteredTemporary figures(dir / "figures", TemporaryKind::Folder);
             std::ofstream(figures.path() / "a.png") << "drawn";
           } catch (const std::exception&) {
           }
@@ -930,7 +931,7 @@ TEST_CASE("a file at a sweep's partial-log name holding a user's lines, or no sw
           "replaced or removed", "[ownership]") {
   // An older binary took the first line alone as proof: the sweep resumed from it (exit 0) and then removed it, the
   // user's lines with it; --force did the same; beside a complete output it was removed as a superseded log. Every
-  // line is read now (docs/robustness.md, "Ownership").
+  // line is read now (docs/io.md, "Ownership").
   const fs::path dir = scratch("ownership/partial_header_copy");
   REQUIRE(runIn(dir, std::string(kTinyScene) + " --out scene").exit_code == 0);
   writeTinyGrid(dir / "tiny.json");
@@ -961,6 +962,20 @@ TEST_CASE("a file at a sweep's partial-log name holding a user's lines, or no sw
   fs::remove(dir / "o.json");
   writeBytes(dir / "o.json.partial.jsonl", opt_header.dump() + "\n" + moved.dump() + "\n");
   refusedWithAndWithoutForce(dir, opt, "parameters differ from the grid's");
+  // The same grid's map lines from a sweep at another resolution under this sweep's header: each a map of the grid,
+  // all counting one region, but not this sweep's (hostile pass: exit 0 and results `results check` refuses, or,
+  // with every map copied, results of the other sweep under this one's header).
+  const std::string coarse_sweep = "sweep --dataset scene --grid octomap-opt --quiet --resolution 0.2 --out coarse.json";
+  REQUIRE(runIn(dir, coarse_sweep).exit_code == 0);
+  const nlohmann::json coarse = nlohmann::json::parse(fileBytes(dir / "coarse.json"));
+  fs::remove(dir / "coarse.json");
+  for (const std::size_t copied : {std::size_t(3), coarse["maps"].size()}) {
+    INFO(copied << " map lines copied");
+    std::string log = opt_header.dump() + "\n";
+    for (std::size_t i = 0; i < copied; ++i) log += coarse["maps"][i].dump() + "\n";
+    writeBytes(dir / "o.json.partial.jsonl", log);
+    refusedWithAndWithoutForce(dir, opt, "o.json.partial.jsonl: its maps count ");
+  }
   fs::remove(dir / "o.json.partial.jsonl");
   // A file without a sweep's header.
   writeBytes(dir / "r.json.partial.jsonl", "the user's notes\n");
@@ -1000,7 +1015,7 @@ TEST_CASE("a killed sweep's log that a user linked to, or wrote into, is never r
     killedSweep(dir);
     fs::create_hard_link(partial, dir / "keep.jsonl");
     refusedWithAndWithoutForce(dir, sweep, "r.json.partial.jsonl: has 2 names (a hard link); occsweep never writes "
-                                           "into, replaces or removes a partial output that has another name");
+                                           "into, replaces or removes a file it resumes that has another name");
     fs::remove(dir / "keep.jsonl");  // its one name again: resumed
     const CommandResult resumed = runIn(dir, sweep);
     INFO(resumed.output);
@@ -1097,7 +1112,7 @@ TEST_CASE("a user's symbolic link at an output's name is never replaced, even wi
 
 TEST_CASE("an output with a second name (a hard link) is never replaced, even with --force", "[ownership]") {
   // Found by a hostile pass: compare --json, merge, sweep and map replaced such an output with --force, exit 0 (the
-  // other name kept the old bytes, but the rule of docs/robustness.md, "Ownership", refuses both kinds of link).
+  // other name kept the old bytes, but the rule of docs/io.md, "Ownership", refuses both kinds of link).
   const fs::path dir = scratch("ownership/hardlink_force");
   REQUIRE(runIn(dir, "scene --scans 4 --width 32 --height 24 --out s").exit_code == 0);
   writeTinyGrid(dir / "tiny.json");
@@ -1144,17 +1159,21 @@ TEST_CASE("a user's file at SQLite's journal names beside a store to be written 
   const fs::path in = inputs("ownership/journals");
   const std::string s = shellQuoted(in) + "/";
   const fs::path dir = scratch("ownership/journals-out");
-  for (const auto& [command, journal] : std::vector<std::pair<std::string, std::string>>{
-           {"sweep --dataset " + s + "scene --grid " + s + "tiny.json --quiet --out s.db", "s.db.partial-journal"},
-           {"sweep --dataset " + s + "scene --grid " + s + "tiny.json --quiet --out t.db", "t.db-wal"},
-           {"results export " + s + "oct.json --out r.db", "r.db-journal"},
-           {"merge " + s + "oct.json --out m.db", "m.db-journal"}}) {
+  // Each named by what SQLite keeps there (old binary: "the journal" for a -wal file too).
+  for (const auto& [command, journal, kind] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"sweep --dataset " + s + "scene --grid " + s + "tiny.json --quiet --out s.db", "s.db.partial-journal",
+            "rollback journal"},
+           {"sweep --dataset " + s + "scene --grid " + s + "tiny.json --quiet --out t.db", "t.db-wal",
+            "write-ahead log"},
+           {"sweep --dataset " + s + "scene --grid " + s + "tiny.json --quiet --out u.db", "u.db-shm", "shared memory"},
+           {"results export " + s + "oct.json --out r.db", "r.db-journal", "rollback journal"},
+           {"merge " + s + "oct.json --out m.db", "m.db-journal", "rollback journal"}}) {
     INFO(command);
     writeBytes(dir / journal, "the user's notes\n");
     const CommandResult r = runIn(dir, command);
     INFO(r.output);
     CHECK(r.exit_code == 2);
-    CHECK(mentions(r, journal + ": stands where SQLite keeps the journal"));
+    CHECK(mentions(r, journal + ": stands where SQLite keeps the " + kind + " of the store"));
     CHECK(fileBytes(dir / journal) == "the user's notes\n");
     fs::remove(dir / journal);
     CHECK(leftovers(dir).empty());

@@ -4,7 +4,7 @@
   1. Every quoted #include resolves to a file of a known part, and points down: a part includes only itself and
      the parts below it (ALLOWED). Test groups follow the layer they test.
   2. Every library part's CMakeLists.txt lists each of its sources (no glob) and links only parts it may include.
-  3. The library (core, eval, stats, sweeps/*) starts no shell and knows no source tree: no std::system, popen or
+  3. The library (io, core, eval, stats, sweeps/*) starts no shell and knows no source tree: no std::system, popen or
      OCCSWEEP_SOURCE_DIR in it.
 
 Usage: check_layers.py ROOT. Prints one line per violation (file:line: what, and the rule) and exits 1, or a
@@ -14,25 +14,27 @@ import pathlib
 import re
 import sys
 
-LIBRARY = ["core", "eval", "stats", "grid", "results", "engine", "cluster", "reproduce"]
-# What each part may include (itself implied). Order of the layers: core <- eval, stats <- sweeps <- tools.
+LIBRARY = ["io", "core", "eval", "stats", "grid", "results", "engine", "cluster", "reproduce"]
+# What each part may include (itself implied). Order of the layers: io, core <- eval, stats <- sweeps <- tools.
+# io (file safety) includes nothing of occsweep: it knows no data set, result or method.
 ALLOWED = {
+    "io": [],
     "core": [],
-    "eval": ["core"],
+    "eval": ["io", "core"],
     "stats": ["core"],
-    "grid": ["core", "eval"],
-    "results": ["core", "eval", "stats", "grid"],
-    "engine": ["core", "eval", "grid", "results"],
-    "cluster": ["core", "eval", "grid", "results", "engine"],
-    "reproduce": ["core", "eval", "stats", "grid", "results", "engine"],
-    "data": ["core", "eval"],
-    "stereo": ["core", "eval", "data"],
+    "grid": ["io", "core", "eval"],
+    "results": ["io", "core", "eval", "stats", "grid"],
+    "engine": ["io", "core", "eval", "grid", "results"],
+    "cluster": ["io", "core", "eval", "grid", "results", "engine"],
+    "reproduce": ["io", "core", "eval", "stats", "grid", "results", "engine"],
+    "data": ["io", "core", "eval"],
+    "stereo": ["io", "core", "eval", "data"],
     "cli": LIBRARY + ["data", "stereo"],
     "bench": LIBRARY + ["data", "stereo", "tests"],  # the tests' helpers: where the built command is
     "examples": LIBRARY,
     "tests": ["core"],  # helpers shared by the test groups
     "tests/core": ["core", "tests"],
-    "tests/eval": ["core", "eval", "stats", "tests"],
+    "tests/eval": ["io", "core", "eval", "stats", "tests"],
     "tests/sweeps": LIBRARY + ["tests"],
     "tests/tools": LIBRARY + ["data", "stereo", "tests"],
     "tests/fuzz": LIBRARY + ["data", "tests"],
@@ -44,8 +46,8 @@ INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
 
 def part_of(rel: pathlib.PurePosixPath) -> str | None:
     p = rel.parts
-    if p[0] == "core":
-        return "core"
+    if p[0] in ("io", "core"):
+        return p[0]
     if p[0] == "eval":
         return "stats" if "stats" in p[1:] else "eval"
     if p[0] == "sweeps" and len(p) > 2 and p[1] in LIBRARY:
@@ -64,7 +66,7 @@ def part_of(rel: pathlib.PurePosixPath) -> str | None:
 
 
 def include_roots(root: pathlib.Path) -> list[pathlib.Path]:
-    return sorted(root.glob("core/include")) + sorted(root.glob("eval/include")) + \
+    return sorted(root.glob("io/include")) + sorted(root.glob("core/include")) + sorted(root.glob("eval/include")) + \
         sorted(root.glob("sweeps/*/include")) + sorted(root.glob("tools/*/include")) + [root / "tests"]
 
 
@@ -109,7 +111,7 @@ def check_includes(root, files, errors):
 
 
 def check_cmake(root, errors):
-    parts = [("core", root / "core"), ("eval", root / "eval")] + \
+    parts = [("io", root / "io"), ("core", root / "core"), ("eval", root / "eval")] + \
         [(p, root / "sweeps" / p) for p in LIBRARY if (root / "sweeps" / p).is_dir()]
     for part, folder in parts:
         cmake = folder / "CMakeLists.txt"

@@ -17,6 +17,7 @@
 #include "occsweep/sweeps/cluster_select.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 #include "occsweep/sweeps/progress.hpp"
+#include "occsweep/io/control_characters.hpp"
 
 namespace occsweep::cli {
 namespace {
@@ -297,11 +298,11 @@ int runPlan(const PlanOptions& o) {
   std::size_t total = 0;
   for (const auto& s : p.stages) {
     std::cout << "stage " << s.name << ": " << s.tasks.size() << " tasks"
-              << (s.after.empty() ? "" : " (after " + s.after[0] + ")") << ", " << o.dir << "/slurm/" << s.name
-              << ".sbatch\n";
+              << (s.after.empty() ? "" : " (after " + s.after[0] + ")") << ", "
+              << escapedControlCharacters(o.dir + "/slurm/" + s.name + ".sbatch") << "\n";
     total += s.tasks.size();
   }
-  std::cout << "wrote " << o.dir << "/plan.json: " << total << " tasks\n";
+  std::cout << "wrote " << escapedControlCharacters(o.dir + "/plan.json") << ": " << total << " tasks\n";
   if (o.estimate_from.empty())
     printNoEstimate(p);
   else
@@ -329,7 +330,7 @@ Subcommand addSelect(CLI::App& app) {
   addSelectOptions(*select, *t);  // task_options.cpp: also what `cluster plan` tasks are parsed with
   return {select, [t] {
             const auto n = selectRanked({t->rankings.begin(), t->rankings.end()}, t->out);
-            std::cout << "wrote " << t->out << ": " << n << " ranked point cloud sets\n";
+            std::cout << "wrote " << escapedControlCharacters(t->out) << ": " << n << " ranked point cloud sets\n";
             return 0;
           }};
 }

@@ -10,8 +10,8 @@
 #include "limit_options.hpp"
 #include "task_options.hpp"
 #include "compare_tables.hpp"
-#include "occsweep/eval/control_characters.hpp"
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/control_characters.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/sweeps/compare.hpp"
 #include "occsweep/sweeps/csv_text.hpp"
 

@@ -10,7 +10,7 @@
 #ifdef OCCSWEEP_HAVE_STEREO
 #include <tbb/global_control.h>
 
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/stereo/generate.hpp"
 #include "occsweep/stereo/ranking.hpp"
 #include "occsweep/stereo/realism.hpp"

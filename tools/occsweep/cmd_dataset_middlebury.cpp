@@ -9,7 +9,7 @@
 #include "option_checks.hpp"
 
 #ifdef OCCSWEEP_HAVE_STEREO
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/stereo/middlebury.hpp"
 #include "occsweep/stereo/pointcloud_grid.hpp"
 #include "occsweep/sweeps/grid.hpp"

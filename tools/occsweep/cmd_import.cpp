@@ -14,13 +14,14 @@
 #include "occsweep/core/limits.hpp"
 #include "occsweep/core/map_settings.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
-#include "occsweep/eval/control_characters.hpp"
+#include "occsweep/io/control_characters.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_depth.hpp"
 #include "occsweep/data/import_graph.hpp"
 #include "occsweep/data/import_truth.hpp"
+#include "occsweep/io/output_target.hpp"
 
 namespace occsweep::cli {
 namespace {

@@ -4,8 +4,9 @@
 #include "command_registry.hpp"
 #include "limit_options.hpp"
 #include "task_options.hpp"
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/sweeps/merge.hpp"
+#include "occsweep/io/control_characters.hpp"
 
 namespace occsweep::cli {
 namespace {
@@ -22,7 +23,7 @@ const RegisterCommand kMerge{"merge", "Merge the shards of one sweep (refuses mi
         throw OutputError("--out " + t->out + ": is one of the files to merge (" + in + "); choose another --out");
     checkOutputTarget(t->out, t->force, resultsOutput());
     const std::uint64_t maps = mergeResultsInto({t->files.begin(), t->files.end()}, t->out);
-    std::cout << "wrote " << t->out << ": " << maps << " maps from " << t->files.size() << " files\n";
+    std::cout << "wrote " << escapedControlCharacters(t->out) << ": " << maps << " maps from " << t->files.size() << " files\n";
     return 0;
   };
 }};

@@ -22,11 +22,12 @@
 #include "plot_data.hpp"
 #include "occsweep/core/builtin_methods.hpp"
 #include "occsweep/core/method_registry.hpp"
-#include "occsweep/eval/child_process.hpp"
-#include "occsweep/eval/data_error.hpp"
-#include "occsweep/eval/output_file.hpp"
-#include "occsweep/eval/ownership.hpp"
+#include "occsweep/io/child_process.hpp"
+#include "occsweep/io/data_error.hpp"
+#include "occsweep/io/output_file.hpp"
+#include "occsweep/io/ownership.hpp"
 #include "occsweep/eval/png_text.hpp"
+#include "occsweep/io/control_characters.hpp"
 
 namespace occsweep::cli {
 namespace {
@@ -81,7 +82,7 @@ std::string figureFormat(const std::string& out) {
 
 // Whether `file` is a figure occsweep plot drew: a regular file with one name, the format's first bytes and the
 // script's mark (a PNG's Software text chunk exactly "occsweep plot", written by plot_results.py; a PDF's or SVG's
-// Creator). What --force may replace (docs/robustness.md, "Ownership"), and how a script that exits 0 without
+// Creator). What --force may replace (docs/io.md, "Ownership"), and how a script that exits 0 without
 // drawing is caught: it leaves no empty figure behind.
 bool drewFigure(const std::filesystem::path& file, const std::string& format) {
   if (format == "png") return markedPngOutput("figure", "occsweep plot").is_own(file);
@@ -158,7 +159,7 @@ int runPlot(const std::string& kind, const PlotOptions& o) {
   if (format != "png") markWrittenBytes(figure.temporary());  // what a later --force may replace (figureOutput)
   if (o.json.empty()) figure.commit();
   else OutputFile::commitTogether({&data_file, &figure});  // neither when the other's name was taken meanwhile
-  std::cout << "wrote " << o.out << (o.json.empty() ? "" : " and " + o.json) << '\n';
+  std::cout << "wrote " << escapedControlCharacters(o.out) << (o.json.empty() ? "" : " and " + escapedControlCharacters(o.json)) << '\n';
   return 0;
 }
 

@@ -10,11 +10,12 @@
 #include "figure_script.hpp"
 #include "install_paths.hpp"
 #include "option_checks.hpp"
-#include "occsweep/eval/child_process.hpp"
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/child_process.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/eval/paper_datasets.hpp"
 #include "occsweep/eval/png_text.hpp"
 #include "occsweep/sweeps/reproduce.hpp"
+#include "occsweep/io/temporaries.hpp"
 
 namespace occsweep::cli {
 namespace {
@@ -44,7 +45,7 @@ auto figureDrawer(const std::string& configured_python) {
   const std::string python = findPython(configured_python, "reproduce");
   const std::string script = figureScript("plot_reproduction.py").string();
   return [python, script](const std::filesystem::path& out, const std::vector<std::string>& steps) {
-    const ClaimedTemporary drawn(out / "figures", TemporaryKind::Folder);  // the script draws here; removed whatever happens
+    const RegisteredTemporary drawn(out / "figures", TemporaryKind::Folder);  // the script draws here; removed whatever happens
     std::vector<std::string> argv{python, script, out.string(), "--into", drawn.path().string()};
     argv.insert(argv.end(), steps.begin(), steps.end());
     if (const int code = runChild(argv); code != 0)

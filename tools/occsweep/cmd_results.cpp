@@ -14,6 +14,7 @@
 #include "occsweep/sweeps/results_export.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
+#include "occsweep/io/output_target.hpp"
 
 namespace occsweep::cli {
 namespace {

@@ -7,6 +7,8 @@
 #include "occsweep/core/limits.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
+#include "occsweep/io/output_target.hpp"
+#include "occsweep/io/control_characters.hpp"
 
 namespace occsweep::cli {
 namespace {
@@ -40,7 +42,7 @@ const RegisterCommand kScene{"scene", "Write the built-in scene (four boxes in a
     checkOutputTarget(o->out, o->force, datasetOutput());
     const Dataset d = makeBuiltinScene(o->config);
     writeDataset(d, o->out);
-    std::cout << "wrote " << o->out << ": " << d.scans.size() << " scans, " << pointCount(d.scans) << " points\n";
+    std::cout << "wrote " << escapedControlCharacters(o->out) << ": " << d.scans.size() << " scans, " << pointCount(d.scans) << " points\n";
     return 0;
   };
 }};

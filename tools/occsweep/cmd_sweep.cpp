@@ -10,6 +10,7 @@
 #include "occsweep/sweeps/results_file.hpp"
 #include "occsweep/sweeps/selection.hpp"
 #include "occsweep/sweeps/sweep.hpp"
+#include "occsweep/io/control_characters.hpp"
 
 namespace occsweep::cli {
 namespace {
@@ -49,7 +50,7 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
     for (const SweepConfig& c : configs) refuseLargeJson(c);
     const std::vector<SweepSummary> written = sweepGrids(configs);
     for (std::size_t i = 0; i < written.size(); ++i)
-      std::cout << "wrote " << configs[i].out.string() << ": " << written[i].maps << " maps, " << written[i].combinations
+      std::cout << "wrote " << escapedControlCharacters(configs[i].out.string()) << ": " << written[i].maps << " maps, " << written[i].combinations
                 << " combinations of " << written[i].header.grid_name << " in " << written[i].seconds << " s\n";
     return 0;
   };

@@ -14,11 +14,12 @@
 
 #include "command_registry.hpp"
 #include "install_paths.hpp"
-#include "occsweep/eval/child_process.hpp"
-#include "occsweep/eval/control_characters.hpp"
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/child_process.hpp"
+#include "occsweep/io/control_characters.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/sweeps/grid.hpp"
 #include "occsweep/sweeps/version.hpp"
+#include "occsweep/io/temporaries.hpp"
 #include "usage_errors.hpp"
 
 namespace occsweep::cli {

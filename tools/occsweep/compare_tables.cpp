@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "method_style.hpp"
-#include "occsweep/eval/control_characters.hpp"
+#include "occsweep/io/control_characters.hpp"
 #include "occsweep/sweeps/csv_text.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 

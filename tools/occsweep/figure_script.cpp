@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "install_paths.hpp"
-#include "occsweep/eval/child_process.hpp"
+#include "occsweep/io/child_process.hpp"
 
 namespace occsweep::cli {
 

@@ -6,9 +6,10 @@
 #include <numeric>
 
 #include "occsweep/core/method_registry.hpp"
-#include "occsweep/eval/bounded_read.hpp"
-#include "occsweep/eval/control_characters.hpp"
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/bounded_read.hpp"
+#include "occsweep/io/control_characters.hpp"
+#include "occsweep/io/data_error.hpp"
+#include "occsweep/eval/json_input.hpp"
 
 namespace occsweep::cli {
 namespace {

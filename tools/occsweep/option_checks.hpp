@@ -13,7 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "occsweep/eval/control_characters.hpp"
+#include "occsweep/io/control_characters.hpp"
 
 namespace occsweep::cli {
 

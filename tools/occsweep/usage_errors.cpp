@@ -7,7 +7,7 @@
 #include <numeric>
 #include <cctype>
 
-#include "occsweep/eval/control_characters.hpp"
+#include "occsweep/io/control_characters.hpp"
 #include "option_checks.hpp"
 
 namespace occsweep::cli {

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "occsweep/eval/child_process.hpp"
+#include "occsweep/io/child_process.hpp"
 #include "occsweep/sweeps/cluster_state.hpp"
 
 namespace occsweep {

@@ -17,11 +17,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "occsweep/eval/control_characters.hpp"
-#include "occsweep/eval/output_file.hpp"
-#include "occsweep/eval/ownership.hpp"
+#include "occsweep/io/control_characters.hpp"
+#include "occsweep/io/output_file.hpp"
+#include "occsweep/io/ownership.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 #include "occsweep/sweeps/progress.hpp"
+#include "occsweep/io/temporaries.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
@@ -109,7 +110,7 @@ class TaskStopper {
 class PlanLock {
  public:
   explicit PlanLock(const fs::path& dir) : file_(dir / "run-local.lock") {
-    // O_NOFOLLOW: a symbolic link at the name is the user's, never opened (docs/robustness.md, "Ownership").
+    // O_NOFOLLOW: a symbolic link at the name is the user's, never opened (docs/io.md, "Ownership").
     fd_ = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
     if (fd_ < 0) {
       const int e = errno;
@@ -117,7 +118,9 @@ class PlanLock {
         throw std::runtime_error(file_.string() + ": is a symbolic link: occsweep never writes through one; remove it");
       throw std::runtime_error(file_.string() + ": cannot open: " + std::strerror(e));
     }
-    const bool own = isOwnLock();
+    // Empty is what a kill right after its creation leaves; anything else not marked (a user's file, a hard link
+    // to one) is only locked, never written.
+    const bool own = notOwnOpenFile(fd_, kMark, true).empty();
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       const std::string holder = own ? holderPid() : "";
       ::close(fd_);
@@ -125,7 +128,7 @@ class PlanLock {
                                (holder.empty() ? "" : "(pid " + holder + ") ") +
                                "is running this plan: wait for it or stop it (its tasks end with it)");
     }
-    if (!own) return;  // anything else at the name (a user's file, a hard link to one) is only locked, never written
+    if (!own) return;
     const std::string text = std::string(kMark) + "\n" + std::to_string(::getpid()) + "\n";
     if (::ftruncate(fd_, 0) != 0 || ::write(fd_, text.data(), text.size()) != ssize_t(text.size()))
       throw std::runtime_error(file_.string() + ": cannot write");
@@ -136,16 +139,6 @@ class PlanLock {
 
  private:
   static constexpr const char* kMark = "# occsweep cluster run-local: lock";
-
-  // Whether the file opened (not what its name holds by now) is run-local's to write: a regular file with one name,
-  // empty (what a kill right after its creation leaves) or starting with the mark.
-  bool isOwnLock() const {
-    struct stat st {};
-    if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode) || st.st_nlink != 1) return false;
-    std::string head(std::strlen(kMark), '\0');
-    const ssize_t n = ::pread(fd_, head.data(), head.size(), 0);
-    return st.st_size == 0 || (n == ssize_t(head.size()) && head == kMark);
-  }
 
   // The pid on the lock's second line, "" when there is none.
   std::string holderPid() const {
@@ -185,7 +178,7 @@ fs::path logOf(const fs::path& dir, const ClusterStage& stage, const ClusterTask
 
 /// A task's log starts with this line: what marks it run-local's (a regular file with one name), replaced when the
 /// task runs again; anything else at its name (a user's file, a link) is never removed or written, and no task
-/// starts (docs/robustness.md, "Ownership").
+/// starts (docs/io.md, "Ownership").
 constexpr const char* kTaskLogMark = "# occsweep cluster run-local: task log";
 
 /// Why `logs` (the task logs at the names of tasks to run) stop run-local: each names an entry that is not a task log

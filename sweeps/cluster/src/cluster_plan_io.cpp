@@ -9,11 +9,12 @@
 #include <nlohmann/json.hpp>
 #include <sys/vfs.h>
 
-#include "occsweep/eval/bounded_read.hpp"
-#include "occsweep/eval/child_process.hpp"
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/bounded_read.hpp"
+#include "occsweep/io/child_process.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/sweeps/cluster_plan.hpp"
 #include "occsweep/sweeps/results.hpp"
+#include "occsweep/eval/json_input.hpp"
 
 namespace occsweep {
 namespace {
@@ -303,7 +304,7 @@ std::vector<std::string> ownScripts(const std::optional<ClusterPlan>& old, const
 }
 
 // The plan's own files and folders are never reached through a symbolic link: a link is the user's entry, and
-// writing through one would put the plan's files elsewhere (docs/robustness.md, "Ownership").
+// writing through one would put the plan's files elsewhere (docs/io.md, "Ownership").
 void refuseLinks(const std::filesystem::path& dir) {
   namespace fs = std::filesystem;
   auto refuseLink = [](const fs::path& entry) {
@@ -349,7 +350,7 @@ void refuseOtherScripts(const std::filesystem::path& dir, const ClusterPlan& pla
 }
 
 /// The files and folders one writePlan made, removed one by one on failure: a folder goes only when empty, so an
-/// entry someone else put there meanwhile stays, and so does every folder on its way (docs/robustness.md,
+/// entry someone else put there meanwhile stays, and so does every folder on its way (docs/io.md,
 /// "Ownership": a folder tree is never removed whole).
 class MadeEntries {
  public:

@@ -9,9 +9,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/sweeps/cluster_select.hpp"
 #include "occsweep/sweeps/results.hpp"
+#include "occsweep/eval/json_input.hpp"
+#include "occsweep/io/output_target.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
@@ -39,7 +41,7 @@ bool better(const RankedSet& a, const RankedSet& b) {
 
 // A folder `selectRanked` wrote: sets.json of its format and the links it lists (each set's folder and rank-N),
 // nothing else. A re-run replaces it; a folder holding anything more is not occsweep's to remove
-// (docs/robustness.md, "Ownership").
+// (docs/io.md, "Ownership").
 bool isSelectionFolder(const fs::path& dir) {
   std::set<std::string> links;
   try {

@@ -3,7 +3,7 @@
 #include <set>
 #include <sstream>
 
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/sweeps/cluster_slurm.hpp"
 
 namespace occsweep {

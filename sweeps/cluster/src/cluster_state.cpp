@@ -11,12 +11,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/eval/bounded_read.hpp"
-#include "occsweep/eval/ownership.hpp"
-#include "occsweep/eval/process_stat.hpp"
+#include "occsweep/io/bounded_read.hpp"
+#include "occsweep/io/ownership.hpp"
+#include "occsweep/io/process_stat.hpp"
 #include "occsweep/sweeps/cluster_state.hpp"
 #include "occsweep/sweeps/merge.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
+#include "occsweep/eval/json_input.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
@@ -176,7 +177,7 @@ void removeOwnOutput(const ClusterTask& task, const fs::path& dir) {
   // An `exists` output has no check that proves it occsweep's (its name alone proves nothing): it stays, and the
   // task's own command decides by its --force rule (docs/cluster.md, "Outputs stay in the plan folder").
   if (task.kind == OutputKind::Exists) return;
-  // A symbolic link is the user's entry whatever it points to (docs/robustness.md, "Ownership").
+  // A symbolic link is the user's entry whatever it points to (docs/io.md, "Ownership").
   if (!fs::is_regular_file(fs::symlink_status(file, ec)) || !insideFolder(file, dir) || !checkOutput(task, dir).empty())
     return;
   fs::remove(file, ec);
@@ -195,7 +196,7 @@ bool outputStale(const ClusterTask& task, const fs::path& dir) {
 
 namespace {
 
-/// One whole line appended to a plan file, never through a symbolic link at its name (docs/robustness.md,
+/// One whole line appended to a plan file, never through a symbolic link at its name (docs/io.md,
 /// "Ownership"), and only to a regular file: O_NONBLOCK, so that a FIFO there is refused, never waited on; O_APPEND:
 /// one write, one line.
 void appendLine(const fs::path& file, const std::string& line) {

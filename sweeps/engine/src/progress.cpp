@@ -7,7 +7,7 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
-#include "occsweep/eval/control_characters.hpp"
+#include "occsweep/io/control_characters.hpp"
 
 namespace occsweep {
 

@@ -12,44 +12,16 @@
 #include <string>
 #include <utility>
 
+#include "occsweep/io/locked_file.hpp"
 #include "occsweep/sweeps/results.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 
 namespace occsweep::sweep_detail {
 
-/// An exclusive lock (flock) on a sweep's partial output, held while the sweep writes it: a second sweep into the
-/// same --out stops with "another occsweep is writing FILE" (docs/results-format.md, "Results store").
-class PartialLock {
- public:
-  PartialLock() = default;
-  ~PartialLock();
-  PartialLock(PartialLock&& o) noexcept : fd_(std::exchange(o.fd_, -1)) {}
-  PartialLock& operator=(PartialLock&& o) noexcept;
-  /// Locks the existing regular `file`, never following a symbolic link. Throws when another process holds it, or
-  /// when the file has another name (a hard link).
-  [[nodiscard]] static PartialLock existing(const std::filesystem::path& file);
-  /// A new partial output: `make` writes it at a temporary beside `file`, which is locked, then put at `file`:
-  /// in place of the one `replacing` holds (occsweep's own, locked by the caller; a file put at the name meanwhile
-  /// stays and this throws), or, without `replacing`, only if there is none (another sweep made one meanwhile:
-  /// thrown as above). Nothing is left at the temporary on an error.
-  [[nodiscard]] static PartialLock publish(const std::filesystem::path& file, const PartialLock* replacing,
-                                           const std::function<void(const std::filesystem::path&)>& make);
-  [[nodiscard]] bool held() const { return fd_ >= 0; }
-  /// The open file this lock holds (-1: none).
-  [[nodiscard]] int descriptor() const { return fd_; }
-  /// Removes `file` only when it is still the file this lock holds (device and inode): a file someone put at that
-  /// name meanwhile stays (docs/robustness.md, "Ownership"). True when it removed it.
-  bool removeHeldFile(const std::filesystem::path& file) const noexcept;
-  /// True when `file` is still the file this lock holds (device and inode).
-  [[nodiscard]] bool holdsFile(const std::filesystem::path& file) const noexcept;
-  /// A path that opens the file this lock holds, whatever now stands at its name (/proc/self/fd): what the sweep
-  /// writes goes into its own file even after a user moved it and put another at its name.
-  [[nodiscard]] std::filesystem::path heldFilePath() const;
-
- private:
-  explicit PartialLock(int fd) : fd_(fd) {}
-  int fd_ = -1;
-};
+/// Locks a sweep's existing partial output (io's LockedFile::existing), after refusing a symbolic link or a file
+/// that is not regular at its name: a second sweep into the same --out stops with "another occsweep is writing FILE"
+/// (docs/results-format.md, "Results store").
+[[nodiscard]] LockedFile lockPartial(const std::filesystem::path& file);
 
 /// Throws naming `file` when it is a symbolic link or not a regular file: what occsweep never writes through,
 /// replaces or removes at a partial output's name, even with --force.
@@ -66,7 +38,7 @@ void requireOwnablePartial(const std::filesystem::path& file);
                                                              const ResultsHeader& header, bool force,
                                                              std::map<std::uint64_t, std::string>& engine_of,
                                                              std::map<std::uint64_t, MapResult>* twin,
-                                                             PartialLock& lock);
+                                                             LockedFile& lock);
 
 /// Removes occsweep's own partial log of the same work as `header` that a complete output superseded (a kill came
 /// between the results' rename and the log's removal): never while another sweep holds it.
@@ -75,15 +47,19 @@ void removeSupersededLog(const std::filesystem::path& partial, const ResultsHead
 /// A partial-log line's field holding the twin's thresholds and AUC.
 inline constexpr const char* kTwinField = "observable";
 
+/// "; the N maps finished are kept in FILE: ...", what an error message adds ("" when none is finished): a partial
+/// output keeps every finished map through any error (docs/io.md, "Outputs and --force").
+[[nodiscard]] std::string keptMapsNote(std::size_t maps, const std::filesystem::path& partial);
+
 /// OUT.partial.jsonl while a sweep runs: a header line, then one line per finished map, each flushed. It is what a
 /// killed or failed sweep resumes from, so an error keeps it when it holds a finished map; a failed write (a full
-/// disk) cuts it back to its last whole map (docs/robustness.md).
+/// disk) cuts it back to its last whole map (docs/io.md, "Outputs and --force").
 class PartialLog {
  public:
   /// Continues the log of `maps_done` finished maps, or (none) starts it anew with `header`'s line. Throws
   /// OutputError when it cannot be written.
   /// `lock` holds the existing log (loadPartial), which is replaced when no map of it is done.
-  PartialLog(std::filesystem::path file, const ResultsHeader& header, std::size_t maps_done, PartialLock lock);
+  PartialLog(std::filesystem::path file, const ResultsHeader& header, std::size_t maps_done, LockedFile lock);
   ~PartialLog();
   PartialLog(const PartialLog&) = delete;
   PartialLog& operator=(const PartialLog&) = delete;
@@ -100,7 +76,7 @@ class PartialLog {
   void removeUnlessResumable() noexcept;
 
   std::filesystem::path file_;
-  PartialLock lock_;
+  LockedFile lock_;
   std::ofstream out_;
   std::mutex mutex_;
   std::size_t maps_;
@@ -117,6 +93,15 @@ class PartialLog {
 /// while it runs), or a results store written batch by batch (OUT.partial, renamed to OUT when complete). Made
 /// after the output checks: the same work's complete output is returned as it is, other work refused unless
 /// --force, and only occsweep's own results replaced.
+/// What every map of a sweep counts at each threshold: TP+FP+FN+TN (the evaluated region) and TP+FN (its truth).
+struct RegionCounts {
+  std::uint64_t region = 0, truth = 0;
+};
+
+/// Refuses (naming `partial`) resumed maps that count another region or truth than this sweep's maps.
+void requireRegionOfThisSweep(const std::filesystem::path& partial, const RegionCounts& found,
+                              const RegionCounts& counted);
+
 class GridOutput {
  public:
   virtual ~GridOutput() = default;
@@ -125,8 +110,9 @@ class GridOutput {
   /// The maps a killed run finished, in increasing index.
   [[nodiscard]] virtual std::vector<std::uint64_t> finished() const = 0;
   [[nodiscard]] virtual std::filesystem::path partial() const = 0;
-  /// Opens the partial output for `todo` maps to count.
-  virtual void begin(std::size_t todo) = 0;
+  /// Opens the partial output for `todo` maps to count, each counting `counted`'s voxels: a resumed map that counts
+  /// others is not this sweep's, and the sweep stops before counting (docs/io.md, "Ownership").
+  virtual void begin(std::size_t todo, const RegionCounts& counted) = 0;
   /// A counted batch: its maps (and twins), and their positions among the maps to count. From several threads.
   virtual void add(std::vector<MapResult>&& maps, std::vector<MapResult>&& twin,
                    const std::vector<std::size_t>& positions) = 0;

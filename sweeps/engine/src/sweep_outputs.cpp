@@ -10,8 +10,8 @@
 #include <optional>
 #include <set>
 
-#include "occsweep/eval/bounded_read.hpp"
-#include "occsweep/eval/ownership.hpp"
+#include "occsweep/io/bounded_read.hpp"
+#include "occsweep/io/ownership.hpp"
 #include "occsweep/sweeps/results_file.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
@@ -45,7 +45,7 @@ ResultsHeader twinHeader(ResultsHeader h) {
 
 // What is at `out` already, read by `read` (JSON whole, a store's header): nothing, or occsweep's complete results of
 // the same work. Anything else is refused unless --force (then replaced), and only occsweep's results are replaced
-// even then (docs/robustness.md, "Outputs, temporaries and --force").
+// even then (docs/io.md, "Outputs and --force").
 std::optional<ResultsFile> completeSameWork(const SweepConfig& c, const ResultsHeader& h,
                                             ResultsFile (*read)(const fs::path&)) {
   requireCompanionName(c.out, partialOutputPath(c.out).string().substr(c.out.string().size()));
@@ -177,7 +177,11 @@ class JsonOutput final : public OutputBase {
     for (const auto& [index, _] : finished_.done) done.push_back(index);
     return done;
   }
-  void begin(std::size_t todo) override {
+  void begin(std::size_t todo, const RegionCounts& counted) override {
+    if (!finished_.done.empty()) {  // the resumed maps all count one region (loadPartial): one speaks for all
+      const ConfusionCounts& n = finished_.done.begin()->second.thresholds.front().counts;
+      requireRegionOfThisSweep(partial_, {n.tp + n.fp + n.fn + n.tn, n.tp + n.fn}, counted);
+    }
     if (c_.out.has_parent_path()) fs::create_directories(c_.out.parent_path());
     log_.emplace(partial_, h_, finished_.done.size(), std::move(lock_));
     counted_.maps.resize(todo);
@@ -207,7 +211,7 @@ class JsonOutput final : public OutputBase {
  private:
   FinishedMaps finished_;
   CountedMaps counted_;
-  PartialLock lock_;  // the log found, until the PartialLog takes it
+  LockedFile lock_;  // the log found, until the PartialLog takes it
   std::optional<PartialLog> log_;
 };
 
@@ -218,7 +222,7 @@ std::optional<ResultsFile> completeStore(const SweepConfig& c, const ResultsHead
   // Superseded (a kill came between the rename and the removal): removed only when occsweep's and not being written.
   if (old && isOccsweepStore(partial)) {
     try {
-      const PartialLock lock = PartialLock::existing(partial);
+      const LockedFile lock = lockPartial(partial);
       lock.removeHeldFile(partial);
     } catch (const std::exception&) {
     }
@@ -231,7 +235,7 @@ std::optional<ResultsFile> completeStore(const SweepConfig& c, const ResultsHead
 // anything else there (a user's file, a symbolic link, another program's database) is refused, even with --force
 // (docs/results-format.md, "Results store"). It is opened for writing: SQLite rolls back the batch a kill left open.
 std::optional<ResultsStore> resumableStore(const fs::path& partial, const ResultsHeader& h, bool force,
-                                           PartialLock& lock, bool& replace) {
+                                           LockedFile& lock, bool& replace) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(partial, ec))) return std::nullopt;
   requireOwnablePartial(partial);
@@ -240,7 +244,7 @@ std::optional<ResultsStore> resumableStore(const fs::path& partial, const Result
                              "application_id); occsweep never replaces or removes it (even with --force): remove it, "
                              "or choose another --out");
   requireOnlyRollbackJournalBeside(partial);  // SQLite would roll a user's file there into the store and delete it
-  lock = PartialLock::existing(partial);
+  lock = lockPartial(partial);
   std::optional<ResultsStore> old;
   std::string why;
   try {
@@ -257,10 +261,13 @@ std::optional<ResultsStore> resumableStore(const fs::path& partial, const Result
 }
 
 // Finished maps into the store from the counting threads: one transaction a second at most (or per 4,096 maps),
-// since each commit waits for the disk. A kill loses at most that second of work (docs/results-format.md).
+// since each commit waits for the disk. A kill loses at most that second of work (docs/results-format.md). A failed
+// write (a full disk) rolls back its batch and stops every later one: the maps committed before it stay in the
+// partial store, and the error says how many (docs/io.md, "Outputs and --force").
 class StoreWriter {
  public:
-  StoreWriter(ResultsStore& store, std::string engine) : store_(store), engine_(std::move(engine)) {}
+  StoreWriter(ResultsStore& store, std::string engine, fs::path partial)
+      : store_(store), engine_(std::move(engine)), partial_(std::move(partial)) {}
   void add(std::vector<MapResult>&& maps) {
     const std::lock_guard lock(mutex_);
     std::move(maps.begin(), maps.end(), std::back_inserter(pending_));
@@ -273,15 +280,33 @@ class StoreWriter {
 
  private:
   static constexpr std::size_t kMaxPending = 4096;
+  // Called under mutex_: no other thread uses the store's connection meanwhile.
   void commit() {
-    if (!pending_.empty()) store_.append(pending_, engine_);
+    if (!failure_.empty()) throw OutputError(failure_);
+    try {
+      if (!pending_.empty()) store_.append(pending_, engine_);
+    } catch (const OutputError&) {
+      appendOneByOne();  // as many of the batch's maps as the disk still takes are kept
+    }
     pending_.clear();
     last_commit_ = Clock::now();
   }
+  // The pending maps one transaction each, after their batch failed (a full disk): stops at the first that fails,
+  // with the error and the count of maps the store keeps.
+  void appendOneByOne() {
+    try {
+      for (const MapResult& m : pending_) store_.append({m}, engine_);
+    } catch (const OutputError& e) {
+      failure_ = e.what() + keptMapsNote(store_.mapCount(), partial_);
+      throw OutputError(failure_);
+    }
+  }
   ResultsStore& store_;
   std::string engine_;
+  fs::path partial_;
   std::mutex mutex_;
   std::vector<MapResult> pending_;
+  std::string failure_;
   Clock::time_point last_commit_ = Clock::now();
 };
 
@@ -310,14 +335,17 @@ class StoreOutput final : public OutputBase {
   StoreOutput& operator=(const StoreOutput&) = delete;
 
   std::vector<std::uint64_t> finished() const override { return store_ ? store_->mapIndices() : std::vector<std::uint64_t>{}; }
-  void begin(std::size_t) override {
+  void begin(std::size_t, const RegionCounts& counted) override {
+    // A store keeps its maps' region (every append checks it); its truth speaks for it here.
+    if (store_ && store_->mapCount() != 0)
+      requireRegionOfThisSweep(partial_, {counted.region, store_->truthVoxels()}, counted);
     if (c_.out.has_parent_path()) fs::create_directories(c_.out.parent_path());
     if (!store_) {
       requireNoJournalBeside(partial_);  // a new store: any journal there is not its own
       requireNoJournalBeside(c_.out);
       // Created beside it, locked, then put in place: a second sweep into the same --out finds it locked.
       // Made at a temporary, so its journal is kept in memory: a kill during the creation leaves no `-journal`.
-      lock_ = PartialLock::publish(partial_, replace_ ? &lock_ : nullptr, [&](const fs::path& t) {
+      lock_ = LockedFile::publish(partial_, replace_ ? &lock_ : nullptr, [&](const fs::path& t) {
         (void)ResultsStore::create(t, h_, StoreUse::Temporary);
       });
       // Opened by name (SQLite names its journal after it): the file this sweep made, or the sweep stops.
@@ -329,18 +357,22 @@ class StoreOutput final : public OutputBase {
       }
       requireHeldPartial();
     }
-    writer_.emplace(*store_, engine_);
+    writer_.emplace(*store_, engine_, partial_);
   }
   void add(std::vector<MapResult>&& maps, std::vector<MapResult>&&, const std::vector<std::size_t>&) override {
     writer_->add(std::move(maps));
   }
   ResultsFile finish(double seconds) override {
-    writer_->flush();
     ResultsFile f;
     f.header = h_;
+    writer_->flush();
     const std::vector<std::string> engines = store_->engineNames();
     setEngines(f.header, {engines.begin(), engines.end()});
-    store_->finish(f.header, seconds);
+    try {
+      store_->finish(f.header, seconds);
+    } catch (const OutputError& e) {  // every map is committed: only the closing record failed
+      throw OutputError(e.what() + keptMapsNote(store_->mapCount(), partial_));
+    }
     store_.reset();  // closed before the rename
     requireHeldPartial();
     renameIntoPlace(partial_, c_.out);  // never over a file created at --out meanwhile (docs/robustness.md)
@@ -357,7 +389,7 @@ class StoreOutput final : public OutputBase {
       throw std::runtime_error(partial_.string() + ": was moved or replaced while occsweep was writing it; what "
                                "stands at its name now is left as it is");
   }
-  PartialLock lock_;  // before store_: released after the store is closed
+  LockedFile lock_;  // before store_: released after the store is closed
   std::optional<ResultsStore> store_;
   std::optional<StoreWriter> writer_;
   bool replace_ = false, renamed_ = false;

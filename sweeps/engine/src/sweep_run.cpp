@@ -15,7 +15,7 @@
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "occsweep/sweeps/results_file.hpp"
 #include "occsweep/sweeps/sweep.hpp"
@@ -141,7 +141,7 @@ void refuseForeignOutputs(const std::vector<SweepConfig>& configs) {
     outputs.emplace_back(flag + "'s partial file", partialOutputPath(c.out));
     if (!c.observable_out.empty()) outputs.emplace_back(flag + "'s observable-truth twin", c.observable_out);
   }
-  requireSeparateOutputs(outputs);  // by entry, however spelt (docs/robustness.md, "Ownership")
+  requireSeparateOutputs(outputs);  // by entry, however spelt (docs/io.md, "Ownership")
   for (const SweepConfig& c : configs) {
     checkOutputTarget(c.out, true, resultsOutput());
     if (!c.observable_out.empty()) checkOutputTarget(c.observable_out, true, resultsOutput());
@@ -198,7 +198,7 @@ void openOutput(GridSweep& g, const std::string& engine) {
 }
 
 // The maps a grid has left; its partial output opened for them.
-void beginCounting(GridSweep& g) {
+void beginCounting(GridSweep& g, const sweep_detail::RegionCounts& counted) {
   if (g.output->complete()) return;
   const std::vector<std::uint64_t> done = g.output->finished();
   if (!done.empty() && !g.config->quiet)
@@ -207,7 +207,7 @@ void beginCounting(GridSweep& g) {
   for (const auto& item : g.items)
     if (!std::binary_search(done.begin(), done.end(), item.map_index)) g.todo.push_back(&item);
   g.maps = mapsToCount(g.todo, g.e);
-  g.output->begin(g.todo.size());
+  g.output->begin(g.todo.size(), counted);
 }
 
 // Records the events once for every grid with work (replay) or readies the direct builds.
@@ -275,7 +275,8 @@ std::vector<GridOutcome> runGrids(const std::vector<SweepConfig>& configs) {
   grids.reserve(configs.size());
   for (const SweepConfig& config : configs) grids.push_back(openGrid(config, data, *engine));
   for (GridSweep& g : grids) openOutput(g, engine->name());  // every output checked before any is written
-  for (GridSweep& g : grids) beginCounting(g);
+  const GroundTruth& counted = truths.counted(c.truth);
+  for (GridSweep& g : grids) beginCounting(g, {counted.evaluatedVoxelCount(), counted.evaluatedTrueVoxelCount()});
 
   tbb::task_arena arena(c.threads > 0 ? c.threads : tbb::task_arena::automatic);
   std::vector<std::size_t> slot;

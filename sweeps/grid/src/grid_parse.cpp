@@ -7,9 +7,10 @@
 #include <stdexcept>
 
 #include "occsweep/core/method_registry.hpp"
-#include "occsweep/eval/fnv1a.hpp"
-#include "occsweep/eval/path_component.hpp"
+#include "occsweep/io/fnv1a.hpp"
+#include "occsweep/io/path_component.hpp"
 #include "occsweep/sweeps/grid.hpp"
+#include "occsweep/eval/json_input.hpp"
 
 namespace occsweep {
 namespace {

@@ -6,9 +6,10 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "occsweep/eval/paper_datasets.hpp"
+#include "occsweep/eval/json_input.hpp"
 #include "reproduce_internal.hpp"
 
 namespace occsweep {

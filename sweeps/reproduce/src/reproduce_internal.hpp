@@ -11,10 +11,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/eval/bounded_read.hpp"  // readJsonFile
+#include "occsweep/io/bounded_read.hpp"  // readJsonFile
 #include "occsweep/stats/correlation.hpp"
 #include "occsweep/sweeps/reproduce.hpp"
 #include "occsweep/sweeps/results.hpp"
+#include "occsweep/eval/json_input.hpp"
 
 namespace occsweep::reproduce {
 

@@ -8,7 +8,7 @@
 #include "occsweep/core/log_odds.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/eval/confusion.hpp"
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 
 #include "occsweep/sweeps/map_recipe.hpp"
 #include "reproduce_internal.hpp"

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "occsweep/eval/output_file.hpp"
-#include "occsweep/eval/ownership.hpp"
+#include "occsweep/io/output_file.hpp"
+#include "occsweep/io/ownership.hpp"
 #include "occsweep/eval/png_text.hpp"
 #include "reproduce_internal.hpp"
 
@@ -68,7 +68,7 @@ ReplaceableOutput reportOutput() {
           }};
 }
 
-// An entry of a reproduction folder that is occsweep's (docs/robustness.md, "Ownership"): a step file whose
+// An entry of a reproduction folder that is occsweep's (docs/io.md, "Ownership"): a step file whose
 // "format" is its own; report.md under its first-line mark; a PNG carrying the figures' Software mark; a temporary a
 // killed run left (reported, never removed: ownership.hpp); the data, sweeps and maps folders, whose every file is
 // proven again when a run rewrites it (its kind's check: a data set's manifest, a results header, a map's PLY
@@ -104,7 +104,7 @@ void checkReproductionFolder(const fs::path& out) {
   if (fs::is_directory(fs::symlink_status(out, ec)))
     if (const fs::path foreign = foreignEntry(out); !foreign.empty())
       throw OutputError(out.string() + ": exists and is not occsweep's reproduction folder (" +
-                        foreign.filename().string() + " is not one of its files: docs/robustness.md, \"Ownership\"); "
+                        foreign.filename().string() + " is not one of its files: docs/io.md, \"Ownership\"); "
                         "refused with or without --force (nothing was changed): choose another --out");
   checkOutputTarget(out, true, {"reproduction folder", [](const fs::path& dir) { return foreignEntry(dir).empty(); }});
 }

@@ -7,11 +7,12 @@
 #include <unistd.h>
 
 #include "occsweep/core/method_registry.hpp"
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/sweeps/results.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
+#include "occsweep/eval/json_input.hpp"
 
 namespace occsweep {
 namespace {

@@ -8,6 +8,7 @@
 //   combinations            a view with every column of a JSON threshold, for queries
 #include "occsweep/sweeps/results_store.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -23,6 +24,8 @@
 #include "occsweep/core/limits.hpp"
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
+#include "occsweep/io/output_target.hpp"
+#include "occsweep/io/temporaries.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
@@ -62,6 +65,13 @@ std::string errorText(sqlite3* db) {
   return why;
 }
 
+// A failed statement: a full disk is an OutputError naming the file the user knows, as every failed write is
+// (docs/io.md, "Outputs and --force"); anything else is SQLite's message.
+[[noreturn]] void failStatement(const fs::path& file, sqlite3* db) {
+  if (sqlite3_errcode(db) == SQLITE_FULL) throw OutputError(writeFailure(file, ENOSPC));
+  fail(file, "results store: " + errorText(db));
+}
+
 // sqlite3_open_v2 with the busy timeout set; the handle, even on failure, is the caller's to close. Without SQLite's
 // own mutex: one thread uses a connection at a time (a sweep's counting threads append under StoreWriter's lock), and
 // locking it for every column read took a fifth of `compare`'s time on a 3.2 M-combination store.
@@ -93,7 +103,7 @@ class Statement {
   bool step() {
     const int rc = sqlite3_step(s_);
     if (rc == SQLITE_ROW) return true;
-    if (rc != SQLITE_DONE) fail(file_, "results store: " + errorText(db_));
+    if (rc != SQLITE_DONE) failStatement(file_, db_);
     return false;
   }
   void run() {
@@ -119,7 +129,7 @@ class Statement {
 
  private:
   Statement& check(int rc) {
-    if (rc != SQLITE_OK) fail(file_, "results store: " + errorText(db_));
+    if (rc != SQLITE_OK) failStatement(file_, db_);
     return *this;
   }
   sqlite3* db_;
@@ -195,9 +205,8 @@ struct ResultsStore::Connection {
   void exec(const std::string& sql) {
     char* error = nullptr;
     if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
-      const std::string why = error ? errorText(db) : "unknown error";
       sqlite3_free(error);
-      fail(file, "results store: " + why);
+      failStatement(file, db);
     }
   }
   void setMeta(const std::string& key, const std::string& value) {
@@ -313,7 +322,7 @@ ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& hea
   auto c = std::make_unique<Connection>(file);
   std::error_code ec;
   if (fs::exists(fs::symlink_status(file)) && fs::file_size(file, ec) != 0) fail(file, "results store: already exists");
-  // A temporary is the empty file its claim made (OutputFile, ClaimedTemporary): opened, never created, so that one
+  // A temporary is the empty file its claim made (OutputFile, RegisteredTemporary): opened, never created, so that one
   // an interrupt has removed is not made again before the exit.
   const int create = use == StoreUse::Temporary ? 0 : SQLITE_OPEN_CREATE;
   if (openDatabase(file, SQLITE_OPEN_READWRITE | create, &c->db) != SQLITE_OK)
@@ -321,7 +330,7 @@ ResultsStore ResultsStore::create(const fs::path& file, const ResultsHeader& hea
   // Journal off would lose the crash safety of a batch; WAL needs a second file beside it. The default rollback
   // journal is kept, with synchronous NORMAL: a kill loses at most the open transaction. A temporary renamed into
   // place when complete keeps its journal in memory: a kill removes the temporary, and no journal file is left
-  // beside it (docs/robustness.md, "Outputs, temporaries and --force").
+  // beside it (docs/io.md, "Outputs and --force").
   if (use == StoreUse::Temporary) c->exec("PRAGMA journal_mode = MEMORY");
   // application_id marks the file as occsweep's within the schema's transaction: only a file carrying it is ever
   // resumed, replaced or removed (docs/results-format.md, "Results store").
@@ -533,13 +542,14 @@ namespace {
 // Nothing may stand at any of SQLite's companion names `suffixes` beside `store`: SQLite would take it for the
 // store's unfinished transaction (requireNoJournalBeside, requireOnlyRollbackJournalBeside).
 void requireNothingBeside(const fs::path& store, std::initializer_list<const char*> suffixes) {
-  for (const char* suffix : suffixes) {
+  for (const std::string suffix : suffixes) {
     const fs::path companion = store.string() + suffix;
+    const char* kind = suffix == "-journal" ? "rollback journal" : suffix == "-wal" ? "write-ahead log" : "shared memory";
     std::error_code ec;
     if (fs::exists(fs::symlink_status(companion, ec)))
-      throw OutputError(companion.string() + ": stands where SQLite keeps the journal of the store occsweep is to "
-                        "write at " + store.string() + ", and would be taken for its unfinished transaction: nothing "
-                        "was written; move it away, or choose another name");
+      throw OutputError(companion.string() + ": stands where SQLite keeps the " + kind + " of the store occsweep is "
+                        "to write at " + store.string() + ", and would be taken for its unfinished transaction: "
+                        "nothing was written; move it away, or choose another name");
   }
 }
 }  // namespace

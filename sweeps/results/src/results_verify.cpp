@@ -10,12 +10,13 @@
 #include <stdexcept>
 
 #include "occsweep/core/method_registry.hpp"
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/sweeps/sharding.hpp"
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/selection.hpp"
+#include "occsweep/eval/json_input.hpp"
 
 namespace occsweep {
 namespace {

@@ -3,9 +3,10 @@
 #include <stdexcept>
 
 #include "occsweep/eval/coordinates.hpp"
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_dataset.hpp"
+#include "occsweep/data/byte_reader.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;

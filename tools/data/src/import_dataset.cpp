@@ -5,7 +5,7 @@
 
 #include "occsweep/core/limits.hpp"
 #include "occsweep/core/voxel_filter.hpp"
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/data_error.hpp"
 
 namespace occsweep {
 

@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "occsweep/eval/coordinates.hpp"
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/data_error.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_depth.hpp"
 

@@ -8,10 +8,11 @@
 #include <octomap/math/Pose6D.h>
 
 #include "occsweep/eval/coordinates.hpp"
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_graph.hpp"
 #include "occsweep/data/import_pose.hpp"
+#include "occsweep/data/byte_reader.hpp"
 
 namespace occsweep {
 namespace {

@@ -2,8 +2,9 @@
 #include <cmath>
 #include <string>
 
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/data/import_cloud.hpp"
+#include "occsweep/data/byte_reader.hpp"
 
 namespace occsweep {
 namespace {

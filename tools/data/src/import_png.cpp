@@ -5,7 +5,7 @@
 
 #include <png.h>
 
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/data_error.hpp"
 #include "occsweep/data/import_depth.hpp"
 
 namespace occsweep {

@@ -7,7 +7,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
+#include "occsweep/data/byte_reader.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;

@@ -8,8 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include "occsweep/eval/coordinates.hpp"
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/data/import_cloud.hpp"
+#include "occsweep/eval/json_input.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;

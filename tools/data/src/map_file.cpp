@@ -3,7 +3,9 @@
 #include <fstream>
 #include <string>
 
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
+#include "occsweep/io/json_prefix.hpp"
+#include "occsweep/io/output_target.hpp"
 
 namespace occsweep {
 

@@ -6,7 +6,8 @@
 #include <vector>
 
 #include "occsweep/core/limits.hpp"
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/bounded_read.hpp"
+#include "occsweep/data/byte_reader.hpp"
 
 namespace occsweep {
 namespace {

@@ -13,11 +13,12 @@
 
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/eval/dataset.hpp"
-#include "occsweep/eval/fnv1a.hpp"
+#include "occsweep/io/fnv1a.hpp"
 #include "occsweep/eval/naive.hpp"
 #include "occsweep/stereo/cloud.hpp"
 #include "occsweep/stereo/ranking.hpp"
 #include "occsweep/stereo/raycast.hpp"
+#include "occsweep/io/output_target.hpp"
 
 namespace occsweep::stereo {
 namespace {
@@ -55,7 +56,7 @@ std::vector<std::pair<std::int64_t, SgbmParams>> chosenSets(const GenerateConfig
 
 // A generation that fails (a full disk) leaves nothing of its own where it made the data set's folder: the sets
 // and previews it wrote there, each proven occsweep's, then each folder it made, only when that leaves it empty. A
-// folder that held anything before, or an entry someone else put in it meanwhile, stays (docs/robustness.md,
+// folder that held anything before, or an entry someone else put in it meanwhile, stays (docs/io.md,
 // "Ownership": a folder tree is never removed whole).
 class RemoveMadeOnFailure {
  public:
@@ -79,7 +80,7 @@ class RemoveMadeOnFailure {
   std::vector<fs::path> made_;  ///< the folders on the way to dir_ that did not exist, innermost first
 };
 
-// Every output of one data set, checked before any work (docs/robustness.md, "Ownership"): an existing one of
+// Every output of one data set, checked before any work (docs/io.md, "Ownership"): an existing one of
 // occsweep's is refused unless --force, a user's file always, so that "nothing was changed" holds when refused.
 // Each is checked again just before it is written.
 void checkGenerationTargets(const fs::path& dir, const GenerateConfig& c,

@@ -7,7 +7,7 @@
 
 #include <jpeglib.h>
 
-#include "occsweep/eval/data_error.hpp"
+#include "occsweep/io/data_error.hpp"
 #include "occsweep/data/import_depth.hpp"
 
 namespace occsweep::stereo {

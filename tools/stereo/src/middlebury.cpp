@@ -10,8 +10,8 @@
 #include <png.h>
 
 #include "jpeg_grey.hpp"
-#include "occsweep/eval/data_error.hpp"
-#include "occsweep/eval/bounded_read.hpp"
+#include "occsweep/io/data_error.hpp"
+#include "occsweep/io/bounded_read.hpp"
 #include "occsweep/data/import_depth.hpp"
 #include "occsweep/data/import_truth.hpp"
 #include "occsweep/eval/naive.hpp"

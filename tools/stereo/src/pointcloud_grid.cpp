@@ -6,8 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "occsweep/eval/bounded_read.hpp"
-#include "occsweep/eval/fnv1a.hpp"
+#include "occsweep/io/bounded_read.hpp"
+#include "occsweep/io/fnv1a.hpp"
 
 namespace occsweep::stereo {
 namespace {

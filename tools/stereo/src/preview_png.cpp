@@ -9,7 +9,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/eval/png_text.hpp"
 #include "occsweep/stereo/generate.hpp"
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <unistd.h>
 
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/stereo/realism.hpp"
 
 namespace occsweep::stereo {
@@ -92,7 +92,7 @@ void writeRanking(const DatasetSummary& s, const GenerateConfig& c, const PointC
     ranking["sets"].push_back(setJson(set));
     timing["sets"].push_back({{"folder", set.folder}, {"seconds", set.seconds}});
   }
-  // Rewritten in a data-set folder a run resumes in: only over occsweep's own (docs/robustness.md, "Ownership").
+  // Rewritten in a data-set folder a run resumes in: only over occsweep's own (docs/io.md, "Ownership").
   checkOutputTarget(dir / "ranking.json", true, rankingOutput());
   checkOutputTarget(dir / "timing.json", true, timingOutput());
   writeJsonAtomically(ranking, dir / "ranking.json");

@@ -8,9 +8,10 @@
 
 #include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/eval/ground_truth.hpp"
-#include "occsweep/eval/output_file.hpp"
 
 namespace occsweep {
+
+struct ReplaceableOutput;  // occsweep/io/output_target.hpp
 
 struct Dataset {
   std::string name;

@@ -1,12 +1,12 @@
 // A PNG's text chunks: the mark occsweep's figures carry (matplotlib's `metadata={"Software": ...}`), by which a
-// figure at an output's name is proven occsweep's own (docs/robustness.md, "Ownership").
+// figure at an output's name is proven occsweep's own (docs/io.md, "Ownership").
 #pragma once
 
 #include <filesystem>
 #include <string>
 #include <string_view>
 
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 
 namespace occsweep {
 

@@ -7,7 +7,7 @@
 #include <sys/types.h>
 #include <vector>
 
-#include "occsweep/eval/child_process.hpp"  // exitCodeOf and runCapture, for the callers of spawnLogged
+#include "occsweep/io/child_process.hpp"  // exitCodeOf and runCapture, for the callers of spawnLogged
 #include "occsweep/sweeps/cluster_plan.hpp"
 
 namespace occsweep {
@@ -40,7 +40,7 @@ void writeRunningMarker(const RunningMarker& marker, pid_t pid);
 /// Removes the marker while it is the entry createRunningMarker made; anything put at its name since stays.
 void removeRunningMarker(const RunningMarker& marker);
 /// Removes the markers in DIR/running that a killed run-local left (their tasks are not live: checked before): a
-/// regular file with one name that starts with the marker's mark line; any other entry stays (docs/robustness.md,
+/// regular file with one name that starts with the marker's mark line; any other entry stays (docs/io.md,
 /// "Ownership").
 void removeStaleMarkers(const std::filesystem::path& dir);
 /// The pid in the task's marker when that process is alive (not a zombie) and runs in DIR; 0 otherwise (no

@@ -131,7 +131,7 @@ struct ReproductionResults {
 
 /// report.md: each finding of the paper beside ours, every number from the step files; a step not run is said so.
 [[nodiscard]] std::string reproductionReport(const ReproduceConfig& c, const ReproductionResults& r);
-/// The first line of report.md: its proof of being occsweep's, which a re-run replaces (docs/robustness.md, "Ownership").
+/// The first line of report.md: its proof of being occsweep's, which a re-run replaces (docs/io.md, "Ownership").
 inline constexpr const char* kReproductionReportMark = "<!-- occsweep reproduce report -->";
 /// The Software text chunk of every figure of a reproduction (tools/plot_reproduction.py writes it).
 inline constexpr const char* kReproductionFigureMark = "occsweep reproduce";

@@ -16,7 +16,7 @@
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/curve.hpp"
 #include "occsweep/eval/observable_truth.hpp"
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 #include "occsweep/sweeps/grid.hpp"
 #include "occsweep/sweeps/selection.hpp"
 

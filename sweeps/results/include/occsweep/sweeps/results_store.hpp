@@ -12,6 +12,7 @@
 
 #include "occsweep/sweeps/results.hpp"
 #include "occsweep/sweeps/results_file.hpp"
+#include "occsweep/io/temporaries.hpp"
 
 namespace occsweep {
 
@@ -29,7 +30,7 @@ enum class StoreUse { Durable, Temporary };
 
 /// Refuses (OutputError, exit 2) to make a new store at `store` while an entry stands at SQLite's names beside it
 /// (STORE-journal, -wal, -shm): SQLite would take it for the new store's unfinished transaction, roll it into the
-/// store and delete it, a user's file as much as a stale journal (docs/robustness.md, "Ownership").
+/// store and delete it, a user's file as much as a stale journal (docs/io.md, "Ownership").
 void requireNoJournalBeside(const std::filesystem::path& store);
 /// Before an existing store is opened to be written (a partial store resumed): as requireNoJournalBeside, except a
 /// regular file at STORE-journal that begins with SQLite's rollback-journal header, what a kill of occsweep's writing
@@ -41,7 +42,7 @@ void requireOnlyRollbackJournalBeside(const std::filesystem::path& store);
 class ResultsStore {
  public:
   /// A new store at `file` holding `header`; incomplete until finish(). Durable: `file` must not exist. Temporary:
-  /// `file` is the empty file its claim made (OutputFile, ClaimedTemporary), opened and never created.
+  /// `file` is the empty file its claim made (OutputFile, RegisteredTemporary), opened and never created.
   [[nodiscard]] static ResultsStore create(const std::filesystem::path& file, const ResultsHeader& header,
                                            StoreUse use = StoreUse::Durable);
   /// An existing store, checked to be an occsweep results store of a version this program reads.

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <octomap/OcTree.h>
 
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 
 namespace occsweep {
 

@@ -14,7 +14,7 @@
 #include "scene.hpp"
 #include "sgbm.hpp"
 #include "occsweep/eval/confusion.hpp"
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 
 namespace occsweep::stereo {
 

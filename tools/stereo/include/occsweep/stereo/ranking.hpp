@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/output_file.hpp"
 
 #include "generate.hpp"
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-#include "occsweep/eval/control_characters.hpp"
+#include "occsweep/io/control_characters.hpp"
 
 namespace occsweep {
 

@@ -1,8 +1,9 @@
-// Temporary names, and what a killed run left beside an output (docs/robustness.md, "Ownership").
-#include "occsweep/eval/ownership.hpp"
-#include "occsweep/eval/control_characters.hpp"
-#include "occsweep/eval/fnv1a.hpp"
-#include "occsweep/eval/process_stat.hpp"
+// Temporary names, and what a killed run left beside an output (docs/io.md, "Ownership").
+#include "occsweep/io/ownership.hpp"
+#include "occsweep/io/output_target.hpp"
+#include "occsweep/io/control_characters.hpp"
+#include "occsweep/io/fnv1a.hpp"
+#include "occsweep/io/process_stat.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -101,6 +102,28 @@ void reportLeftoverTemporaries(const fs::path& target) {
   }
 }
 
+namespace {
+
+// Why the file open at `fd` is not a regular file with one name ("" when it is), and its first `max_bytes` in `head`.
+std::string readOpenFile(int fd, std::size_t max_bytes, std::string& head) {
+  head.clear();
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return "cannot be read";
+  if (!S_ISREG(st.st_mode)) return "is not a regular file";
+  if (st.st_nlink != 1) return "has " + std::to_string(st.st_nlink) + " names (a hard link shares its bytes)";
+  head.resize(std::min<std::size_t>(max_bytes, std::size_t(st.st_size)));
+  // A short read would make a file look empty or unmarked: what cannot be read whole is no one's to take.
+  if (::pread(fd, head.data(), head.size(), 0) != ssize_t(head.size())) return "cannot be read";
+  return "";
+}
+
+std::string whyNotMarked(const std::string& head, const std::string& mark, bool empty_is_own) {
+  if (empty_is_own && head.empty()) return "";
+  return head == mark ? "" : "does not start with occsweep's line \"" + mark + "\"";
+}
+
+}  // namespace
+
 std::string readReservedFile(const fs::path& file, std::size_t max_bytes, std::string& head) {
   head.clear();
   struct stat named {}, opened {};
@@ -110,16 +133,8 @@ std::string readReservedFile(const fs::path& file, std::size_t max_bytes, std::s
   // Opened without following a link or waiting on a FIFO, and read only if it is still the file looked at.
   const int fd = ::open(file.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) return "cannot be read";
-  std::string why;
-  if (::fstat(fd, &opened) != 0 || opened.st_dev != named.st_dev || opened.st_ino != named.st_ino)
-    why = "was replaced while occsweep read it";
-  else if (opened.st_nlink != 1)
-    why = "has " + std::to_string(opened.st_nlink) + " names (a hard link shares its bytes)";
-  if (why.empty()) {
-    head.resize(std::min<std::size_t>(max_bytes, std::size_t(opened.st_size)));
-    const ssize_t n = ::pread(fd, head.data(), head.size(), 0);
-    head.resize(n > 0 ? std::size_t(n) : 0);
-  }
+  const bool same = ::fstat(fd, &opened) == 0 && opened.st_dev == named.st_dev && opened.st_ino == named.st_ino;
+  std::string why = same ? readOpenFile(fd, max_bytes, head) : "was replaced while occsweep read it";
   ::close(fd);
   return why;
 }
@@ -127,8 +142,13 @@ std::string readReservedFile(const fs::path& file, std::size_t max_bytes, std::s
 std::string notOwnReservedFile(const fs::path& file, const std::string& mark, bool empty_is_own) {
   std::string head;
   if (std::string why = readReservedFile(file, mark.size(), head); !why.empty()) return why;
-  if (empty_is_own && head.empty()) return "";
-  return head == mark ? "" : "does not start with occsweep's line \"" + mark + "\"";
+  return whyNotMarked(head, mark, empty_is_own);
+}
+
+std::string notOwnOpenFile(int fd, const std::string& mark, bool empty_is_own) {
+  std::string head;
+  if (std::string why = readOpenFile(fd, mark.size(), head); !why.empty()) return why;
+  return whyNotMarked(head, mark, empty_is_own);
 }
 
 namespace {
@@ -147,7 +167,7 @@ void markWrittenBytes(const fs::path& file) {
   const fs::path shown = file.parent_path() / outputNameOf(file.filename().string());
   std::cerr << "occsweep: warning: " << escapedControlCharacters(shown.string()) << ": cannot mark it as occsweep's ("
             << std::strerror(errno) << ": a file system without user attributes): a later --force will not "
-            << "replace it; remove it first to write it again (docs/robustness.md, \"Ownership\")\n";
+            << "replace it; remove it first to write it again (docs/io.md, \"Ownership\")\n";
 }
 
 bool holdsMarkedBytes(const fs::path& file) {
@@ -177,6 +197,33 @@ bool removeTemporaryEntry(const fs::path& path) noexcept {
   std::error_code journal_ec;
   if (!fs::is_symlink(fs::symlink_status(journal, journal_ec))) fs::remove(journal, journal_ec);
   return !ec;
+}
+
+fs::path outputPathOf(const fs::path& file) {
+  fs::path shown;
+  for (const auto& part : file) shown /= outputNameOf(part.string());
+  return shown;
+}
+
+std::string writeFailure(const fs::path& file, int error_number) {
+  const std::string name = outputPathOf(file).string();
+  switch (error_number) {
+    case ENOSPC: return name + ": no space left on device";
+    case EDQUOT: return name + ": disk quota exceeded";
+    case EFBIG: return name + ": file size limit exceeded (ulimit -f)";
+    default: return name + ": cannot write: " + std::strerror(error_number);
+  }
+}
+
+fs::path outputTarget(const fs::path& target) {
+  fs::path p = target.lexically_normal();
+  if (!p.has_filename() && p.has_parent_path()) p = p.parent_path();  // "s1/" is "s1"
+  const std::string name = p.filename().string();
+  if (p.empty() || name == "." || name == ".." || p.begin()->string() == "..") {
+    p = (fs::current_path() / target).lexically_normal();
+    if (!p.has_filename() && p != p.root_path()) p = p.parent_path();
+  }
+  return p;
 }
 
 }  // namespace occsweep

@@ -1,5 +1,5 @@
 // What occsweep may remove, by the rule git (`index.lock`), SQLite (`-journal`) and rsync (`--partial-dir`) follow
-// (docs/robustness.md, "Ownership"): the outputs its command line names and the names it reserves beside them, and
+// (docs/io.md, "Ownership"): the outputs its command line names and the names it reserves beside them, and
 // a temporary only in the process that made it. No state outside the outputs' folders: a killed run's temporary is
 // reported by the next run with the command that removes it, never removed by occsweep.
 #pragma once
@@ -21,6 +21,10 @@ inline constexpr std::size_t kFileNameMax = 255;
 /// The name a user knows for a temporary's component (`.NAME.tmp-PID-TOKEN` is `NAME`); other names unchanged.
 [[nodiscard]] std::string outputNameOf(const std::string& component);
 
+/// `file` as the user knows it: each temporary component `.NAME.tmp-PID-TOKEN` shown as `NAME`, the output being
+/// written. Every message about a write names this.
+[[nodiscard]] std::filesystem::path outputPathOf(const std::filesystem::path& file);
+
 /// True when `entry` is named as a temporary of `target` whose process does not run on this machine: what a killed
 /// run left, or what a run on another machine sharing the folder is writing (its process cannot be seen from here).
 [[nodiscard]] bool isLeftoverTemporaryOf(const std::filesystem::path& entry, const std::filesystem::path& target);
@@ -41,6 +45,10 @@ void reportLeftoverTemporaries(const std::filesystem::path& target);
 /// `empty_is_own`, is empty: what a kill right after its creation leaves); else why not.
 [[nodiscard]] std::string notOwnReservedFile(const std::filesystem::path& file, const std::string& mark,
                                              bool empty_is_own = false);
+
+/// notOwnReservedFile of the file open at `fd` (not what its name holds by now): for a file occsweep opens before it
+/// knows whose it is (run-local's lock, opened to be locked).
+[[nodiscard]] std::string notOwnOpenFile(int fd, const std::string& mark, bool empty_is_own = false);
 
 /// Marks a file occsweep has written whole in a format with no field of its own for a mark (a CSV, Markdown or LaTeX
 /// table, a PDF or SVG figure): the FNV-1a hash of its bytes in its extended attribute `user.occsweep.fnv1a`, which

@@ -1,4 +1,4 @@
-#include "occsweep/eval/process_stat.hpp"
+#include "occsweep/io/process_stat.hpp"
 
 #include <fstream>
 #include <iterator>

@@ -1,5 +1,5 @@
-// Child processes that die with occsweep (docs/robustness.md, "Child processes").
-#include "occsweep/eval/child_process.hpp"
+// Child processes that die with occsweep (docs/io.md, "Child processes").
+#include "occsweep/io/child_process.hpp"
 
 #include <cerrno>
 #include <cstring>
@@ -10,7 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "occsweep/eval/output_file.hpp"
+#include "occsweep/io/temporaries.hpp"
 
 extern char** environ;
 

@@ -1,5 +1,5 @@
 // A program occsweep runs and waits for (the figure scripts of `plot` and `reproduce`): it never outlives occsweep
-// (docs/robustness.md, "Child processes").
+// (docs/io.md, "Child processes").
 #pragma once
 
 #include <filesystem>
@@ -28,7 +28,7 @@ struct ChildSetup {
 /// the child SIGTERM when occsweep dies however it dies (PR_SET_PDEATHSIG), its stop-signal handlers reset to their
 /// defaults (ignored ones stay ignored), `setup` applied, and exec. A failure after the fork is written to the
 /// child's stderr and ends it with 127. Returns its PID; -1 when it was not started (fork failed, or an interrupt
-/// arrived first for a registered child). docs/robustness.md, "Child processes".
+/// arrived first for a registered child). docs/io.md, "Child processes".
 [[nodiscard]] pid_t startChild(const std::vector<std::string>& argv, const ChildSetup& setup);
 
 /// argv as exec wants it: pointers into `argv`'s strings, then nullptr. Built before fork (the child of a threaded

@@ -1,5 +1,5 @@
-#include "occsweep/eval/control_characters.hpp"
-#include "occsweep/eval/child_process.hpp"
+#include "occsweep/io/control_characters.hpp"
+#include "occsweep/io/child_process.hpp"
 
 #include <cstdio>
 
