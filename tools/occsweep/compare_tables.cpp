@@ -429,8 +429,8 @@ std::string latexTables(const ComparisonTables& t) {
                mixedNote(t) + "Statistics against " + displayNameOf(t.baseline) + ", the data set as the unit. Verdicts: gain or "
                "loss only when the 95% BCa interval excludes 0 and the exact test (Wilcoxon signed-rank, or the sign "
                "test on ties) rejects at alpha " + cell(rules.alpha, "%g") + " after Holm's correction over the "
-               "methods compared, leaning the interval's way; negligible when TOST puts the mean within +-" +
-               cell(rules.smallest_effect, "%g") + " %");
+               "methods compared, leaning the interval's way; negligible when the sign test puts the median, and the "
+               "interval the mean, within +-" + cell(rules.smallest_effect, "%g") + " %");
   // Each verdict's basis (its sample, test and correction) under the tables, as compare prints it.
   const std::vector<std::string> bases = verdictBases(t.statistics);
   if (!bases.empty()) out += "\\begin{itemize}\n";

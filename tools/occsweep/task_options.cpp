@@ -97,8 +97,9 @@ void addCompareOptions(CLI::App& app, CompareTask& task) {
   app.add_option("--alpha", task.alpha, "Significance level of the verdicts, after Holm's correction over the methods "
                                         "compared with the baseline, from 1e-6 to 0.25 (docs/statistics.md, Verdicts)")
       ->check(numberIn(1e-6, 0.25))->capture_default_str();
-  app.add_option("--smallest-effect", task.smallest_effect, "Smallest improvement of interest, in percent of the "
-                                                            "baseline's AUC: an interval within +-this is negligible")
+  app.add_option("--smallest-effect", task.smallest_effect,
+                 "Smallest improvement of interest, in percent of the baseline's AUC: a median and mean shown "
+                 "within +-this are negligible")
       ->check(numberIn(0.0, 100.0))->capture_default_str();
   app.add_flag("--force", task.force, "Replace occsweep's own previous outputs at --json, --csv, --markdown, --latex "
                                       "(nothing else)");

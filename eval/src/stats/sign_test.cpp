@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "sample_checks.hpp"
 
@@ -30,6 +31,19 @@ SignTestResult signTest(const std::vector<double>& differences) {
   const std::size_t n = result.positive + result.negative;
   result.p_value = std::min(1.0, 2.0 * binomialHalfCdf(std::min(result.positive, result.negative), n));
   return result;
+}
+
+std::optional<MedianInterval> medianInterval(std::vector<double> values, double level) {
+  detail::requireFinite(values, "median interval");
+  if (!(level > 0.0 && level < 1.0)) throw std::invalid_argument("median interval: level must lie in (0, 1)");
+  const std::size_t n = values.size();
+  const double tail = (1.0 - level) / 2.0;
+  // P(X >= c) = P(X <= n - c) by symmetry; the least c whose tail is within `tail`.
+  std::size_t c = n / 2 + 1;
+  while (c <= n && binomialHalfCdf(n - c, n) > tail) ++c;
+  if (c > n) return std::nullopt;
+  std::sort(values.begin(), values.end());
+  return MedianInterval{values[n - c], values[c - 1], level, n};
 }
 
 }  // namespace occsweep::stats

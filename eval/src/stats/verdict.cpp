@@ -60,22 +60,29 @@ std::string basisText(const VerdictEvidence& e, const VerdictRules& r) {
   return s;
 }
 
-std::string equivalenceText(const MeanTInterval& t, const VerdictEvidence& e, const VerdictRules& r) {
-  return "TOST: the " + number(t.level * 100, "%.4g") + "% t interval [" + number(t.lower, "%+.3g") + ", " +
-         number(t.upper, "%+.3g") + "] " + e.value_unit + " lies within +-" + number(r.smallest_effect, "%g") + " " +
-         e.value_unit;
+std::string equivalenceText(const MedianInterval& m, const VerdictEvidence& e, const VerdictRules& r) {
+  return "sign test: the " + number(m.level * 100, "%.4g") + "% interval of the median [" + number(m.lower, "%+.3g") +
+         ", " + number(m.upper, "%+.3g") + "] " + e.value_unit + " and the mean's interval lie within +-" +
+         number(r.smallest_effect, "%g") + " " + e.value_unit;
 }
 
-// The equivalence test (two one-sided t tests at alpha each, Bonferroni over the family): the mean's t interval at
-// 1 - 2 alpha / family within +-smallest_effect.
-std::optional<MeanTInterval> equivalenceInterval(const VerdictEvidence& e, const VerdictRules& r) {
-  if (e.differences.size() < 2) return std::nullopt;
-  // Equal differences give the interval [d, d], the limit of the t interval as the spread goes to zero: negligible
-  // exactly when |d| is within the smallest effect, with no jump between equal and nearly equal values.
+// The equivalence test: the two one-sided sign tests at alpha / family each (Bonferroni), read off the median's
+// interval at 1 - 2 alpha / family. The sign test holds its size on any population, skewed, tied or zero-inflated,
+// where no test of a mean from a few values can (docs/statistics.md, "Verdicts").
+std::optional<MedianInterval> equivalenceInterval(const VerdictEvidence& e, const VerdictRules& r) {
   const double level = 1.0 - 2.0 * r.alpha / double(std::max<std::size_t>(e.family, 1));
   if (!(level > 0.0)) return std::nullopt;
-  return meanTInterval(e.differences, level);
+  return medianInterval(e.differences, level);
 }
+
+// Negligible needs both the median's interval and the printed interval of the mean within +-smallest_effect: a
+// "negligible" beside a printed interval that reaches past the margin would contradict it.
+bool withinSmallestEffect(const std::optional<MedianInterval>& m, const VerdictEvidence& e, const VerdictRules& r) {
+  const double d = r.smallest_effect;
+  return m && m->lower > -d && m->upper < d && (!e.interval || (e.interval->lower > -d && e.interval->upper < d));
+}
+
+double leastP(double family_bound, double own) { return std::isnan(family_bound) ? own : family_bound; }
 
 Verdict tooFew(const VerdictEvidence& e, const VerdictRules& r, double smallest_p) {
   const std::size_t n = e.differences.size();
@@ -121,27 +128,31 @@ double smallestPossibleHolmP(const std::vector<double>& smallest_possible_p, std
 
 Verdict decideVerdict(const VerdictEvidence& e, const VerdictRules& r) {
   const std::size_t n = e.differences.size();
-  if (n < 2) return tooFew(e, r, 1.0);
-  if (!e.test)
+  const double least_p_of_units = n < 2 ? 1.0 : leastP(e.smallest_possible_holm_p_of_units, smallestPossibleP(n));
+  if (n >= 2 && !e.test)  // a description, not an inference: decided first, as before
     return {VerdictKind::Tie, std::nullopt, "tie (equal on all " + std::to_string(n) + " " + e.unit_name + ")",
             basisText(e, r)};
+  if (least_p_of_units > r.alpha) return tooFew(e, r, least_p_of_units);
   const std::string basis = basisText(e, r);
-  if (const std::optional<MeanTInterval> t = equivalenceInterval(e, r);
-      t && t->lower > -r.smallest_effect && t->upper < r.smallest_effect)
-    return {VerdictKind::Negligible, t, "negligible (" + equivalenceText(*t, e, r) + ")", basis};
-  const double least_p = std::isnan(e.smallest_possible_holm_p) ? e.test->smallest_possible_p
-                                                                : e.smallest_possible_holm_p;
-  if (least_p > r.alpha) return tooFew(e, r, least_p);
-  if (!e.interval) return {VerdictKind::NoClearDifference, std::nullopt, "no clear difference", basis};
-  const BootstrapInterval& i = *e.interval;
-  if (!i.contains(0.0) && e.holm_p <= r.alpha) {
-    const int side = i.lower > 0 ? 1 : -1;
+  const std::optional<MedianInterval> m = equivalenceInterval(e, r);
+  const bool within = withinSmallestEffect(m, e, r);
+  if (e.holm_p <= r.alpha) {  // the difference test rejects: the verdict says so, never "negligible"
+    if (!e.interval || e.interval->contains(0.0))
+      return {VerdictKind::NoClearDifference, m, "no clear difference", basis};
+    const int side = e.interval->lower > 0 ? 1 : -1;
     if (e.test->direction != side)  // e.g. a mean pulled below 0 by a few large losses, most data sets better
-      return {VerdictKind::NoClearDifference, std::nullopt,
+      return {VerdictKind::NoClearDifference, m,
               "no clear difference (the interval of the mean and the exact test point opposite ways)", basis};
-    return {side > 0 ? VerdictKind::Gain : VerdictKind::Loss, std::nullopt, side > 0 ? "gain" : "loss", basis};
+    std::string text = side > 0 ? "gain" : "loss";
+    if (within)
+      text += ", below the smallest effect of " + number(r.smallest_effect, "%g") + " " + e.value_unit + " (" +
+              equivalenceText(*m, e, r) + ")";
+    return {side > 0 ? VerdictKind::Gain : VerdictKind::Loss, m, text, basis};
   }
-  return {VerdictKind::NoClearDifference, std::nullopt, "no clear difference", basis};
+  if (within) return {VerdictKind::Negligible, m, "negligible (" + equivalenceText(*m, e, r) + ")", basis};
+  const double least_p = leastP(e.smallest_possible_holm_p, e.test->smallest_possible_p);
+  if (least_p > r.alpha) return tooFew(e, r, least_p);
+  return {VerdictKind::NoClearDifference, m, "no clear difference", basis};
 }
 
 }  // namespace occsweep::stats

@@ -113,10 +113,12 @@ void gainSection(std::ostringstream& o, const json& comparison) {
     << "leave-one-set-out beside it is optimistic, as it chooses partly on sibling sets); and the budget curve (the "
     << "expected best AUC of as many maps as OctoMap's grid holds, and after how many maps it passes OctoMap's "
     << "best). The per-set interval is description. Verdict rules (docs/statistics.md, \"Verdicts\"): "
-    << "\"negligible\" when the equivalence test (TOST, Bonferroni over the family) puts the mean within +-"
-    << r.smallest_effect << " %; \"too few data sets to tell\" when the data sets that differ cannot give a "
-    << "Holm-adjusted p <= " << r.alpha << "; \"gain\" or \"loss\" only when the interval excludes 0 and the "
-    << "Holm-adjusted p is at most " << r.alpha << ".\n\n";
+    << "\"too few data sets to tell\" first, when the data sets cannot give a Holm-adjusted p <= " << r.alpha
+    << "; \"gain\" or \"loss\" when the interval excludes 0 and the Holm-adjusted p is at most " << r.alpha
+    << " (\"below the smallest effect\" when the difference is also shown within +-" << r.smallest_effect
+    << " %); \"negligible\" otherwise only when the sign test (Bonferroni over the family) puts the median, and "
+    << "the interval the mean, within +-" << r.smallest_effect << " %; an optima gain of a method whose results "
+    << "hold OctoMap's best map on most sets is \"at least the baseline by construction\".\n\n";
   gainTable(o, statistics);
   o << "\nGrids that nest (where a method's results hold OctoMap's best map, a tie at the optimum is no evidence):\n\n";
   nestingLines(o, statistics);

@@ -245,10 +245,11 @@ void crossValidatedImprovements(const AucTable& mine, const AucTable& base, cons
 // Holm's correction over the family of comparisons with the baseline (one p-value each; 1 where there is no
 // test or no evidence, which keeps the correction conservative: docs/statistics.md, "Verdicts"), then each verdict.
 void holmAndDecide(std::vector<DatasetComparison*> family, const CompareStatisticsOptions& o) {
-  std::vector<double> p, smallest_p;
+  std::vector<double> p, smallest_p, smallest_p_of_units;
   for (const DatasetComparison* c : family) {
     p.push_back(c->test ? c->test->p_value : 1.0);
     smallest_p.push_back(c->test && c->not_computed.empty() ? c->test->smallest_possible_p : 1.0);
+    smallest_p_of_units.push_back(c->not_computed.empty() ? stats::smallestPossibleP(c->per_dataset.size()) : 1.0);
   }
   const std::vector<double> adjusted = stats::holmAdjusted(p);
   for (std::size_t i = 0; i < family.size(); ++i) {
@@ -260,9 +261,20 @@ void holmAndDecide(std::vector<DatasetComparison*> family, const CompareStatisti
       continue;
     }
     stats::VerdictEvidence e{c.per_dataset, "data sets", "%", c.interval, o.level, c.test, c.holm_p, c.family,
-                             stats::smallestPossibleHolmP(smallest_p, i)};
+                             stats::smallestPossibleHolmP(smallest_p, i),
+                             stats::smallestPossibleHolmP(smallest_p_of_units, i)};
     c.verdict = stats::decideVerdict(e, o.rules);
   }
+}
+
+// Grids that nest (docs/statistics.md, "Verdicts"): where most of a method's sets hold the baseline's best map, its
+// optimum is at least the baseline's there by construction, so a gain of the optima measures the grid, not the method.
+void markNestedGain(MethodStatistics& s, const std::string& baseline) {
+  if (s.optima.verdict.kind != stats::VerdictKind::Gain || 2 * s.sets_holding_baseline_best <= s.sets) return;
+  s.optima.verdict.kind = stats::VerdictKind::NotComputed;
+  s.optima.verdict.text = "at least the baseline by construction (holds " + baseline + "'s best on " +
+                          std::to_string(s.sets_holding_baseline_best) + " of " + std::to_string(s.sets) +
+                          " sets): not a test of the method";
 }
 
 // Sets where the method's results hold a map scoring the baseline's best AUC exactly (grids that nest).
@@ -363,6 +375,7 @@ std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>
     if (!s.is_baseline) optima.push_back(&s.optima), cross_validated.push_back(&s.cross_validated);
   holmAndDecide(optima, o);
   holmAndDecide(cross_validated, o);
+  for (MethodStatistics& s : out) markNestedGain(s, o.baseline);
   return out;
 }
 
@@ -388,7 +401,7 @@ nlohmann::json datasetComparisonJson(const DatasetComparison& c, const CompareSt
             {"smallest_possible_p", c.test->smallest_possible_p}, {"holm_p", c.holm_p}, {"family", c.family}};
   nlohmann::json equivalence = nullptr;
   if (c.verdict.equivalence)
-    equivalence = {{"test", "TOST, t interval"}, {"level", c.verdict.equivalence->level},
+    equivalence = {{"test", "sign test, interval of the median"}, {"level", c.verdict.equivalence->level},
                    {"lower", c.verdict.equivalence->lower}, {"upper", c.verdict.equivalence->upper}};
   nlohmann::json per_dataset = nlohmann::json::array();
   for (std::size_t i = 0; i < c.per_dataset.size(); ++i)

@@ -1,5 +1,5 @@
-// Student's t distribution and the t interval of a mean: what the equivalence test (TOST) behind a "negligible"
-// verdict rests on (docs/statistics.md, "Verdicts").
+// Student's t distribution and the t interval of a mean: the former equivalence rule, which docs/statistics.md's
+// size table ("Verdicts") measures beside the sign test that replaced it.
 #pragma once
 
 #include <cstddef>

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "occsweep/stats/bootstrap.hpp"
-#include "occsweep/stats/student_t.hpp"
+#include "occsweep/stats/sign_test.hpp"
 
 namespace occsweep::stats {
 
@@ -56,6 +56,9 @@ struct VerdictEvidence {
   /// The least Holm-adjusted p this comparison can reach in its family (smallestPossibleHolmP); NaN: its own
   /// test's smallest possible p, as in a family of one.
   double smallest_possible_holm_p = std::numeric_limits<double>::quiet_NaN();
+  /// The same were every unit non-zero (smallestPossibleP of the units' count): the minimum below which no verdict,
+  /// "negligible" included, is decided. NaN: smallestPossibleP(units), as in a family of one.
+  double smallest_possible_holm_p_of_units = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The least Holm-adjusted p-value comparison `index` of a family can reach, given each comparison's smallest
@@ -66,17 +69,19 @@ struct VerdictEvidence {
 
 struct Verdict {
   VerdictKind kind = VerdictKind::TooFew;
-  /// The equivalence test's interval (TOST: the t interval at 1 - 2 alpha / family), with at least 2 units.
-  std::optional<MeanTInterval> equivalence;
+  /// The equivalence test's interval: the sign test's interval of the median at 1 - 2 alpha / family, where the
+  /// units are enough to reach that level.
+  std::optional<MedianInterval> equivalence;
   std::string text;   ///< what is printed: "gain", "loss", "negligible (...)", "tie (...)", "no clear difference", "too few ..."
   std::string basis;  ///< its sample, test and correction, in one sentence
 };
 
-/// The rules, in order (docs/statistics.md, "Verdicts"): fewer than 2 units: too few to tell; every difference
-/// zero: tie; the equivalence test's interval (TOST at alpha, Bonferroni over the family) within +-smallest_effect:
-/// negligible; a least reachable Holm-adjusted p above alpha: too few to tell; the bootstrap interval excluding 0,
-/// the Holm-adjusted p at most alpha and the test leaning the interval's way: gain or loss (by the interval's side);
-/// otherwise no clear difference.
+/// The rules, in order (docs/statistics.md, "Verdicts"): every difference of 2 or more units zero: tie; units
+/// too few for any p-value to reach alpha (after Holm): too few to tell; the Holm-adjusted p at most alpha: gain or
+/// loss when the bootstrap interval excludes 0 and the test leans its way ("below the smallest effect" when the
+/// difference is also shown negligible), else no clear difference; the median's interval (sign test, Bonferroni
+/// over the family) and the bootstrap interval both within +-smallest_effect: negligible; non-zero differences too
+/// few to reject: too few to tell; otherwise no clear difference.
 [[nodiscard]] Verdict decideVerdict(const VerdictEvidence& evidence, const VerdictRules& rules = {});
 
 }  // namespace occsweep::stats
