@@ -174,6 +174,7 @@ void checkOutputs(const CompareTask& o) {
 CompareStatisticsOptions statisticsOptions(const CompareTask& o) {
   CompareStatisticsOptions options = statisticsAgainst(o.baseline);
   options.rules = {o.alpha, o.smallest_effect};
+  options.units = o.units == "names" ? UnitRule::Names : UnitRule::Provenance;
   return options;
 }
 
@@ -189,7 +190,7 @@ std::vector<MethodStatistics> statisticsOf(const std::vector<ComparisonRow>& row
                     " (--baseline chooses another)");
     return {};
   }
-  for (const std::string& name : pooledDatasetNames(rows))
+  for (const std::string& name : pooledDatasetNames(rows, statisticsOptions(o).units))
     notes.push_back("sets of several contents are all named " + name + ": counted as one data set (the unit of the "
                     "verdicts); data sets of their own need names of their own (docs/statistics.md, Verdicts)");
   return compareStatistics(rows, in, statisticsOptions(o));
