@@ -322,6 +322,8 @@ int runImportCloud(const ImportOptions& o, const CLI::App& cloud) {
   cc.shift = shiftOf(o);
   Dataset d = importClouds(paths(o.files), cc);
   recordProvenance(d, o);
+  if (o.poses.empty())  // clouds in the world frame: --origin is where the sensor was, the poses of the recording
+    d.source["provenance"]["poses"] = nlohmann::json::array({contentHash(nlohmann::json(o.origin).dump())});
   shiftOrWarn(d, o, true);
   filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
