@@ -202,7 +202,7 @@ bool crossValidatable(const AucTable& mine, const AucTable& base) {
          rectangular(base.per_set);
 }
 
-// Leave one data set out (the verdict's basis) and leave one set out (optimistic: siblings share a scene).
+// Leave one unit (scene) out (the verdict's basis) and leave one set out (optimistic: siblings share a scene).
 void crossValidatedImprovements(const AucTable& mine, const AucTable& base, const CompareStatisticsOptions& o,
                                 MethodStatistics& s) {
   if (s.scenes < 2) {
@@ -257,7 +257,6 @@ std::size_t setsHoldingBaselineBest(const std::vector<ComparisonRow>& rows, cons
   return n;
 }
 
-// One method's statistics against the baseline, up to Holm's correction over the methods.
 // The sets where both the method and the baseline have a best map, paired, with their units and data sets.
 PairedSets pairedSets(const std::vector<ComparisonRow>& rows, const std::string& method, const std::string& baseline,
                       const SampleUnits& units) {

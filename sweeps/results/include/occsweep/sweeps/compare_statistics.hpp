@@ -1,6 +1,6 @@
-// Whether a method's gain over a baseline is real (docs/statistics.md): the verdict over data sets (the unit of the
-// tests, since point cloud sets of one data set share a scene) by the rules of "Verdicts", of the per-set optima
-// and cross-validated by data set; the per-set interval, tests and effect size as description; per method, its
+// Whether a method's gain over a baseline is real (docs/statistics.md): the verdict over scenes (the unit of the
+// tests: data sets that share a recording or a scene, compare_units.hpp) by the rules of "Verdicts", of the per-set
+// optima and cross-validated by scene; the per-set interval, tests and effect size as description; per method, its
 // cross-validated scores and its budget curve (the expected best of n maps of its grid), so a bigger grid is not
 // mistaken for a better method.
 #pragma once
@@ -57,13 +57,13 @@ struct BudgetSummary {
   std::optional<std::size_t> first_above_baseline;  ///< none: never, even with the whole grid
 };
 
-/// One comparison with the baseline whose unit is the data set (docs/statistics.md, "Verdicts"): each data set's
-/// improvement in percent of the baseline's AUC (the mean over its point cloud sets, which share a scene), their
+/// One comparison with the baseline whose unit is the scene, or the data set (docs/statistics.md, "Verdicts"): each
+/// unit's improvement in percent of the baseline's AUC (the mean over its sets, which share a scene), their
 /// bootstrap interval, the exact paired test, its p-value after Holm's correction over the methods compared with
 /// the baseline, and the verdict these give.
 struct DatasetComparison {
-  std::vector<std::string> datasets;  ///< the data sets' names, in the order of per_dataset
-  std::vector<double> per_dataset;  ///< improvement %, one per data set
+  std::vector<std::string> datasets;  ///< the units' names (SampleUnits::of_row), in the order of per_dataset
+  std::vector<double> per_dataset;  ///< improvement %, one per unit
   std::optional<stats::BootstrapInterval> interval;  ///< none below 2 data sets
   std::optional<stats::ExactPairedTest> test;        ///< none when every data set's difference is 0
   double holm_p = 1.0;
