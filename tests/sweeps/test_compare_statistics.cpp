@@ -431,6 +431,7 @@ for row, jr in zip(rows, j['rows']):
         for name, value in jr['methods'][m]['parameters'].items():
             assert float(row[m + '.' + name]) == value, name
     assert float(row['knn.improvement_percent']) == jr['methods']['knn']['improvement_percent']
+    assert row['unit'] == jr['unit'] == 'builtin-O', 'unit'
 print('csv equals json')
 ")";
   const auto py = test::runShell("cd " + dir.string() + " && " + check);
