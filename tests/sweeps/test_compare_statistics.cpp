@@ -188,7 +188,7 @@ TEST_CASE("units from provenance: data sets sharing an input, truth and poses, o
   CHECK(s.scenes == 4);
   CHECK(s.optima.per_dataset.size() == 4);
   CHECK(s.optima.verdict.text == "too few scenes to tell (n = 4; the smallest p possible is 0.125)");
-  CHECK(s.optima.verdict.basis.find("8 data sets over 4 scenes (scenes from provenance") != std::string::npos);
+  CHECK(s.optima.verdict.basis.find("8 data sets over 4 scenes (scenes by content hashes") != std::string::npos);
 
   // Declared by names, each data set is a unit again: eight, a gain.
   CompareStatisticsOptions by_name = statisticsAgainst("base");
@@ -204,7 +204,7 @@ TEST_CASE("units from provenance: data sets sharing an input, truth and poses, o
   const SampleUnits mixed = sampleUnits(compareBest(files), UnitRule::Provenance);
   CHECK(mixed.without_provenance == std::vector<std::string>{"d0"});
   CHECK(std::set<std::string>(mixed.of_row.begin(), mixed.of_row.end()).size() == 5);  // d0 apart, d1 + d2 joined
-  CHECK(mixed.declaration.find("1 data set has no provenance recorded (made by an older occsweep): each name "
+  CHECK(mixed.declaration.find("1 data set has no content hashes recorded (made by an older occsweep): each name "
                                "assumed a scene of its own") != std::string::npos);
 }
 
@@ -214,8 +214,8 @@ TEST_CASE("results without provenance (an older occsweep's) keep the data set as
   CHECK(s.scenes == 8);
   CHECK(s.optima.verdict.text == "gain");
   CHECK(s.optima.verdict.basis.find("n = 8 data sets") != std::string::npos);
-  CHECK(s.optima.verdict.basis.find("8 data sets (units: data set names, assumed independent: no provenance "
-                                    "recorded (made by an older occsweep))") != std::string::npos);
+  CHECK(s.optima.verdict.basis.find("8 data sets (units: data set names, assumed independent: no content "
+                                    "hashes recorded (made by an older occsweep))") != std::string::npos);
 }
 
 TEST_CASE("Holm's correction runs over every method compared with the baseline") {

@@ -377,8 +377,9 @@ std::string mixedNote(const ComparisonTables& t) {
 
 std::string csvTable(const ComparisonTables& t) {
   // Columns: every method's, and every parameter any of its best maps has.
-  std::vector<std::string> header{"dataset", "point_cloud_set", "dataset_hash", "unit"};
+  std::vector<std::string> header{"dataset", "point_cloud_set", "dataset_hash"};
   if (!t.mixed.empty()) header.push_back("mixed_settings");  // every row: compared with --allow-mixed
+  header.push_back("unit");
   std::vector<std::pair<std::string, std::vector<std::string>>> columns;  // method, its parameters
   for (const std::string& m : t.methods) {
     std::vector<std::string> params;
@@ -395,9 +396,9 @@ std::string csvTable(const ComparisonTables& t) {
   for (std::size_t i = 0; i < header.size(); ++i) o << (i ? "," : "") << csvField(header[i]);
   o << '\n';
   for (const ComparisonRow& row : t.rows) {
-    o << csvField(row.dataset) << ',' << csvField(row.point_cloud_set) << ',' << csvField(row.dataset_hash) << ','
-      << csvField(t.units[std::size_t(&row - t.rows.data())]);
+    o << csvField(row.dataset) << ',' << csvField(row.point_cloud_set) << ',' << csvField(row.dataset_hash);
     if (!t.mixed.empty()) o << ",yes";
+    o << ',' << csvField(t.units[std::size_t(&row - t.rows.data())]);
     for (const auto& [m, params] : columns) {
       const auto best = row.best(m);
       const bool base = m == t.baseline;

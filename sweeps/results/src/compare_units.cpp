@@ -50,9 +50,9 @@ std::string labelOf(const std::set<std::string>& names, std::set<std::string>& u
 
 std::string declarationOf(UnitRule rule, bool grouped, const std::vector<std::string>& without) {
   if (rule == UnitRule::Names) return "units declared by --units names: one per data set name";
-  const std::string older = "no provenance recorded (made by an older occsweep)";
+  const std::string older = "no content hashes recorded (made by an older occsweep)";
   if (!grouped) return "units: data set names, assumed independent: " + older;
-  std::string text = "scenes from provenance: data sets sharing an input file, the truth and poses, or a generated "
+  std::string text = "scenes by content hashes: data sets sharing an input file, the truth and poses, or a generated "
                      "scene are one";
   if (!without.empty())
     text += "; " + std::to_string(without.size()) + (without.size() == 1 ? " data set has " : " data sets have ") +
