@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "occsweep/core/splitmix64.hpp"
@@ -212,6 +213,59 @@ TEST_CASE("sets of one name and several contents are one data set, and named as 
   for (std::size_t i = 0; i < 2; ++i) mixed[i].header.dataset_name = "d0";
   CHECK(statisticsFor(mixed, "other").datasets == 1);
   CHECK(pooledDatasetNames(compareBest(mixed)) == std::vector<std::string>{"d0"});
+}
+
+TEST_CASE("units from provenance: data sets sharing an input, truth and poses, or a scene are one scene") {
+  // Eight data sets of one set each, "other" better on all; their recorded provenance decides the units.
+  auto files = syntheticComparison(7, 10, 10, 0.05, true, 8, 1);
+  const std::vector<nlohmann::json> provenance = {
+      {{"inputs", {"a1", "a2"}}},                                       // d0: joined to d1 by a2 and d1 to d2 by a3
+      {{"inputs", {"a2", "a3"}}},
+      {{"inputs", {"a3"}}},
+      {{"inputs", {"b1"}}, {"poses", {"p"}}, {"truth", {"t"}}},       // d3, d4: one truth and one pose file
+      {{"inputs", {"b2"}}, {"poses", {"p"}}, {"truth", {"t"}}},
+      {{"inputs", {"b3"}}, {"poses", {"p"}}, {"truth", {"t2"}}},      // d5: another truth, a scene of its own
+      {{"scene", "s"}},                                                  // d6, d7: one generated scene
+      {{"scene", "s"}}};
+  for (ResultsFile& f : files) f.header.point_cloud_set["provenance"] = provenance[std::size_t(f.header.dataset_name[1] - '0')];
+  const SampleUnits units = sampleUnits(compareBest(files), UnitRule::Provenance);
+  CHECK(units.noun == "scenes");
+  CHECK(units.without_provenance.empty());
+  const std::set<std::string> distinct(units.of_row.begin(), units.of_row.end());
+  CHECK(distinct == std::set<std::string>{"d0 + 2 more", "d3 + d4", "d5", "d6 + d7"});
+  const MethodStatistics s = statisticsFor(files, "other");
+  CHECK(s.datasets == 8);
+  CHECK(s.scenes == 4);
+  CHECK(s.optima.per_dataset.size() == 4);
+  CHECK(s.optima.verdict.text == "too few scenes to tell (n = 4; the smallest p possible is 0.125)");
+  CHECK(s.optima.verdict.basis.find("8 data sets over 4 scenes (scenes by content hashes") != std::string::npos);
+
+  // Declared by names, each data set is a unit again: eight, a gain.
+  CompareStatisticsOptions by_name = statisticsAgainst("base");
+  by_name.units = UnitRule::Names;
+  const MethodStatistics named = statisticsOf(compareStatistics(compareBest(files), files, by_name), "other");
+  CHECK(named.scenes == 8);
+  CHECK(named.optima.verdict.text == "gain");
+  CHECK(named.optima.verdict.basis.find("units declared by --units names") != std::string::npos);
+
+  // A data set without provenance (an older occsweep's) is a unit by its name, and the basis says it is assumed.
+  files[0].header.point_cloud_set.erase("provenance");
+  files[1].header.point_cloud_set.erase("provenance");
+  const SampleUnits mixed = sampleUnits(compareBest(files), UnitRule::Provenance);
+  CHECK(mixed.without_provenance == std::vector<std::string>{"d0"});
+  CHECK(std::set<std::string>(mixed.of_row.begin(), mixed.of_row.end()).size() == 5);  // d0 apart, d1 + d2 joined
+  CHECK(mixed.declaration.find("1 data set has no content hashes recorded (made by an older occsweep): each name "
+                               "assumed a scene of its own") != std::string::npos);
+}
+
+TEST_CASE("results without provenance (an older occsweep's) keep the data set as the unit, and say it is assumed") {
+  const auto files = syntheticComparison(3, 10, 10, 0.05, true, 8, 1);
+  const MethodStatistics s = statisticsFor(files, "other");
+  CHECK(s.scenes == 8);
+  CHECK(s.optima.verdict.text == "gain");
+  CHECK(s.optima.verdict.basis.find("n = 8 data sets") != std::string::npos);
+  CHECK(s.optima.verdict.basis.find("8 data sets (units: data set names, assumed independent: no content "
+                                    "hashes recorded (made by an older occsweep))") != std::string::npos);
 }
 
 TEST_CASE("Holm's correction runs over every method compared with the baseline") {
@@ -428,6 +482,7 @@ for row, jr in zip(rows, j['rows']):
         for name, value in jr['methods'][m]['parameters'].items():
             assert float(row[m + '.' + name]) == value, name
     assert float(row['knn.improvement_percent']) == jr['methods']['knn']['improvement_percent']
+    assert row['unit'] == jr['unit'] == 'builtin-O', 'unit'
 print('csv equals json')
 ")";
   const auto py = test::runShell("cd " + dir.string() + " && " + check);

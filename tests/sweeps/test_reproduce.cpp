@@ -124,6 +124,8 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
     REQUIRE(statistics.size() == 5);
     CHECK(statistics.at(0).at("method") == "octomap");
     for (const auto& s : statistics) CHECK(s.at("sets") == 6);
+    for (const auto& s : statistics) CHECK(s.at("scenes") == 2);  // two layouts: two scenes (docs/datasets.md)
+    CHECK(comparison.at("statistics_by_data_set").at(truth).at(1).at("datasets") == 2);
   }
 
   const json curves = readJsonFile(dir / "curves.json");
@@ -139,6 +141,7 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
   const std::string report = readText(dir / "report.md");
   for (const char* heading : {"## 1.", "## 2.", "## 3.", "## 3b.", "## 3c.", "## 3d.", "## 4.", "## 5.", "## 6."})
     CHECK(report.find(heading) != std::string::npos);
+  CHECK(report.find("Units: 2 data sets over 2 scenes (scenes by content hashes") != std::string::npos);
   if (figures)
     for (const char* png : {"fig3_distribution_fits.png", "fig4_nca_weights.png", "fig5_improvement.png",
                             "fig6_curves_maps.png", "fig7_runtime.png"})

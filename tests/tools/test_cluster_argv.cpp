@@ -117,6 +117,7 @@ TEST_CASE("merge, compare and select tasks parse back to themselves over many ra
                         rng.below(2) ? randomName(rng) : ""};
     if (rng.below(2)) compare.alpha = 1e-6 + (0.25 - 1e-6) * rng.uniform();  // the verdicts' rules travel too
     if (rng.below(2)) compare.smallest_effect = 100.0 * rng.uniform();
+    if (rng.below(2)) compare.units = "names";  // and the declared units
     CHECK(parseTask<CompareTask>(taskArgv(compare), addCompareOptions) == compare);
     const SelectTask select{randomFiles(rng), randomName(rng)};
     CHECK(parseTask<SelectTask>(taskArgv(select), addSelectOptions) == select);

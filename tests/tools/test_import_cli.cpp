@@ -1,12 +1,14 @@
 // occsweep import depth|graph|cloud|truth and mapdiff end to end on the repository's real samples (docs/import.md).
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <fstream>
 
 #include "occsweep/core/voxel_filter.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_graph.hpp"
 #include "occsweep/data/import_truth.hpp"
+#include "occsweep/eval/fnv1a.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;
@@ -380,4 +382,143 @@ TEST_CASE("import depth --shift: every stored coordinate is float(pose(x) + shif
         if (d.scans[s].points[i](unsigned(a)) != float(expected[s][i][a])) ++wrong;
   }
   CHECK(wrong == 0);
+}
+
+namespace {
+
+// Two maps of each method: twenty sweeps take seconds, and compare's statistics run as on any grid.
+void writeSmallGrids(const fs::path& dir) {
+  std::ofstream(dir / "octomap-small.json")
+      << R"({"name": "octomap-small", "method": "octomap", "parameters": {"p_max": {"value": 0.98},
+      "p_min": {"value": 0.02}, "p_h": {"min": 0.7, "max": 0.82, "step": 0.12}, "p_m": {"value": 0.4}, "p_t": {"step": 0.12}}})";
+  std::ofstream(dir / "knn-small.json")
+      << R"({"name": "knn-small", "method": "knn", "parameters": {"p_max": {"value": 0.98}, "p_min": {"value": 0.02},
+      "p_m": {"value": 0.26}, "p_m_out": {"value": 0.26}, "p_u": {"min": 0.62, "max": 0.74, "step": 0.12},
+      "p_l": {"value": 0.5}, "p_t": {"step": 0.12}, "k": [1]}})";
+}
+
+// Each data set swept with both small grids; the results files, for compare's command line.
+std::string sweptResults(const fs::path& dir, const std::vector<fs::path>& datasets) {
+  std::string files;
+  for (const fs::path& d : datasets)
+    for (const char* grid : {"octomap-small", "knn-small"}) {
+      // Built with append: g++ 12 warns wrongly (-Wrestrict) on some chains of string operator+.
+      const fs::path out = dir / d.filename().string().append("-").append(grid).append(".json");
+      const fs::path grid_file = dir / std::string(grid).append(".json");
+      const auto r = test::runCli(std::string("sweep --dataset ").append(d.string()).append(" --grid ")
+                                      .append(grid_file.string()).append(" --threads 1 --out ").append(out.string()));
+      REQUIRE(r.exit_code == 0);
+      files.append(" ").append(out.string());
+    }
+  return files;
+}
+
+// Points of a 1 m box's faces seen from `sensor` (identity rotation: sensor frame = world frame minus `sensor`),
+// with noise and outliers of seed `seed`: one SGBM setting's cloud of one view.
+void writeBoxView(const fs::path& file, const std::array<double, 3>& sensor, std::uint64_t seed) {
+  SplitMix64 rng(seed);
+  std::ofstream out(file);
+  for (int i = 0; i < 600; ++i) {
+    const double u = rng.uniform() - 0.5, z = rng.uniform(), noise = (rng.uniform() - 0.5) * 0.06;
+    const double x = sensor[0] > 0 ? 0.5 + noise : -0.5 + noise;  // the face towards the sensor
+    const double towards_sensor = rng.uniform() < 0.1 ? rng.uniform() * 0.5 : 0.0;  // an outlier in free space
+    out << x + (sensor[0] - x) * towards_sensor - sensor[0] << ' ' << u - sensor[1] << ' ' << z - sensor[2] << '\n';
+  }
+}
+
+}  // namespace
+
+TEST_CASE("ten SGBM settings of one pair (one truth, one pose file, default names) are one scene in compare") {
+  const fs::path dir = test::scratch("import_units_settings");
+  writeSmallGrids(dir);
+  std::ofstream(dir / "poses.txt") << "3 0 0 0 0 0 1\n-3 0 0 0 0 0 1\n";
+  std::ofstream(dir / "box.json") << R"({"boxes": [{"min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 1]}]})";
+  std::vector<fs::path> datasets;
+  for (int setting = 0; setting < 10; ++setting) {
+    const std::string n = std::to_string(setting);
+    writeBoxView(dir / ("a" + n + ".xyz"), {3, 0, 0}, 100 + std::uint64_t(setting));
+    writeBoxView(dir / ("b" + n + ".xyz"), {-3, 0, 0}, 200 + std::uint64_t(setting));
+    REQUIRE(test::runCli("import cloud " + (dir / ("a" + n + ".xyz")).string() + " " + (dir / ("b" + n + ".xyz")).string() +
+                         " --poses " + (dir / "poses.txt").string() + " --out " + (dir / ("scans" + n)).string())
+                .exit_code == 0);
+    datasets.push_back(dir / ("setting" + n));
+    REQUIRE(test::runCli("import truth " + (dir / "box.json").string() + " --dataset " + (dir / ("scans" + n)).string() +
+                         " --out " + datasets.back().string())
+                .exit_code == 0);
+  }
+  const std::string files = sweptResults(dir, datasets);
+  const auto r = test::runCli("compare" + files + " --json " + (dir / "units.json").string());
+  REQUIRE(r.exit_code == 0);
+  const std::string out = test::joinedLines(r.output);
+  // The old binary: "knn, optima: ...: n = 10 data sets; ...", as if the ten settings were ten recordings.
+  CHECK(out.find("n = 10 data sets") == std::string::npos);
+  CHECK(out.find("10 data sets over 1 scene") != std::string::npos);
+  CHECK(out.find("too few scenes to tell (n = 1") != std::string::npos);
+  const auto knn = nlohmann::json::parse(test::bytesOf(dir / "units.json")).at("statistics").at(1);
+  CHECK(knn.at("datasets") == 10);
+  CHECK(knn.at("scenes") == 1);
+  CHECK(knn.at("optima_over_datasets").at("per_dataset").size() == 1);
+
+  // Declared otherwise, each name is a unit, and every verdict names the declaration.
+  const auto named = test::runCli("compare" + files + " --units names");
+  REQUIRE(named.exit_code == 0);
+  const std::string named_out = test::joinedLines(named.output);
+  CHECK(named_out.find("n = 10 data sets") != std::string::npos);
+  CHECK(named_out.find("units declared by --units names") != std::string::npos);
+}
+
+TEST_CASE("six cuts of four depth frames of one room are one scene, joined by the frames they share") {
+  const fs::path dir = test::scratch("import_units_cuts");
+  writeSmallGrids(dir);
+  const fs::path join = kReal / "slambook_joinMap";
+  // Every pair of frames 1-4, each with a truth file of its own bytes (the same box): only the frames join them.
+  const std::vector<std::array<int, 2>> cuts = {{1, 2}, {2, 3}, {3, 4}, {1, 3}, {2, 4}, {1, 4}};
+  std::vector<fs::path> datasets;
+  for (std::size_t c = 0; c < cuts.size(); ++c) {
+    const auto [first, second] = cuts[c];
+    const std::string n = std::to_string(c);
+    auto frame = [&join](int i) { return (join / "depth" / std::to_string(i).append(".pgm")).string(); };
+    const std::string frames = std::string(" ").append(frame(first)).append(" ").append(frame(second));
+    REQUIRE(test::runCli("import depth" + frames + " --poses " + (join / "pose.txt").string() + " --pose-start " +
+                         std::to_string(first - 1) + " --pose-step " + std::to_string(second - first) +
+                         " --fx 518 --fy 519 --cx 325.5 --cy 253.5 --max-depth 7 --stride 8 --out " +
+                         (dir / ("frames" + n)).string())
+                .exit_code == 0);
+    std::ofstream(dir / ("box" + n + ".json")) << std::string(c, ' ')
+                                                << R"({"boxes": [{"min": [-1, -1, 0], "max": [1, 1, 2]}]})";
+    datasets.push_back(dir / ("cut" + n));
+    REQUIRE(test::runCli("import truth " + (dir / ("box" + n + ".json")).string() + " --dataset " +
+                         (dir / ("frames" + n)).string() + " --region -2 -2 -1 2 2 3 --out " + datasets.back().string())
+                .exit_code == 0);
+  }
+  const auto r = test::runCli("compare" + sweptResults(dir, datasets));
+  REQUIRE(r.exit_code == 0);
+  const std::string out = test::joinedLines(r.output);
+  CHECK(out.find("n = 6 data sets") == std::string::npos);  // the old binary's sample
+  CHECK(out.find("6 data sets over 1 scene") != std::string::npos);
+  CHECK(out.find("too few scenes to tell (n = 1") != std::string::npos);
+}
+
+TEST_CASE("import records the content hashes of its inputs, poses, truth and region in source.provenance") {
+  const fs::path dir = test::scratch("import_provenance");
+  std::ofstream(dir / "a.xyz") << "1 0 0\n";
+  std::ofstream(dir / "b.xyz") << "2 0 0\n";
+  std::ofstream(dir / "box.json") << R"({"boxes": [{"min": [0, -1, -1], "max": [3, 1, 1]}]})";
+  auto provenanceOf = [&](const std::string& args, const std::string& out) {
+    REQUIRE(test::runCli("import cloud " + args + " --out " + (dir / out).string()).exit_code == 0);
+    REQUIRE(test::runCli("import truth " + (dir / "box.json").string() + " --dataset " + (dir / out).string() +
+                         " --out " + (dir / (out + "-truth")).string())
+                .exit_code == 0);
+    return readDataset(dir / (out + "-truth")).source.at("provenance");
+  };
+  const auto a = provenanceOf((dir / "a.xyz").string(), "a"), b = provenanceOf((dir / "b.xyz").string(), "b");
+  const auto moved = provenanceOf((dir / "b.xyz").string() + " --origin 0 0 1", "moved");
+  Fnv1a bytes;
+  bytes.feed("1 0 0\n");
+  CHECK(a.at("inputs") == nlohmann::json::array({bytes.hex()}));  // the file's bytes, FNV-1a 64
+  CHECK(a.at("inputs") != b.at("inputs"));
+  CHECK(a.at("truth") == b.at("truth"));
+  CHECK(a.at("region") == b.at("region"));
+  CHECK(a.at("poses") == b.at("poses"));  // world-frame clouds from one origin: one recording's placement
+  CHECK(moved.at("poses") != b.at("poses"));
 }

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <map>
 #include <thread>
 #include <sstream>
 
@@ -57,6 +58,27 @@ TEST_CASE("Voronoi boxes give more valid target disparities than plain ones", "[
   };
   CHECK(valid("building-voronoi-T") > 0.95);
   CHECK(valid("building-plain-T") < valid("building-voronoi-T") - 0.05);
+}
+
+TEST_CASE("Two textures, seeds and SGBM settings of one layout share the scene, other geometry does not", "[stereo][cli]") {
+  // provenance.scene (docs/dataset-format.md, "Provenance"): compare counts the sets that share it as one scene.
+  const fs::path dir = test::scratch("stereo-gen-scene");
+  const std::vector<std::pair<std::string, std::string>> runs = {
+      {"plain", "--name building-plain-T --pcs 0"},
+      {"voronoi", "--name building-voronoi-T --pcs 800 --seed 3"},
+      {"parking", "--name parking-plain-T --pcs 0"},
+      {"lower", "--name building-plain-T --pcs 0 --box-height 0.47"}};
+  std::map<std::string, nlohmann::json> scene;
+  for (const auto& [label, args] : runs) {
+    REQUIRE(test::runCli(" dataset generate --no-preview --scale ci " + args + " --out " + (dir / label).string())
+                .exit_code == 0);
+    const std::string set = label == "voronoi" ? "pcs-0800" : "pcs-0000";
+    const fs::path folder = dir / label / args.substr(7, args.find(' ', 7) - 7) / set;
+    scene[label] = readDataset(folder).source.at("provenance").at("scene");
+  }
+  CHECK(scene["plain"] == scene["voronoi"]);
+  CHECK(scene["plain"] != scene["parking"]);
+  CHECK(scene["plain"] != scene["lower"]);
 }
 
 TEST_CASE("Bad arguments are refused with a clear message and no output", "[stereo][cli]") {

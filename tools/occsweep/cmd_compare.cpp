@@ -135,7 +135,7 @@ nlohmann::json rowNotes(const ComparisonRow& r, const std::vector<ResultsFile>& 
 // Each method's best map, and its improvement over the baseline (none for the baseline itself); null for a method
 // whose files hold no AUC (the row's notes say why).
 nlohmann::json rowJson(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
-                       const std::string& baseline, nlohmann::json notes) {
+                       const std::string& baseline, const std::string& unit, nlohmann::json notes) {
   nlohmann::json methods = nlohmann::json::object();
   for (const auto& [name, _] : r.files_of) methods[name] = nullptr;
   for (const auto& [name, best] : r.best_of) {
@@ -143,7 +143,7 @@ nlohmann::json rowJson(const ComparisonRow& r, const std::vector<ResultsFile>& i
     if (name != baseline) methods[name]["improvement_percent"] = finiteNumber(r.improvementPercent(name, baseline));
   }
   return {{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
-          {"methods", std::move(methods)}, {"notes", std::move(notes)}};
+          {"unit", unit}, {"methods", std::move(methods)}, {"notes", std::move(notes)}};
 }
 
 void printTruth(TruthMode truth) {
@@ -174,6 +174,7 @@ void checkOutputs(const CompareTask& o) {
 CompareStatisticsOptions statisticsOptions(const CompareTask& o) {
   CompareStatisticsOptions options = statisticsAgainst(o.baseline);
   options.rules = {o.alpha, o.smallest_effect};
+  options.units = o.units == "names" ? UnitRule::Names : UnitRule::Provenance;
   return options;
 }
 
@@ -189,7 +190,7 @@ std::vector<MethodStatistics> statisticsOf(const std::vector<ComparisonRow>& row
                     " (--baseline chooses another)");
     return {};
   }
-  for (const std::string& name : pooledDatasetNames(rows))
+  for (const std::string& name : pooledDatasetNames(rows, statisticsOptions(o).units))
     notes.push_back("sets of several contents are all named " + name + ": counted as one data set (the unit of the "
                     "verdicts); data sets of their own need names of their own (docs/statistics.md, Verdicts)");
   return compareStatistics(rows, in, statisticsOptions(o));
@@ -227,8 +228,10 @@ int runCompare(const CompareTask& o) {
   const std::vector<std::string> shown = shownMethods(in, o.baseline);
   nlohmann::json j = nlohmann::json::array();
   std::vector<std::string> notes;
-  for (const auto& r : rows)
-    j.push_back(rowJson(r, in, o.files, o.baseline, rowNotes(r, in, o.files, shown, o.baseline, notes)));
+  const SampleUnits units = sampleUnits(rows, statisticsOptions(o).units);  // each row's, for --json and --csv
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    j.push_back(rowJson(rows[i], in, o.files, o.baseline, units.of_row[i],
+                        rowNotes(rows[i], in, o.files, shown, o.baseline, notes)));
   // Before anything is printed: a --baseline that was not given is refused with no table above the error.
   const std::vector<MethodStatistics> statistics = statisticsOf(rows, in, o, notes);
   for (const auto& r : rows) printRow(r, in, o.files, shown, o.baseline);
@@ -237,7 +240,8 @@ int runCompare(const CompareTask& o) {
   printTruth(truth);
   std::vector<std::string> methods;
   for (const auto& s : statistics) methods.push_back(s.method);
-  const ComparisonTables tables{rows, in, o.files, methods, statistics, o.baseline, {o.alpha, o.smallest_effect}, mixed};
+  const ComparisonTables tables{rows,      in, o.files, methods, statistics, o.baseline, {o.alpha, o.smallest_effect},
+                                mixed, units.of_row};
   std::cout << statisticsText(tables);
   const nlohmann::json comparison = {{"format", "occsweep-comparison"}, {"files", o.files},
                                      {"allow_mixed", o.allow_mixed}, {"mixed", mixed}, {"truth", truthModeName(truth)},

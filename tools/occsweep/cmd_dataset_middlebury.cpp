@@ -9,6 +9,7 @@
 #include "option_checks.hpp"
 
 #ifdef OCCSWEEP_HAVE_STEREO
+#include "occsweep/eval/provenance.hpp"
 #include "occsweep/io/output_file.hpp"
 #include "occsweep/stereo/middlebury.hpp"
 #include "occsweep/stereo/pointcloud_grid.hpp"
@@ -43,6 +44,8 @@ SetWritten writeSet(const MiddleburyOptions& o, const stereo::MiddleburyPair& pa
   std::snprintf(folder, sizeof folder, "pcs-%04llu", static_cast<unsigned long long>(id));
   d.name = std::string("middlebury/") + folder;
   d.source["inputs"] = {{"left", o.left}, {"right", o.right}, {"ground_truth", o.gt}};
+  // The pair's bytes: every set of it is one recording, one unit of compare's tests (docs/statistics.md, Verdicts)
+  d.source["provenance"] = {{"inputs", fileContentHashes({o.left, o.right, o.gt})}};
   d.source["pointcloud_id"] = id;
   d.source["pointcloud_grid"] = {{"name", grid.name}, {"file_hash", grid.file_hash}, {"size", grid.size()}};
   const std::filesystem::path dir = std::filesystem::path(o.out) / folder;

@@ -16,6 +16,7 @@
 #include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/io/control_characters.hpp"
 #include "occsweep/eval/coordinates.hpp"
+#include "occsweep/eval/provenance.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_cloud.hpp"
 #include "occsweep/data/import_depth.hpp"
@@ -105,6 +106,22 @@ void printRegion(const AxisBox& r, const std::string& origin) {
     std::cout << "note: more than the limit of " << limits().region_voxels
               << " region voxels: map and sweep refuse it at this resolution (give --region, or "
                  "--max-region-voxels to them)\n";
+}
+
+// What the scans were made from, by content: compare counts data sets that share a recorded input, or truth and
+// poses, as one scene (docs/dataset-format.md, "Provenance"; docs/statistics.md, "Verdicts").
+void recordProvenance(Dataset& d, const ImportOptions& o) {
+  nlohmann::json provenance = {{"inputs", fileContentHashes(paths(o.files))}};
+  if (!o.poses.empty()) provenance["poses"] = fileContentHashes(paths(o.poses));
+  d.source["provenance"] = std::move(provenance);
+}
+
+// The truth and region added to the provenance the data set records (none when an older occsweep made it).
+void recordTruthProvenance(Dataset& d, const ImportOptions& o) {
+  nlohmann::json& provenance = d.source["provenance"];
+  provenance["truth"] = fileContentHashes(paths(o.files));
+  const nlohmann::json region = {d.region.min, d.region.max};
+  provenance["region"] = contentHash(region.dump());
 }
 
 int finish(Dataset d, const ImportOptions& o, const std::string& region_origin) {
@@ -279,6 +296,7 @@ int runImportDepth(const ImportOptions& o, const CLI::App& depth) {
   c.shift = shiftOf(o);
   Dataset d = importDepthSequence(paths(o.files), paths(o.poses), c);
   reportMedianDepth(d, c.depth_scale);
+  recordProvenance(d, o);
   shiftOrWarn(d, o, true);
   filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
@@ -287,6 +305,7 @@ int runImportDepth(const ImportOptions& o, const CLI::App& depth) {
 int runImportGraph(const ImportOptions& o) {
   if (o.files.size() != 1) throw std::invalid_argument("give exactly one .graph file");
   Dataset d = importScanGraph(o.files[0], o.skip_empty);
+  recordProvenance(d, o);
   shiftOrWarn(d, o);
   filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
@@ -303,6 +322,9 @@ int runImportCloud(const ImportOptions& o, const CLI::App& cloud) {
   cc.view = coneOfFlags(o);
   cc.shift = shiftOf(o);
   Dataset d = importClouds(paths(o.files), cc);
+  recordProvenance(d, o);
+  if (o.poses.empty())  // clouds in the world frame: --origin is where the sensor was, the poses of the recording
+    d.source["provenance"]["poses"] = nlohmann::json::array({contentHash(nlohmann::json(o.origin).dump())});
   shiftOrWarn(d, o, true);
   filterIfAsked(d, o);
   return finish(std::move(d), o, kPointsBox);
@@ -342,6 +364,7 @@ int runImportTruth(const ImportOptions& o) {
     region_origin = "--region";
   }
   d.source["truth"] = o.files;
+  recordTruthProvenance(d, o);
   ImportOptions named = o;
   if (named.name.empty()) named.name = d.name;  // the data set keeps its name unless --name
   return finish(std::move(d), named, region_origin);

@@ -48,6 +48,14 @@ std::string testText(const DatasetComparison& c) {
   return cell(c.test->p_value, "%.3g") + " (Holm " + cell(c.holm_p, "%.3g") + ")";
 }
 
+// "60 (20)": sets and data sets; "60 (20 over 10 scenes)" where provenance grouped the data sets into scenes.
+std::string sampleCell(const MethodStatistics& s) {
+  const bool scenes = s.optima.unit_name != "data sets";
+  return std::to_string(s.sets) + " (" + std::to_string(s.datasets) +
+         (scenes ? " over " + std::to_string(s.scenes) + (s.scenes == 1 ? " scene" : " " + s.optima.unit_name) : "") +
+         ")";
+}
+
 // The verdicts over data sets (docs/statistics.md, "Verdicts"); the per-set interval stays as description.
 Cells statisticsCells(const std::vector<MethodStatistics>& statistics, const std::string& baseline) {
   Cells c{{"method", "sets (data sets)", "better/worse/tie", "holds " + baseline + "'s best",
@@ -57,7 +65,7 @@ Cells statisticsCells(const std::vector<MethodStatistics>& statistics, const std
            "budget: expected best (vs " + baseline + "'s best)", "verdict (optima)", "verdict (cross-validated)"}};
   for (const MethodStatistics& s : statistics) {
     const bool base = s.is_baseline;
-    c.push_back({s.method, std::to_string(s.sets) + " (" + std::to_string(s.datasets) + ")",
+    c.push_back({s.method, sampleCell(s),
                  base ? "-" : std::to_string(s.better) + "/" + std::to_string(s.worse) + "/" + std::to_string(s.ties),
                  base ? "-" : std::to_string(s.sets_holding_baseline_best) + " of " + std::to_string(s.sets),
                  intervalText(s.improvement_percent), intervalText(s.optima.interval), base ? "-" : testText(s.optima),
@@ -88,7 +96,9 @@ std::vector<std::string> verdictBases(const std::vector<MethodStatistics>& stati
   for (const MethodStatistics& s : statistics) {
     if (s.is_baseline) continue;
     for (const auto& [what, c] : {std::pair<const char*, const DatasetComparison&>{"optima", s.optima},
-                                  {"cross-validated by data set", s.cross_validated}})
+                                  {s.cross_validated.unit_name == "scenes" ? "cross-validated by scene"
+                                                                           : "cross-validated by data set",
+                                   s.cross_validated}})
       lines.push_back(s.method + ", " + what + ": " + c.verdict.text +
                       (c.verdict.basis.empty() ? "" : ": " + c.verdict.basis));
     if (s.sets_holding_baseline_best) lines.push_back(nestingText(s));
@@ -308,7 +318,8 @@ std::string statisticsText(const ComparisonTables& t) {
   }
   const std::vector<std::string> bases = verdictBases(t.statistics);
   if (!bases.empty())
-    o << "verdicts over data sets (exact test after Holm's correction, interval, smallest effect):\n";
+    o << "verdicts over " << t.statistics.front().optima.unit_name
+      << " (exact test after Holm's correction, interval, smallest effect):\n";
   for (const std::string& line : bases) {
     const std::string lines = wrappedLines(line, 4, kTerminalColumns);
     if (!lines.empty()) o << "  " << lines.substr(4);  // the first line 2 in, the rest 4
@@ -368,6 +379,7 @@ std::string csvTable(const ComparisonTables& t) {
   // Columns: every method's, and every parameter any of its best maps has.
   std::vector<std::string> header{"dataset", "point_cloud_set", "dataset_hash"};
   if (!t.mixed.empty()) header.push_back("mixed_settings");  // every row: compared with --allow-mixed
+  header.push_back("unit");
   std::vector<std::pair<std::string, std::vector<std::string>>> columns;  // method, its parameters
   for (const std::string& m : t.methods) {
     std::vector<std::string> params;
@@ -386,6 +398,7 @@ std::string csvTable(const ComparisonTables& t) {
   for (const ComparisonRow& row : t.rows) {
     o << csvField(row.dataset) << ',' << csvField(row.point_cloud_set) << ',' << csvField(row.dataset_hash);
     if (!t.mixed.empty()) o << ",yes";
+    o << ',' << csvField(t.units[std::size_t(&row - t.rows.data())]);
     for (const auto& [m, params] : columns) {
       const auto best = row.best(m);
       const bool base = m == t.baseline;
@@ -426,7 +439,8 @@ std::string latexTables(const ComparisonTables& t) {
   if (t.statistics.empty()) return out;
   const stats::VerdictRules& rules = t.rules;
   out += latexStatistics(withDisplayNames(statisticsCells(t.statistics, t.baseline), t.methods, 0),
-               mixedNote(t) + "Statistics against " + displayNameOf(t.baseline) + ", the data set as the unit. Verdicts: gain or "
+               mixedNote(t) + "Statistics against " + displayNameOf(t.baseline) + ", the " +
+               (t.statistics.front().optima.unit_name == "scenes" ? "scene" : "data set") + " as the unit. Verdicts: gain or "
                "loss only when the 95% BCa interval excludes 0 and the exact test (Wilcoxon signed-rank, or the sign "
                "test on ties) rejects at alpha " + cell(rules.alpha, "%g") + " after Holm's correction over the "
                "methods compared, leaning the interval's way; negligible when the sign test puts the median, and the "

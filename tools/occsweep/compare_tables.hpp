@@ -24,6 +24,8 @@ struct ComparisonTables {
   /// What differs between the files compared with --allow-mixed (mixedSettings); empty otherwise. Every table then
   /// says so: a CSV column, and the tables' captions.
   std::vector<std::string> mixed{};
+  /// Each row's unit of the tests (SampleUnits::of_row): the CSV's `unit` column.
+  std::vector<std::string> units{};
 };
 
 /// The results files compare and plot read: only complete files that pass every check of `results check`

@@ -84,6 +84,7 @@ std::vector<std::string> taskArgv(const CompareTask& c) {
   if (c.alpha != CompareTask{}.alpha) argv.insert(argv.end(), {"--alpha", exactNumber(c.alpha)});
   if (c.smallest_effect != CompareTask{}.smallest_effect)
     argv.insert(argv.end(), {"--smallest-effect", exactNumber(c.smallest_effect)});
+  if (c.units != CompareTask{}.units) argv.insert(argv.end(), {"--units", value(c.units, "--units")});
   return argv;
 }
 

@@ -38,6 +38,7 @@ std::vector<ComparisonRow> compareBest(const std::vector<ResultsFile>& files) {
       row.dataset = h.dataset_name;
       row.dataset_hash = h.dataset_hash;
       row.point_cloud_set = pointCloudSetOf(h);
+      row.provenance = h.point_cloud_set.value("provenance", nlohmann::json());
     }
     row.files_of[h.method].push_back(i);
     std::optional<BestMap> best = row.best(h.method);

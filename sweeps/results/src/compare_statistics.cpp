@@ -26,27 +26,6 @@ std::optional<std::vector<double>> mapAucs(const ResultsFile& f) {
   return out;
 }
 
-// The data set each row's point cloud set belongs to, the statistics' unit (docs/statistics.md, "Verdicts"):
-// generated sets are named DATASET/pcs-NNNN (docs/datasets.md) and share DATASET; any other name is the data set.
-// Rows of one unit and different contents are pooled, and pooledDatasetNames names them: a content hash cannot
-// tell a second recording from the same scans under another region or truth, so the names decide.
-bool isPointCloudSetName(const std::string& name, std::size_t slash) {
-  const std::string tail = name.substr(slash + 1);
-  return tail.size() > 4 && tail.compare(0, 4, "pcs-") == 0 &&
-         std::all_of(tail.begin() + 4, tail.end(), [](char c) { return c >= '0' && c <= '9'; });
-}
-
-std::string datasetOf(const std::string& name) {
-  const std::size_t slash = name.rfind('/');
-  return slash != std::string::npos && isPointCloudSetName(name, slash) ? name.substr(0, slash) : name;
-}
-
-std::vector<std::string> datasetUnits(const std::vector<ComparisonRow>& rows) {
-  std::vector<std::string> units;
-  for (const ComparisonRow& row : rows) units.push_back(datasetOf(row.dataset));
-  return units;
-}
-
 // One method's AUC table: per set with a best map, every map's AUC; all sets must come from one grid.
 struct AucTable {
   std::vector<std::vector<double>> per_set;
@@ -56,10 +35,9 @@ struct AucTable {
 };
 
 AucTable aucTable(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& files,
-                  const std::string& method) {
+                  const std::string& method, const std::vector<std::string>& units) {
   AucTable t;
   std::set<std::string> grids;
-  const std::vector<std::string> units = datasetUnits(rows);
   for (const ComparisonRow& row : rows) {
     const std::optional<BestMap> best = row.best(method);
     if (!best) continue;
@@ -136,10 +114,11 @@ BudgetSummary budgetSummary(const AucTable& t, std::size_t budget, double baseli
   return b;
 }
 
-// The same sets of a method and of the baseline, paired: their AUCs (per-set optima) and data sets.
+// The same sets of a method and of the baseline, paired: their AUCs (per-set optima), units and data sets.
 struct PairedSets {
   std::vector<double> method, baseline;
-  std::vector<std::string> dataset;
+  std::vector<std::string> dataset;  ///< the unit (scene) of each set
+  std::set<std::string> datasets;    ///< the data sets, by unit and name
 };
 
 // Sorted first, so that the interval depends on the values and the seed, not on the order the files were given in.
@@ -166,15 +145,13 @@ PerDataset perDatasetMeans(const std::vector<double>& values, const std::vector<
   return out;
 }
 
-// A comparison over data sets, up to Holm's correction (applied over the family by holmAndDecide).
-DatasetComparison overDatasets(PerDataset per_dataset, const CompareStatisticsOptions& o) {
-  DatasetComparison c;
+// A comparison over data sets (or scenes), up to Holm's correction (applied over the family by holmAndDecide).
+void overDatasets(PerDataset per_dataset, const CompareStatisticsOptions& o, DatasetComparison& c) {
   c.datasets = std::move(per_dataset.names);
   c.per_dataset = std::move(per_dataset.values);
   c.interval = meanInterval(c.per_dataset, o);
   if (std::any_of(c.per_dataset.begin(), c.per_dataset.end(), [](double v) { return v != 0.0; }))
     c.test = stats::exactPairedTest(c.per_dataset);
-  return c;
 }
 
 // The paired description over sets, and the comparison of the optima over data sets.
@@ -188,13 +165,12 @@ void pairedTests(const PairedSets& p, const CompareStatisticsOptions& o, MethodS
     (d > 0 ? s.better : (d < 0 ? s.worse : s.ties))++;
   }
   s.sets = differences.size();
-  s.datasets = std::set<std::string>(p.dataset.begin(), p.dataset.end()).size();
   if (differences.empty()) return;
   s.effect = stats::pairedEffectSize(differences);
   s.sign = stats::signTest(differences);
   if (s.better + s.worse > 0) s.wilcoxon = stats::wilcoxonSignedRank(differences);
   s.improvement_percent = meanInterval(improvement, o);
-  s.optima = overDatasets(perDatasetMeans(improvement, dataset), o);
+  overDatasets(perDatasetMeans(improvement, dataset), o, s.optima);
 }
 
 // Per held-out group, the method's cross-validated score against the baseline's, in percent of the baseline's
@@ -226,12 +202,12 @@ bool crossValidatable(const AucTable& mine, const AucTable& base) {
          rectangular(base.per_set);
 }
 
-// Leave one data set out (the verdict's basis) and leave one set out (optimistic: siblings share a scene).
+// Leave one unit (scene) out (the verdict's basis) and leave one set out (optimistic: siblings share a scene).
 void crossValidatedImprovements(const AucTable& mine, const AucTable& base, const CompareStatisticsOptions& o,
                                 MethodStatistics& s) {
-  if (s.datasets < 2) {
-    s.cross_validated.not_computed = "too few data sets to tell (n = " + std::to_string(s.datasets) +
-                                     "; holding one out needs at least 2)";
+  if (s.scenes < 2) {
+    s.cross_validated.not_computed = "too few " + s.cross_validated.unit_name + " to tell (n = " +
+                                     std::to_string(s.scenes) + "; holding one out needs at least 2)";
     return;
   }
   if (!crossValidatable(mine, base)) {
@@ -239,7 +215,7 @@ void crossValidatedImprovements(const AucTable& mine, const AucTable& base, cons
     return;
   }
   s.leave_one_set_out_improvement = meanInterval(heldOutImprovement(mine.per_set, base.per_set, {}).values, o);
-  s.cross_validated = overDatasets(heldOutImprovement(perDataset(mine), perDataset(base), datasetOrder(mine)), o);
+  overDatasets(heldOutImprovement(perDataset(mine), perDataset(base), datasetOrder(mine)), o, s.cross_validated);
 }
 
 // Holm's correction over the family of comparisons with the baseline (one p-value each; 1 where there is no
@@ -257,13 +233,14 @@ void holmAndDecide(std::vector<DatasetComparison*> family, const CompareStatisti
     c.holm_p = adjusted[i];
     c.family = family.size();
     if (!c.not_computed.empty()) {
-      c.verdict = {stats::VerdictKind::NotComputed, std::nullopt, c.not_computed, ""};
+      c.verdict = {stats::VerdictKind::NotComputed, std::nullopt, c.not_computed, c.sample};
       continue;
     }
-    stats::VerdictEvidence e{c.per_dataset, "data sets", "%", c.interval, o.level, c.test, c.holm_p, c.family,
+    stats::VerdictEvidence e{c.per_dataset, c.unit_name, "%", c.interval, o.level, c.test, c.holm_p, c.family,
                              stats::smallestPossibleHolmP(smallest_p, i),
                              stats::smallestPossibleHolmP(smallest_p_of_units, i)};
     c.verdict = stats::decideVerdict(e, o.rules);
+    c.verdict.basis += "; " + c.sample;  // which units, counted how: every verdict names it
   }
 }
 
@@ -292,24 +269,41 @@ std::size_t setsHoldingBaselineBest(const std::vector<ComparisonRow>& rows, cons
   return n;
 }
 
+// The sets where both the method and the baseline have a best map, paired, with their units and data sets.
+PairedSets pairedSets(const std::vector<ComparisonRow>& rows, const std::string& method, const std::string& baseline,
+                      const SampleUnits& units) {
+  PairedSets paired;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const auto m = rows[r].best(method), b = rows[r].best(baseline);
+    if (!m || !b) continue;
+    paired.method.push_back(m->auc), paired.baseline.push_back(b->auc), paired.dataset.push_back(units.of_row[r]);
+    paired.datasets.insert(units.of_row[r] + '\n' + datasetOf(rows[r].dataset));
+  }
+  return paired;
+}
+
+// How the units were found and counted, on both comparisons (docs/statistics.md, "Verdicts").
+void nameSample(const SampleUnits& units, MethodStatistics& s) {
+  for (DatasetComparison* c : {&s.optima, &s.cross_validated})
+    c->unit_name = units.noun, c->sample = sampleText(units, s.datasets, s.scenes);
+}
+
 // One method's statistics against the baseline, up to Holm's correction over the methods.
 MethodStatistics methodStatistics(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& files,
                                   const std::string& method, const AucTable& baseline_table, std::size_t budget,
-                                  const CompareStatisticsOptions& o) {
+                                  const CompareStatisticsOptions& o, const SampleUnits& units) {
   MethodStatistics s;
   s.method = method;
   s.is_baseline = method == o.baseline;
-  PairedSets paired;
+  const PairedSets paired = pairedSets(rows, method, o.baseline, units);
+  s.datasets = paired.datasets.size();
+  s.scenes = std::set<std::string>(paired.dataset.begin(), paired.dataset.end()).size();
   std::vector<double> bests;
-  const std::vector<std::string> units = datasetUnits(rows);
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    const auto m = rows[r].best(method), b = rows[r].best(o.baseline);
-    if (m) bests.push_back(m->auc);
-    if (m && b) paired.method.push_back(m->auc), paired.baseline.push_back(b->auc), paired.dataset.push_back(units[r]);
-  }
+  for (const ComparisonRow& row : rows)
+    if (const auto m = row.best(method)) bests.push_back(m->auc);
   const std::vector<double>& theirs = paired.baseline;
   s.mean_best_auc = bests.empty() ? NAN : std::accumulate(bests.begin(), bests.end(), 0.0) / double(bests.size());
-  const AucTable table = aucTable(rows, files, method);
+  const AucTable table = aucTable(rows, files, method, units.of_row);
   if (table.one_grid) {
     s.leave_one_set_out = crossValidated(table.per_set);
     s.leave_one_dataset_out = crossValidated(perDataset(table));
@@ -320,9 +314,10 @@ MethodStatistics methodStatistics(const std::vector<ComparisonRow>& rows, const 
   s.budget = budgetSummary(table, budget, baseline_best, o.budget_max_maps);
   if (s.is_baseline) {
     s.sets = bests.size();
-    s.datasets = std::set<std::string>(paired.dataset.begin(), paired.dataset.end()).size();
+    nameSample(units, s);
     return s;
   }
+  nameSample(units, s);
   pairedTests(paired, o, s);
   crossValidatedImprovements(table, baseline_table, o, s);
   s.sets_holding_baseline_best = setsHoldingBaselineBest(rows, files, method, o.baseline);
@@ -333,16 +328,20 @@ MethodStatistics methodStatistics(const std::vector<ComparisonRow>& rows, const 
 
 std::vector<double> meanBudgetCurve(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& files,
                                     const std::string& method, std::size_t max_maps) {
-  return meanCurve(aucTable(rows, files, method), max_maps);
+  return meanCurve(aucTable(rows, files, method, sampleUnits(rows, UnitRule::Names).of_row), max_maps);
 }
 
-std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows) {
+std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows, UnitRule rule) {
+  const SampleUnits sample = sampleUnits(rows, rule);
   struct Unit {
     std::set<std::string> whole_contents;  ///< hashes of rows named the unit itself (no pcs-NNNN part)
     bool has_sets = false;                 ///< rows named UNIT/pcs-NNNN
   };
   std::map<std::string, Unit> units;
+  const auto& by_name = sample.without_provenance;
   for (const ComparisonRow& row : rows) {
+    if (sample.noun != "data sets" && !std::binary_search(by_name.begin(), by_name.end(), datasetOf(row.dataset)))
+      continue;  // its provenance, not its name, decides its unit
     Unit& u = units[datasetOf(row.dataset)];
     if (datasetOf(row.dataset) == row.dataset) u.whole_contents.insert(row.dataset_hash);
     else u.has_sets = true;
@@ -364,12 +363,13 @@ std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>
     throw std::invalid_argument("baseline " + o.baseline + ": no results of this method given (methods: " + given + ")");
   }
   std::rotate(methods.begin(), base, base + 1);  // the baseline first
-  const AucTable baseline_table = aucTable(rows, files, o.baseline);
+  const SampleUnits units = sampleUnits(rows, o.units);
+  const AucTable baseline_table = aucTable(rows, files, o.baseline, units.of_row);
   const std::size_t budget = baseline_table.one_grid && !baseline_table.per_set.empty()
                                  ? baseline_table.per_set.front().size() : 0;
   std::vector<MethodStatistics> out;
   for (const std::string& method : methods)
-    out.push_back(methodStatistics(rows, files, method, baseline_table, budget, o));
+    out.push_back(methodStatistics(rows, files, method, baseline_table, budget, o, units));
   std::vector<DatasetComparison*> optima, cross_validated;
   for (MethodStatistics& s : out)
     if (!s.is_baseline) optima.push_back(&s.optima), cross_validated.push_back(&s.cross_validated);
@@ -406,7 +406,7 @@ nlohmann::json datasetComparisonJson(const DatasetComparison& c, const CompareSt
   nlohmann::json per_dataset = nlohmann::json::array();
   for (std::size_t i = 0; i < c.per_dataset.size(); ++i)
     per_dataset.push_back({{"dataset", c.datasets[i]}, {"improvement_percent", finiteNumber(c.per_dataset[i])}});
-  return {{"datasets", c.per_dataset.size()}, {"per_dataset", per_dataset},
+  return {{"datasets", c.per_dataset.size()}, {"unit", c.unit_name}, {"sample", c.sample}, {"per_dataset", per_dataset},
           {"improvement_percent", intervalJson(c.interval, o)}, {"test", test}, {"equivalence", equivalence},
           {"alpha", o.rules.alpha}, {"smallest_effect_percent", o.rules.smallest_effect},
           {"verdict", c.verdict.text}, {"basis", c.verdict.basis}};
@@ -443,6 +443,7 @@ nlohmann::json toJson(const std::vector<MethodStatistics>& statistics, const Com
   nlohmann::json out = nlohmann::json::array();
   for (const MethodStatistics& s : statistics) {
     nlohmann::json j = {{"method", s.method}, {"baseline", s.is_baseline}, {"sets", s.sets}, {"datasets", s.datasets},
+                        {"scenes", s.scenes},
                         {"mean_best_auc", finiteNumber(s.mean_best_auc)},
                         {"leave_one_set_out", crossValidatedJson(s.leave_one_set_out)},
                         {"leave_one_dataset_out", crossValidatedJson(s.leave_one_dataset_out)}, {"verdict", "baseline"}};

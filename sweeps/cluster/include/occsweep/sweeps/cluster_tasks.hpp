@@ -28,6 +28,7 @@ struct CompareTask {
   std::string csv, markdown, latex;  ///< the table in these formats too; empty: none
   double alpha = 0.05;               ///< of the verdicts, after Holm's correction (docs/statistics.md, "Verdicts")
   double smallest_effect = 0.1;      ///< percent of the baseline's AUC: an interval within +-this is negligible
+  std::string units = "provenance";  ///< the unit of the tests: "provenance" (scenes) or "names" (declared)
   friend bool operator==(const CompareTask&, const CompareTask&) = default;
 };
 

@@ -23,6 +23,8 @@ struct BestMap {
 /// One data set and point cloud set: the best map of each method.
 struct ComparisonRow {
   std::string dataset, point_cloud_set, dataset_hash;
+  /// What the data set was made from (its source's `provenance`, docs/dataset-format.md); null when not recorded.
+  nlohmann::json provenance;
   /// Each method's best map, by method name; a method whose files hold no AUC has none.
   std::map<std::string, BestMap> best_of;
   /// Each method's files given for this row (indices into compareBest's input), by method name.

@@ -1,6 +1,6 @@
-// Whether a method's gain over a baseline is real (docs/statistics.md): the verdict over data sets (the unit of the
-// tests, since point cloud sets of one data set share a scene) by the rules of "Verdicts", of the per-set optima
-// and cross-validated by data set; the per-set interval, tests and effect size as description; per method, its
+// Whether a method's gain over a baseline is real (docs/statistics.md): the verdict over scenes (the unit of the
+// tests: data sets that share a recording or a scene, compare_units.hpp) by the rules of "Verdicts", of the per-set
+// optima and cross-validated by scene; the per-set interval, tests and effect size as description; per method, its
 // cross-validated scores and its budget curve (the expected best of n maps of its grid), so a bigger grid is not
 // mistaken for a better method.
 #pragma once
@@ -20,6 +20,7 @@
 #include "occsweep/stats/verdict.hpp"
 #include "occsweep/stats/wilcoxon.hpp"
 #include "occsweep/sweeps/compare.hpp"
+#include "occsweep/sweeps/compare_units.hpp"
 
 namespace occsweep {
 
@@ -30,6 +31,7 @@ struct CompareStatisticsOptions {
   std::uint64_t seed = 1;            ///< bootstrap seed: the same files give the same interval
   std::size_t budget_max_maps = 20000;  ///< budget curves cost O(maps^2) per set: none for larger grids
   stats::VerdictRules rules;         ///< alpha (after Holm) and the smallest effect of interest, in percent
+  UnitRule units = UnitRule::Provenance;  ///< what one unit of the tests is (`compare --units`)
 };
 
 /// The default options against `baseline`.
@@ -55,18 +57,20 @@ struct BudgetSummary {
   std::optional<std::size_t> first_above_baseline;  ///< none: never, even with the whole grid
 };
 
-/// One comparison with the baseline whose unit is the data set (docs/statistics.md, "Verdicts"): each data set's
-/// improvement in percent of the baseline's AUC (the mean over its point cloud sets, which share a scene), their
+/// One comparison with the baseline whose unit is the scene, or the data set (docs/statistics.md, "Verdicts"): each
+/// unit's improvement in percent of the baseline's AUC (the mean over its sets, which share a scene), their
 /// bootstrap interval, the exact paired test, its p-value after Holm's correction over the methods compared with
 /// the baseline, and the verdict these give.
 struct DatasetComparison {
-  std::vector<std::string> datasets;  ///< the data sets' names, in the order of per_dataset
-  std::vector<double> per_dataset;  ///< improvement %, one per data set
+  std::vector<std::string> datasets;  ///< the units' names (SampleUnits::of_row), in the order of per_dataset
+  std::vector<double> per_dataset;  ///< improvement %, one per unit
   std::optional<stats::BootstrapInterval> interval;  ///< none below 2 data sets
   std::optional<stats::ExactPairedTest> test;        ///< none when every data set's difference is 0
   double holm_p = 1.0;
   std::size_t family = 0;           ///< the comparisons Holm's correction ran over
   std::string not_computed;         ///< why there is no evidence (then the verdict says so); empty when there is
+  std::string unit_name = "data sets";  ///< what one value is: "scenes" where provenance grouped data sets
+  std::string sample;               ///< "20 data sets over 10 scenes (how the units were found)": in the basis
   stats::Verdict verdict;
 };
 
@@ -76,6 +80,7 @@ struct MethodStatistics {
   bool is_baseline = false;
   std::size_t sets = 0;              ///< sets with an AUC of this method (and, but for the baseline, of the baseline)
   std::size_t datasets = 0;          ///< the data sets those sets belong to
+  std::size_t scenes = 0;            ///< the units of the tests those data sets form (compare_units.hpp)
   double mean_best_auc = 0.0;        ///< mean per-set optimum (the paper's number)
   CrossValidated leave_one_set_out, leave_one_dataset_out;
   BudgetSummary budget;
@@ -106,10 +111,11 @@ struct MethodStatistics {
                                                   const std::vector<ResultsFile>& files, const std::string& method,
                                                   std::size_t max_maps = CompareStatisticsOptions{}.budget_max_maps);
 
-/// Data sets the statistics pool from rows of several contents: a name without a DATASET/pcs-NNNN set part shared
-/// by rows of different contents, or given both alone and with sets (docs/statistics.md, "Verdicts"); compare notes
-/// them.
-[[nodiscard]] std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows);
+/// Data sets the statistics pool by name from rows of several contents: a name without a DATASET/pcs-NNNN set part
+/// shared by rows of different contents, or given both alone and with sets (docs/statistics.md, "Verdicts"), among
+/// the rows whose unit their name decides under `rule`; compare notes them.
+[[nodiscard]] std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows,
+                                                        UnitRule rule = UnitRule::Provenance);
 
 /// Every method's statistics, the baseline's first. Throws std::invalid_argument naming the baseline and the
 /// methods given when no file of the baseline was given.
