@@ -98,16 +98,22 @@ TruthMode parseTruthMode(const std::string& name) { return kTruthModeNames.parse
 
 octomap::KeySet observableTruthVoxels(const GroundTruth& truth, const std::vector<Viewpoint>& viewpoints,
                                       double s_c) {
-  octomap::KeySet seen;
+  const std::vector<octomap::OcTreeKey> all(truth.occupied.begin(), truth.occupied.end());
+  const std::vector<octomap::OcTreeKey> seen = observableAmong(truth, all, viewpoints, s_c);
+  return {seen.begin(), seen.end()};
+}
+
+std::vector<octomap::OcTreeKey> observableAmong(const GroundTruth& truth,
+                                                const std::vector<octomap::OcTreeKey>& candidates,
+                                                const std::vector<Viewpoint>& viewpoints, double s_c) {
+  std::vector<octomap::OcTreeKey> seen;
   if (truth.occupied.empty()) return seen;
   const octomap::OcTree grid(truth.resolution);
   const TruthMask mask(truth.occupied);
-  for (const auto& key : truth.occupied)
-    for (const auto& from : viewpoints)
-      if (seenFrom(grid, mask, from, key, s_c)) {
-        seen.insert(key);
-        break;
-      }
+  for (const auto& key : candidates)
+    if (std::any_of(viewpoints.begin(), viewpoints.end(),
+                    [&](const Viewpoint& from) { return seenFrom(grid, mask, from, key, s_c); }))
+      seen.push_back(key);
   return seen;
 }
 

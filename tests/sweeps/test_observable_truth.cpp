@@ -13,6 +13,7 @@
 #include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/observable_truth.hpp"
+#include "occsweep/eval/truth_coverage.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 #include "test_helpers.hpp"
 
@@ -170,6 +171,54 @@ TEST_CASE("observable truth equals the computeRayKeys oracle on 60 random scenes
   }
   CHECK(seen_total > 100);
   CHECK(hidden_total > 100);
+}
+
+// The median of every region point's distance to its nearest truth voxel centre, over all centres (capped as the
+// search is), written from the definition: no shells, no sample.
+double oracleMedianDistance(const GroundTruth& truth, const PointCloudSet& scans) {
+  const octomap::OcTree tree(truth.resolution);
+  std::vector<double> d;
+  for (const Scan& scan : scans)
+    for (const point3d& p : scan.points) {
+      if (!truth.inRegion(tree.coordToKey(p))) continue;
+      double best = (kPointSearchVoxels + 0.5) * truth.resolution;
+      for (const auto& key : truth.occupied) best = std::min(best, double((tree.keyToCoord(key) - p).norm()));
+      d.push_back(best);
+    }
+  std::sort(d.begin(), d.end());
+  return d.size() % 2 ? d[d.size() / 2] : (d[d.size() / 2 - 1] + d[d.size() / 2]) / 2;
+}
+
+TEST_CASE("truth coverage: the observable share is the oracle's and the median distance a brute-force search's") {
+  for (std::uint64_t seed = 1; seed <= 30; ++seed) {
+    SplitMix64 rng(seed);
+    const GroundTruth truth = truthOfBoxes({{{-0.42, -0.38, -0.12}, {0.18 + rng.uniform(), 0.32, 0.48}},
+                                            {{1.02, -1.18, 0.02}, {1.48, -0.52 + rng.uniform(), 1.28}}});
+    PointCloudSet scans;
+    for (std::size_t s = 0, n = 1 + rng.below(3); s < n; ++s) {
+      Scan& scan = scans.emplace_back();
+      scan.origin = point3d(float(-0.9 + 3.5 * rng.uniform()), float(-1.5 + 3.0 * rng.uniform()), 1.5f);
+      // Points near the first box, and anywhere (up to 2 m from a box: past the search's bound; some outside the
+      // region).
+      for (std::size_t i = 0; i < 300; ++i)
+        scan.points.emplace_back(i % 3 ? point3d(float(-0.6 + rng.uniform()), float(-0.6 + rng.uniform()),
+                                                 float(-0.3 + rng.uniform()))
+                                       : point3d(float(-1.5 + 6.0 * rng.uniform()), float(-2.5 + 5.0 * rng.uniform()),
+                                                 float(-0.2 + 1.5 * rng.uniform())));
+    }
+    const double s_c = 0.5 + 3.0 * rng.uniform();
+    INFO("seed " << seed << ", " << truth.occupied.size() << " truth voxels");
+    const TruthCoverage c = measureTruthCoverage(truth, scans, s_c);
+    REQUIRE(c.sampled_truth == truth.occupied.size());  // fewer than the sample: all tested
+    std::vector<point3d> origins;
+    for (const Scan& scan : scans) origins.push_back(scan.origin);
+    CHECK(c.observable_sampled == oracleObservable(truth, origins, s_c).size());
+    CHECK(c.points == pointCount(scans));
+    CHECK(c.sampled_points == c.points_in_region);
+    CHECK(c.points_in_region < c.points);
+    CHECK(c.median_point_distance == Approx(oracleMedianDistance(truth, scans)).margin(1e-9));
+    CHECK(c.median_point_distance < kPointSearchVoxels * kResolution);  // a median the search found, not its bound
+  }
 }
 
 TEST_CASE("unobservable voxels leave the evaluation: neither positive nor negative") {

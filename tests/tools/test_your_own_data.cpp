@@ -56,6 +56,15 @@ Pose orbitPose(double f) {
   return {{x[0], y[0], z[0], x[1], y[1], z[1], x[2], y[2], z[2]}, eye};
 }
 
+// The same pose world to camera: what a pose file in the other convention holds ([R^T | -R^T t]).
+Pose inverted(const Pose& p) {
+  Pose q{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) q.r[i * 3 + j] = p.r[j * 3 + i];
+  for (int i = 0; i < 3; ++i) q.t[i] = -(q.r[i * 3] * p.t[0] + q.r[i * 3 + 1] * p.t[1] + q.r[i * 3 + 2] * p.t[2]);
+  return q;
+}
+
 // Depth along the optical axis to the nearest box, by the slab method; none when the ray misses.
 std::optional<double> depthAt(const Pose& p, const Camera& c, int u, int v) {
   const std::array<double, 3> d_cam{(u - c.cx) / c.fx, (v - c.cy) / c.fy, 1.0};
@@ -146,8 +155,23 @@ void writeMesh(const fs::path& file) {
   for (const auto& f : faces) out << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
 }
 
-// A recording in `layout` under `rec`, four frames, with the camera the page's command gives for it.
-void writeRecording(const std::string& layout, const fs::path& rec) {
+// The walls of a 9.9 m square room around the scene, 3 m high: truth that no frame sees (beyond s_c = 4 m, or
+// outside the images). They stand on voxel centres, not on the faces between voxels.
+void writeRoomWalls(const fs::path& file) {
+  std::ofstream out(file);
+  out << "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+      << "element face 8\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::array<std::array<double, 2>, 4> corners{{{-4.95, -4.95}, {4.95, -4.95}, {4.95, 4.95}, {-4.95, 4.95}}};
+  for (const double z : {0, 3})
+    for (const auto& c : corners) out << c[0] << ' ' << c[1] << ' ' << z << '\n';
+  for (int w = 0; w < 4; ++w)
+    out << "3 " << w << ' ' << (w + 1) % 4 << ' ' << 4 + (w + 1) % 4 << "\n3 " << w << ' ' << 4 + (w + 1) % 4 << ' '
+        << 4 + w << '\n';
+}
+
+// A recording in `layout` under `rec`, four frames, with the camera the page's command gives for it; 3DMatch's pose
+// files hold world-to-camera poses when `world_to_camera` (the other convention).
+void writeRecording(const std::string& layout, const fs::path& rec, bool world_to_camera = false) {
   fs::create_directories(rec);
   writeMesh(rec / "mesh.ply");
   if (layout == "tum") {
@@ -173,7 +197,8 @@ void writeRecording(const std::string& layout, const fs::path& rec) {
     for (int f = 0; f < 4; ++f) {
       const std::string frame = "frame-00000" + std::to_string(f);
       writeDepthPng(rec / "seq-01" / (frame + ".depth.png"), orbitPose(f), c);
-      std::ofstream(rec / "seq-01" / (frame + ".pose.txt")) << matrixRows(orbitPose(f), "\n");
+      const Pose pose = world_to_camera ? inverted(orbitPose(f)) : orbitPose(f);
+      std::ofstream(rec / "seq-01" / (frame + ".pose.txt")) << matrixRows(pose, "\n");
     }
   } else {  // replica
     const Camera c{1200, 680, 600, 600, 599.5, 339.5, 6553.5};
@@ -186,6 +211,21 @@ void writeRecording(const std::string& layout, const fs::path& rec) {
       traj << rows << '\n';  // 16 numbers a line
     }
   }
+}
+
+// The page with its line breaks as spaces: a line the page wraps reads as the program prints it.
+std::string pageText() {
+  std::string text = test::bytesOf(occsweep::test::sourceTree() / "docs" / "your-own-data.md");
+  std::replace(text.begin(), text.end(), '\n', ' ');
+  return text;
+}
+
+// The line of `output` that starts with `start` ("" when none).
+std::string lineStarting(const std::string& output, const std::string& start) {
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind(start, 0) == 0) return line;
+  return "";
 }
 
 // The shell commands of the page's block `name` (between `<!-- walkthrough: NAME -->` and the next end marker),
@@ -226,6 +266,9 @@ TEST_CASE("docs/your-own-data.md runs as written on a TUM, a 3DMatch and a Repli
       INFO(command << "\n" << r.output);
       REQUIRE(r.exit_code == 0);
       CHECK_THAT(r.output, !Contains("warning: a median depth"));  // the layout's depth scale is the right one
+      CHECK_THAT(r.output, !Contains(": warning: "));  // nor a coverage or alignment warning: the frames see the box
+      if (layout == "3dmatch" && command.find("import truth") != std::string::npos)
+        CHECK_THAT(pageText(), Contains(lineStarting(r.output, "truth coverage")));  // the page shows it as it is
     }
     CHECK(test::bytesOf(dir / "curves.pdf").rfind("%PDF-", 0) == 0);
     CHECK(test::bytesOf(dir / "budget.pdf").rfind("%PDF-", 0) == 0);
@@ -243,4 +286,115 @@ TEST_CASE("docs/your-own-data.md runs as written on a TUM, a 3DMatch and a Repli
       for (const auto& t : m.at("thresholds")) best_tp = std::max<std::uint64_t>(best_tp, t.at("tp").get<std::uint64_t>());
     CHECK(best_tp > 20);
   }
+}
+
+namespace {
+
+// The 3DMatch recording imported as the page's block does (its frames' pose files in whichever convention).
+fs::path importedRecording(const std::string& name, bool world_to_camera) {
+  const fs::path dir = test::scratch(name);
+  writeRecording("3dmatch", dir / "rec", world_to_camera);
+  const auto r = test::runIn(dir, "import depth rec/seq-01/frame-*.depth.png --poses rec/seq-01/frame-*.pose.txt "
+                                  "--pose-format matrix --depth-scale 1000 --max-depth 10 --fx 585 --fy 585 --cx 320 "
+                                  "--cy 240 --stride 8 --out ds");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  return dir;
+}
+
+// TP + FN of every threshold of a results file: the truth voxels it counts.
+std::uint64_t countedTruth(const fs::path& results) {
+  const auto t = nlohmann::json::parse(std::ifstream(results)).at("maps").at(0).at("thresholds").at(0);
+  return t.at("tp").get<std::uint64_t>() + t.at("fn").get<std::uint64_t>();
+}
+
+// The notes of `compare RESULTS` (its --json rows'), which it also prints under the table.
+std::string compareNotes(const fs::path& dir, const std::string& results) {
+  const auto compare = test::runIn(dir, "compare " + results + " --json compare.json --force");
+  INFO(compare.output);
+  REQUIRE(compare.exit_code == 0);
+  return nlohmann::json::parse(std::ifstream(dir / "compare.json")).at("rows").at(0).at("notes").dump();
+}
+
+}  // namespace
+
+TEST_CASE("import truth, sweep and compare warn when the frames see a small part of the truth, naming --truth "
+          "observable") {
+  const fs::path dir = importedRecording("coverage-partial", false);
+  writeRoomWalls(dir / "rec" / "room.ply");
+  SECTION("the box and its floor, which the frames see: coverage printed, no warning") {
+    const auto truth = test::runIn(dir, "import truth rec/mesh.ply --dataset ds --out ds-box");
+    INFO(truth.output);
+    REQUIRE(truth.exit_code == 0);
+    CHECK_THAT(truth.output, Contains("truth coverage at 0.1 m, s_c 4 m: "));
+    CHECK_THAT(truth.output, !Contains("warning"));
+    for (const std::string mode : {"full", "observable"}) {
+      const auto sweep = test::runIn(dir, "sweep --dataset ds-box --grid octomap-opt --truth " + mode + " --out " +
+                                              mode + ".json");
+      INFO(sweep.output);
+      REQUIRE(sweep.exit_code == 0);
+      CHECK_THAT(sweep.output, Contains("truth coverage at 0.1 m") && !Contains("warning"));
+    }
+    // Fewer truth voxels than the sample: every one tested, so the counts are observable truth's own.
+    const auto coverage = nlohmann::json::parse(std::ifstream(dir / "full.json")).at("dataset").at("coverage");
+    CHECK(coverage.at("truth_voxels") == countedTruth(dir / "full.json"));
+    CHECK(coverage.at("sampled_truth_voxels") == coverage.at("truth_voxels"));
+    CHECK(coverage.at("observable_sampled") == countedTruth(dir / "observable.json"));
+    CHECK(coverage.at("median_point_distance").get<double>() <= 0.2);
+  }
+  SECTION("the room's walls too, which no frame sees: a warning naming --truth observable, in import, sweep and "
+          "compare; the page's sweep under observable truth") {
+    const auto truth = test::runIn(dir, "import truth rec/mesh.ply rec/room.ply --dataset ds --out ds-truth");
+    INFO(truth.output);
+    REQUIRE(truth.exit_code == 0);
+    const std::string warning = lineStarting(truth.output, "occsweep import: warning: ds-truth: only ");
+    CHECK_THAT(warning, Contains("of the truth voxels are observable") && Contains("--truth observable") &&
+                            Contains("--region"));
+    CHECK_THAT(pageText(), Contains(warning));  // docs/your-own-data.md shows this recording's warning as it is
+    const auto sweep = test::runIn(dir, "sweep --dataset ds-truth --grid octomap-opt --out room.json");
+    INFO(sweep.output);
+    REQUIRE(sweep.exit_code == 0);
+    CHECK_THAT(sweep.output, Contains("occsweep sweep: warning: ds-truth: only ") && Contains("--truth observable"));
+    CHECK_THAT(sweep.output, !Contains("not aligned"));  // the points lie on the truth: only the share is low
+    CHECK_THAT(compareNotes(dir, "room.json"), Contains("of the truth voxels are observable from the scans") &&
+                                                  Contains("--truth observable"));
+    // A results store records it alike; counts that cannot hold are refused as a hand edit, naming the field.
+    REQUIRE(test::runIn(dir, "sweep --dataset ds-truth --grid octomap-opt --out room.db").exit_code == 0);
+    CHECK_THAT(compareNotes(dir, "room.db"), Contains("--truth observable"));
+    auto edited = nlohmann::json::parse(std::ifstream(dir / "room.json"));
+    auto& coverage = edited["dataset"]["coverage"];
+    coverage["observable_sampled"] = coverage["sampled_truth_voxels"].get<int>() + 1;  // more seen than tested
+    std::ofstream(dir / "edited.json") << edited.dump();
+    const auto check = test::runIn(dir, "results check edited.json");
+    CHECK(check.exit_code == 2);
+    CHECK_THAT(check.output, Contains("edited.json: dataset.coverage: counts that cannot hold (edited by hand?)"));
+    // The page's sweep for such a recording: under observable truth the share is what it measures, no warning.
+    const std::vector<std::string> partial = walkthroughCommands("partial");
+    REQUIRE(partial.size() == 1);
+    const auto observable = test::runIn(dir, partial.front().substr(std::string("occsweep ").size()));
+    INFO(observable.output);
+    REQUIRE(observable.exit_code == 0);
+    CHECK_THAT(observable.output, Contains("truth coverage") && !Contains("warning"));
+    const auto compare = test::runIn(dir, "compare octomap.json knn.json");
+    INFO(compare.output);
+    CHECK_THAT(compare.output, Contains("truth: observable") && !Contains("note: ds: only"));
+  }
+}
+
+TEST_CASE("import truth and sweep warn when the poses were written world to camera, naming the convention and the "
+          "inversion") {
+  const fs::path dir = importedRecording("coverage-inverted", true);
+  const auto truth = test::runIn(dir, "import truth rec/mesh.ply --dataset ds --out ds-truth");
+  INFO(truth.output);
+  REQUIRE(truth.exit_code == 0);
+  const std::string fix = "scans and truth are not aligned; occsweep reads poses as camera (sensor) to world: a "
+                          "world-to-camera pose file must be inverted first (each pose [R | t] as [R^T | -R^T t])";
+  CHECK_THAT(truth.output, Contains("occsweep import: warning: ds-truth: ") && Contains(fix));
+  const auto sweep = test::runIn(dir, "sweep --dataset ds-truth --grid octomap-opt --out full.json");
+  INFO(sweep.output);
+  REQUIRE(sweep.exit_code == 0);
+  CHECK_THAT(sweep.output, Contains("occsweep sweep: warning: ds-truth: ") && Contains(fix));
+  // Misaligned, observable truth is not the fix: only the poses' warning is given.
+  CHECK_THAT(truth.output + sweep.output, !Contains("--truth observable"));
+  CHECK_THAT(compareNotes(dir, "full.json"), Contains("the points lie a median") && Contains(fix));
 }

@@ -12,6 +12,7 @@
 #include "compare_tables.hpp"
 #include "occsweep/io/control_characters.hpp"
 #include "occsweep/io/output_file.hpp"
+#include "occsweep/eval/truth_coverage.hpp"
 #include "occsweep/sweeps/compare.hpp"
 #include "occsweep/sweeps/csv_text.hpp"
 
@@ -114,6 +115,15 @@ void printRow(const ComparisonRow& r, const std::vector<ResultsFile>& in, const 
   }
 }
 
+// The warning of the data set's truth coverage that the row's results files recorded (the first that did: one data
+// set, one resolution and s_c), naming its fix (docs/import.md, "Truth coverage and alignment"); "" when none.
+std::string coverageWarningOf(const ComparisonRow& r, const std::vector<ResultsFile>& in) {
+  for (const auto& [method, files] : r.files_of)
+    for (std::size_t f : files)
+      if (const ResultsHeader& h = in[f].header; h.coverage) return coverageWarning(*h.coverage, h.truth);
+  return "";
+}
+
 // Why a row lacks a number: in the row's JSON, and (with its data set) in `notes` for the lines after the table.
 nlohmann::json rowNotes(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
                         const std::vector<std::string>& methods, const std::string& baseline,
@@ -124,6 +134,10 @@ nlohmann::json rowNotes(const ComparisonRow& r, const std::vector<ResultsFile>& 
       row_notes.push_back(why);
       notes.push_back(r.dataset + ": " + why);
     }
+  if (const std::string why = coverageWarningOf(r, in); !why.empty()) {
+    row_notes.push_back(why);
+    notes.push_back(r.dataset + ": " + why);
+  }
   const std::optional<BestMap> base = r.best(baseline);
   if (base && !(base->auc > 0) && r.best_of.size() > 1) {
     row_notes.push_back("no improvement: the " + baseline + " AUC is 0");

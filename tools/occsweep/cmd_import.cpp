@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "command_registry.hpp"
+#include "coverage_report.hpp"
 #include "limit_options.hpp"
 #include "option_checks.hpp"
 #include "occsweep/core/limits.hpp"
@@ -352,6 +353,17 @@ AxisBox regionGiven(const std::vector<double>& region, const std::array<double, 
   return box;
 }
 
+// What the scans observe of the new truth, at the default resolution and s_c that sweep uses; none when map and
+// sweep would refuse the region there (printRegion says so) or no truth voxel lies in it.
+std::optional<TruthCoverage> importedCoverage(const Dataset& d) {
+  const MapSettings defaults;
+  const std::uint64_t voxels = regionVoxelCount(d.region, defaults.resolution);
+  if (voxels == 0 || voxels > limits().region_voxels) return std::nullopt;
+  const GroundTruth truth = makeGroundTruth(d.truth, d.region, defaults.resolution);
+  if (truth.occupied.empty()) return std::nullopt;
+  return measureTruthCoverage(truth, d.scans, defaults.s_c);
+}
+
 int runImportTruth(const ImportOptions& o) {
   Dataset d = readDataset(o.dataset);
   d.truth = readTruthFiles(o.files, recordedShift(d));
@@ -367,7 +379,10 @@ int runImportTruth(const ImportOptions& o) {
   recordTruthProvenance(d, o);
   ImportOptions named = o;
   if (named.name.empty()) named.name = d.name;  // the data set keeps its name unless --name
-  return finish(std::move(d), named, region_origin);
+  const std::optional<TruthCoverage> coverage = importedCoverage(d);
+  const int written = finish(std::move(d), named, region_origin);
+  if (coverage) reportCoverage(*coverage, TruthMode::Full, "occsweep import", o.out);
+  return written;
 }
 
 int runImport(const ImportOptions& o, const ImportCommands& subs) {

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "command_registry.hpp"
+#include "coverage_report.hpp"
 #include "limit_options.hpp"
 #include "task_options.hpp"
 #include "occsweep/sweeps/results_file.hpp"
@@ -52,6 +53,12 @@ const RegisterCommand kSweep{"sweep", "Sweep a parameter grid on a data set: one
     for (std::size_t i = 0; i < written.size(); ++i)
       std::cout << "wrote " << escapedControlCharacters(configs[i].out.string()) << ": " << written[i].maps << " maps, " << written[i].combinations
                 << " combinations of " << written[i].header.grid_name << " in " << written[i].seconds << " s\n";
+    // one data set for every grid: its coverage once (none recorded in a complete file of an older occsweep)
+    for (const SweepSummary& s : written)
+      if (s.header.coverage) {
+        reportCoverage(*s.header.coverage, s.header.truth, "occsweep sweep", configs.front().dataset.string());
+        break;
+      }
     return 0;
   };
 }, "the maps it finished are kept beside each output (NAME.partial.jsonl or NAME.db.partial)"};

@@ -16,6 +16,7 @@
 #include "occsweep/eval/coordinates.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/io/output_file.hpp"
+#include "occsweep/eval/truth_coverage.hpp"
 #include "occsweep/sweeps/progress.hpp"
 #include "occsweep/sweeps/results_file.hpp"
 #include "occsweep/sweeps/sweep.hpp"
@@ -51,6 +52,13 @@ SweepTruths sweepTruths(const SweepConfig& c, const Dataset& data) {
   if (twin && c.truth != TruthMode::Full) throw std::invalid_argument("sweep: observable_out needs full truth");
   t.marked = evaluatedTruth(twin ? TruthMode::Observable : c.truth, t.full, data.scans, c.map.s_c, c.dataset.string());
   return t;
+}
+
+// What the scans observe of the truth and how far their points lie from it, recorded with the results so that
+// `sweep` and `compare` can warn (docs/import.md, "Truth coverage and alignment"); none without truth.
+std::optional<TruthCoverage> coverageOf(const SweepTruths& truths, const Dataset& data, const SweepConfig& c) {
+  if (truths.full.occupied.empty()) return std::nullopt;
+  return measureTruthCoverage(truths.full, data.scans, c.map.s_c);
 }
 
 ResultsHeader sweepHeader(const SweepConfig& c, const GridSpec& grid, const GridEnumeration& e, const Dataset& data,
@@ -273,7 +281,11 @@ std::vector<GridOutcome> runGrids(const std::vector<SweepConfig>& configs) {
   const SweepTruths truths = sweepTruths(c, data);  // before anything is written: a refused region leaves nothing
   std::vector<GridSweep> grids;  // never grown after this loop: outputs and the engine keep pointers into it
   grids.reserve(configs.size());
-  for (const SweepConfig& config : configs) grids.push_back(openGrid(config, data, *engine));
+  const std::optional<TruthCoverage> coverage = coverageOf(truths, data, c);
+  for (const SweepConfig& config : configs) {
+    grids.push_back(openGrid(config, data, *engine));
+    grids.back().header.coverage = coverage;
+  }
   for (GridSweep& g : grids) openOutput(g, engine->name());  // every output checked before any is written
   const GroundTruth& counted = truths.counted(c.truth);
   for (GridSweep& g : grids) beginCounting(g, {counted.evaluatedVoxelCount(), counted.evaluatedTrueVoxelCount()});

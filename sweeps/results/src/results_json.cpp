@@ -158,6 +158,11 @@ json toJson(const ResultsHeader& h) {
   j["map"]["engine"] = h.engine;
   j["map"]["engines"] = h.engines.empty() ? std::vector<std::string>{h.engine} : h.engines;
   if (h.truth != TruthMode::Full) j["map"]["truth"] = truthModeName(h.truth);
+  if (const auto& c = h.coverage)
+    j["dataset"]["coverage"] = {{"truth_voxels", c->truth_voxels}, {"sampled_truth_voxels", c->sampled_truth},
+                                {"observable_sampled", c->observable_sampled}, {"points", c->points},
+                                {"points_in_region", c->points_in_region}, {"sampled_points", c->sampled_points},
+                                {"median_point_distance", finiteNumber(c->median_point_distance)}};
   return j;
 }
 
@@ -196,6 +201,27 @@ json toJson(const ResultsFile& f) {
 }
 
 namespace {
+
+// dataset.coverage (docs/results-format.md), at the file's resolution and s_c; counts that cannot hold (more
+// observable voxels than sampled) are refused as a hand edit.
+TruthCoverage parseCoverage(const json& j, const MapSettings& map, const Reader& r) {
+  const std::string where = "dataset.coverage";
+  TruthCoverage c;
+  c.resolution = map.resolution, c.s_c = map.s_c;
+  c.truth_voxels = r.count(j, "truth_voxels", where);
+  c.sampled_truth = r.count(j, "sampled_truth_voxels", where);
+  c.observable_sampled = r.count(j, "observable_sampled", where);
+  c.points = r.count(j, "points", where);
+  c.points_in_region = r.count(j, "points_in_region", where);
+  c.sampled_points = r.count(j, "sampled_points", where);
+  c.median_point_distance = r.real(j, "median_point_distance", where, true);
+  if (c.observable_sampled > c.sampled_truth || c.sampled_truth > c.truth_voxels ||
+      c.sampled_points > c.points_in_region || c.points_in_region > c.points || c.median_point_distance < 0 ||
+      std::isnan(c.median_point_distance) != (c.sampled_points == 0) ||
+      (c.sampled_points == 0) != (c.points_in_region == 0))
+    r.fail(where, "counts that cannot hold (edited by hand?)");
+  return c;
+}
 
 // The engines a results file may name (docs/results-format.md): each of `engines` "direct" or "replay", and
 // `engine` the one of them, or "mixed" for several.
@@ -265,6 +291,7 @@ ResultsHeader parseHeader(const json& j, const std::string& file) {
       r.fail("map.truth", "must be \"full\" or \"observable\"");
     }
   }
+  if (d.contains("coverage")) h.coverage = parseCoverage(d.at("coverage"), h.map, r);
   return h;
 }
 

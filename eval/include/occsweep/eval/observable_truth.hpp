@@ -50,6 +50,12 @@ struct Viewpoint {
 [[nodiscard]] octomap::KeySet observableTruthVoxels(const GroundTruth& truth, const std::vector<Viewpoint>& viewpoints,
                                                     double s_c);
 
+/// Those of `candidates` (truth voxels of `truth`) that are observable by the same rule, every truth voxel blocking:
+/// what a sample of the truth costs (truth_coverage.hpp).
+[[nodiscard]] std::vector<octomap::OcTreeKey> observableAmong(const GroundTruth& truth,
+                                                              const std::vector<octomap::OcTreeKey>& candidates,
+                                                              const std::vector<Viewpoint>& viewpoints, double s_c);
+
 /// The same, every origin seeing in every direction (SphereView): the rule for scans that record no view.
 [[nodiscard]] octomap::KeySet observableTruthVoxels(const GroundTruth& truth,
                                                     const std::vector<octomap::point3d>& origins, double s_c);

@@ -17,6 +17,7 @@
 #include "occsweep/eval/curve.hpp"
 #include "occsweep/eval/observable_truth.hpp"
 #include "occsweep/io/output_file.hpp"
+#include "occsweep/eval/truth_coverage.hpp"
 #include "occsweep/sweeps/grid.hpp"
 #include "occsweep/sweeps/selection.hpp"
 
@@ -55,6 +56,9 @@ struct ResultsHeader {
   std::vector<std::string> engines;
   /// Which truth voxels the counts count (docs/results-format.md, "Truth"); files without the field: full.
   TruthMode truth = TruthMode::Full;
+  /// How much of the truth the scans observe and how far their points lie from it, at map.resolution and map.s_c
+  /// (dataset.coverage, docs/results-format.md); none in files written before the field, or without truth.
+  std::optional<TruthCoverage> coverage;
 };
 
 /// The point cloud set a results file is of: its `pcs_id` in the data set's source, "-" for a data set not

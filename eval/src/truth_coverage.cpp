@@ -1,0 +1,152 @@
+#include "occsweep/eval/truth_coverage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <tuple>
+
+#include <octomap/OcTree.h>
+
+namespace occsweep {
+namespace {
+
+// `count` indices spread evenly over [0, n): all of them when n <= count.
+std::vector<std::size_t> evenSample(std::size_t n, std::size_t count) {
+  std::vector<std::size_t> at;
+  const std::size_t m = std::min(n, count);
+  for (std::size_t j = 0; j < m; ++j) at.push_back(std::size_t(std::uint64_t(j) * n / m));
+  return at;
+}
+
+std::vector<octomap::OcTreeKey> sampledTruth(const GroundTruth& truth) {
+  std::vector<octomap::OcTreeKey> keys(truth.occupied.begin(), truth.occupied.end());
+  std::sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) {
+    return std::tie(a[0], a[1], a[2]) < std::tie(b[0], b[1], b[2]);  // key order: the sample spreads over space
+  });
+  std::vector<octomap::OcTreeKey> sample;
+  for (std::size_t i : evenSample(keys.size(), kCoverageTruthSample)) sample.push_back(keys[i]);
+  return sample;
+}
+
+bool inRegion(const octomap::OcTree& grid, const GroundTruth& truth, const octomap::point3d& p) {
+  octomap::OcTreeKey at;
+  return grid.coordToKeyChecked(p, at) && truth.inRegion(at);
+}
+
+// The points inside the region, kCoveragePointSample of them evenly spaced in scan order (all when fewer); counts
+// them into `c`. Points outside are left out: the truth beyond a --region is not rasterised.
+std::vector<octomap::point3d> sampledRegionPoints(const octomap::OcTree& grid, const GroundTruth& truth,
+                                                  const PointCloudSet& scans, TruthCoverage& c) {
+  for (const Scan& scan : scans)
+    for (const auto& p : scan.points) c.points_in_region += inRegion(grid, truth, p);
+  const std::vector<std::size_t> at = evenSample(c.points_in_region, kCoveragePointSample);
+  std::vector<octomap::point3d> sample;
+  std::size_t ordinal = 0;  // of the point among those in the region
+  for (const Scan& scan : scans)
+    for (const auto& p : scan.points)
+      if (sample.size() < at.size() && inRegion(grid, truth, p) && ordinal++ == at[sample.size()]) sample.push_back(p);
+  return sample;
+}
+
+// The distance from `p` to the nearest truth voxel centre, looked for shell by shell (the keys r voxels away in
+// the largest axis) up to kPointSearchVoxels: a voxel of shell r + 1 lies at least r + 0.5 voxels away.
+double nearestTruthDistance(const octomap::OcTree& grid, const GroundTruth& truth, const octomap::OcTreeKey& at,
+                            const octomap::point3d& p) {
+  const double cap = (kPointSearchVoxels + 0.5) * truth.resolution;
+  double best = cap;
+  for (int r = 0; r <= kPointSearchVoxels && best > (r - 0.5) * truth.resolution; ++r)
+    for (int dx = -r; dx <= r; ++dx)
+      for (int dy = -r; dy <= r; ++dy) {
+        const bool side = std::abs(dx) == r || std::abs(dy) == r;
+        for (int dz = -r; dz <= r; dz += side ? 1 : std::max(1, 2 * r)) {
+          const int c[3] = {at[0] + dx, at[1] + dy, at[2] + dz};
+          if (std::any_of(c, c + 3, [](int v) { return v < 0 || v > 65535; })) continue;
+          const octomap::OcTreeKey key{std::uint16_t(c[0]), std::uint16_t(c[1]), std::uint16_t(c[2])};
+          if (truth.occupied.count(key)) best = std::min(best, double((grid.keyToCoord(key) - p).norm()));
+        }
+      }
+  return best;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t h = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(h), v.end());
+  if (v.size() % 2) return v[h];
+  return (v[h] + *std::max_element(v.begin(), v.begin() + std::ptrdiff_t(h))) / 2;
+}
+
+std::string percent(double share) {
+  std::ostringstream s;
+  s << std::lround(100 * share) << " %";
+  return s.str();
+}
+
+std::string distanceText(const TruthCoverage& c) {
+  std::ostringstream s;
+  s.precision(2);
+  if (c.median_point_distance >= (kPointSearchVoxels + 0.5) * c.resolution) s << "at least ";  // the search's bound
+  s << std::fixed << c.median_point_distance << " m (" << std::setprecision(1)
+    << c.median_point_distance / c.resolution << " voxels)";
+  return s.str();
+}
+
+constexpr const char* kAlignmentFix =
+    "occsweep reads poses as camera (sensor) to world: a world-to-camera pose file must be inverted first (each pose "
+    "[R | t] as [R^T | -R^T t]); check too that the truth is in the poses' world frame and the depth scale "
+    "(docs/import.md, \"Truth coverage and alignment\")";
+
+}  // namespace
+
+double TruthCoverage::observableShare() const {
+  return sampled_truth ? double(observable_sampled) / double(sampled_truth) : std::numeric_limits<double>::quiet_NaN();
+}
+
+TruthCoverage measureTruthCoverage(const GroundTruth& truth, const PointCloudSet& scans, double s_c) {
+  TruthCoverage c;
+  c.resolution = truth.resolution, c.s_c = s_c;
+  c.truth_voxels = truth.occupied.size();
+  const std::vector<octomap::OcTreeKey> keys = sampledTruth(truth);
+  c.sampled_truth = keys.size();
+  c.observable_sampled = observableAmong(truth, keys, viewpointsOf(scans), s_c).size();
+  const octomap::OcTree grid(truth.resolution);
+  c.points = pointCount(scans);
+  std::vector<double> distances;
+  for (const octomap::point3d& p : sampledRegionPoints(grid, truth, scans, c))
+    distances.push_back(nearestTruthDistance(grid, truth, grid.coordToKey(p), p));
+  c.sampled_points = distances.size();
+  c.median_point_distance = median(std::move(distances));
+  return c;
+}
+
+std::string coverageText(const TruthCoverage& c) {
+  std::ostringstream s;
+  s << "truth coverage at " << c.resolution << " m, s_c " << c.s_c << " m: " << percent(c.observableShare())
+    << " of the truth voxels observable from the scans (" << c.observable_sampled << " of " << c.sampled_truth
+    << " sampled of " << c.truth_voxels << "); ";
+  if (c.points_in_region == 0) return s.str() + "no point in the region";
+  s << "median distance from the points to the nearest truth voxel " << distanceText(c) << ", over "
+    << c.sampled_points << " sampled of the " << c.points_in_region << " points in the region (of " << c.points
+    << ")";
+  return s.str();
+}
+
+std::string coverageWarning(const TruthCoverage& c, TruthMode mode) {
+  // Misaligned, the share measures the misalignment too: the fix is the poses or the truth, not observable truth.
+  if (c.points_in_region == 0)
+    return "none of the " + std::to_string(c.points) + " points lies in the region: scans and truth are not " +
+           "aligned; " + kAlignmentFix;
+  if (!(c.median_point_distance <= kFarPointVoxels * c.resolution))
+    return "the points lie a median " + distanceText(c) + " from the nearest truth voxel (more than " +
+           std::to_string(int(kFarPointVoxels)) + " voxels): scans and truth are not aligned; " + kAlignmentFix;
+  if (mode == TruthMode::Full && c.observableShare() < kLowObservableShare)
+    return "only " + percent(c.observableShare()) + " of the truth voxels are observable from the scans (below " +
+           percent(kLowObservableShare) + "): under full truth every map misses the rest, so its AUC measures the " +
+           "recording's coverage, not the mapping; sweep with --truth observable, or import truth with a --region " +
+           "around what the recording sees (docs/import.md, \"Truth coverage and alignment\")";
+  return "";
+}
+
+}  // namespace occsweep
