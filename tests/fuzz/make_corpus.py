@@ -97,6 +97,10 @@ def main():
     put("pose", "tum.txt", "\x02# timestamp tx ty tz qx qy qz qw\n1305031102.175304 1 2 3 0 0 0.7071068 0.7071068\n"
                           "1305031102.211214 -1 0 0.5 0 0 0 1\n")
     put("pose", "kitti.txt", "\x031 0 0 4 0 0 -1 5 0 1 0 6\n1 0 0 0 0 1 0 0 0 0 1 0\n")
+    put("intrinsics", "camera-intrinsics.txt", "5.703422241210937500e+02\t0.000000000000000000e+00\t3.2e+02\n"
+                                               "0.0e+00\t5.703422241210937500e+02\t2.4e+02\n0 0 1\n")
+    put("intrinsics", "cam_params.json", json.dumps({"camera": {"w": 1200, "h": 680, "fx": 600.0, "fy": 600.0,
+                                                                "cx": 599.5, "cy": 339.5, "scale": 6553.5}}))
     r = 1 / math.sqrt(2)
     pts = [(1.0 + i, 0.5 * i, -0.25) for i in range(4)]
     put("graph", "two_nodes.graph", graph([(pts, (0, 0, 0), (1, 0, 0, 0)), (pts[:2], (1, 2, 3), (r, 0, 0, r))], [(0, 1)]))

@@ -1,13 +1,18 @@
-// The usual mistakes of importing one's own recording (docs/import.md, "Poses" and "Depth scale"), through the
-// command: a pose file in another format's shape, poses one file per frame (3DMatch), a TUM trajectory of more poses
-// than images, and a wrong --depth-scale. OCCSWEEP_TEST_CLI=/path/to/old/occsweep runs them against another build.
+// The usual mistakes of importing one's own recording (docs/import.md, "Poses", "Intrinsics files" and "Depth
+// scale"), through the command: a pose file in another format's shape, poses one file per frame (3DMatch), a TUM
+// trajectory of more poses than images, a whole trajectory read by frame number (Replica), the layouts' intrinsics
+// files, and a wrong --depth-scale. OCCSWEEP_TEST_CLI=/path/to/old/occsweep runs them against another build.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <tuple>
+#include <utility>
+#include <vector>
 
+#include "depth_png.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "test_helpers.hpp"
 
@@ -40,6 +45,29 @@ std::string matrixPose(double x, double y, double z) {
 test::CommandResult importDepth(const std::string& images, const std::string& poses, const std::string& more,
                                 const fs::path& out) {
   return test::runCli("import depth " + images + " --poses " + poses + kCamera + more + " --out " + out.string());
+}
+
+// An 8x6 16-bit PNG as RGB-D recordings store depth: raw values 1500 + 10 u + 7 v + 100 frame, one pixel unmeasured.
+fs::path writeFramePng(const fs::path& file, int frame) {
+  test::writeDepthPng(file, 8, 6, [frame](int u, int v) {
+    return std::uint16_t(u == 2 && v == 3 ? 0 : 1500 + 10 * u + 7 * v + 100 * frame);
+  });
+  return file;
+}
+
+test::CommandResult importWith(const std::string& frames_and_poses, const std::string& flags, const fs::path& out) {
+  return test::runCli("import depth " + frames_and_poses + " " + flags + " --out " + out.string());
+}
+
+// Each `import depth ARGS` refused: exit 2, its message, nothing written at `out`.
+void requireRefused(const std::vector<std::pair<std::string, std::string>>& args_and_messages, const fs::path& out) {
+  for (const auto& [args, message] : args_and_messages) {
+    const auto r = importWith(args, "", out);
+    INFO(args << ": " << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.output, Contains(message));
+    CHECK_FALSE(fs::exists(out));
+  }
 }
 
 // Two data sets hold the same scans: points, origins, views.
@@ -284,4 +312,129 @@ TEST_CASE("import names the order when --poses comes before the images, and a TU
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.output, Contains("no pose within 0.02 s of 1305031102.160407.pgm"));
   CHECK_FALSE(fs::exists(dir / "ds"));
+}
+
+// docs/import.md, "Intrinsics files": the files of 3DMatch (7-Scenes) and Replica, read as downloaded.
+TEST_CASE("import depth --intrinsics reads 3DMatch's camera-intrinsics.txt and Replica's cam_params.json as the flags "
+          "they hold") {
+  const fs::path dir = test::scratch("import-checks-intrinsics");
+  std::string frames = " ";
+  for (int f = 0; f < 3; ++f)
+    frames += writeFramePng(dir / ("frame-00000" + std::to_string(f) + ".depth.png"), f).string() + " ";
+  std::ofstream(dir / "poses.txt") << matrixPose(0, 0, 1) << matrixPose(0.5, 0, 1) << matrixPose(1, 0.2, 1);
+  const std::string posed = frames + "--poses " + (dir / "poses.txt").string() + " --pose-format matrix";
+  // As numpy.savetxt writes 3DMatch's file: tab-separated, in scientific notation.
+  std::ofstream(dir / "camera-intrinsics.txt") << "5.703422241210937500e+00\t0.000000000000000000e+00\t3.5e+00\n"
+                                                  "0.0e+00\t5.703422241210937500e+00\t2.5e+00\n0\t0\t1\n";
+  auto r = importWith(posed, "--intrinsics " + (dir / "camera-intrinsics.txt").string(), dir / "from-file");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(importWith(posed, "--fx 5.7034222412109375 --fy 5.7034222412109375 --cx 3.5 --cy 2.5", dir / "by-hand")
+              .exit_code == 0);
+  requireSameScans(dir / "from-file", dir / "by-hand");
+  CHECK(readDataset(dir / "from-file").source.at("intrinsics_file") == "camera-intrinsics.txt");
+
+  // Replica's cam_params.json: its scale is the depth scale (6553.5), and the images must be its size.
+  std::ofstream(dir / "cam_params.json")
+      << R"({"camera": {"w": 8, "h": 6, "fx": 6.0, "fy": 6.5, "cx": 3.5, "cy": 2.0, "scale": 6553.5}})";
+  r = importWith(posed, "--intrinsics " + (dir / "cam_params.json").string(), dir / "replica");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(importWith(posed, "--depth-scale 6553.5 --fx 6 --fy 6.5 --cx 3.5 --cy 2", dir / "replica-by-hand")
+              .exit_code == 0);
+  requireSameScans(dir / "replica", dir / "replica-by-hand");
+  CHECK(readDataset(dir / "replica").source.at("depth_scale") == 6553.5);
+}
+
+TEST_CASE("a bad intrinsics file, or no intrinsics, is refused naming the file, the line or field and the fix") {
+  const fs::path dir = test::scratch("import-checks-intrinsics-bad");
+  const fs::path frame = writeFramePng(dir / "depth000000.png", 0);
+  std::ofstream(dir / "pose.txt") << matrixPose(0, 0, 1);
+  const std::string posed = frame.string() + " --poses " + (dir / "pose.txt").string() + " --pose-format matrix";
+  std::ofstream(dir / "skewed.txt") << "6 0.5 3.5\n0 6 2.5\n0 0 1\n";
+  std::ofstream(dir / "four.txt") << matrixPose(6, 3.5, 2.5);  // a 4x4, 16 numbers
+  std::ofstream(dir / "no-fy.json") << R"({"camera": {"fx": 6, "cx": 3.5, "cy": 2.5}})";
+  std::ofstream(dir / "big.json") << R"({"camera": {"w": 1200, "h": 680, "fx": 600, "fy": 600, "cx": 599.5,
+                                       "cy": 339.5, "scale": 6553.5}})";
+  const std::string at = posed + " --intrinsics " + dir.string() + "/", file = dir.string() + "/";
+  requireRefused({{at + "skewed.txt", file + "skewed.txt: row 1, column 2: is 0.500000, expected 0: a camera matrix "
+                                             "is fx 0 cx / 0 fy cy / 0 0 1"},
+                  {at + "four.txt", file + "four.txt: line 3: more than 9 numbers"},
+                  {at + "no-fy.json", file + "no-fy.json: camera.fy: missing"},
+                  {at + "big.json", frame.string() + ": is 8x6 pixels, but --intrinsics " + file +
+                                        "big.json is for 1200x680 images"},
+                  {at + "skewed.txt --fx 6", "--intrinsics excludes --fx"},
+                  {posed + " --fx 6 --fy 6 --cx 3.5",
+                   "the camera's intrinsics have no default: give --intrinsics FILE (3DMatch's camera-intrinsics.txt, "
+                   "Replica's cam_params.json) or all of --fx --fy --cx --cy"}},
+                 dir / "ds");
+}
+
+// docs/import.md, "Poses": Replica's results/depthNNNNNN.png take line NNNNNN of the whole traj.txt.
+TEST_CASE("frames take the poses of a whole trajectory by the numbers in their names: --pose-by-frame-number") {
+  const fs::path dir = test::scratch("import-checks-frame-number");
+  std::string trajectory;  // 300 poses, 16 numbers a line as Replica's traj.txt; pose p at (p / 100, 0, 2)
+  for (int p = 0; p < 300; ++p) {
+    std::string pose = matrixPose(p / 100.0, 0, 2);
+    std::replace(pose.begin(), pose.end(), '\n', ' ');
+    trajectory += pose + "\n";
+  }
+  std::ofstream(dir / "traj.txt") << trajectory;
+  std::string frames, chosen;
+  for (const int number : {0, 100, 250}) {
+    const std::string name = "depth000" + std::string(number == 0 ? "000" : std::to_string(number)) + ".png";
+    frames += writeFramePng(dir / name, number / 100).string() + " ";
+    chosen += matrixPose(number / 100.0, 0, 2);
+  }
+  std::ofstream(dir / "chosen.txt") << chosen;
+  const std::string camera = " --pose-format matrix --fx 6 --fy 6 --cx 3.5 --cy 2.5";
+  const auto r = importWith(frames + "--poses " + (dir / "traj.txt").string(), "--pose-by-frame-number" + camera,
+                            dir / "numbered");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(importWith(frames + "--poses " + (dir / "chosen.txt").string(), camera, dir / "by-hand").exit_code == 0);
+  requireSameScans(dir / "numbered", dir / "by-hand");
+  const Dataset numbered = readDataset(dir / "numbered");
+  CHECK(numbered.scans[2].origin == octomap::point3d(2.5f, 0.0f, 2.0f));
+  CHECK(numbered.source.at("pose_by_frame_number") == true);
+
+  // A number past the trajectory, a name without one, another selection, one pose file per frame: refused.
+  const std::string past = writeFramePng(dir / "depth000300.png", 3).string();
+  const std::string unnumbered = writeFramePng(dir / "last.png", 3).string();
+  const std::string traj = " --poses " + (dir / "traj.txt").string() + " --pose-by-frame-number" + camera;
+  const std::string chosen_twice = " --poses " + (dir / "chosen.txt").string() + " " + (dir / "chosen.txt").string();
+  requireRefused({{past + traj, (dir / "traj.txt").string() + ": holds 300 poses (numbered 0 to 299): "
+                                                              "depth000300.png takes pose 300"},
+                  {unnumbered + traj, unnumbered + ": --pose-by-frame-number takes the pose numbered by the last "
+                                                   "digits of each depth image's file name"},
+                  {past + traj + " --pose-step 2", "--pose-step excludes --pose-by-frame-number"},
+                  {past + " " + unnumbered + chosen_twice + " --pose-by-frame-number" + camera,
+                   "--pose-by-frame-number takes poses out of one file of a whole sequence, not out of 2 pose files"}},
+                 dir / "bad");
+}
+
+// TUM's associate.py pairs the closest (image, pose) first and uses each pose once.
+TEST_CASE("two images nearest the same TUM pose take two poses, as associate.py pairs them") {
+  const fs::path dir = test::scratch("import-checks-associate");
+  // Poses at 50 Hz; both images are nearest the pose at 100.005 s, the image at 100.000 s more so: the image at
+  // 100.012 s takes the next pose, 0.013 s away.
+  std::ofstream(dir / "groundtruth.txt") << "100.005 0 0 1 0 0 0 1\n100.025 1 0 1 0 0 0 1\n100.045 2 0 1 0 0 0 1\n";
+  std::ofstream(dir / "matched.txt") << "100.000 0 0 1 0 0 0 1\n100.012 1 0 1 0 0 0 1\n";
+  const std::string images = writeFramePng(dir / "100.000.png", 0).string() + " " +
+                             writeFramePng(dir / "100.012.png", 1).string();
+  const std::string camera = " --pose-format tum --fx 6 --fy 6 --cx 3.5 --cy 2.5";
+  const auto r = importWith(images + " --poses " + (dir / "groundtruth.txt").string(), camera, dir / "associated");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(importWith(images + " --poses " + (dir / "matched.txt").string(), camera, dir / "by-hand").exit_code == 0);
+  requireSameScans(dir / "associated", dir / "by-hand");
+
+  // Three images within 0.02 s of two poses: the one left without a pose is refused, named.
+  const std::string third = writeFramePng(dir / "100.030.png", 2).string();
+  std::ofstream(dir / "two.txt") << "100.005 0 0 1 0 0 0 1\n100.025 1 0 1 0 0 0 1\n";
+  const auto bad = importWith(images + " " + third + " --poses " + (dir / "two.txt").string(), camera, dir / "bad");
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.output, Contains("two.txt: every pose within 0.02 s of 100.012.png is paired with an image nearer to "
+                                  "it in time"));
+  CHECK_FALSE(fs::exists(dir / "bad"));
 }

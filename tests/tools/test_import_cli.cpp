@@ -8,7 +8,7 @@
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_graph.hpp"
 #include "occsweep/data/import_truth.hpp"
-#include "occsweep/eval/fnv1a.hpp"
+#include "occsweep/io/fnv1a.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;

@@ -4,8 +4,6 @@
 // folder where `rec/` is the recording. OCCSWEEP_TEST_CLI=/path/to/old/occsweep runs them against another build.
 #include <catch2/catch.hpp>
 
-#include <png.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "depth_png.hpp"
 #include "test_helpers.hpp"
 
 namespace fs = std::filesystem;
@@ -88,27 +87,10 @@ std::optional<double> depthAt(const Pose& p, const Camera& c, int u, int v) {
 }
 
 void writeDepthPng(const fs::path& file, const Pose& p, const Camera& c) {
-  FILE* f = std::fopen(file.c_str(), "wb");
-  REQUIRE(f);
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png_create_info_struct(png);
-  png_init_io(png, f);
-  png_set_IHDR(png, info, png_uint_32(c.width), png_uint_32(c.height), 16, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  std::vector<png_byte> row(std::size_t(c.width) * 2);
-  for (int v = 0; v < c.height; ++v) {
-    for (int u = 0; u < c.width; ++u) {
-      const auto z = depthAt(p, c, u, v);
-      const double raw = z ? std::min(65535.0, std::round(*z * c.depth_scale)) : c.invalid;
-      row[std::size_t(2 * u)] = png_byte(unsigned(raw) >> 8);  // PNG is big-endian
-      row[std::size_t(2 * u + 1)] = png_byte(unsigned(raw) & 0xff);
-    }
-    png_write_row(png, row.data());
-  }
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  std::fclose(f);
+  test::writeDepthPng(file, c.width, c.height, [&](int u, int v) {
+    const auto z = depthAt(p, c, u, v);
+    return std::uint16_t(z ? std::min(65535.0, std::round(*z * c.depth_scale)) : c.invalid);
+  });
 }
 
 std::string matrixRows(const Pose& p, const char* row_end) {
@@ -169,8 +151,9 @@ void writeRoomWalls(const fs::path& file) {
         << 4 + w << '\n';
 }
 
-// A recording in `layout` under `rec`, four frames, with the camera the page's command gives for it; 3DMatch's pose
-// files hold world-to-camera poses when `world_to_camera` (the other convention).
+// A recording in `layout` under `rec`, four frames, with the camera its intrinsics (the page's flags or the layout's
+// intrinsics file) give; 3DMatch's pose files hold world-to-camera poses when `world_to_camera` (the other
+// convention).
 void writeRecording(const std::string& layout, const fs::path& rec, bool world_to_camera = false) {
   fs::create_directories(rec);
   writeMesh(rec / "mesh.ply");
@@ -192,7 +175,11 @@ void writeRecording(const std::string& layout, const fs::path& rec, bool world_t
       writeDepthPng(rec / "depth" / name.str(), orbitPose(f), c);
     }
   } else if (layout == "3dmatch") {
-    const Camera c{640, 480, 585, 585, 320, 240, 1000, 65535};
+    const Camera c{640, 480, 570.3422241210938, 570.3422241210938, 320, 240, 1000, 65535};
+    std::ofstream k(rec / "camera-intrinsics.txt");  // as numpy.savetxt writes it, tab-separated
+    const std::array<double, 9> matrix{c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1};
+    k << std::scientific << std::setprecision(18);
+    for (std::size_t i = 0; i < 9; ++i) k << matrix[i] << (i % 3 == 2 ? '\n' : '\t');
     fs::create_directories(rec / "seq-01");
     for (int f = 0; f < 4; ++f) {
       const std::string frame = "frame-00000" + std::to_string(f);
@@ -200,15 +187,21 @@ void writeRecording(const std::string& layout, const fs::path& rec, bool world_t
       const Pose pose = world_to_camera ? inverted(orbitPose(f)) : orbitPose(f);
       std::ofstream(rec / "seq-01" / (frame + ".pose.txt")) << matrixRows(pose, "\n");
     }
-  } else {  // replica
+  } else {  // replica: NICE-SLAM's Replica/room0/ with Replica/cam_params.json beside it
     const Camera c{1200, 680, 600, 600, 599.5, 339.5, 6553.5};
+    std::ofstream(rec.parent_path() / "cam_params.json")
+        << R"({"camera": {"w": 1200, "h": 680, "fx": 600.0, "fy": 600.0, "cx": 599.5, "cy": 339.5, "scale": 6553.5}})";
     fs::create_directories(rec / "results");
     std::ofstream traj(rec / "traj.txt");
-    for (int f = 0; f < 4; ++f) {
-      writeDepthPng(rec / "results" / ("depth00000" + std::to_string(f) + ".png"), orbitPose(f), c);
-      std::string rows = matrixRows(orbitPose(f), " ");
+    for (int i = 0; i < 2000; ++i) {  // the whole trajectory, 16 numbers a line; frame i at time i / 100
+      std::string rows = matrixRows(orbitPose(i / 100.0), " ");
       std::replace(rows.begin(), rows.end(), '\n', ' ');
-      traj << rows << '\n';  // 16 numbers a line
+      traj << rows << '\n';
+    }
+    for (int f = 0; f < 4; ++f) {  // depth000000.png, depth000100.png, ...: the frames the page's block takes
+      std::ostringstream name;
+      name << "depth" << std::setw(6) << std::setfill('0') << 100 * f << ".png";
+      writeDepthPng(rec / "results" / name.str(), orbitPose(f), c);
     }
   }
 }

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "command_registry.hpp"
 #include "coverage_report.hpp"
@@ -32,7 +33,7 @@ namespace fs = std::filesystem;
 
 struct ImportOptions {
   std::vector<std::string> files;
-  std::string out, name, pose_format = "quaternion", dataset;
+  std::string out, name, pose_format = "quaternion", dataset, intrinsics;
   PoseSelection pose_selection;  // --pose-start, --pose-step (chosen: either given)
   std::vector<std::string> poses;  ///< one file of every frame's pose, or one file a frame
   DepthImportConfig depth;
@@ -153,6 +154,10 @@ void addPoseOptions(CLI::App* sub, ImportOptions& o) {
   sub->add_option("--pose-step", o.pose_selection.step,
                   "N: with one pose file of a whole sequence, frame i takes pose K + i N (10: every tenth)")
       ->check(CLI::Range(std::size_t(1), std::size_t(1'000'000)))->needs(poses);
+  sub->add_flag("--pose-by-frame-number", o.pose_selection.by_frame_number,
+                "With one pose file of a whole sequence, each frame takes the pose its file name numbers, counting "
+                "from 0 (Replica's depth000120.png: pose 120 of traj.txt)")
+      ->needs(poses)->excludes("--pose-start")->excludes("--pose-step");
 }
 
 /// Either of --pose-start, --pose-step given (PoseSelection::chosen).
@@ -204,10 +209,15 @@ void addDepthOptions(CLI::App& depth, ImportOptions& o) {
       ->required();
   addPoseOptions(&depth, o);
   depth.add_option("--depth-scale", c.depth_scale, "Raw units per metre (1000 = mm; TUM/ICL-NUIM 5000)")->capture_default_str();
-  depth.add_option("--fx", c.fx, "Focal length x, pixels")->required();
-  depth.add_option("--fy", c.fy, "Focal length y, pixels (may be negative)")->required();
-  depth.add_option("--cx", c.cx, "Principal point x, pixels")->required();
-  depth.add_option("--cy", c.cy, "Principal point y, pixels")->required();
+  CLI::Option* file = depth.add_option("--intrinsics", o.intrinsics, "Intrinsics file: a 3x3 camera matrix as text "
+                                       "(3DMatch's camera-intrinsics.txt) or Replica's cam_params.json, whose scale is "
+                                       "the depth scale unless --depth-scale; instead of --fx --fy --cx --cy")
+                            ->type_name(kPath);
+  for (const auto& [flag, value, help] : {std::tuple{"--fx", &c.fx, "Focal length x, pixels"},
+                                          {"--fy", &c.fy, "Focal length y, pixels (may be negative)"},
+                                          {"--cx", &c.cx, "Principal point x, pixels"},
+                                          {"--cy", &c.cy, "Principal point y, pixels"}})
+    depth.add_option(flag, *value, help)->excludes(file);
   depth.add_option("--max-depth", c.max_depth, "Drop depths >= this, metres (0 = keep all)")->capture_default_str();
   depth.add_option("--stride", c.stride, "Use every n-th pixel in u and v")->capture_default_str();
 }
@@ -291,6 +301,10 @@ void requireFramesBeforePoses(const ImportOptions& o, const std::string& frames)
 int runImportDepth(const ImportOptions& o, const CLI::App& depth) {
   requireFramesBeforePoses(o, "depth images");
   DepthImportConfig c = o.depth;
+  if (!o.intrinsics.empty()) c = withIntrinsicsFile(c, o.intrinsics, depth.count("--depth-scale") > 0);
+  else if (depth.count("--fx") + depth.count("--fy") + depth.count("--cx") + depth.count("--cy") != 4)
+    throw std::invalid_argument("the camera's intrinsics have no default: give --intrinsics FILE (3DMatch's "
+                                "camera-intrinsics.txt, Replica's cam_params.json) or all of --fx --fy --cx --cy");
   c.pose_format = poseFormatNamed(o.pose_format);
   c.pose_selection = poseSelectionOf(depth, o);
   c.skip_empty = o.skip_empty;

@@ -94,7 +94,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
   if (posed) {
     source["poses"] = poseFileNames(c.pose_files);
     source["pose_format"] = poseFormatName(c.pose_format);
-    if (c.pose_selection.chosen) source["pose_start_step"] = {c.pose_selection.start, c.pose_selection.step};
+    recordPoseSelection(source, c.pose_selection);
   } else {
     source["origin"] = c.origin;
   }

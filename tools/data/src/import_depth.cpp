@@ -7,6 +7,7 @@
 #include "occsweep/io/data_error.hpp"
 #include "occsweep/data/import_dataset.hpp"
 #include "occsweep/data/import_depth.hpp"
+#include "occsweep/data/import_intrinsics.hpp"
 
 namespace occsweep {
 namespace fs = std::filesystem;
@@ -19,6 +20,15 @@ void validate(const DepthImportConfig& c) {
   if (!finite(c.cx) || !finite(c.cy)) throw std::invalid_argument("intrinsics cx and cy must be finite");
   if (!finite(c.max_depth) || c.max_depth < 0) throw std::invalid_argument("max depth must be >= 0 (0 = no limit)");
   if (c.stride < 1) throw std::invalid_argument("pixel stride must be >= 1");
+}
+
+DepthImportConfig withIntrinsicsFile(DepthImportConfig c, const fs::path& file, bool depth_scale_given) {
+  const CameraIntrinsics k = readIntrinsics(file);
+  c.fx = k.fx, c.fy = k.fy, c.cx = k.cx, c.cy = k.cy;
+  if (k.depth_scale && !depth_scale_given) c.depth_scale = *k.depth_scale;
+  c.intrinsics_file = file;
+  if (k.width && k.height) c.image_width = *k.width, c.image_height = *k.height;
+  return c;
 }
 
 std::string tooManyPixels(std::uint64_t width, std::uint64_t height) {
@@ -73,6 +83,15 @@ double medianMetres(std::vector<std::uint16_t>& sample, double depth_scale) {
   return double(*middle) / depth_scale;
 }
 
+/// An image of another size than the intrinsics file's is another camera's, or resized: its pinhole would be wrong.
+void requireIntrinsicsSize(const DepthImage& image, const fs::path& file, const DepthImportConfig& c) {
+  if (c.image_width == 0 || (image.width == c.image_width && image.height == c.image_height)) return;
+  throw DataError(file, "", "is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                " pixels, but --intrinsics " + c.intrinsics_file.string() + " is for " +
+                                std::to_string(c.image_width) + "x" + std::to_string(c.image_height) +
+                                " images: give the intrinsics of this camera and image size");
+}
+
 }  // namespace
 
 Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vector<fs::path>& pose_files,
@@ -91,6 +110,7 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
   for (std::size_t i = 0; i < images.size(); ++i) {
     progress.show(i + 1, images.size());
     const DepthImage image = readDepthImage(images[i]);
+    requireIntrinsicsSize(image, images[i], c);
     sampleDepths(image, per_image, c, depth_sample);
     Scan scan = depthToScan(image, poses[i], c);
     files.push_back(images[i].filename().string());
@@ -111,7 +131,8 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
                            {"max_depth", c.max_depth},
                            {"stride", c.stride},
                            {"median_depth", medianMetres(depth_sample, c.depth_scale)}};
-  if (c.pose_selection.chosen) source["pose_start_step"] = {c.pose_selection.start, c.pose_selection.step};
+  if (!c.intrinsics_file.empty()) source["intrinsics_file"] = c.intrinsics_file.filename().string();
+  recordPoseSelection(source, c.pose_selection);
   return importedDataset(images.front().parent_path().filename().string(), std::move(scans), source);
 }
 

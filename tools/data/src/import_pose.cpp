@@ -1,9 +1,6 @@
 #include "occsweep/data/import_pose.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -167,119 +164,6 @@ PoseFormat poseFormatNamed(const std::string& name) {
 
 std::vector<RigidPose> readPoses(const fs::path& file, PoseFormat format) {
   return decodePoses(readFileBytes(file, std::uint64_t(1) << 30), file, format);
-}
-
-namespace {
-
-std::string seconds(double s) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g s", s);
-  return text;
-}
-
-/// The timestamps of a TUM pose file (its first column), in file order; decodePoses has checked the lines.
-std::vector<double> tumTimestamps(const fs::path& file) {
-  const std::string text = readFileBytes(file, std::uint64_t(1) << 30);
-  TextLines lines(text, file);
-  std::vector<std::string_view> tok;
-  std::vector<double> stamps;
-  while (lines.nextData(tok)) stamps.push_back(lines.number(tok[0], 0, "timestamp"));
-  return stamps;
-}
-
-/// A frame's timestamp when its file name (without extension) is one, as TUM names its images.
-std::optional<double> frameTimestamp(const fs::path& frame) {
-  double t = 0;
-  return parseFiniteDouble(frame.stem().string(), t) ? std::optional<double>(t) : std::nullopt;
-}
-
-/// Each frame's pose: the TUM pose nearest its timestamp, within kTumMaxTimeDifference.
-std::vector<RigidPose> associateByTimestamp(const fs::path& file, const std::vector<RigidPose>& poses,
-                                            const std::vector<fs::path>& frames) {
-  const std::vector<double> stamps = tumTimestamps(file);
-  std::vector<RigidPose> out;
-  for (const fs::path& frame : frames) {
-    const double t = *frameTimestamp(frame);
-    std::size_t best = 0;
-    for (std::size_t i = 1; i < stamps.size(); ++i)
-      if (std::abs(stamps[i] - t) < std::abs(stamps[best] - t)) best = i;
-    const double gap = std::abs(stamps[best] - t);
-    if (gap > kTumMaxTimeDifference)
-      throw DataError(file, "", "no pose within " + seconds(kTumMaxTimeDifference) + " of " +
-                                    frame.filename().string() + " (the nearest is " + seconds(gap) +
-                                    " away): is it the trajectory of these images?");
-    out.push_back(poses[best]);
-  }
-  return out;
-}
-
-}  // namespace
-
-nlohmann::json poseFileNames(const std::vector<fs::path>& pose_files) {
-  if (pose_files.size() == 1) return pose_files[0].filename().string();
-  nlohmann::json names = nlohmann::json::array();
-  for (const fs::path& f : pose_files) names.push_back(f.filename().string());
-  return names;
-}
-
-namespace {
-
-/// Frame i's pose is pose start + i step of `poses` (PoseSelection), or a DataError naming the pose past the end.
-std::vector<RigidPose> selectedPoses(const std::vector<RigidPose>& poses, const PoseSelection& s, const fs::path& file,
-                                     std::size_t frames, const std::string& kind) {
-  if (frames == 0) return {};
-  // No overflow: start <= 10^9 and step <= 10^6 (their options), frames bounded by the command line's files.
-  const std::size_t last = s.start + (frames - 1) * s.step;
-  if (last >= poses.size())
-    throw DataError(file, "", "holds " + std::to_string(poses.size()) + " poses: --pose-start " +
-                                  std::to_string(s.start) + " --pose-step " + std::to_string(s.step) + " takes pose " +
-                                  std::to_string(last) + " (counting from 0) for the last of " +
-                                  std::to_string(frames) + " " + kind + "s");
-  std::vector<RigidPose> out;
-  for (std::size_t i = 0; i < frames; ++i) out.push_back(poses[s.start + i * s.step]);
-  return out;
-}
-
-}  // namespace
-
-std::vector<RigidPose> framePoses(const std::vector<fs::path>& pose_files, PoseFormat format,
-                                  const std::vector<fs::path>& frames, const std::string& kind,
-                                  const PoseSelection& selection) {
-  if (selection.chosen && pose_files.size() > 1)
-    throw std::invalid_argument("--pose-start and --pose-step take poses out of one file of a whole sequence, not "
-                                "out of " + std::to_string(pose_files.size()) + " pose files");
-  if (pose_files.size() > 1) {  // one file per frame
-    if (pose_files.size() != frames.size())
-      throw std::invalid_argument(std::to_string(pose_files.size()) + " pose files for " + std::to_string(frames.size()) +
-                                  " " + kind + "s: give one pose file for all, or one per " + kind + ", in order");
-    std::vector<RigidPose> out;
-    for (const fs::path& file : pose_files) {
-      const std::vector<RigidPose> poses = readPoses(file, format);
-      if (poses.size() != 1)
-        throw DataError(file, "", "holds " + std::to_string(poses.size()) + " poses: with one pose file per " + kind +
-                                      ", each holds its " + kind + "'s pose alone");
-      out.push_back(poses.front());
-    }
-    return out;
-  }
-  const fs::path& file = pose_files.at(0);
-  std::vector<RigidPose> poses = readPoses(file, format);
-  // Asked for by position: taken so, even from a TUM trajectory whose frames are named by numbers.
-  if (selection.chosen) return selectedPoses(poses, selection, file, frames.size(), kind);
-  const bool timestamped = std::all_of(frames.begin(), frames.end(), [](const fs::path& f) {
-    return frameTimestamp(f).has_value();
-  });
-  // By timestamp whenever both sides have them, even at equal counts: a trajectory of as many poses as images need not
-  // pair them in order.
-  if (format == PoseFormat::Tum && timestamped) return associateByTimestamp(file, poses, frames);
-  if (poses.size() == frames.size()) return poses;
-  const std::string counts = "holds " + std::to_string(poses.size()) + " poses for " + std::to_string(frames.size()) +
-                             " " + kind + "s: one pose per " + kind + " needed";
-  if (poses.size() < frames.size()) throw DataError(file, "", counts);
-  throw DataError(file, "", counts + ". A whole sequence's poses? Give --pose-start K --pose-step N: " + kind + " i takes "
-                                "pose K + i N, counting from 0 (--pose-start 0 for the sequence's first " + kind +
-                                "s, --pose-step 10 for every tenth); a TUM trajectory (--pose-format tum) is matched "
-                                "by timestamp when each " + kind + " is named by its own, as TUM names them");
 }
 
 }  // namespace occsweep

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/eval/fnv1a.hpp"
+#include "occsweep/io/fnv1a.hpp"
 
 namespace occsweep {
 

@@ -45,7 +45,16 @@ struct DepthImportConfig {
   bool skip_empty = false;      ///< drop frames without a valid pixel instead of refusing them
   /// --shift: added to every point and origin after the pose, before the one rounding to float32 (CloudPlacement).
   std::array<double, 3> shift{0, 0, 0};
+  /// --intrinsics: the file the intrinsics came from (recorded in source), and the image size it gives, which every
+  /// image must have (0: the file gives none).
+  std::filesystem::path intrinsics_file;
+  int image_width = 0, image_height = 0;
 };
+
+/// `config` with the intrinsics of `file` (readIntrinsics), its depth scale too unless `depth_scale_given`, and the
+/// image size every image must have when the file gives one.
+[[nodiscard]] DepthImportConfig withIntrinsicsFile(DepthImportConfig config, const std::filesystem::path& file,
+                                                   bool depth_scale_given);
 
 /// Throws std::invalid_argument naming the field that breaks a rule (scale > 0, fx, fy != 0, stride >= 1...).
 void validate(const DepthImportConfig& config);

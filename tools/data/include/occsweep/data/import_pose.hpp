@@ -73,16 +73,24 @@ inline constexpr double kTumMaxTimeDifference = 0.02;
 struct PoseSelection {
   bool chosen = false;  ///< either flag given (--pose-start 0 alone takes a sequence's first poses)
   std::size_t start = 0, step = 1;
+  /// --pose-by-frame-number: each frame takes the pose numbered by the last digits of its file name, counting from 0
+  /// (Replica's depth000120.png: pose 120 of traj.txt).
+  bool by_frame_number = false;
 };
+
+/// Records a selection other than the default in a data set's source: `pose_start_step`, `pose_by_frame_number`.
+void recordPoseSelection(nlohmann::json& source, const PoseSelection& selection);
 
 /// The pose of each frame (`frames`: image or cloud files, in order; `kind`: "depth image", "cloud") from
 /// `pose_files` (docs/import.md, "Poses"):
 /// - one file of one pose per frame, in frame order; with `selection` chosen, one file of a whole sequence (TUM's
 ///   too, then by position), frame i taking pose start + i step (std::invalid_argument with several files);
 /// - one file per frame, each of one pose, in frame order (3DMatch's frame-*.pose.txt);
+/// - with `selection.by_frame_number`, one file of a whole sequence, each frame taking the pose its name numbers;
 /// - one TUM file (--pose-format tum) of any number of poses, when every frame's name is its timestamp
-///   (TUM's depth/1305031102.160407.png): each frame takes the pose nearest in time, within kTumMaxTimeDifference
-///   (a pose may serve two frames; a frame without one is refused, where associate.py would drop it).
+///   (TUM's depth/1305031102.160407.png): paired as associate.py pairs them, each pose with one frame, the pairs
+///   closest in time first, closer than kTumMaxTimeDifference (a frame left without one is refused, where
+///   associate.py would drop it).
 /// Otherwise a DataError naming the file, the counts and the fix.
 [[nodiscard]] std::vector<RigidPose> framePoses(const std::vector<std::filesystem::path>& pose_files, PoseFormat format,
                                                 const std::vector<std::filesystem::path>& frames,
