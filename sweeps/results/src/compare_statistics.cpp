@@ -244,7 +244,8 @@ void crossValidatedImprovements(const AucTable& mine, const AucTable& base, cons
 
 // Holm's correction over the family of comparisons with the baseline (one p-value each; 1 where there is no
 // test or no evidence, which keeps the correction conservative: docs/statistics.md, "Verdicts"), then each verdict.
-void holmAndDecide(std::vector<DatasetComparison*> family, const CompareStatisticsOptions& o) {
+void holmAndDecide(std::vector<DatasetComparison*> family, const std::string& family_text,
+                   const CompareStatisticsOptions& o) {
   std::vector<double> p, smallest_p, smallest_p_of_units;
   for (const DatasetComparison* c : family) {
     p.push_back(c->test ? c->test->p_value : 1.0);
@@ -256,6 +257,7 @@ void holmAndDecide(std::vector<DatasetComparison*> family, const CompareStatisti
     DatasetComparison& c = *family[i];
     c.holm_p = adjusted[i];
     c.family = family.size();
+    c.holm_family = family_text;
     if (!c.not_computed.empty()) {
       c.verdict = {stats::VerdictKind::NotComputed, std::nullopt, c.not_computed, ""};
       continue;
@@ -353,6 +355,15 @@ std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& ro
   return pooled;
 }
 
+std::string holmFamilyText(const std::string& kind, const std::vector<std::string>& methods,
+                           const std::string& baseline) {
+  if (methods.size() == 1)
+    return "the " + kind + " verdict of " + methods[0] + " against " + baseline + " alone (no correction)";
+  std::string list;
+  for (const std::string& m : methods) list += (list.empty() ? "" : ", ") + m;
+  return "the " + std::to_string(methods.size()) + " " + kind + " verdicts of " + list + " against " + baseline;
+}
+
 std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>& rows,
                                                 const std::vector<ResultsFile>& files,
                                                 const CompareStatisticsOptions& o) {
@@ -371,10 +382,11 @@ std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>
   for (const std::string& method : methods)
     out.push_back(methodStatistics(rows, files, method, baseline_table, budget, o));
   std::vector<DatasetComparison*> optima, cross_validated;
+  methods.erase(methods.begin());  // the family: every method but the baseline
   for (MethodStatistics& s : out)
     if (!s.is_baseline) optima.push_back(&s.optima), cross_validated.push_back(&s.cross_validated);
-  holmAndDecide(optima, o);
-  holmAndDecide(cross_validated, o);
+  holmAndDecide(optima, holmFamilyText("optima", methods, o.baseline), o);
+  holmAndDecide(cross_validated, holmFamilyText("cross-validated", methods, o.baseline), o);
   for (MethodStatistics& s : out) markNestedGain(s, o.baseline);
   return out;
 }
@@ -409,7 +421,7 @@ nlohmann::json datasetComparisonJson(const DatasetComparison& c, const CompareSt
   return {{"datasets", c.per_dataset.size()}, {"per_dataset", per_dataset},
           {"improvement_percent", intervalJson(c.interval, o)}, {"test", test}, {"equivalence", equivalence},
           {"alpha", o.rules.alpha}, {"smallest_effect_percent", o.rules.smallest_effect},
-          {"verdict", c.verdict.text}, {"basis", c.verdict.basis}};
+          {"holm_family", c.holm_family}, {"verdict", c.verdict.text}, {"basis", c.verdict.basis}};
 }
 
 nlohmann::json budgetJson(const BudgetSummary& b) {

@@ -66,6 +66,7 @@ struct DatasetComparison {
   std::optional<stats::ExactPairedTest> test;        ///< none when every data set's difference is 0
   double holm_p = 1.0;
   std::size_t family = 0;           ///< the comparisons Holm's correction ran over
+  std::string holm_family;          ///< which verdicts were corrected together, in words (holmFamilyText)
   std::string not_computed;         ///< why there is no evidence (then the verdict says so); empty when there is
   stats::Verdict verdict;
 };
@@ -110,6 +111,12 @@ struct MethodStatistics {
 /// by rows of different contents, or given both alone and with sets (docs/statistics.md, "Verdicts"); compare notes
 /// them.
 [[nodiscard]] std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows);
+
+/// The Holm family of one kind of verdict ("optima", "cross-validated") in words: "the 4 optima verdicts of knn,
+/// ror-octomap, ... against octomap", or for one method "the optima verdict of knn against octomap alone (no
+/// correction)". Every output of compare and report.md states it (docs/statistics.md, "Verdicts").
+[[nodiscard]] std::string holmFamilyText(const std::string& kind, const std::vector<std::string>& methods,
+                                         const std::string& baseline);
 
 /// Every method's statistics, the baseline's first. Throws std::invalid_argument naming the baseline and the
 /// methods given when no file of the baseline was given.
