@@ -166,7 +166,7 @@ PerDataset perDatasetMeans(const std::vector<double>& values, const std::vector<
   return out;
 }
 
-// A comparison over data sets, up to Holm's correction (applied over the family by holmAndDecide).
+// A comparison over data sets, up to Holm's correction (applied over the family by decideFamily).
 DatasetComparison overDatasets(PerDataset per_dataset, const CompareStatisticsOptions& o) {
   DatasetComparison c;
   c.datasets = std::move(per_dataset.names);
@@ -242,10 +242,12 @@ void crossValidatedImprovements(const AucTable& mine, const AucTable& base, cons
   s.cross_validated = overDatasets(heldOutImprovement(perDataset(mine), perDataset(base), datasetOrder(mine)), o);
 }
 
+}  // namespace
+
 // Holm's correction over the family of comparisons with the baseline (one p-value each; 1 where there is no
 // test or no evidence, which keeps the correction conservative: docs/statistics.md, "Verdicts"), then each verdict.
-void holmAndDecide(std::vector<DatasetComparison*> family, const std::string& family_text,
-                   const CompareStatisticsOptions& o) {
+void decideFamily(const std::vector<DatasetComparison*>& family, const std::string& family_text,
+                  const CompareStatisticsOptions& o, const char* unit_name, const char* value_unit) {
   std::vector<double> p, smallest_p, smallest_p_of_units;
   for (const DatasetComparison* c : family) {
     p.push_back(c->test ? c->test->p_value : 1.0);
@@ -262,12 +264,14 @@ void holmAndDecide(std::vector<DatasetComparison*> family, const std::string& fa
       c.verdict = {stats::VerdictKind::NotComputed, std::nullopt, c.not_computed, ""};
       continue;
     }
-    stats::VerdictEvidence e{c.per_dataset, "data sets", "%", c.interval, o.level, c.test, c.holm_p, c.family,
+    stats::VerdictEvidence e{c.per_dataset, unit_name, value_unit, c.interval, o.level, c.test, c.holm_p, c.family,
                              stats::smallestPossibleHolmP(smallest_p, i),
                              stats::smallestPossibleHolmP(smallest_p_of_units, i)};
     c.verdict = stats::decideVerdict(e, o.rules);
   }
 }
+
+namespace {
 
 // Grids that nest (docs/statistics.md, "Verdicts"): where most of a method's sets hold the baseline's best map, its
 // optimum is at least the baseline's there by construction, so a gain of the optima measures the grid, not the method.
@@ -355,6 +359,11 @@ std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& ro
   return pooled;
 }
 
+DatasetComparison pairedComparison(std::vector<std::string> names, std::vector<double> values,
+                                   const CompareStatisticsOptions& options) {
+  return overDatasets({std::move(names), std::move(values)}, options);
+}
+
 std::string holmFamilyText(const std::string& kind, const std::vector<std::string>& methods,
                            const std::string& baseline) {
   if (methods.size() == 1)
@@ -385,8 +394,8 @@ std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>
   methods.erase(methods.begin());  // the family: every method but the baseline
   for (MethodStatistics& s : out)
     if (!s.is_baseline) optima.push_back(&s.optima), cross_validated.push_back(&s.cross_validated);
-  holmAndDecide(optima, holmFamilyText("optima", methods, o.baseline), o);
-  holmAndDecide(cross_validated, holmFamilyText("cross-validated", methods, o.baseline), o);
+  decideFamily(optima, holmFamilyText("optima", methods, o.baseline), o, "data sets", "%");
+  decideFamily(cross_validated, holmFamilyText("cross-validated", methods, o.baseline), o, "data sets", "%");
   for (MethodStatistics& s : out) markNestedGain(s, o.baseline);
   return out;
 }

@@ -112,6 +112,16 @@ struct MethodStatistics {
 /// them.
 [[nodiscard]] std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows);
 
+/// One paired comparison over units named `names` (data sets, or pairs of them): the values, their interval and the
+/// exact test, with its verdict left to decideFamily.
+[[nodiscard]] DatasetComparison pairedComparison(std::vector<std::string> names, std::vector<double> values,
+                                                 const CompareStatisticsOptions& options);
+
+/// Holm's correction over `family`, then each comparison's verdict by options.rules (docs/statistics.md,
+/// "Verdicts"), its units and values named `unit_name` and `value_unit`; `family_text` says which verdicts these are.
+void decideFamily(const std::vector<DatasetComparison*>& family, const std::string& family_text,
+                  const CompareStatisticsOptions& options, const char* unit_name, const char* value_unit);
+
 /// The Holm family of one kind of verdict ("optima", "cross-validated") in words: "the 4 optima verdicts of knn,
 /// ror-octomap, ... against octomap", or for one method "the optima verdict of knn against octomap alone (no
 /// correction)". Every output of compare and report.md states it (docs/statistics.md, "Verdicts").
