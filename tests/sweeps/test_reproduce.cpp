@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -108,6 +109,36 @@ std::vector<std::string> fidelityRealStereoFigures(const json& rs) {
           "without it k-NN gains " + range(gain_both, "%+.1f", " to ") + " % on average",
           "the share that needs no k-NN weighting is " + range(share, "%.0f", "-") + " %",
           "Filtered at half the resolution (2 to 8 points per map voxel): " + range(half, "%+.1f", " to ") + " %"};
+}
+
+// A Markdown table row's cells, without the outer bars.
+std::vector<std::string> cellsOf(const std::string& row) {
+  std::vector<std::string> cells;
+  std::istringstream in(row.substr(1));  // each cell ends at its '|'
+  for (std::string cell; std::getline(in, cell, '|');) {
+    const std::size_t first = cell.find_first_not_of(' '), last = cell.find_last_not_of(' ');
+    cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
+  }
+  return cells;
+}
+
+// The first line of `text` at or after `from` that starts with `prefix` (empty when there is none).
+std::string lineStarting(const std::string& text, const std::string& prefix, std::size_t from = 0) {
+  const std::size_t at = text.find("\n" + prefix, from);
+  if (at == std::string::npos) return "";
+  return text.substr(at + 1, text.find('\n', at + 1) - at - 1);
+}
+
+// Markdown's reading of a doc: lines joined with one space, the indentation of continued list items dropped.
+std::string proseOf(const std::string& text) {
+  std::string prose;
+  for (std::size_t at = 0; at < text.size(); ++at)
+    if (text[at] != '\n') prose += text[at];
+    else {
+      prose += ' ';
+      while (at + 1 < text.size() && text[at + 1] == ' ') ++at;
+    }
+  return prose;
 }
 
 bool haveMatplotlib() { return std::system("/usr/bin/python3 -c 'import matplotlib, numpy' >/dev/null 2>&1") == 0; }
@@ -456,13 +487,7 @@ TEST_CASE("reproduce --steps real-stereo: the Aloe pair with the filter swept, b
       ++rows;
     }
   CHECK(rows == 12);
-  std::string prose;  // the doc's lines joined, as Markdown reads them
-  for (std::size_t at = 0; at < fidelity.size(); ++at)
-    if (fidelity[at] != '\n') prose += fidelity[at];
-    else {
-      prose += ' ';
-      while (at + 1 < fidelity.size() && fidelity[at + 1] == ' ') ++at;
-    }
+  const std::string prose = proseOf(fidelity);
   for (const std::string& figure : fidelityRealStereoFigures(rs)) {
     INFO("docs/fidelity.md should say: " << figure);
     CHECK(prose.find(figure) != std::string::npos);
@@ -544,4 +569,86 @@ TEST_CASE("report.md judges the trend and the groups over data sets and says 'no
   CHECK(report.find("- building better than parking, the run's truth: **not shown** (neither the difference nor an "
                     "equality within +-0.01 AUC is shown for both methods).") != std::string::npos);
   CHECK(report.find("Holm-adjusted over 4 comparisons") != std::string::npos);
+}
+
+TEST_CASE("docs/statistics.md and docs/fidelity.md quote the ci reproduction's comparison as it runs") {
+  // Issue 44, finding 6: the docs typed numbers a run makes, and nothing noticed when a run made others. Here the
+  // comparison step of `reproduce --scale ci` (20 data sets, 60 sets) runs, and every figure the docs quote from its
+  // report.md is looked up in them: the trend table and its within-texture values, the environment test, and the
+  // verdict table of the worked example.
+  const auto dir = test::scratch("reproduce-ci-comparison");
+  const auto r = test::runCli("reproduce --scale ci --steps comparison --no-figures --quiet --out " + dir.string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const std::string report = readText(dir / "report.md");
+  const std::string statistics = readText(test::sourceTree() / "docs" / "statistics.md");
+  const std::string fidelity = proseOf(readText(test::sourceTree() / "docs" / "fidelity.md"));
+  // The trend under each truth (report.md section 3b): statistics.md holds its rows, fidelity.md its values.
+  const std::size_t trend = report.find("| truth | Pearson r (p) | Spearman rho (p) | rho over data-set means (p) |");
+  REQUIRE(trend != std::string::npos);
+  for (const char* truth : {"full", "observable"}) {
+    const std::string row = lineStarting(report, std::string("| ") + truth + " | ", trend);
+    INFO(row);
+    CHECK(statistics.find(row + "\n") != std::string::npos);
+    const std::vector<std::string> c = cellsOf(row);
+    REQUIRE(c.size() == 8);
+    const std::string over_datasets = c[3].substr(0, c[3].find(" (")) + " (p = " + c[3].substr(c[3].find(" (") + 2);
+    CHECK(fidelity.find(over_datasets + " under " + truth + " truth") != std::string::npos);
+  }
+  const std::vector<std::string> observable = cellsOf(lineStarting(report, "| observable | ", trend));
+  std::smatch m;
+  const std::string within = observable.at(4);
+  REQUIRE(std::regex_match(within, m, std::regex(R"(plain \(10\) (\S+) \((\S+)\), voronoi \(10\) (\S+) \((\S+)\))")));
+  CHECK(fidelity.find(m.str(1) + " (p = " + m.str(2) + ", plain) and " + m.str(3) + " (p = " + m.str(4) +
+                      ", Voronoi)") != std::string::npos);
+  // Buildings against the parking lot (report.md section 4): fidelity.md quotes OctoMap's test under each truth.
+  for (const char* truth : {"full", "observable"}) {
+    const std::string row = lineStarting(report, std::string("| building - parking | ") + truth + " | octomap | ");
+    const std::size_t from = row.find("mean "), to = row.find(", Holm-adjusted");
+    REQUIRE(to != std::string::npos);
+    INFO("docs/fidelity.md should quote: " << row.substr(from, to - from));
+    CHECK(fidelity.find(row.substr(from, to - from)) != std::string::npos);
+  }
+  // Section 3's trend over sets and section 4's group means, as fidelity.md's first lines and reproduction.md quote them.
+  const std::string reproduction = proseOf(readText(test::sourceTree() / "docs" / "reproduction.md"));
+  const std::vector<std::string> all = cellsOf(lineStarting(report, "| all 60 | ")),
+                                 plain = cellsOf(lineStarting(report, "| texture plain (30) | ")),
+                                 voronoi = cellsOf(lineStarting(report, "| texture voronoi (30) | "));
+  REQUIRE((all.size() == 5 && plain.size() == 5 && voronoi.size() == 5));
+  REQUIRE(std::regex_search(report, m, std::regex(R"(improvement from (\S+) % to (\S+) %, mean (\S+) %)")));
+  CHECK(fidelity.find(m.str(1) + " % to " + m.str(2) + " %, mean " + m.str(3) + " %") != std::string::npos);
+  CHECK(fidelity.find("Pearson r = " + all[1] + " (permutation p = " + all[2] + ") over the 60 sets, but Spearman rho = " +
+                      all[3] + " (p = " + all[4] + "), and r = " + plain[1] + " within the plain sets and " + voronoi[1] +
+                      " within the Voronoi ones") != std::string::npos);
+  CHECK(reproduction.find(all[1] + " over the 60 sets, while the rank correlation is " + all[3] + " (permutation p = " +
+                          all[4] + ") and r within the plain and the Voronoi sets is " + plain[1] + " and " +
+                          voronoi[1]) != std::string::npos);
+  const std::string pearson = observable.at(1), spearman = observable.at(2);
+  CHECK(reproduction.find("(" + pearson.substr(0, pearson.find(' ')) + " at ci)") != std::string::npos);
+  const std::string rank = "the rank correlation is " + spearman.substr(0, spearman.find(' ')) + " (permutation p = " +
+                           spearman.substr(spearman.find('(') + 1);
+  CHECK(reproduction.find(rank) != std::string::npos);
+  CHECK(fidelity.find(rank) != std::string::npos);
+  REQUIRE(std::regex_search(observable.at(5), m, std::regex(R"(plain \(30\) (\S+) / \S+, voronoi \(30\) (\S+) /)")));
+  CHECK(reproduction.find("(plain " + m.str(1) + ", Voronoi " + m.str(2) + ")") != std::string::npos);
+  auto groupMeans = [&](const char* group) {  // "0.789 / 0.791": OctoMap / k-NN, to the doc's three decimals
+    const std::vector<std::string> c = cellsOf(lineStarting(report, std::string("| ") + group + " | 30 | "));
+    return printed(std::stod(c.at(2)), "%.3f") + " / " + printed(std::stod(c.at(3)), "%.3f");
+  };
+  CHECK(reproduction.find("(" + groupMeans("building") + " against " + groupMeans("parking") + ";") != std::string::npos);
+  // The worked example of statistics.md ("In occsweep compare"): report.md section 3d's verdict table, full truth.
+  const std::size_t example = statistics.find("### Worked example: the ci reproduction");
+  for (const char* method : {"knn", "range-octomap", "ror-octomap", "sor-octomap"}) {
+    const std::vector<std::string> c =
+        cellsOf(lineStarting(report, std::string("| ") + method + " | full | ", report.find("## 3d.")));
+    REQUIRE(c.size() == 13);
+    const std::string doc = lineStarting(statistics, std::string("| ") + method + " | ", example);
+    INFO(doc);
+    std::istringstream wins_ties_losses(c[3]);
+    std::string wins, ties, losses, slash;
+    wins_ties_losses >> wins >> slash >> ties >> slash >> losses;
+    const std::string p = c[7].substr(0, c[7].find("(Holm ")) + "(" + c[7].substr(c[7].find("(Holm ") + 6);
+    for (const std::string& cell : {wins + "/" + losses + "/" + ties, c[4] + " of 60", c[6], p, c[8], c[9]})
+      CHECK(doc.find("| " + cell + " |") != std::string::npos);
+  }
 }
