@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -289,6 +290,8 @@ TEST_CASE("Holm's correction runs over every method compared with the baseline")
   const auto three = compareStatistics(compareBest(files), files, statisticsAgainst("base"));
   const MethodStatistics& up = statisticsOf(three, "up");
   CHECK(up.optima.family == 3);
+  CHECK(up.optima.holm_family == "the 3 optima verdicts of same-1, same-2, up against base");
+  CHECK(up.cross_validated.holm_family == "the 3 cross-validated verdicts of same-1, same-2, up against base");
   CHECK(up.optima.holm_p == Approx(3 * 0.03125));
   CHECK(up.optima.verdict.text ==
         "too few data sets to tell (n = 6; the smallest p possible is 0.0938 after Holm's correction over 3 comparisons)");
@@ -740,4 +743,40 @@ TEST_CASE("grids that nest on more than half of the sets turn an optima gain int
                                                   : "at least the baseline by construction (holds base's best on 13 "
                                                     "of 24 sets): not a test of the method"));
   }
+}
+
+TEST_CASE("every output of compare says which verdicts Holm's correction ran over together (issue 44)") {
+  // The old binary corrected the optima and the cross-validated verdicts as two families without saying so
+  // anywhere: a reader could not tell what alpha 0.05 held over.
+  const fs::path dir = test::scratch("compare-families");
+  for (int d = 0; d < 3; ++d) writeGoldenDataset(dir, d, 0.05 + 0.1 * d);
+  const test::CommandResult r =
+      test::runIn(dir, "compare *.json --json c.json --markdown c.md --latex c.tex");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const std::string families = "Holm families, each corrected by itself: the optima verdict of knn against octomap "
+                               "alone (no correction); the cross-validated verdict of knn against octomap alone (no "
+                               "correction)";
+  auto oneSpaced = [](const std::string& text) {  // compare wraps its terminal lines at 100 columns
+    std::string out;
+    for (char c : text)
+      if (!std::isspace(static_cast<unsigned char>(c))) out += c;
+      else if (!out.empty() && out.back() != ' ') out += ' ';
+    return out;
+  };
+  CHECK_THAT(oneSpaced(r.output), Catch::Contains(families));
+  // The tables name the methods by their display names.
+  const std::string displayed = "Holm families, each corrected by itself: the optima verdict of k-NN against "
+                                "OctoMap alone (no correction); the cross-validated verdict of k-NN against OctoMap "
+                                "alone (no correction)\n";
+  CHECK_THAT(test::bytesOf(dir / "c.md"), Catch::Contains("- " + displayed));
+  CHECK_THAT(test::bytesOf(dir / "c.tex"), Catch::Contains("\\item " + displayed));
+  const nlohmann::json out = nlohmann::json::parse(test::bytesOf(dir / "c.json"));
+  for (const nlohmann::json& m : out.at("statistics"))
+    if (m.at("method") == "knn") {
+      CHECK(m.at("optima_over_datasets").at("holm_family") ==
+            "the optima verdict of knn against octomap alone (no correction)");
+      CHECK(m.at("cross_validated_over_datasets").at("holm_family") ==
+            "the cross-validated verdict of knn against octomap alone (no correction)");
+    }
 }

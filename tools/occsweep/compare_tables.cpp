@@ -90,9 +90,11 @@ std::string nestingText(const MethodStatistics& s) {
   return text;
 }
 
-// Each verdict with its sample, test and correction, one line each.
+// Each verdict with its sample, test and correction, one line each, and last which verdicts Holm's correction
+// ran over together (docs/statistics.md, "Verdicts").
 std::vector<std::string> verdictBases(const std::vector<MethodStatistics>& statistics) {
   std::vector<std::string> lines;
+  std::string families;
   for (const MethodStatistics& s : statistics) {
     if (s.is_baseline) continue;
     for (const auto& [what, c] : {std::pair<const char*, const DatasetComparison&>{"optima", s.optima},
@@ -102,7 +104,11 @@ std::vector<std::string> verdictBases(const std::vector<MethodStatistics>& stati
       lines.push_back(s.method + ", " + what + ": " + c.verdict.text +
                       (c.verdict.basis.empty() ? "" : ": " + c.verdict.basis));
     if (s.sets_holding_baseline_best) lines.push_back(nestingText(s));
+    if (families.empty())
+      families = "Holm families, each corrected by itself: " + s.optima.holm_family + "; " +
+                 s.cross_validated.holm_family;
   }
+  if (!families.empty()) lines.push_back(families);
   return lines;
 }
 

@@ -63,6 +63,9 @@ struct BothTruths {
 /// report.md's sections 3 and 4 (Fig. 5): improvement and the texture / environment means.
 void comparisonSection(std::ostringstream& o, const nlohmann::json& comparison);
 
+/// report.md section 4's tests of the texture and environment findings over pairs of data sets.
+void groupFindingsSection(std::ostringstream& o, const nlohmann::json& rows);
+
 /// The paper's trend (Fig. 5) over the sets of comparison.json: OctoMap's best AUC against k-NN's improvement,
 /// with each set's texture and environment; sets where either is undefined are left out.
 struct TrendInput {
@@ -80,13 +83,27 @@ struct TrendControls {
   std::size_t sets = 0, datasets = 0;
   double pearson = NAN, spearman = NAN, pearson_p = NAN, spearman_p = NAN, pooled_within_texture = NAN;
   double dataset_spearman = NAN, dataset_spearman_p = NAN;
-  std::vector<stats::GroupCorrelation> by_texture, by_environment;
+  std::vector<stats::GroupCorrelation> by_texture, by_environment;  ///< over sets: description
+  /// Within each texture over its data sets' means, the unit the verdict uses throughout, with permutation p.
+  std::vector<stats::GroupCorrelation> by_texture_datasets;
+  std::vector<double> by_texture_datasets_p;
 };
 [[nodiscard]] TrendControls trendControls(const TrendInput& in);
 
-/// "**holds**" when the rank correlation over the data sets' means is negative with permutation p < 0.05 and the
-/// rank correlation is negative within each texture, else "**does not hold** (what fails)".
+/// The trend's rule in report.md's words (docs/statistics.md, "Correlation").
+inline constexpr const char* kTrendRule =
+    "The trend is shown (**holds**) when Spearman's rho over the data sets' means, the verdicts' unit (the sets of "
+    "one data set share a scene: permuting sets as if independent makes the p-values over sets liberal), is negative "
+    "with permutation p < 0.05 both over all data sets and within each texture's data sets (a correlation over all "
+    "alone can come from the differences between the groups); all must reject (an intersection-union test, so no "
+    "correction). Otherwise it is **not shown**: these data cannot show the trend, which is not evidence that there "
+    "is none";
+
+/// "**holds**" by kTrendRule, else "**not shown** (what fails)".
 [[nodiscard]] std::string trendVerdict(const TrendControls& c);
+
+/// "plain (10) -0.079 (0.84), ...": each texture's data sets, rho over their means and its permutation p.
+[[nodiscard]] std::string textureCorrelationsOverDatasets(const TrendControls& c);
 
 /// "plain (30) +0.215 / +0.190, ...": each group's n, Pearson r and Spearman rho.
 [[nodiscard]] std::string groupCorrelations(const std::vector<stats::GroupCorrelation>& groups);

@@ -58,14 +58,8 @@ void comparisonSection(std::ostringstream& o, const json& comparison) {
     << "| group | sets | mean best OctoMap AUC | mean best k-NN AUC |\n|---|---|---|---|\n";
   for (const char* g : {"voronoi", "plain", "building", "parking"})
     o << "| " << g << " | " << knn_by[g].size() << " | " << num(mean(om_by[g])) << " | " << num(mean(knn_by[g])) << " |\n";
-  auto better = [&](const char* a, const char* b) {
-    return mean(knn_by[a]) > mean(knn_by[b]) && mean(om_by[a]) > mean(om_by[b]);
-  };
-  const bool have_textures = !knn_by["voronoi"].empty() && !knn_by["plain"].empty();
-  const bool have_envs = !knn_by["building"].empty() && !knn_by["parking"].empty();
-  o << "\nVoronoi better than plain (both methods): " << (have_textures ? verdict(better("voronoi", "plain")) : "not tested")
-    << ". Buildings better than parking (both methods): " << (have_envs ? verdict(better("building", "parking")) : "not tested")
-    << ".\n\n";
+  o << '\n';
+  groupFindingsSection(o, rows);
 }
 
 }  // namespace occsweep::reproduce

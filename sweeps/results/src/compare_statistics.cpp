@@ -145,7 +145,7 @@ PerDataset perDatasetMeans(const std::vector<double>& values, const std::vector<
   return out;
 }
 
-// A comparison over data sets (or scenes), up to Holm's correction (applied over the family by holmAndDecide).
+// A comparison over data sets (or scenes), up to Holm's correction (applied over the family by decideFamily).
 void overDatasets(PerDataset per_dataset, const CompareStatisticsOptions& o, DatasetComparison& c) {
   c.datasets = std::move(per_dataset.names);
   c.per_dataset = std::move(per_dataset.values);
@@ -218,9 +218,12 @@ void crossValidatedImprovements(const AucTable& mine, const AucTable& base, cons
   overDatasets(heldOutImprovement(perDataset(mine), perDataset(base), datasetOrder(mine)), o, s.cross_validated);
 }
 
+}  // namespace
+
 // Holm's correction over the family of comparisons with the baseline (one p-value each; 1 where there is no
 // test or no evidence, which keeps the correction conservative: docs/statistics.md, "Verdicts"), then each verdict.
-void holmAndDecide(std::vector<DatasetComparison*> family, const CompareStatisticsOptions& o) {
+void decideFamily(const std::vector<DatasetComparison*>& family, const std::string& family_text,
+                  const CompareStatisticsOptions& o, const char* unit_name, const char* value_unit) {
   std::vector<double> p, smallest_p, smallest_p_of_units;
   for (const DatasetComparison* c : family) {
     p.push_back(c->test ? c->test->p_value : 1.0);
@@ -232,17 +235,21 @@ void holmAndDecide(std::vector<DatasetComparison*> family, const CompareStatisti
     DatasetComparison& c = *family[i];
     c.holm_p = adjusted[i];
     c.family = family.size();
+    c.holm_family = family_text;
     if (!c.not_computed.empty()) {
       c.verdict = {stats::VerdictKind::NotComputed, std::nullopt, c.not_computed, c.sample};
       continue;
     }
-    stats::VerdictEvidence e{c.per_dataset, c.unit_name, "%", c.interval, o.level, c.test, c.holm_p, c.family,
+    stats::VerdictEvidence e{c.per_dataset, unit_name ? unit_name : c.unit_name, value_unit, c.interval, o.level,
+                             c.test, c.holm_p, c.family,
                              stats::smallestPossibleHolmP(smallest_p, i),
                              stats::smallestPossibleHolmP(smallest_p_of_units, i)};
     c.verdict = stats::decideVerdict(e, o.rules);
-    c.verdict.basis += "; " + c.sample;  // which units, counted how: every verdict names it
+    if (!c.sample.empty()) c.verdict.basis += "; " + c.sample;  // which units, counted how: every verdict names it
   }
 }
+
+namespace {
 
 // Grids that nest (docs/statistics.md, "Verdicts"): where most of a method's sets hold the baseline's best map, its
 // optimum is at least the baseline's there by construction, so a gain of the optima measures the grid, not the method.
@@ -352,6 +359,22 @@ std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& ro
   return pooled;
 }
 
+DatasetComparison pairedComparison(std::vector<std::string> names, std::vector<double> values,
+                                   const CompareStatisticsOptions& options) {
+  DatasetComparison c;
+  overDatasets({std::move(names), std::move(values)}, options, c);
+  return c;
+}
+
+std::string holmFamilyText(const std::string& kind, const std::vector<std::string>& methods,
+                           const std::string& baseline) {
+  if (methods.size() == 1)
+    return "the " + kind + " verdict of " + methods[0] + " against " + baseline + " alone (no correction)";
+  std::string list;
+  for (const std::string& m : methods) list += (list.empty() ? "" : ", ") + m;
+  return "the " + std::to_string(methods.size()) + " " + kind + " verdicts of " + list + " against " + baseline;
+}
+
 std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>& rows,
                                                 const std::vector<ResultsFile>& files,
                                                 const CompareStatisticsOptions& o) {
@@ -371,10 +394,11 @@ std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>
   for (const std::string& method : methods)
     out.push_back(methodStatistics(rows, files, method, baseline_table, budget, o, units));
   std::vector<DatasetComparison*> optima, cross_validated;
+  methods.erase(methods.begin());  // the family: every method but the baseline
   for (MethodStatistics& s : out)
     if (!s.is_baseline) optima.push_back(&s.optima), cross_validated.push_back(&s.cross_validated);
-  holmAndDecide(optima, o);
-  holmAndDecide(cross_validated, o);
+  decideFamily(optima, holmFamilyText("optima", methods, o.baseline), o, nullptr, "%");  // each its own unit
+  decideFamily(cross_validated, holmFamilyText("cross-validated", methods, o.baseline), o, nullptr, "%");
   for (MethodStatistics& s : out) markNestedGain(s, o.baseline);
   return out;
 }
@@ -409,7 +433,7 @@ nlohmann::json datasetComparisonJson(const DatasetComparison& c, const CompareSt
   return {{"datasets", c.per_dataset.size()}, {"unit", c.unit_name}, {"sample", c.sample}, {"per_dataset", per_dataset},
           {"improvement_percent", intervalJson(c.interval, o)}, {"test", test}, {"equivalence", equivalence},
           {"alpha", o.rules.alpha}, {"smallest_effect_percent", o.rules.smallest_effect},
-          {"verdict", c.verdict.text}, {"basis", c.verdict.basis}};
+          {"holm_family", c.holm_family}, {"verdict", c.verdict.text}, {"basis", c.verdict.basis}};
 }
 
 nlohmann::json budgetJson(const BudgetSummary& b) {

@@ -68,6 +68,7 @@ struct DatasetComparison {
   std::optional<stats::ExactPairedTest> test;        ///< none when every data set's difference is 0
   double holm_p = 1.0;
   std::size_t family = 0;           ///< the comparisons Holm's correction ran over
+  std::string holm_family;          ///< which verdicts were corrected together, in words (holmFamilyText)
   std::string not_computed;         ///< why there is no evidence (then the verdict says so); empty when there is
   std::string unit_name = "data sets";  ///< what one value is: "scenes" where provenance grouped data sets
   std::string sample;               ///< "20 data sets over 10 scenes (how the units were found)": in the basis
@@ -116,6 +117,23 @@ struct MethodStatistics {
 /// the rows whose unit their name decides under `rule`; compare notes them.
 [[nodiscard]] std::vector<std::string> pooledDatasetNames(const std::vector<ComparisonRow>& rows,
                                                         UnitRule rule = UnitRule::Provenance);
+
+/// One paired comparison over units named `names` (data sets, or pairs of them): the values, their interval and the
+/// exact test, with its verdict left to decideFamily.
+[[nodiscard]] DatasetComparison pairedComparison(std::vector<std::string> names, std::vector<double> values,
+                                                 const CompareStatisticsOptions& options);
+
+/// Holm's correction over `family`, then each comparison's verdict by options.rules (docs/statistics.md,
+/// "Verdicts"), its units and values named `unit_name` (null: each comparison's own `unit_name`) and `value_unit`;
+/// `family_text` says which verdicts these are.
+void decideFamily(const std::vector<DatasetComparison*>& family, const std::string& family_text,
+                  const CompareStatisticsOptions& options, const char* unit_name, const char* value_unit);
+
+/// The Holm family of one kind of verdict ("optima", "cross-validated") in words: "the 4 optima verdicts of knn,
+/// ror-octomap, ... against octomap", or for one method "the optima verdict of knn against octomap alone (no
+/// correction)". Every output of compare and report.md states it (docs/statistics.md, "Verdicts").
+[[nodiscard]] std::string holmFamilyText(const std::string& kind, const std::vector<std::string>& methods,
+                                         const std::string& baseline);
 
 /// Every method's statistics, the baseline's first. Throws std::invalid_argument naming the baseline and the
 /// methods given when no file of the baseline was given.
