@@ -371,7 +371,7 @@ TEST_CASE("a bad intrinsics file, or no intrinsics, is refused naming the file, 
 }
 
 // docs/import.md, "Poses": Replica's results/depthNNNNNN.png take line NNNNNN of the whole traj.txt.
-TEST_CASE("frames take the poses of a whole trajectory by the numbers in their names: --pose-by-frame-number") {
+TEST_CASE("frames take the poses of a whole trajectory by the numbers in their names (--pose-by-frame-number)") {
   const fs::path dir = test::scratch("import-checks-frame-number");
   std::string trajectory;  // 300 poses, 16 numbers a line as Replica's traj.txt; pose p at (p / 100, 0, 2)
   for (int p = 0; p < 300; ++p) {
