@@ -4,5 +4,5 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   return occsweep::fuzz::expectDataErrorOnly(
-      [&] { (void)occsweep::decodeIntrinsics(occsweep::fuzz::asText(data, size), "fuzz-intrinsics"); });
+      [&] { (void)occsweep::decodeIntrinsics(occsweep::fuzz::asText(data, size), "fuzz-intrinsics", false); });
 }

@@ -82,6 +82,17 @@ void requireSameScans(const fs::path& a, const fs::path& b) {
   }
 }
 
+// `text`, written to `file` and read by --intrinsics, imports the scans the flags of `by_hand` did.
+void requireReadAs(const std::string& frames_and_poses, const fs::path& file, const std::string& text,
+                   const fs::path& by_hand) {
+  std::ofstream(file, std::ios::binary) << text;
+  const fs::path out = file.parent_path() / ("from-" + file.stem().string());
+  const auto r = importWith(frames_and_poses, "--intrinsics " + file.string(), out);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  requireSameScans(out, by_hand);
+}
+
 }  // namespace
 
 TEST_CASE("a pose file read in the wrong format names the --pose-format that reads it") {
@@ -344,6 +355,17 @@ TEST_CASE("import depth --intrinsics reads 3DMatch's camera-intrinsics.txt and R
               .exit_code == 0);
   requireSameScans(dir / "replica", dir / "replica-by-hand");
   CHECK(readDataset(dir / "replica").source.at("depth_scale") == 6553.5);
+  // Without "scale" the file is read when --depth-scale gives it (docs/import.md: refused otherwise).
+  requireReadAs(posed + " --depth-scale 6553.5", dir / "no-scale.json",
+                R"({"camera": {"fx": 6.0, "fy": 6.5, "cx": 3.5, "cy": 2.0}})", dir / "replica-by-hand");
+  // A UTF-8 byte order mark before the numbers, as Windows editors save text, is skipped.
+  requireReadAs(posed, dir / "bom.txt",
+                "\xEF\xBB\xBF" "5.703422241210937500e+00 0 3.5\n0 5.703422241210937500e+00 2.5\n0 0 1\n",
+                dir / "by-hand");
+  // numpy's round-off in a computed matrix (1e-17 for a 0, 1.0000000000000002 for the 1) is the same camera.
+  requireReadAs(posed, dir / "round-off.txt",
+                "5.703422241210937500e+00 1e-17 3.5\n0 5.703422241210937500e+00 2.5\n-2e-17 0 1.0000000000000002\n",
+                dir / "by-hand");
 }
 
 TEST_CASE("a bad intrinsics file, or no intrinsics, is refused naming the file, the line or field and the fix") {
@@ -354,13 +376,25 @@ TEST_CASE("a bad intrinsics file, or no intrinsics, is refused naming the file, 
   std::ofstream(dir / "skewed.txt") << "6 0.5 3.5\n0 6 2.5\n0 0 1\n";
   std::ofstream(dir / "four.txt") << matrixPose(6, 3.5, 2.5);  // a 4x4, 16 numbers
   std::ofstream(dir / "no-fy.json") << R"({"camera": {"fx": 6, "cx": 3.5, "cy": 2.5}})";
+  std::ofstream(dir / "projective.txt") << "6 0 3.5\n0 6 2.5\n0 1e-6 1\n";  // past round-off: shown as it is
+  std::ofstream(dir / "word.txt") << "6 0 3.5\n0 6 2.5\n0 0 1 hello\n";
+  std::ofstream(dir / "array.json") << "[[6, 0, 3.5], [0, 6, 2.5], [0, 0, 1]]";
+  std::ofstream(dir / "no-scale.json") << R"({"camera": {"fx": 6, "fy": 6, "cx": 3.5, "cy": 2.5}})";
   std::ofstream(dir / "big.json") << R"({"camera": {"w": 1200, "h": 680, "fx": 600, "fy": 600, "cx": 599.5,
                                        "cy": 339.5, "scale": 6553.5}})";
   const std::string at = posed + " --intrinsics " + dir.string() + "/", file = dir.string() + "/";
-  requireRefused({{at + "skewed.txt", file + "skewed.txt: row 1, column 2: is 0.500000, expected 0: a camera matrix "
+  requireRefused({{at + "skewed.txt", file + "skewed.txt: row 1, column 2: is 0.5, expected 0: a camera matrix "
                                              "is fx 0 cx / 0 fy cy / 0 0 1"},
+                  {at + "projective.txt", file + "projective.txt: row 3, column 2: is 1e-06, expected 0"},
                   {at + "four.txt", file + "four.txt: line 3: more than 9 numbers"},
+                  {at + "word.txt", file + "word.txt: line 3: column 4 (matrix entry) is \"hello\": not a "
+                                           "number"},
+                  {at + "array.json", file + "array.json: is a JSON array, not an intrinsics file: give "
+                                             "{\"camera\": {\"fx\", \"fy\", \"cx\", \"cy\", \"scale\"}} (Replica's "
+                                             "cam_params.json) or text of 9 numbers"},
                   {at + "no-fy.json", file + "no-fy.json: camera.fy: missing"},
+                  {at + "no-scale.json", file + "no-scale.json: camera.scale: missing: give the raw depth units per "
+                                                "metre (Replica's is 6553.5), or --depth-scale"},
                   {at + "big.json", frame.string() + ": is 8x6 pixels, but --intrinsics " + file +
                                         "big.json is for 1200x680 images"},
                   {at + "skewed.txt --fx 6", "--intrinsics excludes --fx"},
@@ -398,15 +432,28 @@ TEST_CASE("frames take the poses of a whole trajectory by the numbers in their n
   CHECK(numbered.scans[2].origin == octomap::point3d(2.5f, 0.0f, 2.0f));
   CHECK(numbered.source.at("pose_by_frame_number") == true);
 
-  // A number past the trajectory, a name without one, another selection, one pose file per frame: refused.
+  // A number past the trajectory, a name without one or with two or with one past 2^64, two names of one number,
+  // another selection, one pose file per frame: refused.
   const std::string past = writeFramePng(dir / "depth000300.png", 3).string();
   const std::string unnumbered = writeFramePng(dir / "last.png", 3).string();
+  const std::string two_numbers = writeFramePng(dir / "depth000005-cam2.png", 0).string();
+  const std::string huge = writeFramePng(dir / "depth99999999999999999999999.png", 0).string();
+  const std::string ten = writeFramePng(dir / "depth10.png", 0).string();
+  const std::string ten_again = writeFramePng(dir / "depth010.png", 0).string();
   const std::string traj = " --poses " + (dir / "traj.txt").string() + " --pose-by-frame-number" + camera;
   const std::string chosen_twice = " --poses " + (dir / "chosen.txt").string() + " " + (dir / "chosen.txt").string();
   requireRefused({{past + traj, (dir / "traj.txt").string() + ": holds 300 poses (numbered 0 to 299): "
                                                               "depth000300.png takes pose 300"},
-                  {unnumbered + traj, unnumbered + ": --pose-by-frame-number takes the pose numbered by the last "
-                                                   "digits of each depth image's file name"},
+                  {unnumbered + traj, unnumbered + ": --pose-by-frame-number takes the pose numbered by the one "
+                                                   "number in each depth image's file name (depth000120.png: pose "
+                                                   "120), and this name has no number"},
+                  {two_numbers + traj, two_numbers + ": --pose-by-frame-number takes the pose numbered by the one "
+                                                     "number in each depth image's file name (depth000120.png: pose "
+                                                     "120), and this name has more than one"},
+                  {huge + traj, huge + ": --pose-by-frame-number takes the pose numbered by the one number in each "
+                                       "depth image's file name (depth000120.png: pose 120), and this name has one "
+                                       "too large for a pose number: 99999999999999999999999"},
+                  {ten + " " + ten_again + traj, ten_again + ": is frame 10, as " + ten + " is"},
                   {past + traj + " --pose-step 2", "--pose-step excludes --pose-by-frame-number"},
                   {past + " " + unnumbered + chosen_twice + " --pose-by-frame-number" + camera,
                    "--pose-by-frame-number takes poses out of one file of a whole sequence, not out of 2 pose files"}},

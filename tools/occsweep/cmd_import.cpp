@@ -155,8 +155,8 @@ void addPoseOptions(CLI::App* sub, ImportOptions& o) {
                   "N: with one pose file of a whole sequence, frame i takes pose K + i N (10: every tenth)")
       ->check(CLI::Range(std::size_t(1), std::size_t(1'000'000)))->needs(poses);
   sub->add_flag("--pose-by-frame-number", o.pose_selection.by_frame_number,
-                "With one pose file of a whole sequence, each frame takes the pose its file name numbers, counting "
-                "from 0 (Replica's depth000120.png: pose 120 of traj.txt)")
+                "With one pose file of a whole sequence, each frame takes the pose numbered by the one number in its "
+                "file name, counting from 0 (Replica's depth000120.png: pose 120 of traj.txt)")
       ->needs(poses)->excludes("--pose-start")->excludes("--pose-step");
 }
 
@@ -210,8 +210,9 @@ void addDepthOptions(CLI::App& depth, ImportOptions& o) {
   addPoseOptions(&depth, o);
   depth.add_option("--depth-scale", c.depth_scale, "Raw units per metre (1000 = mm; TUM/ICL-NUIM 5000)")->capture_default_str();
   CLI::Option* file = depth.add_option("--intrinsics", o.intrinsics, "Intrinsics file: a 3x3 camera matrix as text "
-                                       "(3DMatch's camera-intrinsics.txt) or Replica's cam_params.json, whose scale is "
-                                       "the depth scale unless --depth-scale; instead of --fx --fy --cx --cy")
+                                       "(3DMatch's camera-intrinsics.txt) or Replica's cam_params.json, whose scale "
+                                       "(required without --depth-scale) is the depth scale unless --depth-scale; "
+                                       "instead of --fx --fy --cx --cy")
                             ->type_name(kPath);
   for (const auto& [flag, value, help] : {std::tuple{"--fx", &c.fx, "Focal length x, pixels"},
                                           {"--fy", &c.fy, "Focal length y, pixels (may be negative)"},

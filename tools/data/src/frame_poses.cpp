@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -101,24 +102,41 @@ std::vector<RigidPose> selectedPoses(const std::vector<RigidPose>& poses, const 
   return out;
 }
 
-/// Each frame takes the pose numbered by the last digits of its file name (depth000120.png, frame-000120.depth.png:
-/// pose 120, counting from 0), as Replica's results/ and traj.txt pair them.
+/// The one number in a frame's file name (depth000120.png, frame-000120.depth.png: 120), or a DataError naming the
+/// frame when its name has none, more than one (depth000005-cam2.png: which is the frame?) or one past 2^64.
+std::uint64_t frameNumber(const fs::path& frame, const std::string& kind) {
+  constexpr const char* digits = "0123456789";
+  const std::string name = frame.filename().string();
+  const std::string rule = "--pose-by-frame-number takes the pose numbered by the one number in each " + kind +
+                           "'s file name (depth000120.png: pose 120), and this name has ";
+  const std::size_t first = name.find_first_of(digits);
+  if (first == std::string::npos) throw DataError(frame, "", rule + "no number");
+  const std::size_t end = std::min(name.find_first_not_of(digits, first), name.size());
+  if (name.find_first_of(digits, end) != std::string::npos)
+    throw DataError(frame, "", rule + "more than one: rename the " + kind + "s, or give the poses in their order");
+  std::uint64_t number = 0;
+  if (!parseUnsigned(std::string_view(name).substr(first, end - first), number))
+    throw DataError(frame, "", rule + "one too large for a pose number: " + name.substr(first, end - first));
+  return number;
+}
+
+/// Each frame takes the pose its file name numbers, counting from 0, as Replica's results/ and traj.txt pair them;
+/// two frames of one number (depth10.png, depth010.png) are refused: one of them is not the frame it seems.
 std::vector<RigidPose> posesByFrameNumber(const std::vector<RigidPose>& poses, const fs::path& file,
                                           const std::vector<fs::path>& frames, const std::string& kind) {
+  std::map<std::uint64_t, const fs::path*> frame_of;
   std::vector<RigidPose> out;
   for (const fs::path& frame : frames) {
+    const std::uint64_t number = frameNumber(frame, kind);
     const std::string name = frame.filename().string();
-    const std::size_t last = name.find_last_of("0123456789");
-    std::uint64_t number = 0;
-    const std::size_t first = last == std::string::npos ? 0 : name.find_last_not_of("0123456789", last) + 1;
-    if (last == std::string::npos || !parseUnsigned(std::string_view(name).substr(first, last + 1 - first), number))
-      throw DataError(frame, "", "--pose-by-frame-number takes the pose numbered by the last digits of each " + kind +
-                                     "'s file name (depth000120.png: pose 120), and this name has no number");
     if (number >= poses.size())
       throw DataError(file, "", "holds " + std::to_string(poses.size()) + " poses (numbered 0 to " +
                                     std::to_string(poses.size() - 1) + "): " + name + " takes pose " +
                                     std::to_string(number) + " (--pose-by-frame-number): is it the trajectory of "
                                     "these " + kind + "s?");
+    if (const auto [at, added] = frame_of.emplace(number, &frame); !added)
+      throw DataError(frame, "", "is frame " + std::to_string(number) + ", as " + at->second->string() +
+                                     " is (--pose-by-frame-number): give each frame once");
     out.push_back(poses[std::size_t(number)]);
   }
   return out;

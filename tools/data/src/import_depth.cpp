@@ -23,7 +23,7 @@ void validate(const DepthImportConfig& c) {
 }
 
 DepthImportConfig withIntrinsicsFile(DepthImportConfig c, const fs::path& file, bool depth_scale_given) {
-  const CameraIntrinsics k = readIntrinsics(file);
+  const CameraIntrinsics k = readIntrinsics(file, depth_scale_given);
   c.fx = k.fx, c.fy = k.fy, c.cx = k.cx, c.cy = k.cy;
   if (k.depth_scale && !depth_scale_given) c.depth_scale = *k.depth_scale;
   c.intrinsics_file = file;

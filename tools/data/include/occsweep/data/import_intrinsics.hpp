@@ -15,10 +15,13 @@ struct CameraIntrinsics {
   std::optional<int> width, height;       ///< the images' size in pixels (cam_params.json's "w", "h")
 };
 
-/// A JSON object (the first byte that is not a space is `{`): {"camera": {"fx", "fy", "cx", "cy", and optional "w",
-/// "h", "scale"}}. Otherwise text: 9 numbers, the row-major matrix [fx 0 cx; 0 fy cy; 0 0 1] over any lines, `#`
-/// comments and blank lines skipped. DataError naming the file, the line or field, and the rule.
-[[nodiscard]] CameraIntrinsics decodeIntrinsics(std::string_view bytes, const std::filesystem::path& file);
-[[nodiscard]] CameraIntrinsics readIntrinsics(const std::filesystem::path& file);
+/// A JSON object (the first byte that is not a space is `{`): {"camera": {"fx", "fy", "cx", "cy", "scale" (optional
+/// only when `depth_scale_given`), and optional "w", "h"}}. Otherwise text: 9 numbers, the row-major matrix
+/// [fx 0 cx; 0 fy cy; 0 0 1] (its 0s and 1 within 1e-9 of their row's largest entry) over any lines, `#` comments and
+/// blank lines skipped. A leading UTF-8 byte order mark is skipped. DataError naming the file, the line or field, and
+/// the rule.
+[[nodiscard]] CameraIntrinsics decodeIntrinsics(std::string_view bytes, const std::filesystem::path& file,
+                                                bool depth_scale_given);
+[[nodiscard]] CameraIntrinsics readIntrinsics(const std::filesystem::path& file, bool depth_scale_given);
 
 }  // namespace occsweep
