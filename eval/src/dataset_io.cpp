@@ -17,6 +17,7 @@
 #include "occsweep/io/bounded_read.hpp"
 #include "occsweep/eval/sensor_view_json.hpp"
 #include "occsweep/eval/json_input.hpp"
+#include "occsweep/eval/provenance.hpp"
 
 namespace occsweep {
 
@@ -277,6 +278,8 @@ Dataset readDataset(const fs::path& dir) {
   }
   d.region = mf.box(mf.at(m, "region", ""), "region");
   if (m.contains("source")) d.source = m.at("source");
+  if (d.source.is_object() && d.source.contains("provenance"))
+    checkProvenance(d.source.at("provenance"), file, "source.provenance");
   return d;
 }
 

@@ -426,6 +426,22 @@ void writeBoxView(const fs::path& file, const std::array<double, 3>& sensor, std
   }
 }
 
+// Two views of the box (the clouds of setting `n`) imported with `poses`, then `truth` added: the data set `out`.
+fs::path importBoxViews(const fs::path& dir, std::size_t n, const fs::path& poses, const fs::path& truth,
+                        const std::string& out) {
+  const std::string a = (dir / ("a" + std::to_string(n) + ".xyz")).string();
+  const std::string b = (dir / ("b" + std::to_string(n) + ".xyz")).string();
+  writeBoxView(a, {3, 0, 0}, 100 + n);
+  writeBoxView(b, {-3, 0, 0}, 200 + n);
+  const fs::path scans = dir / (out + "-scans");
+  REQUIRE(test::runCli("import cloud " + a + " " + b + " --poses " + poses.string() + " --out " + scans.string())
+              .exit_code == 0);
+  REQUIRE(test::runCli("import truth " + truth.string() + " --dataset " + scans.string() + " --out " +
+                       (dir / out).string())
+              .exit_code == 0);
+  return dir / out;
+}
+
 }  // namespace
 
 TEST_CASE("ten SGBM settings of one pair (one truth, one pose file, default names) are one scene in compare") {
@@ -434,18 +450,9 @@ TEST_CASE("ten SGBM settings of one pair (one truth, one pose file, default name
   std::ofstream(dir / "poses.txt") << "3 0 0 0 0 0 1\n-3 0 0 0 0 0 1\n";
   std::ofstream(dir / "box.json") << R"({"boxes": [{"min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 1]}]})";
   std::vector<fs::path> datasets;
-  for (int setting = 0; setting < 10; ++setting) {
-    const std::string n = std::to_string(setting);
-    writeBoxView(dir / ("a" + n + ".xyz"), {3, 0, 0}, 100 + std::uint64_t(setting));
-    writeBoxView(dir / ("b" + n + ".xyz"), {-3, 0, 0}, 200 + std::uint64_t(setting));
-    REQUIRE(test::runCli("import cloud " + (dir / ("a" + n + ".xyz")).string() + " " + (dir / ("b" + n + ".xyz")).string() +
-                         " --poses " + (dir / "poses.txt").string() + " --out " + (dir / ("scans" + n)).string())
-                .exit_code == 0);
-    datasets.push_back(dir / ("setting" + n));
-    REQUIRE(test::runCli("import truth " + (dir / "box.json").string() + " --dataset " + (dir / ("scans" + n)).string() +
-                         " --out " + datasets.back().string())
-                .exit_code == 0);
-  }
+  for (std::size_t setting = 0; setting < 10; ++setting)
+    datasets.push_back(importBoxViews(dir, setting, dir / "poses.txt", dir / "box.json",
+                                      "setting" + std::to_string(setting)));
   const std::string files = sweptResults(dir, datasets);
   const auto r = test::runCli("compare" + files + " --json " + (dir / "units.json").string());
   REQUIRE(r.exit_code == 0);
@@ -471,7 +478,7 @@ TEST_CASE("six cuts of four depth frames of one room are one scene, joined by th
   const fs::path dir = test::scratch("import_units_cuts");
   writeSmallGrids(dir);
   const fs::path join = kReal / "slambook_joinMap";
-  // Every pair of frames 1-4, each with a truth file of its own bytes (the same box): only the frames join them.
+  // Every pair of frames 1-4, each with a truth of its own (boxes 2.00 to 2.05 m high): only the frames join them.
   const std::vector<std::array<int, 2>> cuts = {{1, 2}, {2, 3}, {3, 4}, {1, 3}, {2, 4}, {1, 4}};
   std::vector<fs::path> datasets;
   for (std::size_t c = 0; c < cuts.size(); ++c) {
@@ -484,8 +491,7 @@ TEST_CASE("six cuts of four depth frames of one room are one scene, joined by th
                          " --fx 518 --fy 519 --cx 325.5 --cy 253.5 --max-depth 7 --stride 8 --out " +
                          (dir / ("frames" + n)).string())
                 .exit_code == 0);
-    std::ofstream(dir / ("box" + n + ".json")) << std::string(c, ' ')
-                                                << R"({"boxes": [{"min": [-1, -1, 0], "max": [1, 1, 2]}]})";
+    std::ofstream(dir / ("box" + n + ".json")) << R"({"boxes": [{"min": [-1, -1, 0], "max": [1, 1, 2.0)" << n << "]}]}";
     datasets.push_back(dir / ("cut" + n));
     REQUIRE(test::runCli("import truth " + (dir / ("box" + n + ".json")).string() + " --dataset " +
                          (dir / ("frames" + n)).string() + " --region -2 -2 -1 2 2 3 --out " + datasets.back().string())
@@ -497,6 +503,85 @@ TEST_CASE("six cuts of four depth frames of one room are one scene, joined by th
   CHECK(out.find("n = 6 data sets") == std::string::npos);  // the old binary's sample
   CHECK(out.find("6 data sets over 1 scene") != std::string::npos);
   CHECK(out.find("too few scenes to tell (n = 1") != std::string::npos);
+}
+
+TEST_CASE("built-in scenes of one room with other scan counts are one scene in compare") {
+  // The same boxes and region, 4 to 7 scans (scan 0 the same in all): one room, not four (docs/statistics.md rule 1).
+  const fs::path dir = test::scratch("scene_units_scans");
+  writeSmallGrids(dir);
+  std::vector<fs::path> datasets;
+  for (int scans = 4; scans <= 7; ++scans) {
+    datasets.push_back(dir / std::string("n").append(std::to_string(scans)));
+    REQUIRE(test::runCli("scene --width 32 --height 24 --scans " + std::to_string(scans) + " --out " +
+                         datasets.back().string())
+                .exit_code == 0);
+  }
+  const auto r = test::runCli("compare" + sweptResults(dir, datasets));
+  REQUIRE(r.exit_code == 0);
+  const std::string out = test::joinedLines(r.output);
+  CHECK(out.find("over 4 scenes") == std::string::npos);  // the old binary: "4 (4 over 4 scenes)", "n = 4 scenes"
+  CHECK(out.find("4 (1 over 1 scene)") != std::string::npos);  // four sets, all named builtin-O, of one scene
+  CHECK(out.find("1 data set over 1 scene") != std::string::npos);
+  CHECK(out.find("too few scenes to tell (n = 1") != std::string::npos);
+}
+
+TEST_CASE("one recording's pose and truth files copied with a comment or CRLF line ends are one scene in compare") {
+  const fs::path dir = test::scratch("import_units_line_ends");
+  writeSmallGrids(dir);
+  const std::vector<std::string> poses = {"3 0 0 0 0 0 1\n-3 0 0 0 0 0 1\n", "# copied\n3 0 0 0 0 0 1\n-3 0 0 0 0 0 1\n",
+                                          "3 0 0 0 0 0 1\r\n-3 0 0 0 0 0 1\r\n"};
+  const std::vector<std::string> truth = {R"({"boxes": [{"min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 1]}]})",
+                                          "{\"boxes\": [{\"min\": [-0.5, -0.5, 0], \"max\": [0.5, 0.5, 1]}]}\n",
+                                          "{\"boxes\":\r\n [{\"min\": [-0.5, -0.5, 0.0], \"max\": [0.5, 0.5, 1.0]}]}\r\n"};
+  std::vector<fs::path> datasets;
+  for (std::size_t copy = 0; copy < poses.size(); ++copy) {
+    const std::string n = std::to_string(copy);
+    std::ofstream(dir / ("poses" + n + ".txt"), std::ios::binary) << poses[copy];
+    std::ofstream(dir / ("box" + n + ".json"), std::ios::binary) << truth[copy];
+    datasets.push_back(importBoxViews(dir, copy, dir / ("poses" + n + ".txt"), dir / ("box" + n + ".json"), "copy" + n));
+  }
+  const auto r = test::runCli("compare" + sweptResults(dir, datasets));
+  REQUIRE(r.exit_code == 0);
+  const std::string out = test::joinedLines(r.output);
+  CHECK(out.find("over 3 scenes") == std::string::npos);  // the old binary: each copy a recording of its own
+  CHECK(out.find("3 data sets over 1 scene") != std::string::npos);
+}
+
+TEST_CASE("a malformed provenance in a manifest or a results file is refused, naming the file and the field") {
+  const fs::path dir = test::scratch("provenance_malformed");
+  writeSmallGrids(dir);
+  REQUIRE(test::runCli("scene --width 32 --height 24 --scans 4 --out " + (dir / "good").string()).exit_code == 0);
+  const std::string results = sweptResults(dir, {dir / "good"});
+  const fs::path manifest = dir / "good" / "manifest.json";
+  const auto good = nlohmann::json::parse(test::bytesOf(manifest));
+  const std::vector<std::pair<nlohmann::json, std::string>> bad = {
+      {5, "source.provenance: must be an object of content hashes"},
+      {{{"scene", "zz"}}, "source.provenance.scene: must be a content hash, 16 lowercase hex digits"},
+      {{{"inputs", "abc"}}, "source.provenance.inputs: must be an array of content hashes"},
+      {{{"scene", "ABCDEF0123456789"}}, "source.provenance.scene: must be a content hash"},
+      {{{"input", {"abcdef0123456789"}}}, "source.provenance.input: is not a provenance field"}};
+  for (const auto& [provenance, message] : bad) {
+    INFO(provenance.dump());
+    nlohmann::json edited = good;
+    edited["source"]["provenance"] = provenance;
+    std::ofstream(manifest) << edited.dump();
+    const fs::path out = dir / "bad.json";
+    const auto r = test::runCli("sweep --dataset " + (dir / "good").string() + " --grid " +
+                                (dir / "octomap-small.json").string() + " --out " + out.string());
+    CHECK(r.exit_code == 2);  // the old binary: 0, the value read as "no hashes"
+    CHECK(r.output.find(manifest.string() + ": " + message) != std::string::npos);
+    CHECK(r.output.find("remove it") != std::string::npos);
+    CHECK(!fs::exists(out));
+  }
+  // The same in a results file, where compare reads it.
+  const fs::path results_file = dir / "good-octomap-small.json";
+  auto edited = nlohmann::json::parse(test::bytesOf(results_file));
+  edited["dataset"]["point_cloud_set"]["provenance"] = {{"scene", "zz"}};
+  std::ofstream(results_file) << edited.dump();
+  const auto r = test::runCli("compare" + results);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find(results_file.string() + ": dataset.point_cloud_set.provenance.scene: must be a content hash") !=
+        std::string::npos);
 }
 
 TEST_CASE("import records the content hashes of its inputs, poses, truth and region in source.provenance") {

@@ -111,19 +111,11 @@ void printRegion(const AxisBox& r, const std::string& origin) {
 }
 
 // What the scans were made from, by content: compare counts data sets that share a recorded input, or truth and
-// poses, as one scene (docs/dataset-format.md, "Provenance"; docs/statistics.md, "Verdicts").
+// poses or region, as one scene (docs/dataset-format.md, "Provenance"; docs/statistics.md, "Verdicts").
 void recordProvenance(Dataset& d, const ImportOptions& o) {
   nlohmann::json provenance = {{"inputs", fileContentHashes(paths(o.files))}};
   if (!o.poses.empty()) provenance["poses"] = fileContentHashes(paths(o.poses));
   d.source["provenance"] = std::move(provenance);
-}
-
-// The truth and region added to the provenance the data set records (none when an older occsweep made it).
-void recordTruthProvenance(Dataset& d, const ImportOptions& o) {
-  nlohmann::json& provenance = d.source["provenance"];
-  provenance["truth"] = fileContentHashes(paths(o.files));
-  const nlohmann::json region = {d.region.min, d.region.max};
-  provenance["region"] = contentHash(region.dump());
 }
 
 int finish(Dataset d, const ImportOptions& o, const std::string& region_origin) {
@@ -391,7 +383,7 @@ int runImportTruth(const ImportOptions& o) {
     region_origin = "--region";
   }
   d.source["truth"] = o.files;
-  recordTruthProvenance(d, o);
+  recordTruthAndRegion(d.source["provenance"], d.truth, d.region);  // by value: one truth however it is written
   ImportOptions named = o;
   if (named.name.empty()) named.name = d.name;  // the data set keeps its name unless --name
   const std::optional<TruthCoverage> coverage = importedCoverage(d);

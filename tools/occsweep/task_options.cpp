@@ -102,7 +102,7 @@ void addCompareOptions(CLI::App& app, CompareTask& task) {
                  "within +-this are negligible")
       ->check(numberIn(0.0, 100.0))->capture_default_str();
   app.add_option("--units", task.units, "The unit of the tests: provenance (data sets sharing a recorded input, the "
-                                        "truth and poses, or a generated scene are one scene) or names (declared: "
+                                        "truth in one region, or a generated scene are one scene) or names (declared: "
                                         "each data set name is one unit); docs/statistics.md, Verdicts")
       ->check(CLI::IsMember({"provenance", "names"}))->capture_default_str();
   app.add_flag("--force", task.force, "Replace occsweep's own previous outputs at --json, --csv, --markdown, --latex "

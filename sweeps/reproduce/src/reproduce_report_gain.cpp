@@ -147,7 +147,7 @@ void gainSection(std::ostringstream& o, const json& comparison) {
     << "Sections 3 and 3c compare per-set optima: each method's best combination chosen on the very set it is scored "
     << "on, over grids of different sizes (knn-opt 450 maps, the baselines 60-80, octomap-opt 20), which favours "
     << "the larger grid. Here, against the optimal OctoMap on the same sets, with the scene as the unit (data sets "
-    << "that share a recorded input, the truth and poses, or a generated scene are one: below): each scene's mean "
+    << "that share a recorded input, the truth in one region, or a generated scene are one: below): each scene's mean "
     << "improvement, with a 95 % BCa "
     << "bootstrap interval (10,000 resamples, seed 1); the exact paired test over data sets (Wilcoxon's signed-rank, "
     << "or the sign test on tied values) with Holm's correction over the " << r.family << " methods compared, each "

@@ -13,6 +13,7 @@
 #include "occsweep/sweeps/results_store.hpp"
 #include "occsweep/sweeps/results_verify.hpp"
 #include "occsweep/eval/json_input.hpp"
+#include "occsweep/eval/provenance.hpp"
 
 namespace occsweep {
 namespace {
@@ -269,6 +270,8 @@ ResultsHeader parseHeader(const json& j, const std::string& file) {
   h.dataset_name = r.str(d, "name", "dataset");
   h.dataset_hash = r.str(d, "content_hash", "dataset");
   h.point_cloud_set = r.at(d, "point_cloud_set", "dataset");
+  if (h.point_cloud_set.is_object() && h.point_cloud_set.contains("provenance"))
+    checkProvenance(h.point_cloud_set.at("provenance"), file, "dataset.point_cloud_set.provenance");
   const json& m = r.at(j, "map", "");
   if (!m.is_object()) r.fail("map", "must be an object");
   h.map = parseMapSettings(m, [&](const std::string& key, const std::string& rule) { r.fail("map." + key, rule); });

@@ -24,16 +24,15 @@ nlohmann::json setJson(const PointCloudSetSummary& s) {
           {"naive", countsJson(s.naive)}};
 }
 
-// The scene apart from its appearance: geometry (environment, layout, boxes, clutter) and trajectory (camera,
-// orbit, keyframes), not texture, lighting, noise, seed, pose error or SGBM settings. Data sets of one scene are one
-// unit of compare's tests (docs/datasets.md, "Decisions"; docs/statistics.md, "Verdicts").
-std::string sceneHash(const DatasetName& name, const GenerateConfig& c, const nlohmann::json& camera,
-                      const nlohmann::json& orbit) {
+// The scene's geometry (environment, layout, boxes, courtyard, clutter, region), not its appearance (texture,
+// lighting, noise, seed, SGBM settings) or trajectory (camera, orbit, keyframes, pose error): every recording of one
+// world is one unit of compare's tests (docs/datasets.md, "Decisions"; docs/statistics.md, "Verdicts").
+std::string sceneHash(const DatasetName& name, const GenerateConfig& c) {
   DatasetName geometry = name;
   geometry.texture = Texture::Plain;
   const SceneConfig& g = c.scene;
   const nlohmann::json scene = {
-      {"generator", "occsweep dataset generate"}, {"geometry", geometry.str()}, {"camera", camera}, {"orbit", orbit},
+      {"generator", "occsweep dataset generate"}, {"geometry", geometry.str()},
       {"boxes", {g.box_edge, g.box_height, g.offset_x, g.offset_y}}, {"courtyard", {g.facade_distance, g.facade_height}},
       {"region", {g.region_margin, g.region_top_margin}}, {"far_clutter", g.far_clutter}};
   return contentHash(scene.dump());
@@ -75,7 +74,7 @@ nlohmann::json sourceJson(const DatasetName& name, const GenerateConfig& c, cons
   j["voxel_filter_leaf"] = c.leaf;
   j["max_depth"] = c.max_depth;
   if (const auto options = realismOptionsJson(c); !options.empty()) j["options"] = options;
-  j["provenance"] = {{"scene", sceneHash(name, c, j["camera"], j["orbit"])}};
+  j["provenance"] = {{"scene", sceneHash(name, c)}};
   return j;
 }
 

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/eval/ground_truth.hpp"
 #include "occsweep/io/fnv1a.hpp"
 
 namespace occsweep {
@@ -30,5 +31,14 @@ namespace occsweep {
   }
   return out;
 }
+
+/// Sets `truth` (one hash of the truth as stored: every box bound, triangle and point coordinate) and `region` (of
+/// `[[min], [max]]` as JSON text) in `provenance`: values, not file bytes, so one truth written with other comments,
+/// line ends or formats is still one scene.
+void recordTruthAndRegion(nlohmann::json& provenance, const TruthSources& truth, const AxisBox& region);
+
+/// DataError naming `file` and `field` unless `provenance` is an object of the documented fields only, each a hash
+/// of 16 lowercase hex digits (`inputs`, `poses`, `truth`: arrays of them): a hand-edited one would change the units.
+void checkProvenance(const nlohmann::json& provenance, const std::filesystem::path& file, const std::string& field);
 
 }  // namespace occsweep

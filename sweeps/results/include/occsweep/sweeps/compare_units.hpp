@@ -10,7 +10,8 @@
 namespace occsweep {
 
 enum class UnitRule {
-  Provenance,  ///< the default: data sets sharing a recorded input, the truth and poses, or a generated scene
+  Provenance,  ///< the default: data sets sharing a recorded input, the truth (with the poses or in one region),
+               ///< or a generated scene
   Names,       ///< `compare --units names`: each data set name is a unit (DATASET/pcs-NNNN share DATASET)
 };
 
@@ -28,7 +29,7 @@ struct SampleUnits {
 };
 
 /// The rows' units: under UnitRule::Provenance the connected groups of rows that share a recorded input file, the
-/// same truth and poses, or a generated scene (docs/dataset-format.md, "Provenance"), a row without provenance by
+/// same truth with the same poses or region, or a generated scene (docs/dataset-format.md, "Provenance"), a row without provenance by
 /// its name; under UnitRule::Names by name.
 [[nodiscard]] SampleUnits sampleUnits(const std::vector<ComparisonRow>& rows, UnitRule rule);
 
