@@ -61,8 +61,8 @@ void setInterruptMessage(std::string message);
 void unregisterChildProcess(pid_t pid);
 
 /// Runs `step` holding the lock an interrupt's cleaning takes and keeps until the exit: when SIGINT, SIGTERM or SIGHUP
-/// comes, `step` has run whole or not at all (a sweep's partial log renamed into place, one line appended to it). `step` must not make, commit or remove a registered
-/// temporary, which takes the same lock.
+/// comes, `step` has run whole or not at all (a sweep's partial log renamed into place, one line appended to it).
+/// `step` must not make, commit or remove a registered temporary, which takes the same lock.
 void runWithoutInterruptCleaning(const std::function<void()>& step);
 
 }  // namespace occsweep
