@@ -251,9 +251,9 @@ TEST_CASE("Verdict rules, each on its own", "[stats]") {
     CHECK(v.kind == VerdictKind::Tie);
     CHECK(v.text == "tie (equal on all 7 data sets)");
   }
-  SECTION("six data sets of which three differ: too few, with the smallest p of three") {
+  SECTION("six data sets of which three differ: no clear difference, with the smallest p of three") {
     const Verdict v = decideVerdict(evidence(positive, {1.0, 0, 1.2, 0, 0.8, 0}, 0.25));
-    CHECK(v.kind == VerdictKind::TooFew);
+    CHECK(v.kind == VerdictKind::NoClearDifference);  // the units are enough; the differing ones are too few
     CHECK(v.text.find("0.25") != std::string::npos);
     CHECK(v.basis.find("(3 non-zero)") != std::string::npos);
   }
@@ -326,6 +326,21 @@ TEST_CASE("Verdict rules, each on its own", "[stats]") {
   SECTION("seven of eight data sets equal, the eighth -0.004 %: negligible, not too few") {
     const Verdict v = decideVerdict(evidence({-0.0005, -0.001, 0.0}, {0, 0, 0, 0, -0.004, 0, 0, 0}, 1.0));
     CHECK(v.kind == VerdictKind::Negligible);
+  }
+  SECTION("negligible names what the equivalence test shows: the median (old: 'negligible (sign test: ...')") {
+    // The size table's "mean" rows: with the mean at the margin it still says negligible up to 0.248 of the time.
+    const Verdict v = decideVerdict(evidence({-0.0005, -0.001, 0.0}, {0, 0, 0, 0, -0.004, 0, 0, 0}, 1.0));
+    CHECK(v.text.find("negligible median difference (sign test: the ") == 0);
+  }
+  SECTION("seven of eight scenes equal, the eighth +5 %: no clear difference, not 'too few scenes (n = 8)'") {
+    // Eight units can reject (2 / 2^8); what is lacking is differing ones, and the text says so without
+    // contradicting its n (old: "too few scenes to tell (n = 8; the smallest p possible is 1)").
+    VerdictEvidence e = evidence({0.625, 0.0, 1.875}, {0, 0, 0, 0, 0, 0, 0, 5.0}, 1.0);
+    e.unit_name = "scenes";
+    const Verdict v = decideVerdict(e);
+    CHECK(v.kind == VerdictKind::NoClearDifference);
+    CHECK(v.text == "no clear difference (n = 8 scenes, 7 equal: 1 differing scene cannot show a difference; the "
+                    "smallest p possible is 1)");
   }
   SECTION("a BCa interval within +-0.1 is not enough: the median's interval must lie within too") {
     // Six differences whose 90% interval of the median (here their range) reaches past 0.1, beside a (too narrow)

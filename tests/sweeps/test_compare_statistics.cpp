@@ -74,8 +74,10 @@ MethodStatistics statisticsFor(const std::vector<ResultsFile>& files, const std:
 // The golden builtin sweeps (results/builtin) as data set `index`, written to `dir` for `occsweep compare`: OctoMap's
 // best map raised (voxels moved from FN to TP at one threshold, from FP to TN at another) until k-NN's best improves
 // on it by `percent` to within 2e-4 %; with `nested`, k-NN's map 0 takes that map's counts, so that k-NN's results
-// hold OctoMap's best (grids that nest). Real results files, checked as any other: the command under test reads them.
-void writeGoldenDataset(const fs::path& dir, int index, double percent, bool nested = false) {
+// hold OctoMap's best (grids that nest), in k-NN's file or in a second k-NN file (a copy with map 0 changed). Real
+// results files, checked as any other: the command under test reads them.
+enum class Nested { No, InItsFile, InASecondFile };
+void writeGoldenDataset(const fs::path& dir, int index, double percent, Nested nested = Nested::No) {
   const fs::path golden = test::sourceTree() / "results" / "builtin";
   ResultsFile octomap = readResults(golden / "octomap-opt.json"), knn = readResults(golden / "knn-opt.json");
   auto bestOf = [](ResultsFile& f) -> MapResult& {
@@ -97,22 +99,25 @@ void writeGoldenDataset(const fs::path& dir, int index, double percent, bool nes
   REQUIRE(std::fabs(mapArea(closest).anchored / target - 1.0) < 2e-6);
   best.thresholds = closest;
   best.area = mapArea(closest);
-  if (nested) {
-    for (std::size_t t = 0; t < closest.size(); ++t) knn.maps[0].thresholds[t].counts = closest[t].counts;
-    knn.maps[0].area = best.area;
+  ResultsFile second = knn;
+  if (nested != Nested::No) {
+    ResultsFile& holder = nested == Nested::InItsFile ? knn : second;
+    for (std::size_t t = 0; t < closest.size(); ++t) holder.maps[0].thresholds[t].counts = closest[t].counts;
+    holder.maps[0].area = best.area;
   }
-  for (ResultsFile* f : {&octomap, &knn}) {
+  for (ResultsFile* f : {&octomap, &knn, &second}) {
+    if (f == &second && nested != Nested::InASecondFile) continue;
     f->header.dataset_name = "room-" + std::to_string(index);
     f->header.dataset_hash = std::string(16 - std::to_string(index + 10).size(), 'a') + std::to_string(index + 10);
     // Each copy stands for a room of its own: its own scene (docs/statistics.md, "Verdicts", rule 1).
     f->header.point_cloud_set["provenance"] = {{"scene", f->header.dataset_hash}};
-    writeResults(*f, dir / (f->header.method + "-" + std::to_string(index) + ".json"));
+    writeResults(*f, dir / (f->header.method + (f == &second ? "-second-" : "-") + std::to_string(index) + ".json"));
   }
 }
 
 // `occsweep compare` (the binary under test) over the data sets written to `dir`: k-NN's entry of --json's statistics.
-nlohmann::json compareKnnStatistics(const fs::path& dir) {
-  const test::CommandResult r = test::runIn(dir, "compare *.json --json c.json");
+nlohmann::json compareKnnStatistics(const fs::path& dir, const std::string& flags = "") {
+  const test::CommandResult r = test::runIn(dir, "compare *.json --json c.json" + flags);
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   const nlohmann::json out = nlohmann::json::parse(test::bytesOf(dir / "c.json"));
@@ -716,35 +721,80 @@ TEST_CASE("grids that nest: the optima verdict is no gain but says why, the cros
   // k-NN's results hold OctoMap's best map on every set, so its difference is >= 0 by construction and the exact
   // test's "no difference" is false by design: old "gain".
   const fs::path dir = test::scratch("compare-nested");
-  for (int d = 0; d < 8; ++d) writeGoldenDataset(dir, d, 0.3 + 0.07 * d, true);
+  for (int d = 0; d < 8; ++d) writeGoldenDataset(dir, d, 0.3 + 0.07 * d, Nested::InItsFile);
   const nlohmann::json knn = compareKnnStatistics(dir);
   CHECK(knn.at("sets_holding_baseline_best") == 8);
   CHECK(knn.at("optima_over_datasets").at("test").at("p_value").get<double>() == Approx(2.0 / 256));
   CHECK(knn.at("verdict") ==
-        "at least the baseline by construction (holds octomap's best on 8 of 8 sets): not a test of the method");
+        "at least the baseline by construction (holds octomap's best on all sets of 8 of 8 scenes): not a test of "
+        "the method");
   CHECK(knn.at("cross_validated_verdict").get<std::string>().find("by construction") == std::string::npos);
 }
 
-TEST_CASE("grids that nest on more than half of the sets turn an optima gain into 'by construction', not fewer") {
-  // Eight data sets of three sets, "other" better by 0.05 on every map; k of its 24 sets also get a map scoring the
-  // baseline's best exactly. 12 of 24 (half): still a gain; 13 of 24: at least the baseline by construction.
-  for (const std::size_t holding : {12u, 13u}) {
-    auto files = syntheticComparison(7, 15, 15, 0.05, true, 8);
-    std::size_t added = 0;
-    for (std::size_t i = 0; i + 1 < files.size() && added < holding; i += 2, ++added) {
-      const ResultsFile& base = files[i];
-      const auto lower = [](const MapResult& a, const MapResult& b) { return a.area.anchored < b.area.anchored; };
-      MapResult copy = *std::max_element(base.maps.begin(), base.maps.end(), lower);
-      copy.map_index = files[i + 1].maps.size();
-      files[i + 1].maps.push_back(copy);
-    }
-    const MethodStatistics s = statisticsFor(files, "other");
-    INFO(holding << " of 24 sets hold the baseline's best");
-    CHECK(s.sets_holding_baseline_best == holding);
-    CHECK(s.optima.verdict.text == (holding == 12 ? std::string("gain")
-                                                  : "at least the baseline by construction (holds base's best on 13 "
-                                                    "of 24 sets): not a test of the method"));
+// Each set of `files` (syntheticComparison's base/other pairs) for which `holds(set)` also gets, in "other"'s
+// results, a copy of "base"'s best map: there "other" holds the baseline's best exactly.
+template <typename Holds>
+void holdBaselineBest(std::vector<ResultsFile>& files, Holds holds) {
+  for (std::size_t i = 0; i + 1 < files.size(); i += 2) {
+    if (!holds(i / 2)) continue;
+    const auto lower = [](const MapResult& a, const MapResult& b) { return a.area.anchored < b.area.anchored; };
+    MapResult copy = *std::max_element(files[i].maps.begin(), files[i].maps.end(), lower);
+    copy.map_index = files[i + 1].maps.size();
+    files[i + 1].maps.push_back(copy);
   }
+}
+
+TEST_CASE("grids that nest are counted in units: the optima verdict is decided on the units that do not nest") {
+  // "other" better by 0.05 on every map, three sets per data set (the unit here); some sets also hold the
+  // baseline's best. The old rule counted sets, "by construction" past half of them.
+  SECTION("two of every data set's three sets hold it (16 of 24 sets): no unit nests, a gain (old: by construction)") {
+    auto files = syntheticComparison(7, 15, 15, 0.05, true, 8);
+    holdBaselineBest(files, [](std::size_t set) { return set % 3 != 2; });
+    const MethodStatistics s = statisticsFor(files, "other");
+    CHECK(s.sets_holding_baseline_best == 16);
+    CHECK(s.scenes_holding_baseline_best == 0);
+    CHECK(s.optima.verdict.text == "gain");
+  }
+  SECTION("every set of 4 of 8 data sets (12 of 24 sets): the other 4 are too few to tell (old: gain)") {
+    auto files = syntheticComparison(7, 15, 15, 0.05, true, 8);
+    holdBaselineBest(files, [](std::size_t set) { return set < 12; });
+    const MethodStatistics s = statisticsFor(files, "other");
+    CHECK(s.sets_holding_baseline_best == 12);
+    CHECK(s.scenes_holding_baseline_best == 4);
+    CHECK(s.optima.verdict.text == "at least the baseline by construction (holds base's best on all sets of 4 of 8 "
+                                   "data sets; the other 4 are too few to tell): not a test of the method");
+  }
+  SECTION("every set of 2 of 10 data sets: the verdict over the other 8, which say so (old: over all 10)") {
+    auto files = syntheticComparison(7, 15, 15, 0.05, true, 10);
+    holdBaselineBest(files, [](std::size_t set) { return set < 6; });
+    const MethodStatistics s = statisticsFor(files, "other");
+    CHECK(s.scenes_holding_baseline_best == 2);
+    CHECK(s.optima.verdict.text == "gain over the 8 data sets where the grids do not nest, 2 of 10 holding base's "
+                                   "best on all their sets");
+    CHECK(s.optima.verdict.basis.find("n = 8 data sets") == 0);
+    REQUIRE(s.optima.test);
+    CHECK(s.optima.test->nonzero == 10);  // the description stays over every unit
+  }
+  SECTION("every set of 4 of 4 data sets: too few to tell over all of them, said first") {
+    auto files = syntheticComparison(7, 15, 15, 0.05, true, 4);
+    holdBaselineBest(files, [](std::size_t) { return true; });
+    const MethodStatistics s = statisticsFor(files, "other");
+    CHECK(s.scenes_holding_baseline_best == 4);
+    CHECK(s.optima.verdict.text == "too few data sets to tell (n = 4; the smallest p possible is 0.125)");
+  }
+}
+
+TEST_CASE("grids that nest: the baseline's best in a second results file of the method counts (issue 44)") {
+  // Two k-NN files per data set (compare --allow-mixed), OctoMap's best map only in the second; k-NN's best is taken
+  // from the first. The old binary looked only in the best's file: 0 sets hold it, and the optima verdict was "gain".
+  const fs::path dir = test::scratch("compare-nested-second-file");
+  for (int d = 0; d < 8; ++d) writeGoldenDataset(dir, d, 0.3 + 0.07 * d, Nested::InASecondFile);
+  const nlohmann::json knn = compareKnnStatistics(dir, " --allow-mixed");
+  CHECK(knn.at("sets_holding_baseline_best") == 8);
+  CHECK(knn.at("verdict") ==
+        "at least the baseline by construction (holds octomap's best on all sets of 8 of 8 scenes): not a test of "
+        "the method");
+  CHECK(knn.value("scenes_holding_baseline_best", -1) == 8);
 }
 
 TEST_CASE("every output of compare says which verdicts Holm's correction ran over together (issue 44)") {

@@ -84,12 +84,31 @@ bool withinSmallestEffect(const std::optional<MedianInterval>& m, const VerdictE
 
 double leastP(double family_bound, double own) { return std::isnan(family_bound) ? own : family_bound; }
 
-Verdict tooFew(const VerdictEvidence& e, const VerdictRules& r, double smallest_p) {
-  const std::size_t n = e.differences.size();
+std::string boundText(const VerdictEvidence& e, double smallest_p) {
   std::string bound = "the smallest p possible is " + number(smallest_p, "%.3g");
-  if (e.family > 1 && n >= 2) bound += " after Holm's correction over " + std::to_string(e.family) + " comparisons";
+  if (e.family > 1 && e.differences.size() >= 2)
+    bound += " after Holm's correction over " + std::to_string(e.family) + " comparisons";
+  return bound;
+}
+
+Verdict tooFew(const VerdictEvidence& e, const VerdictRules& r, double smallest_p) {
   return {VerdictKind::TooFew, std::nullopt,
-          "too few " + e.unit_name + " to tell (n = " + std::to_string(n) + "; " + bound + ")", basisText(e, r)};
+          "too few " + e.unit_name + " to tell (n = " + std::to_string(e.differences.size()) + "; " +
+              boundText(e, smallest_p) + ")",
+          basisText(e, r)};
+}
+
+// Rule 6 where some units are equal: the units could reject, the few that differ cannot. Not "too few scenes
+// (n = 8)", which would contradict its own n: what is lacking is differing units (docs/statistics.md, "Verdicts").
+Verdict tooFewDiffering(const VerdictEvidence& e, const VerdictRules& r, const std::optional<MedianInterval>& m,
+                        double smallest_p) {
+  const std::size_t n = e.differences.size(), differing = e.test->nonzero;
+  return {VerdictKind::NoClearDifference, m,
+          "no clear difference (n = " + std::to_string(n) + " " + e.unit_name + ", " + std::to_string(n - differing) +
+              " equal: " + std::to_string(differing) + " differing " +
+              (differing == 1 ? singular(e.unit_name) : e.unit_name) + " cannot show a difference; " +
+              boundText(e, smallest_p) + ")",
+          basisText(e, r)};
 }
 
 }  // namespace
@@ -149,9 +168,10 @@ Verdict decideVerdict(const VerdictEvidence& e, const VerdictRules& r) {
               equivalenceText(*m, e, r) + ")";
     return {side > 0 ? VerdictKind::Gain : VerdictKind::Loss, m, text, basis};
   }
-  if (within) return {VerdictKind::Negligible, m, "negligible (" + equivalenceText(*m, e, r) + ")", basis};
+  if (within)  // the sign test's claim is about the median; a mean at the margin can pass (the size table)
+    return {VerdictKind::Negligible, m, "negligible median difference (" + equivalenceText(*m, e, r) + ")", basis};
   const double least_p = leastP(e.smallest_possible_holm_p, e.test->smallest_possible_p);
-  if (least_p > r.alpha) return tooFew(e, r, least_p);
+  if (least_p > r.alpha) return e.test->nonzero < n ? tooFewDiffering(e, r, m, least_p) : tooFew(e, r, least_p);
   return {VerdictKind::NoClearDifference, m, "no clear difference", basis};
 }
 

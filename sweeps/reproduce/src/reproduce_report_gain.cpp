@@ -160,8 +160,9 @@ void gainSection(std::ostringstream& o, const json& comparison) {
     << "; \"gain\" or \"loss\" when the interval excludes 0 and the Holm-adjusted p is at most " << r.alpha
     << " (\"below the smallest effect\" when the difference is also shown within +-" << r.smallest_effect
     << " %); \"negligible\" otherwise only when the sign test (Bonferroni over the family) puts the median, and "
-    << "the interval the mean, within +-" << r.smallest_effect << " %; an optima gain of a method whose results "
-    << "hold OctoMap's best map on most sets is \"at least the baseline by construction\".\n\n";
+    << "the interval the mean, within +-" << r.smallest_effect << " %; the optima verdict of a method whose "
+    << "results hold OctoMap's best map on every set of some scenes is decided on the other scenes, and is \"at "
+    << "least the baseline by construction\" when they are too few.\n\n";
   gainTable(o, statistics);
   o << '\n';
   unitLines(o, comparison);

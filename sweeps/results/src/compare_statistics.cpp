@@ -12,6 +12,7 @@
 #include "occsweep/stats/budget_curve.hpp"
 #include "occsweep/stats/cross_validation.hpp"
 #include "occsweep/stats/multiple_testing.hpp"
+#include "compare_nesting.hpp"
 
 namespace occsweep {
 namespace {
@@ -251,29 +252,21 @@ void decideFamily(const std::vector<DatasetComparison*>& family, const std::stri
 
 namespace {
 
-// Grids that nest (docs/statistics.md, "Verdicts"): where most of a method's sets hold the baseline's best map, its
-// optimum is at least the baseline's there by construction, so a gain of the optima measures the grid, not the method.
-void markNestedGain(MethodStatistics& s, const std::string& baseline) {
-  if (s.optima.verdict.kind != stats::VerdictKind::Gain || 2 * s.sets_holding_baseline_best <= s.sets) return;
-  s.optima.verdict.kind = stats::VerdictKind::NotComputed;
-  s.optima.verdict.text = "at least the baseline by construction (holds " + baseline + "'s best on " +
-                          std::to_string(s.sets_holding_baseline_best) + " of " + std::to_string(s.sets) +
-                          " sets): not a test of the method";
-}
-
-// Sets where the method's results hold a map scoring the baseline's best AUC exactly (grids that nest).
-std::size_t setsHoldingBaselineBest(const std::vector<ComparisonRow>& rows, const std::vector<ResultsFile>& files,
-                                    const std::string& method, const std::string& baseline) {
-  std::size_t n = 0;
-  for (const ComparisonRow& row : rows) {
-    const auto m = row.best(method), b = row.best(baseline);
-    if (!m || !b) continue;
-    const auto& maps = files[m->file].maps;
-    n += std::any_of(maps.begin(), maps.end(), [&](const MapResult& r) {
-      return r.area.anchored == b->auc && r.area.observed == b->observed;
-    });
-  }
-  return n;
+// The optima comparison over the units not in `nested`, for the verdict (grids that nest, compare_nesting.hpp); none
+// when no unit of it nests or every difference is 0 (a tie is a description, over every unit).
+std::optional<DatasetComparison> withoutNestedUnits(const DatasetComparison& optima,
+                                                    const std::set<std::string>& nested,
+                                                    const CompareStatisticsOptions& o) {
+  if (!optima.test) return std::nullopt;
+  PerDataset kept;
+  for (std::size_t i = 0; i < optima.datasets.size(); ++i)
+    if (!nested.count(optima.datasets[i]))
+      kept.names.push_back(optima.datasets[i]), kept.values.push_back(optima.per_dataset[i]);
+  if (kept.names.size() == optima.datasets.size()) return std::nullopt;
+  DatasetComparison c;
+  c.unit_name = optima.unit_name, c.sample = optima.sample;
+  overDatasets(std::move(kept), o, c);
+  return c;
 }
 
 // The sets where both the method and the baseline have a best map, paired, with their units and data sets.
@@ -327,8 +320,29 @@ MethodStatistics methodStatistics(const std::vector<ComparisonRow>& rows, const 
   nameSample(units, s);
   pairedTests(paired, o, s);
   crossValidatedImprovements(table, baseline_table, o, s);
-  s.sets_holding_baseline_best = setsHoldingBaselineBest(rows, files, method, o.baseline);
+  const nesting::Nesting nested = nesting::nestingOf(rows, files, method, o.baseline, units.of_row);
+  s.sets_holding_baseline_best = nested.sets, s.scenes_holding_baseline_best = nested.units.size();
+  s.optima_not_nested = withoutNestedUnits(s.optima, nested.units, o);
   return s;
+}
+
+// The optima verdicts, Holm over every method's units (the description); where grids nest, again with each such
+// method's units that do not nest, whose verdict it gets (compare_nesting.hpp; docs/statistics.md, "Grids that nest").
+void decideOptima(std::vector<MethodStatistics>& out, const std::string& family, const CompareStatisticsOptions& o) {
+  std::vector<DatasetComparison*> over_all, decided;
+  for (MethodStatistics& s : out)
+    if (!s.is_baseline)
+      over_all.push_back(&s.optima), decided.push_back(s.optima_not_nested ? &*s.optima_not_nested : &s.optima);
+  decideFamily(over_all, family, o, nullptr, "%");  // each its own unit
+  if (decided == over_all) return;
+  decideFamily(decided, family, o, nullptr, "%");
+  for (MethodStatistics& s : out)
+    if (s.optima_not_nested) {
+      const std::size_t units = s.optima.per_dataset.size();
+      s.optima.verdict = nesting::nestedVerdict(s.optima_not_nested->verdict, s.optima.verdict, units,
+                                                units - s.optima_not_nested->per_dataset.size(), s.optima.unit_name,
+                                                o.baseline);
+    }
 }
 
 }  // namespace
@@ -393,13 +407,12 @@ std::vector<MethodStatistics> compareStatistics(const std::vector<ComparisonRow>
   std::vector<MethodStatistics> out;
   for (const std::string& method : methods)
     out.push_back(methodStatistics(rows, files, method, baseline_table, budget, o, units));
-  std::vector<DatasetComparison*> optima, cross_validated;
   methods.erase(methods.begin());  // the family: every method but the baseline
+  decideOptima(out, holmFamilyText("optima", methods, o.baseline), o);
+  std::vector<DatasetComparison*> cross_validated;
   for (MethodStatistics& s : out)
-    if (!s.is_baseline) optima.push_back(&s.optima), cross_validated.push_back(&s.cross_validated);
-  decideFamily(optima, holmFamilyText("optima", methods, o.baseline), o, nullptr, "%");  // each its own unit
+    if (!s.is_baseline) cross_validated.push_back(&s.cross_validated);
   decideFamily(cross_validated, holmFamilyText("cross-validated", methods, o.baseline), o, nullptr, "%");
-  for (MethodStatistics& s : out) markNestedGain(s, o.baseline);
   return out;
 }
 
@@ -445,6 +458,8 @@ nlohmann::json budgetJson(const BudgetSummary& b) {
 void addComparisonJson(const MethodStatistics& s, const CompareStatisticsOptions& o, nlohmann::json& j) {
   j["better"] = s.better, j["worse"] = s.worse, j["ties"] = s.ties;
   j["sets_holding_baseline_best"] = s.sets_holding_baseline_best;
+  j["scenes_holding_baseline_best"] = s.scenes_holding_baseline_best;
+  if (s.optima_not_nested) j["optima_where_grids_do_not_nest"] = datasetComparisonJson(*s.optima_not_nested, o);
   j["verdict"] = s.optima.verdict.text;
   j["cross_validated_verdict"] = s.cross_validated.verdict.text;
   j["optima_over_datasets"] = datasetComparisonJson(s.optima, o);

@@ -72,7 +72,9 @@ struct Verdict {
   /// The equivalence test's interval: the sign test's interval of the median at 1 - 2 alpha / family, where the
   /// units are enough to reach that level.
   std::optional<MedianInterval> equivalence;
-  std::string text;   ///< what is printed: "gain", "loss", "negligible (...)", "tie (...)", "no clear difference", "too few ..."
+  /// What is printed: "gain", "loss", "negligible median difference (...)", "tie (...)", "no clear difference",
+  /// "too few ..."
+  std::string text;
   std::string basis;  ///< its sample, test and correction, in one sentence
 };
 
@@ -80,8 +82,9 @@ struct Verdict {
 /// too few for any p-value to reach alpha (after Holm): too few to tell; the Holm-adjusted p at most alpha: gain or
 /// loss when the bootstrap interval excludes 0 and the test leans its way ("below the smallest effect" when the
 /// difference is also shown negligible), else no clear difference; the median's interval (sign test, Bonferroni
-/// over the family) and the bootstrap interval both within +-smallest_effect: negligible; non-zero differences too
-/// few to reject: too few to tell; otherwise no clear difference.
+/// over the family) and the bootstrap interval both within +-smallest_effect: negligible median difference;
+/// non-zero differences too few to reject: no clear difference, saying how many differ; otherwise no clear
+/// difference. TooFew is rule 3 alone: the units themselves are too few.
 [[nodiscard]] Verdict decideVerdict(const VerdictEvidence& evidence, const VerdictRules& rules = {});
 
 }  // namespace occsweep::stats

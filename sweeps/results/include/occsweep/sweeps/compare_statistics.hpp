@@ -87,11 +87,17 @@ struct MethodStatistics {
   BudgetSummary budget;
   // Against the baseline (not for the baseline itself); differences are method - baseline on each set.
   std::size_t better = 0, worse = 0, ties = 0;
-  /// Sets where the method's own results hold a map that scores the baseline's best AUC exactly (anchored and
-  /// observed AUC equal to the last bit), found from the maps: there the method's optimum is at least the baseline's
-  /// (knn-opt's maps with p_u = p_l often score as OctoMap's; docs/statistics.md, "Grids that nest"); only `better`
-  /// sets are strict gains.
+  /// Sets where any of the method's results (every file given for the set) holds a map that scores the baseline's
+  /// best AUC exactly (anchored and observed AUC equal to the last bit), found from the maps: there the method's
+  /// optimum is at least the baseline's (knn-opt's maps with p_u = p_l often score as OctoMap's; docs/statistics.md,
+  /// "Grids that nest"); only `better` sets are strict gains.
   std::size_t sets_holding_baseline_best = 0;
+  /// Units (scenes, or data sets) every set of which holds the baseline's best: no evidence about the method.
+  std::size_t scenes_holding_baseline_best = 0;
+  /// The optima comparison over the units that do not nest, on which the optima verdict is decided (in the same
+  /// Holm family); none when no unit nests. `optima` keeps every unit as description (its Holm p over the family of
+  /// every method's units), and the verdict that says which units it rests on.
+  std::optional<DatasetComparison> optima_not_nested;
   // Description over point cloud sets (not independent: sets of one data set share a scene).
   std::optional<stats::BootstrapInterval> improvement_percent;  ///< mean of (m - b) / b * 100; none below 2 sets
   std::optional<stats::SignedRankResult> wilcoxon;              ///< of the AUC differences; none when all are zero
