@@ -255,6 +255,15 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
   for (const char* heading : {"## 1.", "## 2.", "## 3.", "## 3b.", "## 3c.", "## 3d.", "## 4.", "## 5.", "## 6."})
     CHECK(report.find(heading) != std::string::npos);
   CHECK(report.find("Units: 2 data sets over 2 scenes (scenes by content hashes") != std::string::npos);
+  // Section 3d's columns and rules name the verdicts' unit, the scene (issue 44: they said "over data sets").
+  const std::size_t gain = report.find("## 3d."), gain_end = report.find("## 4.");
+  REQUIRE(gain_end != std::string::npos);
+  const std::string gain_section = report.substr(gain, gain_end - gain);
+  CHECK_THAT(gain_section, Catch::Contains("| over scenes | exact test over scenes: p (Holm) | cross-validated by "
+                                           "scene % |"));
+  CHECK_THAT(gain_section, Catch::Contains("\"too few scenes to tell\" first, when the scenes cannot give"));
+  CHECK_THAT(gain_section, !Catch::Contains("over data sets") && !Catch::Contains("by data set"));
+  CHECK_THAT(report, Catch::Contains("section 3d's verdict, over scenes."));
   if (figures)
     for (const char* png : {"fig3_distribution_fits.png", "fig4_nca_weights.png", "fig5_improvement.png",
                             "fig6_curves_maps.png", "fig7_runtime.png"})

@@ -56,13 +56,18 @@ std::string sampleCell(const MethodStatistics& s) {
          ")";
 }
 
-// The verdicts over data sets (docs/statistics.md, "Verdicts"); the per-set interval stays as description.
+// The verdicts over their unit, the scene or the data set (docs/statistics.md, "Verdicts"): every header that counts
+// or holds out units names it; the per-set interval stays as description.
 Cells statisticsCells(const std::vector<MethodStatistics>& statistics, const std::string& baseline) {
-  Cells c{{"method", "sets (data sets)", "better/worse/tie", "holds " + baseline + "'s best",
-           "improvement % over sets [95% CI]", "over data sets", "exact test over data sets: p (Holm)",
-           "per-set optimum", "leave-one-set-out (gap)", "leave-one-data-set-out (gap)",
-           "cross-validated improvement % (by data set)", "leave-one-set-out improvement % (optimistic)",
-           "budget: expected best (vs " + baseline + "'s best)", "verdict (optima)", "verdict (cross-validated)"}};
+  const std::string units = statistics.front().optima.unit_name, unit = units.substr(0, units.size() - 1);
+  std::string hyphenated = unit;
+  std::replace(hyphenated.begin(), hyphenated.end(), ' ', '-');
+  Cells c{{"method", units == "data sets" ? "sets (data sets)" : "sets (data sets over " + units + ")",
+           "better/worse/tie", "holds " + baseline + "'s best", "improvement % over sets [95% CI]", "over " + units,
+           "exact test over " + units + ": p (Holm)", "per-set optimum", "leave-one-set-out (gap)",
+           "leave-one-" + hyphenated + "-out (gap)", "cross-validated improvement % (by " + unit + ")",
+           "leave-one-set-out improvement % (optimistic)", "budget: expected best (vs " + baseline + "'s best)",
+           "verdict (optima)", "verdict (cross-validated)"}};
   for (const MethodStatistics& s : statistics) {
     const bool base = s.is_baseline;
     c.push_back({s.method, sampleCell(s),
