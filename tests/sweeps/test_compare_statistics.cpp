@@ -832,3 +832,35 @@ TEST_CASE("every output of compare says which verdicts Holm's correction ran ove
             "the cross-validated verdict of knn against octomap alone (no correction)");
     }
 }
+
+TEST_CASE("compare's tables name the scene as the unit where provenance groups data sets into scenes (issue 44)") {
+  // Three rooms' results, the first two replicates of one scene (one recorded scene): 3 data sets over 2 scenes.
+  // The old binary headed the columns of the verdicts' values "over data sets", "exact test over data sets" and
+  // "leave-one-data-set-out" while their values were over the 2 scenes.
+  const fs::path dir = test::scratch("compare-scene-headers");
+  for (int d = 0; d < 3; ++d) writeGoldenDataset(dir, d, 0.05 + 0.1 * d);
+  for (const char* method : {"octomap", "knn"}) {
+    const fs::path replicate = dir / (std::string(method) + "-1.json");
+    ResultsFile f = readResults(replicate);
+    f.header.point_cloud_set["provenance"] =
+        readResults(dir / (std::string(method) + "-0.json")).header.point_cloud_set.at("provenance");
+    writeResults(f, replicate);
+  }
+  const nlohmann::json knn = compareKnnStatistics(dir);
+  REQUIRE(knn.at("datasets") == 3);
+  REQUIRE(knn.at("scenes") == 2);
+  const test::CommandResult r = test::runIn(dir, "compare octomap-*.json knn-*.json --markdown c.md --latex c.tex");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const std::string md = test::bytesOf(dir / "c.md"), tex = test::bytesOf(dir / "c.tex");
+  for (const auto& [output, text] : {std::pair{"terminal", r.output}, {"markdown", md}, {"latex", tex}}) {
+    INFO(output);
+    CHECK_THAT(text, Catch::Contains("sets (data sets over scenes)"));
+    CHECK_THAT(text, Catch::Contains("exact test over scenes: p (Holm)"));
+    CHECK_THAT(text, Catch::Contains("leave-one-scene-out (gap)"));
+    CHECK_THAT(text, Catch::Contains(" (by scene)"));  // "improvement % (by scene)", '%' escaped in LaTeX
+    CHECK_THAT(text, !Catch::Contains("over data sets") && !Catch::Contains("by data set") &&
+                         !Catch::Contains("leave-one-data-set-out"));
+  }
+  CHECK_THAT(md, Catch::Contains("| 3 (3 over 2 scenes) |"));
+}

@@ -6,6 +6,7 @@
 // weighted alike) shows how much of k-NN's gain that sum alone gives.
 #include <cstdio>
 
+#include "occsweep/eval/truth_coverage.hpp"
 #include "occsweep/sweeps/compare_statistics.hpp"
 #include "occsweep/sweeps/compare.hpp"
 #include "reproduce_internal.hpp"
@@ -56,8 +57,19 @@ json truthJson(const ResultsFile& om, const ResultsFile& knn) {
           {"true_voxels", trueVoxels(om)}};
 }
 
-// compareStatistics' verdict for k-NN against OctoMap over the sets of one configuration, per truth: over data sets
-// (docs/statistics.md, "Verdicts"), with the per-set interval as description.
+// What the scans observe of the full truth and how far their points lie from it, as the sweep measured and recorded
+// it, with `sweep`'s warning ("" when none; docs/import.md, "Truth coverage and alignment"): Aloe's one view sees
+// about a third of its truth, so full truth measures coverage as much as mapping. Null when the file records none.
+json coverageJson(const ResultsFile& full) {
+  const std::optional<TruthCoverage>& c = full.header.coverage;
+  if (!c) return nullptr;
+  return {{"observable_share", finiteNumber(c->observableShare())},
+          {"median_point_distance_m", finiteNumber(c->median_point_distance)},
+          {"warning", coverageWarning(*c, TruthMode::Full)}};
+}
+
+// compareStatistics' verdict for k-NN against OctoMap over the sets of one configuration, per truth: over scenes
+// (one here: docs/statistics.md, "Verdicts"), with the per-set interval as description.
 json statisticsJson(const std::vector<ResultsFile>& full, const std::vector<ResultsFile>& observable) {
   json out = json::object();
   for (const auto& [truth, files] : {std::pair{"full", &full}, {"observable", &observable}}) {
@@ -94,6 +106,7 @@ json configurationJson(const ReproduceConfig& c, double resolution, double filte
     rows.push_back({{"point_cloud_set", sets.folders[i]}, {"pointcloud_id", sets.ids[i]},
                     {"points", i < sets.points.size() ? json(sets.points[i]) : json(nullptr)},
                     {"sweep_seconds", {{"octomap", om.full.seconds}, {"knn", knn.full.seconds}}},
+                    {"coverage", coverageJson(om.full)},
                     {"truths", {{"full", truthJson(om.full, knn.full)},
                                 {"observable", truthJson(om.observable, knn.observable)}}}});
   }

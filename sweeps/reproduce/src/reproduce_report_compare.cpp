@@ -51,7 +51,7 @@ void comparisonSection(std::ostringstream& o, const json& comparison) {
     << "of the sets: " << verdict(2 * positive > long(improvement.size())) << ". Equal sets are no evidence either "
     << "way: knn-opt often holds a map scoring OctoMap's best exactly (section 3d, \"Grids that nest\"), so k-NN's "
     << "optimum cannot fall below OctoMap's there. This is a count over sets of few scenes, not a test; whether the "
-    << "gain is more than chance is section 3d's verdict over data sets.\n\n";
+    << "gain is more than chance is section 3d's verdict, over scenes.\n\n";
   trendParagraph(o, trendControls(trendInput(rows, nullptr)));
 
   o << "## 4. Voronoi better than plain, buildings better than the parking lot (Fig. 5)\n\n"

@@ -29,9 +29,25 @@ std::string testText(const json& over) {
   return num(get(t.at("p_value")), "%.2g") + " (Holm " + num(get(t.at("holm_p")), "%.2g") + ")";
 }
 
-void gainTable(std::ostringstream& o, const json& statistics) {
+// The verdicts' unit as comparison.json records it, in the plural and the singular: "scenes" by provenance,
+// "data sets" where each is one (or in a comparison.json that records no unit).
+struct Unit {
+  std::string many, one;
+};
+
+Unit unitOf(const json& statistics) {
+  for (const json& s : statistics.at("full"))
+    if (!s.at("baseline").get<bool>()) {
+      const std::string many = s.at("optima_over_datasets").value("unit", std::string("data sets"));
+      return {many, many.substr(0, many.size() - 1)};
+    }
+  return {"data sets", "data set"};
+}
+
+void gainTable(std::ostringstream& o, const json& statistics, const Unit& unit) {
   o << "| method | truth | sets (data sets over scenes) | strict wins / ties / losses | holds OctoMap's best | improvement % over "
-    << "sets [95% CI] | over data sets | exact test over data sets: p (Holm) | cross-validated by data set % | "
+    << "sets [95% CI] | over " << unit.many << " | exact test over " << unit.many << ": p (Holm) | cross-validated by "
+    << unit.one << " % | "
     << "leave-one-set-out % (optimistic) | budget: expected best (OctoMap's best) | verdict (optima) "
     << "| verdict (cross-validated) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const char* truth : {"full", "observable"})
@@ -52,14 +68,16 @@ void gainTable(std::ostringstream& o, const json& statistics) {
 }
 
 // The verdicts of one method under both truths, each with its sample, test and correction.
-void verdictLine(std::ostringstream& o, const json& statistics, const std::string& method, const std::string& claim) {
+void verdictLine(std::ostringstream& o, const json& statistics, const Unit& unit, const std::string& method,
+                 const std::string& claim) {
   o << "- " << claim << ":\n";
   for (const char* truth : {"full", "observable"})
     for (const json& s : statistics.at(truth))
       if (s.at("method") == method)
         for (const char* kind : {"optima_over_datasets", "cross_validated_over_datasets"}) {
           const json& v = s.at(kind);
-          o << "  - " << truth << " truth, " << (std::string(kind) == "optima_over_datasets" ? "per-set optima" : "cross-validated by data set")
+          o << "  - " << truth << " truth, "
+            << (std::string(kind) == "optima_over_datasets" ? "per-set optima" : "cross-validated by " + unit.one)
             << ": **" << v.at("verdict").get<std::string>() << "** (" << v.at("basis").get<std::string>() << ")\n";
         }
 }
@@ -143,35 +161,39 @@ void gainSection(std::ostringstream& o, const json& comparison) {
   if (!comparison.contains("statistics")) return;  // a comparison.json of an older run
   const json& statistics = comparison.at("statistics");
   const RulesUsed r = rulesUsed(statistics);
+  const Unit unit = unitOf(statistics);
   o << "## 3d. Is the gain real? (docs/statistics.md)\n\n"
     << "Sections 3 and 3c compare per-set optima: each method's best combination chosen on the very set it is scored "
     << "on, over grids of different sizes (knn-opt 450 maps, the baselines 60-80, octomap-opt 20), which favours "
     << "the larger grid. Here, against the optimal OctoMap on the same sets, with the scene as the unit (data sets "
     << "that share a recorded input, the truth in one region, or a generated scene are one: below): each scene's mean "
     << "improvement, with a 95 % BCa "
-    << "bootstrap interval (10,000 resamples, seed 1); the exact paired test over data sets (Wilcoxon's signed-rank, "
+    << "bootstrap interval (10,000 resamples, seed 1); the exact paired test over " << unit.many
+    << " (Wilcoxon's signed-rank, "
     << "or the sign test on tied values) with Holm's correction over the " << r.family << " methods compared, each "
     << "truth and kind (optima, cross-validated) a family of its own (listed after the verdicts); the "
-    << "cross-validated improvement (each data set held out in turn, parameters chosen on the other data sets; "
+    << "cross-validated improvement (each " << unit.one << " held out in turn, parameters chosen on the other "
+    << unit.many << "; "
     << "leave-one-set-out beside it is optimistic, as it chooses partly on sibling sets); and the budget curve (the "
     << "expected best AUC of as many maps as OctoMap's grid holds, and after how many maps it passes OctoMap's "
     << "best). The per-set interval is description. Verdict rules (docs/statistics.md, \"Verdicts\"): "
-    << "\"too few data sets to tell\" first, when the data sets cannot give a Holm-adjusted p <= " << r.alpha
+    << "\"too few " << unit.many << " to tell\" first, when the " << unit.many
+    << " cannot give a Holm-adjusted p <= " << r.alpha
     << "; \"gain\" or \"loss\" when the interval excludes 0 and the Holm-adjusted p is at most " << r.alpha
     << " (\"below the smallest effect\" when the difference is also shown within +-" << r.smallest_effect
     << " %); \"negligible\" otherwise only when the sign test (Bonferroni over the family) puts the median, and "
     << "the interval the mean, within +-" << r.smallest_effect << " %; the optima verdict of a method whose "
     << "results hold OctoMap's best map on every set of some scenes is decided on the other scenes, and is \"at "
     << "least the baseline by construction\" when they are too few.\n\n";
-  gainTable(o, statistics);
+  gainTable(o, statistics, unit);
   o << '\n';
   unitLines(o, comparison);
   o << "\nGrids that nest (where a method's results hold OctoMap's best map, a tie at the optimum is no evidence):\n\n";
   nestingLines(o, statistics);
   o << "\nVerdicts:\n\n";
-  verdictLine(o, statistics, "knn", "k-NN improves on the optimal OctoMap (the paper's headline, section 3)");
+  verdictLine(o, statistics, unit, "knn", "k-NN improves on the optimal OctoMap (the paper's headline, section 3)");
   for (const char* m : {"sor-octomap", "ror-octomap", "range-octomap"})
-    verdictLine(o, statistics, m, std::string("`") + m + "` improves on the optimal OctoMap (section 3c)");
+    verdictLine(o, statistics, unit, m, std::string("`") + m + "` improves on the optimal OctoMap (section 3c)");
   familiesParagraph(o, statistics, r.family);
   o << '\n';
 }

@@ -1,5 +1,7 @@
 // report.md: real stereo with the voxel filter as a swept choice (real-stereo.json; docs/fidelity.md, "Real stereo
 // with truth").
+#include <algorithm>
+
 #include "reproduce_internal.hpp"
 
 namespace occsweep::reproduce {
@@ -37,6 +39,33 @@ void setRows(std::ostringstream& o, const json& configuration, std::vector<doubl
     }
 }
 
+// One configuration's truth coverage as its sweeps measured it (real-stereo.json's coverage; docs/import.md, "Truth
+// coverage and alignment"), over its sets; where `sweep` warns, the warning and the observable-truth result beside
+// the full-truth one. "" when the sets record no coverage (an older run).
+std::string coverageLine(const json& configuration, const std::string& where, const std::vector<double> (&knn)[2]) {
+  std::vector<double> share, distance;
+  std::string warning;
+  for (const json& set : configuration.at("sets")) {
+    const json& c = set.value("coverage", json());
+    if (c.is_null()) return "";
+    share.push_back(100 * get(c.at("observable_share"))), distance.push_back(get(c.at("median_point_distance_m")));
+    if (warning.empty()) warning = c.at("warning").get<std::string>();
+  }
+  if (share.empty()) return "";
+  const auto range = [](const std::vector<double>& v, const char* format, const char* unit) {
+    const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+    std::string text = num(*lo, format);  // appended: g++ 12 warns wrongly (-Wrestrict) on some chains of operator+
+    if (num(*hi, format) != text) text.append("-").append(num(*hi, format));
+    return text.append(unit);
+  };
+  std::string line = "- " + where + ": " + range(share, "%.0f", " %") + " of the truth voxels observable from the "
+                     "scans, median distance from the points to the nearest truth voxel " +
+                     range(distance, "%.2g", " m");
+  if (warning.empty()) return line + ".";
+  return line + ". `sweep` warns: " + warning + ". Under observable truth (what the camera can see) k-NN gains " +
+         num(mean(knn[1]), "%+.2f") + " % on average, against " + num(mean(knn[0]), "%+.2f") + " % under full truth.";
+}
+
 }  // namespace
 
 void realStereoSection(std::ostringstream& o, const json& r) {
@@ -54,12 +83,14 @@ void realStereoSection(std::ostringstream& o, const json& r) {
     << "improvements in percent of OctoMap's best.\n\n"
     << "| resolution m | voxel filter | points | set | truth | true voxels | OctoMap AUC | k-NN AUC | k-NN % | "
     << "k-NN p_u = p_l AUC | p_u = p_l % |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
-  std::vector<std::string> means, verdicts;
+  std::vector<std::string> means, verdicts, coverage;
   for (const json& configuration : r.at("configurations")) {
     std::vector<double> knn[2], equal[2];
     setRows(o, configuration, knn, equal);
     const std::string resolution = num(configuration.at("resolution").get<double>(), "%.2f"),
                       filter = filterText(configuration);
+    if (const std::string line = coverageLine(configuration, resolution + " m, filter " + filter, knn); !line.empty())
+      coverage.push_back(line);
     const char* truths[2] = {"full", "observable"};
     for (int t = 0; t < 2; ++t) {
       const json& s = configuration.at("statistics").at(truths[t]);
@@ -76,10 +107,14 @@ void realStereoSection(std::ostringstream& o, const json& r) {
   o << "\n| resolution m | voxel filter | truth | mean k-NN improvement % | mean p_u = p_l improvement % | k-NN better "
     << "(sets) |\n|---|---|---|---|---|---|\n";
   for (const auto& line : means) o << line << '\n';
+  if (!coverage.empty())
+    o << "\nTruth coverage, as `sweep` measures and warns on it (docs/import.md, \"Truth coverage and alignment\"): "
+      << "one view sees part of the truth, and under full truth every map misses the rest:\n\n";
+  for (const auto& line : coverage) o << line << '\n';
   o << "\nIs the gain real? compareStatistics over each configuration's sets (docs/statistics.md):\n\n";
   for (const auto& line : verdicts) o << line << '\n';
-  o << "\nThe sets are three SGBM settings of one scene, one data set: the verdicts' unit is the data set, so one "
-    << "pair cannot tell whether the gain holds beyond it, however large it is on its sets. Holm families: each "
+  o << "\nThe sets are three SGBM settings of one pair, one data set of one scene: the verdicts' unit is the scene "
+    << "(their basis above), so one pair cannot tell whether the gain holds beyond it, however large it is on its sets. Holm families: each "
     << "configuration and truth is a comparison of its own (k-NN against OctoMap alone, no correction), the "
     << verdicts.size() << " not corrected jointly.\n\n";
 }

@@ -60,8 +60,9 @@ inline bool admits(const MethodParameter& p, double value) {
 
 inline std::string boundText(const MethodParameter& p) {
   using detail::fmt;
-  return (p.lowest_open ? "(" : "[") + fmt(p.lowest) + ", " + fmt(p.highest) + (p.highest_open ? ")" : "]") +
-         (p.integer ? ", an integer" : "") + " (" + p.bound_source + ")";
+  std::string text = p.lowest_open ? "(" : "[";  // appended: g++ 12 warns wrongly (-Wrestrict) on this operator+ chain
+  text.append(fmt(p.lowest)).append(", ").append(fmt(p.highest)).append(p.highest_open ? ")" : "]");
+  return text.append(p.integer ? ", an integer" : "").append(" (").append(p.bound_source).append(")");
 }
 
 inline std::optional<std::size_t> findParameter(const std::vector<MethodParameter>& parameters,
