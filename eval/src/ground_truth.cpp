@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 #include <octomap/OcTree.h>
@@ -112,13 +113,20 @@ GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, 
   // Counted before any per-voxel allocation (classification and replay allocate per region voxel).
   checkLimit("region: voxels at resolution " + std::to_string(resolution) + " m", gt.regionVoxelCount(),
              limits().region_voxels, "--max-region-voxels");
-  const double half = resolution / 2.0;
+  forEachTruthVoxel(sources, gt, [&gt](const OcTreeKey& key) { gt.occupied.insert(key); });
+  return gt;
+}
+
+void forEachTruthVoxel(const TruthSources& sources, const GroundTruth& frame,
+                       const std::function<void(const octomap::OcTreeKey&)>& visit) {
+  const octomap::OcTree grid(frame.resolution);
+  const double half = frame.resolution / 2.0;
 
   auto visitRange = [&](const std::array<double, 3>& lo, const std::array<double, 3>& hi, auto&& test) {
     int k0[3], k1[3];
     for (int a = 0; a < 3; ++a) {
-      k0[a] = std::max<int>(grid.coordToKey(lo[a]), gt.region_min_key[a]);
-      k1[a] = std::min<int>(grid.coordToKey(hi[a]), gt.region_max_key[a]);
+      k0[a] = std::max<int>(grid.coordToKey(lo[a]), frame.region_min_key[a]);
+      k1[a] = std::min<int>(grid.coordToKey(hi[a]), frame.region_max_key[a]);
     }
     for (int x = k0[0]; x <= k1[0]; ++x)
       for (int y = k0[1]; y <= k1[1]; ++y)
@@ -126,7 +134,7 @@ GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, 
           const OcTreeKey key(x, y, z);
           const std::array<double, 3> c = {grid.keyToCoord(key[0]), grid.keyToCoord(key[1]),
                                            grid.keyToCoord(key[2])};
-          if (test(c)) gt.occupied.insert(key);
+          if (test(c)) visit(key);
         }
   };
 
@@ -146,9 +154,8 @@ GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, 
   }
   for (const auto& p : sources.points) {
     OcTreeKey key;
-    if (grid.coordToKeyChecked(p, key) && gt.inRegion(key)) gt.occupied.insert(key);
+    if (grid.coordToKeyChecked(p, key) && frame.inRegion(key)) visit(key);
   }
-  return gt;
 }
 
 }  // namespace occsweep

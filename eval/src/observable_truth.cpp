@@ -10,37 +10,10 @@
 #include <octomap/OcTree.h>
 
 #include "occsweep/core/ray_traversal.hpp"
+#include "occsweep/eval/truth_mask.hpp"
 
 namespace occsweep {
 namespace {
-
-// The truth voxels as a dense bit per key of their bounding box: the blocking test runs at every ray step, where
-// a hash lookup would cost several times more. The box lies inside the region, which makeGroundTruth has bounded
-// by limits().region_voxels, so it holds at most that many bits.
-class TruthMask {
- public:
-  explicit TruthMask(const octomap::KeySet& keys) {
-    lo_ = {65535, 65535, 65535}, hi_ = {0, 0, 0};
-    for (const auto& k : keys)
-      for (int i = 0; i < 3; ++i) lo_[i] = std::min<int>(lo_[i], k[i]), hi_[i] = std::max<int>(hi_[i], k[i]);
-    for (int i = 0; i < 3; ++i) size_[i] = std::size_t(std::max(0, hi_[i] - lo_[i] + 1));
-    bits_.assign(size_[0] * size_[1] * size_[2], false);
-    for (const auto& k : keys) bits_[index(k)] = true;
-  }
-  [[nodiscard]] bool has(const octomap::OcTreeKey& k) const {
-    for (int i = 0; i < 3; ++i)
-      if (k[i] < lo_[i] || k[i] > hi_[i]) return false;
-    return bits_[index(k)];
-  }
-
- private:
-  [[nodiscard]] std::size_t index(const octomap::OcTreeKey& k) const {
-    return (std::size_t(k[0] - lo_[0]) * size_[1] + std::size_t(k[1] - lo_[1])) * size_[2] + std::size_t(k[2] - lo_[2]);
-  }
-  std::array<int, 3> lo_{}, hi_{};
-  std::array<std::size_t, 3> size_{};
-  std::vector<bool> bits_;
-};
 
 // Where a ray may aim in a voxel: its centre and the centres of its six faces, moved a hundredth of a voxel inwards
 // so that they stay in it. Aiming at the centre alone hides a surface seen at a grazing angle behind its own
@@ -99,17 +72,17 @@ TruthMode parseTruthMode(const std::string& name) { return kTruthModeNames.parse
 octomap::KeySet observableTruthVoxels(const GroundTruth& truth, const std::vector<Viewpoint>& viewpoints,
                                       double s_c) {
   const std::vector<octomap::OcTreeKey> all(truth.occupied.begin(), truth.occupied.end());
-  const std::vector<octomap::OcTreeKey> seen = observableAmong(truth, all, viewpoints, s_c);
+  const std::vector<octomap::OcTreeKey> seen =
+      observableAmong(TruthMask(truth.occupied), truth.resolution, all, viewpoints, s_c);
   return {seen.begin(), seen.end()};
 }
 
-std::vector<octomap::OcTreeKey> observableAmong(const GroundTruth& truth,
+std::vector<octomap::OcTreeKey> observableAmong(const TruthMask& mask, double resolution,
                                                 const std::vector<octomap::OcTreeKey>& candidates,
                                                 const std::vector<Viewpoint>& viewpoints, double s_c) {
   std::vector<octomap::OcTreeKey> seen;
-  if (truth.occupied.empty()) return seen;
-  const octomap::OcTree grid(truth.resolution);
-  const TruthMask mask(truth.occupied);
+  if (mask.count() == 0) return seen;
+  const octomap::OcTree grid(resolution);
   for (const auto& key : candidates)
     if (std::any_of(viewpoints.begin(), viewpoints.end(),
                     [&](const Viewpoint& from) { return seenFrom(grid, mask, from, key, s_c); }))

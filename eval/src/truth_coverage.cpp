@@ -9,54 +9,38 @@
 
 #include <octomap/OcTree.h>
 
+#include "occsweep/eval/truth_mask.hpp"
+
 namespace occsweep {
 namespace {
 
-// `count` indices spread evenly over [0, n): all of them when n <= count.
-std::vector<std::size_t> evenSample(std::size_t n, std::size_t count) {
-  std::vector<std::size_t> at;
-  const std::size_t m = std::min(n, count);
-  for (std::size_t j = 0; j < m; ++j) at.push_back(std::size_t(std::uint64_t(j) * n / m));
-  return at;
-}
-
-std::vector<octomap::OcTreeKey> sampledTruth(const GroundTruth& truth) {
-  std::vector<octomap::OcTreeKey> keys(truth.occupied.begin(), truth.occupied.end());
-  std::sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) {
-    return std::tie(a[0], a[1], a[2]) < std::tie(b[0], b[1], b[2]);  // key order: the sample spreads over space
-  });
-  std::vector<octomap::OcTreeKey> sample;
-  for (std::size_t i : evenSample(keys.size(), kCoverageTruthSample)) sample.push_back(keys[i]);
-  return sample;
-}
-
-bool inRegion(const octomap::OcTree& grid, const GroundTruth& truth, const octomap::point3d& p) {
+bool inRegion(const octomap::OcTree& grid, const GroundTruth& frame, const octomap::point3d& p) {
   octomap::OcTreeKey at;
-  return grid.coordToKeyChecked(p, at) && truth.inRegion(at);
+  return grid.coordToKeyChecked(p, at) && frame.inRegion(at);
 }
 
 // The points inside the region, kCoveragePointSample of them evenly spaced in scan order (all when fewer); counts
 // them into `c`. Points outside are left out: the truth beyond a --region is not rasterised.
-std::vector<octomap::point3d> sampledRegionPoints(const octomap::OcTree& grid, const GroundTruth& truth,
+std::vector<octomap::point3d> sampledRegionPoints(const octomap::OcTree& grid, const GroundTruth& frame,
                                                   const PointCloudSet& scans, TruthCoverage& c) {
   for (const Scan& scan : scans)
-    for (const auto& p : scan.points) c.points_in_region += inRegion(grid, truth, p);
-  const std::vector<std::size_t> at = evenSample(c.points_in_region, kCoveragePointSample);
+    for (const auto& p : scan.points) c.points_in_region += inRegion(grid, frame, p);
+  const std::vector<std::size_t> at = evenlySpaced(c.points_in_region, kCoveragePointSample);
   std::vector<octomap::point3d> sample;
   std::size_t ordinal = 0;  // of the point among those in the region
   for (const Scan& scan : scans)
     for (const auto& p : scan.points)
-      if (sample.size() < at.size() && inRegion(grid, truth, p) && ordinal++ == at[sample.size()]) sample.push_back(p);
+      if (sample.size() < at.size() && inRegion(grid, frame, p) && ordinal++ == at[sample.size()]) sample.push_back(p);
   return sample;
 }
 
 // The distance from `p` to the nearest truth voxel centre, looked for shell by shell (the keys r voxels away in
 // the largest axis) up to kPointSearchVoxels: a voxel of shell r + 1 lies at least r + 0.5 voxels away.
-double nearestTruthDistance(const octomap::OcTree& grid, const GroundTruth& truth, const octomap::OcTreeKey& at,
+double nearestTruthDistance(const octomap::OcTree& grid, const TruthMask& truth, const octomap::OcTreeKey& at,
                             const octomap::point3d& p) {
-  const double cap = (kPointSearchVoxels + 0.5) * truth.resolution;
+  const double resolution = grid.getResolution(), cap = (kPointSearchVoxels + 0.5) * resolution;
   double best = cap;
-  for (int r = 0; r <= kPointSearchVoxels && best > (r - 0.5) * truth.resolution; ++r)
+  for (int r = 0; r <= kPointSearchVoxels && best > (r - 0.5) * resolution; ++r)
     for (int dx = -r; dx <= r; ++dx)
       for (int dy = -r; dy <= r; ++dy) {
         const bool side = std::abs(dx) == r || std::abs(dy) == r;
@@ -64,7 +48,7 @@ double nearestTruthDistance(const octomap::OcTree& grid, const GroundTruth& trut
           const int c[3] = {at[0] + dx, at[1] + dy, at[2] + dz};
           if (std::any_of(c, c + 3, [](int v) { return v < 0 || v > 65535; })) continue;
           const octomap::OcTreeKey key{std::uint16_t(c[0]), std::uint16_t(c[1]), std::uint16_t(c[2])};
-          if (truth.occupied.count(key)) best = std::min(best, double((grid.keyToCoord(key) - p).norm()));
+          if (truth.has(key)) best = std::min(best, double((grid.keyToCoord(key) - p).norm()));
         }
       }
   return best;
@@ -93,10 +77,45 @@ std::string distanceText(const TruthCoverage& c) {
   return s.str();
 }
 
+// "78 % of them within a voxel of the truth's surface, 31 % moved by the best offset (+1.50, +0.00, -0.10) m".
+std::string offsetText(const OffsetFit& f) {
+  std::ostringstream s;
+  s << percent(f.share_on_surface) << " of them within a voxel of the truth's surface, "
+    << percent(f.offset_share_on_surface) << " moved by the best offset (" << std::showpos << std::fixed
+    << std::setprecision(2) << f.offset[0] << ", " << f.offset[1] << ", " << f.offset[2] << ") m";
+  return s.str();
+}
+
+bool offsetFitsBetter(const TruthCoverage& c) {
+  if (!c.offset_fit || c.sampled_points < kOffsetMinPoints) return false;
+  const double gain = c.offset_fit->offset_share_on_surface - c.offset_fit->share_on_surface;
+  return gain >= kOffsetGainShare && gain >= kOffsetMisfitShare * (1 - c.offset_fit->share_on_surface);
+}
+
 constexpr const char* kAlignmentFix =
     "occsweep reads poses as camera (sensor) to world: a world-to-camera pose file must be inverted first (each pose "
     "[R | t] as [R^T | -R^T t]); check too that the truth is in the poses' world frame and the depth scale "
     "(docs/import.md, \"Truth coverage and alignment\")";
+
+// The coverage of the truth `mask` holds, in `frame`'s region and at its resolution.
+TruthCoverage measureTruthCoverage(const GroundTruth& frame, const TruthMask& mask, const PointCloudSet& scans,
+                                   double s_c) {
+  TruthCoverage c;
+  c.resolution = frame.resolution, c.s_c = s_c;
+  c.truth_voxels = mask.count();
+  const std::vector<octomap::OcTreeKey> keys = mask.evenSample(kCoverageTruthSample);
+  c.sampled_truth = keys.size();
+  c.observable_sampled = observableAmong(mask, frame.resolution, keys, viewpointsOf(scans), s_c).size();
+  const octomap::OcTree grid(frame.resolution);
+  c.points = pointCount(scans);
+  std::vector<double> distances;
+  const std::vector<octomap::point3d> points = sampledRegionPoints(grid, frame, scans, c);
+  for (const octomap::point3d& p : points) distances.push_back(nearestTruthDistance(grid, mask, grid.coordToKey(p), p));
+  c.sampled_points = distances.size();
+  c.median_point_distance = median(std::move(distances));
+  if (!points.empty()) c.offset_fit = bestOffset(mask, frame.resolution, points);
+  return c;
+}
 
 }  // namespace
 
@@ -105,20 +124,13 @@ double TruthCoverage::observableShare() const {
 }
 
 TruthCoverage measureTruthCoverage(const GroundTruth& truth, const PointCloudSet& scans, double s_c) {
-  TruthCoverage c;
-  c.resolution = truth.resolution, c.s_c = s_c;
-  c.truth_voxels = truth.occupied.size();
-  const std::vector<octomap::OcTreeKey> keys = sampledTruth(truth);
-  c.sampled_truth = keys.size();
-  c.observable_sampled = observableAmong(truth, keys, viewpointsOf(scans), s_c).size();
-  const octomap::OcTree grid(truth.resolution);
-  c.points = pointCount(scans);
-  std::vector<double> distances;
-  for (const octomap::point3d& p : sampledRegionPoints(grid, truth, scans, c))
-    distances.push_back(nearestTruthDistance(grid, truth, grid.coordToKey(p), p));
-  c.sampled_points = distances.size();
-  c.median_point_distance = median(std::move(distances));
-  return c;
+  return measureTruthCoverage(truth, TruthMask(truth.occupied), scans, s_c);
+}
+
+TruthCoverage measureTruthCoverage(const TruthSources& sources, const AxisBox& region, double resolution,
+                                   const PointCloudSet& scans, double s_c) {
+  const GroundTruth frame = makeGroundTruth({}, region, resolution);
+  return measureTruthCoverage(frame, TruthMask(sources, frame), scans, s_c);
 }
 
 std::string coverageText(const TruthCoverage& c) {
@@ -130,6 +142,7 @@ std::string coverageText(const TruthCoverage& c) {
   s << "median distance from the points to the nearest truth voxel " << distanceText(c) << ", over "
     << c.sampled_points << " sampled of the " << c.points_in_region << " points in the region (of " << c.points
     << ")";
+  if (c.offset_fit) s << "; " << offsetText(*c.offset_fit);
   return s.str();
 }
 
@@ -138,9 +151,14 @@ std::string coverageWarning(const TruthCoverage& c, TruthMode mode) {
   if (c.points_in_region == 0)
     return "none of the " + std::to_string(c.points) + " points lies in the region: scans and truth are not " +
            "aligned; " + kAlignmentFix;
+  const std::string offset = offsetFitsBetter(c) ? "of the points, " + offsetText(*c.offset_fit) +
+                                                      ": one translation fits them clearly better than none"
+                                                    : "";
+  const std::string not_aligned = std::string(": scans and truth are not aligned; ") + kAlignmentFix;
   if (!(c.median_point_distance <= kFarPointVoxels * c.resolution))
     return "the points lie a median " + distanceText(c) + " from the nearest truth voxel (more than " +
-           std::to_string(int(kFarPointVoxels)) + " voxels): scans and truth are not aligned; " + kAlignmentFix;
+           std::to_string(int(kFarPointVoxels)) + " voxels)" + (offset.empty() ? "" : "; " + offset) + not_aligned;
+  if (!offset.empty()) return offset + not_aligned;
   if (mode == TruthMode::Full && c.observableShare() < kLowObservableShare)
     return "only " + percent(c.observableShare()) + " of the truth voxels are observable from the scans (below " +
            percent(kLowObservableShare) + "): under full truth every map misses the rest, so its AUC measures the " +

@@ -221,6 +221,52 @@ TEST_CASE("truth coverage: the observable share is the oracle's and the median d
   }
 }
 
+TEST_CASE("truth coverage from the truth's sources equals the one from its key set, sample and offset included") {
+  // import truth measures from the sources without the key set (truth_mask.hpp); sweep from the key set it scores.
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    SplitMix64 rng(seed);
+    TruthSources sources;
+    sources.boxes.push_back({{-0.95, -1.95, -0.45}, {2.0 + 1.9 * rng.uniform(), 1.95, -0.05}});  // a floor
+    sources.boxes.push_back({{0.2, 0.1, 0.0}, {0.2 + rng.uniform(), 0.9, 0.7}});  // overlaps the floor's voxels
+    const point3d a(float(-0.5 + rng.uniform()), -1.5f, 0.1f), b(2.5f, float(rng.uniform()), 1.8f);
+    sources.mesh.push_back({{a, b, point3d(0.3f, 1.6f, 0.4f)}});
+    for (int i = 0; i < 40; ++i)  // points, some in the boxes' voxels, some outside the region
+      sources.points.emplace_back(float(-1.5 + 6.0 * rng.uniform()), float(-2.5 + 5.0 * rng.uniform()), 0.5f);
+    const AxisBox region{{-1.0, -2.0, -1.0}, {4.0, 2.0, 2.0}};
+    const GroundTruth truth = makeGroundTruth(sources, region, kResolution);
+    PointCloudSet scans(2);
+    for (Scan& scan : scans) {
+      scan.origin = point3d(float(3.5 * rng.uniform()), float(-1.5 + 3.0 * rng.uniform()), 1.5f);
+      for (int i = 0; i < 400; ++i)
+        scan.points.emplace_back(float(-1.0 + 4.0 * rng.uniform()), float(-2.0 + 4.0 * rng.uniform()), -0.1f);
+    }
+    INFO("seed " << seed << ", " << truth.occupied.size() << " truth voxels");
+    const TruthCoverage from_keys = measureTruthCoverage(truth, scans, 4.0);
+    CHECK(from_keys.truth_voxels > kCoverageTruthSample);  // the sample is a sample
+    CHECK(measureTruthCoverage(sources, region, kResolution, scans, 4.0) == from_keys);
+  }
+}
+
+TEST_CASE("truth coverage: no offset fits the built-in scene better than none, and its shift by 0.5 m is found") {
+  const Dataset d = makeBuiltinScene();
+  const TruthCoverage aligned = measureTruthCoverage(d.truth, d.region, kResolution, d.scans, 4.0);
+  CHECK(coverageWarning(aligned, TruthMode::Full).empty());
+  REQUIRE(aligned.offset_fit);
+  CHECK(aligned.offset_fit->offset_share_on_surface < aligned.offset_fit->share_on_surface);
+  for (const point3d& shift : {point3d(0.5f, 0, 0), point3d(0, -0.5f, 0), point3d(0.4f, 0.3f, 0)}) {
+    INFO("scans shifted by " << shift);
+    PointCloudSet shifted = d.scans;
+    for (Scan& scan : shifted) {
+      scan.origin += shift;
+      for (point3d& p : scan.points) p += shift;
+    }
+    const TruthCoverage c = measureTruthCoverage(d.truth, d.region, kResolution, shifted, 4.0);
+    CHECK_THAT(coverageWarning(c, TruthMode::Full), Catch::Contains("one translation fits them clearly better"));
+    REQUIRE(c.offset_fit);
+    for (std::size_t a = 0; a < 3; ++a) CHECK(c.offset_fit->offset[a] == Approx(-shift(int(a))).margin(0.11));
+  }
+}
+
 TEST_CASE("unobservable voxels leave the evaluation: neither positive nor negative") {
   const GroundTruth full = truthOfBoxes({AxisBox{{1.02, -0.18, 0.32}, {1.38, 0.28, 0.78}}});
   const GroundTruth observable = restrictToObservable(full, {Viewpoint{kOrigin}}, 4.0);

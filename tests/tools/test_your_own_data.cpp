@@ -153,8 +153,9 @@ void writeRoomWalls(const fs::path& file) {
 
 // A recording in `layout` under `rec`, four frames, with the camera its intrinsics (the page's flags or the layout's
 // intrinsics file) give; 3DMatch's pose files hold world-to-camera poses when `world_to_camera` (the other
-// convention).
-void writeRecording(const std::string& layout, const fs::path& rec, bool world_to_camera = false) {
+// convention); the 3DMatch pose files' positions are moved by `shift` (a pose error; the images stay).
+void writeRecording(const std::string& layout, const fs::path& rec, bool world_to_camera = false,
+                    const std::array<double, 3>& shift = {}) {
   fs::create_directories(rec);
   writeMesh(rec / "mesh.ply");
   if (layout == "tum") {
@@ -184,7 +185,8 @@ void writeRecording(const std::string& layout, const fs::path& rec, bool world_t
     for (int f = 0; f < 4; ++f) {
       const std::string frame = "frame-00000" + std::to_string(f);
       writeDepthPng(rec / "seq-01" / (frame + ".depth.png"), orbitPose(f), c);
-      const Pose pose = world_to_camera ? inverted(orbitPose(f)) : orbitPose(f);
+      Pose pose = world_to_camera ? inverted(orbitPose(f)) : orbitPose(f);
+      for (std::size_t a = 0; a < 3; ++a) pose.t[a] += shift[a];
       std::ofstream(rec / "seq-01" / (frame + ".pose.txt")) << matrixRows(pose, "\n");
     }
   } else {  // replica: NICE-SLAM's Replica/room0/ with Replica/cam_params.json beside it
@@ -284,9 +286,9 @@ TEST_CASE("docs/your-own-data.md runs as written on a TUM, a 3DMatch and a Repli
 namespace {
 
 // The 3DMatch recording imported as the page's block does (its frames' pose files in whichever convention).
-fs::path importedRecording(const std::string& name, bool world_to_camera) {
+fs::path importedRecording(const std::string& name, bool world_to_camera, const std::array<double, 3>& shift = {}) {
   const fs::path dir = test::scratch(name);
-  writeRecording("3dmatch", dir / "rec", world_to_camera);
+  writeRecording("3dmatch", dir / "rec", world_to_camera, shift);
   const auto r = test::runIn(dir, "import depth rec/seq-01/frame-*.depth.png --poses rec/seq-01/frame-*.pose.txt "
                                   "--pose-format matrix --depth-scale 1000 --max-depth 10 --fx 585 --fy 585 --cx 320 "
                                   "--cy 240 --stride 8 --out ds");
@@ -390,4 +392,38 @@ TEST_CASE("import truth and sweep warn when the poses were written world to came
   // Misaligned, observable truth is not the fix: only the poses' warning is given.
   CHECK_THAT(truth.output + sweep.output, !Contains("--truth observable"));
   CHECK_THAT(compareNotes(dir, "full.json"), Contains("the points lie a median") && Contains(fix));
+}
+
+TEST_CASE("import truth, sweep and compare warn when the poses are shifted by 0.5 to 1.5 m, naming the offset that "
+          "fits and the fix") {
+  // Most points stay on the floor slab, so their median distance to the truth stays within 2 voxels; moved back by
+  // the shift, the box's points fit too (docs/import.md, "Truth coverage and alignment").
+  const std::vector<std::array<double, 3>> shifts{{1.5, 0, 0}, {0, 1.5, 0}, {0.5, 0, 0}, {0, -0.5, 0}, {-1, 1, 0}};
+  for (std::size_t i = 0; i < shifts.size(); ++i) {
+    const auto& shift = shifts[i];
+    INFO("poses shifted by " << shift[0] << ", " << shift[1] << ", " << shift[2] << " m");
+    const fs::path dir = importedRecording("coverage-shift-" + std::to_string(i), false, shift);
+    const auto truth = test::runIn(dir, "import truth rec/mesh.ply --dataset ds --out ds-truth");
+    INFO(truth.output);
+    REQUIRE(truth.exit_code == 0);
+    const std::string warning = lineStarting(truth.output, "occsweep import: warning: ds-truth: ");
+    CHECK_THAT(warning, Contains("one translation fits them clearly better than none: ") &&
+                            Contains("scans and truth are not aligned; occsweep reads poses as camera (sensor) to "
+                                     "world"));
+    // The offset named undoes the shift, within a voxel on each axis.
+    const std::size_t at = warning.find("moved by the best offset (");
+    REQUIRE(at != std::string::npos);
+    std::istringstream offset(warning.substr(at + 26));
+    std::array<double, 3> found{};
+    char comma = 0;
+    offset >> found[0] >> comma >> found[1] >> comma >> found[2];
+    for (std::size_t a = 0; a < 3; ++a) CHECK(found[a] == Approx(-shift[a]).margin(0.11));
+    if (i > 0) continue;  // sweep and compare once: the results record the offset, compare warns from them
+    const auto sweep = test::runIn(dir, "sweep --dataset ds-truth --grid octomap-opt --out full.json");
+    INFO(sweep.output);
+    REQUIRE(sweep.exit_code == 0);
+    CHECK_THAT(sweep.output, Contains("occsweep sweep: warning: ds-truth: ") &&
+                                 Contains("one translation fits them clearly better"));
+    CHECK_THAT(compareNotes(dir, "full.json"), Contains("one translation fits them clearly better"));
+  }
 }

@@ -366,9 +366,9 @@ std::optional<TruthCoverage> importedCoverage(const Dataset& d) {
   const MapSettings defaults;
   const std::uint64_t voxels = regionVoxelCount(d.region, defaults.resolution);
   if (voxels == 0 || voxels > limits().region_voxels) return std::nullopt;
-  const GroundTruth truth = makeGroundTruth(d.truth, d.region, defaults.resolution);
-  if (truth.occupied.empty()) return std::nullopt;
-  return measureTruthCoverage(truth, d.scans, defaults.s_c);
+  TruthCoverage c = measureTruthCoverage(d.truth, d.region, defaults.resolution, d.scans, defaults.s_c);
+  if (c.truth_voxels == 0) return std::nullopt;
+  return c;
 }
 
 int runImportTruth(const ImportOptions& o) {

@@ -164,6 +164,12 @@ json toJson(const ResultsHeader& h) {
                                 {"observable_sampled", c->observable_sampled}, {"points", c->points},
                                 {"points_in_region", c->points_in_region}, {"sampled_points", c->sampled_points},
                                 {"median_point_distance", finiteNumber(c->median_point_distance)}};
+  if (const auto& c = h.coverage; c && c->offset_fit) {
+    const OffsetFit& f = *c->offset_fit;
+    j["dataset"]["coverage"]["offset_fit"] = {
+        {"share_on_surface", f.share_on_surface}, {"offset_share_on_surface", f.offset_share_on_surface},
+        {"offset_x", f.offset[0]}, {"offset_y", f.offset[1]}, {"offset_z", f.offset[2]}};
+  }
   return j;
 }
 
@@ -203,6 +209,18 @@ json toJson(const ResultsFile& f) {
 
 namespace {
 
+// dataset.coverage.offset_fit (docs/results-format.md): shares of the `sampled` points, which must be some.
+OffsetFit parseOffsetFit(const json& j, std::uint64_t sampled, const Reader& r) {
+  const std::string where = "dataset.coverage.offset_fit";
+  OffsetFit f;
+  f.share_on_surface = r.real(j, "share_on_surface", where);
+  f.offset_share_on_surface = r.real(j, "offset_share_on_surface", where);
+  f.offset = {r.real(j, "offset_x", where), r.real(j, "offset_y", where), r.real(j, "offset_z", where)};
+  for (double share : {f.share_on_surface, f.offset_share_on_surface})
+    if (!(share >= 0 && share <= 1) || sampled == 0) r.fail(where, "shares that cannot hold (edited by hand?)");
+  return f;
+}
+
 // dataset.coverage (docs/results-format.md), at the file's resolution and s_c; counts that cannot hold (more
 // observable voxels than sampled) are refused as a hand edit.
 TruthCoverage parseCoverage(const json& j, const MapSettings& map, const Reader& r) {
@@ -221,6 +239,7 @@ TruthCoverage parseCoverage(const json& j, const MapSettings& map, const Reader&
       std::isnan(c.median_point_distance) != (c.sampled_points == 0) ||
       (c.sampled_points == 0) != (c.points_in_region == 0))
     r.fail(where, "counts that cannot hold (edited by hand?)");
+  if (j.contains("offset_fit")) c.offset_fit = parseOffsetFit(j.at("offset_fit"), c.sampled_points, r);
   return c;
 }
 

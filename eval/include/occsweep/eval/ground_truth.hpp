@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 
 #include <octomap/OcTreeKey.h>
 #include <octomap/octomap_types.h>
@@ -53,6 +54,11 @@ struct GroundTruth {
 /// Throws LimitError (occsweep/core/limits.hpp) when the region holds more than limits().region_voxels voxels,
 /// before allocating anything.
 [[nodiscard]] GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, double resolution);
+
+/// Calls `visit` with each key the sources occupy inside `frame`'s region at its resolution (a key two sources
+/// occupy comes twice): makeGroundTruth's rasterisation, for a caller that needs no key set (truth_mask.hpp).
+void forEachTruthVoxel(const TruthSources& sources, const GroundTruth& frame,
+                       const std::function<void(const octomap::OcTreeKey&)>& visit);
 
 /// Voxels whose centre lies in `region` at `resolution` (the count makeGroundTruth checks), 0 when none;
 /// UINT64_MAX when the region reaches beyond OctoMap's 16-bit keys at this resolution.

@@ -15,6 +15,7 @@
 #include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/core/sensor_view.hpp"
 #include "ground_truth.hpp"
+#include "truth_mask.hpp"
 
 namespace occsweep {
 
@@ -50,9 +51,9 @@ struct Viewpoint {
 [[nodiscard]] octomap::KeySet observableTruthVoxels(const GroundTruth& truth, const std::vector<Viewpoint>& viewpoints,
                                                     double s_c);
 
-/// Those of `candidates` (truth voxels of `truth`) that are observable by the same rule, every truth voxel blocking:
-/// what a sample of the truth costs (truth_coverage.hpp).
-[[nodiscard]] std::vector<octomap::OcTreeKey> observableAmong(const GroundTruth& truth,
+/// Those of `candidates` (truth voxels of `mask`, at `resolution`) that are observable by the same rule, every truth
+/// voxel blocking: what a sample of the truth costs (truth_coverage.hpp).
+[[nodiscard]] std::vector<octomap::OcTreeKey> observableAmong(const TruthMask& mask, double resolution,
                                                               const std::vector<octomap::OcTreeKey>& candidates,
                                                               const std::vector<Viewpoint>& viewpoints, double s_c);
 
