@@ -117,6 +117,22 @@ GroundTruth makeGroundTruth(const TruthSources& sources, const AxisBox& region, 
   return gt;
 }
 
+namespace {
+
+// A triangle flat along an axis lies in one layer of voxels: the one coordToKey puts its points in (visitRange
+// tests only that layer). Tested in the layer's mid-plane, a triangle in a voxel face's plane is not lost to the
+// rounding of the face test (docs/definitions.md, "Ground truth and evaluation region").
+Triangle inLayer(const Triangle& t, const std::array<double, 3>& lo, const std::array<double, 3>& hi,
+                 const std::array<double, 3>& centre) {
+  Triangle moved = t;
+  for (int a = 0; a < 3; ++a)
+    if (lo[a] == hi[a])
+      for (auto& v : moved.v) v(a) = float(centre[a]);
+  return moved;
+}
+
+}  // namespace
+
 void forEachTruthVoxel(const TruthSources& sources, const GroundTruth& frame,
                        const std::function<void(const octomap::OcTreeKey&)>& visit) {
   const octomap::OcTree grid(frame.resolution);
@@ -150,7 +166,8 @@ void forEachTruthVoxel(const TruthSources& sources, const GroundTruth& frame,
       lo[a] = std::min({t.v[0](a), t.v[1](a), t.v[2](a)});
       hi[a] = std::max({t.v[0](a), t.v[1](a), t.v[2](a)});
     }
-    visitRange(lo, hi, [&](const std::array<double, 3>& c) { return triangleTouchesBox(t, c, half); });
+    visitRange(lo, hi,
+               [&](const std::array<double, 3>& c) { return triangleTouchesBox(inLayer(t, lo, hi, c), c, half); });
   }
   for (const auto& p : sources.points) {
     OcTreeKey key;

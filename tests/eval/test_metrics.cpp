@@ -95,3 +95,30 @@ TEST_CASE("ground truth from boxes, triangles and points at the map's resolution
   CHECK(makeGroundTruth(pts, region, 0.1).occupied.size() == 1);  // same voxel; the far one is outside
   CHECK_THROWS(makeGroundTruth(pts, AxisBox{{1, 1, 1}, {0, 0, 0}}, 0.1));
 }
+
+TEST_CASE("a truth triangle lying in a voxel face's plane fills the voxel layer a point there falls in") {
+  // Reported: a wall mesh in the plane x = 3.0 gave no truth voxel at all (the box test, in floating point, put it
+  // just outside the voxel coordToKey names and the voxel below was never tested). Oracle: the same triangle moved
+  // moved to the mid-plane of the layer liboctomap's coordToKey puts a point of the plane in, where no rounding decides.
+  const AxisBox region{{-3.5, -3.5, -3.5}, {3.5, 3.5, 3.5}};
+  const octomap::OcTree grid(0.1);
+  for (int axis = 0; axis < 3; ++axis)
+    for (int step = -34; step <= 34; ++step) {
+      const float plane = 0.1f * float(step);
+      auto triangleAt = [&](float coordinate) {
+        TruthSources s;
+        std::array<octomap::point3d, 3> v{octomap::point3d(-1.0f, -1.0f, -1.0f), octomap::point3d(1.0f, -1.0f, 0.5f),
+                                          octomap::point3d(0.0f, 1.0f, 1.2f)};
+        for (auto& p : v) p(axis) = coordinate;
+        s.mesh.push_back({v});
+        return makeGroundTruth(s, region, 0.1).occupied;
+      };
+      octomap::point3d p(0.0f, 0.0f, 0.0f);
+      p(axis) = plane;
+      const octomap::key_type layer = grid.coordToKey(p)[axis];
+      const auto on_plane = triangleAt(plane), inside = triangleAt(float(grid.keyToCoord(layer)));
+      INFO("axis " << axis << ", plane " << plane);
+      REQUIRE(on_plane.size() == inside.size());
+      for (const auto& key : on_plane) CHECK((inside.count(key) == 1 && key[axis] == layer));
+    }
+}
