@@ -729,6 +729,16 @@ TEST_CASE("grids that nest: the optima verdict is no gain but says why, the cros
         "at least the baseline by construction (holds octomap's best on all sets of 8 of 8 scenes): not a test of "
         "the method");
   CHECK(knn.at("cross_validated_verdict").get<std::string>().find("by construction") == std::string::npos);
+  // The table's test column beside that verdict: over the scenes that do not nest (none here), not the nested
+  // scenes' p = 2/256 (old: "0.00781 (Holm 0.00781)" beside "not a test of the method").
+  REQUIRE(test::runIn(dir, "compare knn-*.json octomap-*.json --markdown c.md").exit_code == 0);
+  const std::string md = test::bytesOf(dir / "c.md");
+  const std::size_t row = md.find("| k-NN |");
+  REQUIRE(row != std::string::npos);
+  const std::string knn_row = md.substr(row, md.find('\n', row) - row);
+  INFO(knn_row);
+  CHECK(knn_row.find("0.00781") == std::string::npos);
+  CHECK(knn_row.find("0.0078") == std::string::npos);
 }
 
 // Each set of `files` (syntheticComparison's base/other pairs) for which `holds(set)` also gets, in "other"'s

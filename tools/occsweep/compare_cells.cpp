@@ -55,6 +55,17 @@ std::string nestingText(const MethodStatistics& s) {
   return text;
 }
 
+// The optima over units as the verdict rests on them: where grids nest, the units that do not (docs/statistics.md,
+// "Grids that nest"), so no p or interval beside "not a test of the method" comes from the nested units.
+const DatasetComparison& verdictSample(const MethodStatistics& s) {
+  return s.optima_not_nested ? *s.optima_not_nested : s.optima;
+}
+
+std::string verdictSampleText(const MethodStatistics& s, const std::string& text) {
+  if (!s.optima_not_nested || text == "-") return text;
+  return text + " (" + std::to_string(s.optima_not_nested->per_dataset.size()) + " not nesting)";
+}
+
 }  // namespace
 
 // A number occsweep prints is either right or not printed (docs/robustness.md): "-" where there is none.
@@ -82,7 +93,8 @@ Cells statisticsCells(const std::vector<MethodStatistics>& statistics, const std
     c.push_back({s.method, sampleCell(s),
                  base ? "-" : std::to_string(s.better) + "/" + std::to_string(s.worse) + "/" + std::to_string(s.ties),
                  base ? "-" : std::to_string(s.sets_holding_baseline_best) + " of " + std::to_string(s.sets),
-                 intervalText(s.improvement_percent), intervalText(s.optima.interval), base ? "-" : testText(s.optima),
+                 intervalText(s.improvement_percent), verdictSampleText(s, intervalText(verdictSample(s).interval)),
+                 base ? "-" : verdictSampleText(s, testText(verdictSample(s))),
                  cell(s.mean_best_auc, "%.4f"), crossValidatedText(s.leave_one_set_out),
                  crossValidatedText(s.leave_one_dataset_out), intervalText(s.cross_validated.interval),
                  intervalText(s.leave_one_set_out_improvement), base ? "-" : budgetText(s.budget),
