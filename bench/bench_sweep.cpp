@@ -25,8 +25,11 @@
 #include <tbb/version.h>
 
 #include "bench_process.hpp"
-#include "occsweep/core/knn_average_distance.hpp"
-#include "occsweep/core/knn_inverse_sensor_model.hpp"
+#include "occsweep/methods/knn/knn_average_distance.hpp"
+#include "occsweep/methods/builtin_methods.hpp"
+#include "occsweep/methods/knn/knn_inverse_sensor_model.hpp"
+#include "occsweep/methods/knn/knn_method.hpp"
+#include "occsweep/methods/octomap/octomap_baseline.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/stats/runtime_model.hpp"
@@ -325,7 +328,7 @@ void printGrowthFits(const Dataset& data, const GroundTruth& truth, const OctoMa
     }
     s_sweep.push_back({np, 0, seconds([&] {
                          (void)recordSet(part, truth, kResolution, kSC);
-                         (void)parallelSetFeature(part, {PointFeature::KnnCdf, 1}, kSC, StatsMode::Batch);
+                         (void)KnnCdfFeature(1, {.s_c = kSC}).compute(part, tbbScanExecutor());
                        })});
   }
   const RuntimeFit f_om = fitEq17(s_om), f_knn = fitEq18(s_knn), f_sweep = fitEq17(s_sweep);
@@ -361,6 +364,7 @@ std::string cpuModel() {
 
 int main(int argc, char** argv) {
   BenchOptions options = parseArguments(argc, argv);
+  occsweep::registerBuiltinMethods();
   occsweep::addGridFolder(occsweep::bench::builtGrids());  // the build tree's copy of the grids (docs/install.md)
   std::printf("occsweep bench_sweep: build type %s, g++ %d.%d, liboctomap %s, oneTBB %d.%d, nanoflann %x.%x.%x, "
               "%u hardware threads, %s\n",

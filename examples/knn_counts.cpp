@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <exception>
 
-#include "occsweep/core/knn_inverse_sensor_model.hpp"
+#include "occsweep/methods/knn/knn_inverse_sensor_model.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/eval/dataset.hpp"
 
@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   }
   try {
     const occsweep::Dataset data = occsweep::readDataset(argv[1]);
-        // The paper's defaults: k = 3, ... (builtin_parameters.hpp), 0.1 m voxels and s_c 4 m (map_settings.hpp).
+        // The paper's defaults: k = 3, ... (knn_parameters.hpp), 0.1 m voxels and s_c 4 m (map_settings.hpp).
     occsweep::KnnParams params;
     occsweep::validate(params);  // throws naming the broken relation of Eq. 12
     const auto map = occsweep::KnnInverseSensorModel(params).buildMap(data.scans);

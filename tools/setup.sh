@@ -13,7 +13,7 @@ build=${BUILD_DIR:-$root/build}
 packages=(g++ cmake make git pkg-config liboctomap-dev libnanoflann-dev libeigen3-dev libtbb-dev nlohmann-json3-dev
           catch2 libcli11-dev libpng-dev libsqlite3-dev python3-matplotlib python3-numpy python3-scipy
           libopencv-calib3d-dev libopencv-imgproc-dev libjpeg-dev opencv-doc)
-# The test command only: PCL 1.13, the oracle that test_point_filters_pcl checks core/point_filters.hpp against
+# The test command only: PCL 1.13, the oracle that test_point_filters_pcl checks methods/outlier_filters/.../point_filters.hpp against
 # (docs/methods.md, outlier filters): about 280 packages, 140 MB to download, 870 MB installed, 30 s to install
 # (download included) on this project's machine kind. `run` never needs it: the filters are header-only, on nanoflann.
 # And pdflatex with booktabs, which test_compare_statistics compiles `compare --latex` with (docs/statistics.md): 17

@@ -9,6 +9,7 @@
 
 #include <occsweep/core/log_odds.hpp>
 #include <occsweep/core/mapping_method.hpp>
+#include <occsweep/methods/outlier_filters/outlier_filter_methods.hpp>  // RorNeighboursFeature
 
 class DensityOctoMapMethod final : public occsweep::MappingMethod {
  public:
@@ -40,7 +41,7 @@ class DensityOctoMapMethod final : public occsweep::MappingMethod {
     rule.l_max = logOdds(value(v, "p_max"));
     rule.update.l_in = rule.update.l_out = logOdds(value(v, "p_m"));
     rule.hit.kind = occsweep::HitRule::Kind::PointMax;  // one update per voxel, from its best point
-    rule.hit.feature = {occsweep::PointFeature::RorNeighbours, value(v, "radius")};
+    rule.hit.feature = std::make_shared<occsweep::RorNeighboursFeature>(value(v, "radius"));
     const double l_hit = logOdds(value(v, "p_h")), n_full = value(v, "n_full");
     rule.hit.pointLogOdds = [=](double neighbours) { return float(l_hit * std::min(1.0, neighbours / n_full)); };
     return rule;

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include <occsweep/core/method_registry.hpp>
+#include <occsweep/methods/builtin_methods.hpp>
 #include <occsweep/sweeps/sweep.hpp>
 
 #include "example_method.hpp"
@@ -14,6 +15,7 @@ int main(int argc, char** argv) {
     std::cerr << "usage: sweep_example_method DATASET_DIR GRID.json OUT.json\n";
     return 2;
   }
+  occsweep::registerBuiltinMethods();  // occsweep's own, beside the example's (compare reads both)
   occsweep::registerMethod(std::make_shared<DensityOctoMapMethod>());
   occsweep::SweepConfig config;
   config.dataset = argv[1];

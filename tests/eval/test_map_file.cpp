@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <octomap/AbstractOcTree.h>
 
-#include "occsweep/core/knn_inverse_sensor_model.hpp"
+#include "occsweep/methods/knn/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/map_voxels.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
 #include "test_helpers.hpp"

@@ -3,7 +3,7 @@
 
 #include <fstream>
 
-#include "occsweep/core/mapping_params.hpp"
+#include "occsweep/methods/knn/knn_parameters.hpp"
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
@@ -42,8 +42,8 @@ TEST_CASE("parameter sets that break Eq. 12 are refused with the relation named"
 }
 
 TEST_CASE("the mappers' settings check exactly what their methods check, with the methods' defaults") {
-  // Eq. 12 is written once (builtin_parameters.hpp): a KnnParams or OctoMapParams is refused exactly when the same
-  // values are refused as a map of the registered method, over random values around every bound.
+  // Eq. 12 is written once (octomap_parameters.hpp, knn_parameters.hpp): a KnnParams or OctoMapParams is refused
+  // exactly when the same values are refused as a map of the registered method, over random values around every bound.
   const MappingMethod& knn_method = findMethod("knn");
   const MappingMethod& octomap_method = findMethod("octomap");
   CHECK(defaultValues(knn_method) == MethodValues{double(KnnParams{}.k), KnnParams{}.p_u, KnnParams{}.p_l,

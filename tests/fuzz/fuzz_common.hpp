@@ -10,8 +10,12 @@
 #include <nlohmann/json.hpp>
 
 #include "occsweep/io/data_error.hpp"
+#include "occsweep/methods/builtin_methods.hpp"
 
 namespace occsweep::fuzz {
+
+/// The grid and results parsers look methods up: registered before the first input, as the command does.
+inline const bool kBuiltinMethodsRegistered = (registerBuiltinMethods(), true);
 
 inline std::string_view asText(const std::uint8_t* data, std::size_t size) {
   return {reinterpret_cast<const char*>(data), size};

@@ -12,7 +12,7 @@ import tempfile
 
 ROOT = pathlib.Path(sys.argv[1]).resolve()
 CHECK = ROOT / "tools" / "ci" / "check_layers.py"
-CODE = ["CMakeLists.txt", "io", "core", "eval", "sweeps", "tools", "tests", "bench", "examples"]
+CODE = ["CMakeLists.txt", "io", "core", "methods", "eval", "sweeps", "tools", "tests", "bench", "examples"]
 
 
 def skip(folder, names):
@@ -45,6 +45,20 @@ CASES = [
     # (what, file, planted text, where, what the message must name)
     ("core includes a sweeps header", "core/include/occsweep/core/log_odds.hpp",
      '#include "occsweep/sweeps/grid.hpp"\n', "top", "core/include/occsweep/core/log_odds.hpp:1: core includes"),
+    ("core includes a method (core knows no method)", "core/include/occsweep/core/mapping_method.hpp",
+     '#include "occsweep/methods/knn/knn_method.hpp"\n', "top",
+     "core/include/occsweep/core/mapping_method.hpp:1: core includes"),
+    ("the engine includes a method (it needs only the contract)", "sweeps/engine/src/replay.cpp",
+     '#include "occsweep/methods/octomap/octomap_baseline.hpp"\n', "top",
+     "sweeps/engine/src/replay.cpp:1: engine includes"),
+    ("a method includes the data-set model", "methods/knn/include/occsweep/methods/knn/knn_method.hpp",
+     '#include "occsweep/eval/dataset.hpp"\n', "top",
+     "methods/knn/include/occsweep/methods/knn/knn_method.hpp:1: methods includes"),
+    ("a core test includes a method", "tests/core/test_ray_traversal.cpp",
+     '#include "occsweep/methods/knn/knn_method.hpp"\n', "top",
+     "tests/core/test_ray_traversal.cpp:1: tests/core includes"),
+    ("methods leaves a source unlisted", "methods/knn/src/unlisted.cpp",
+     "int unlisted = 0;\n", "end", "does not list methods/knn/src/unlisted.cpp"),
     ("io includes the data-set model (io knows no data set)", "io/src/output_file.cpp",
      '#include "occsweep/eval/dataset.hpp"\n', "top", "io/src/output_file.cpp:1: io includes"),
     ("io includes core", "io/src/ownership.cpp",
@@ -55,8 +69,8 @@ CASES = [
      '#include "occsweep/sweeps/sweep.hpp"\n', "top", "sweeps/results/src/merge.cpp:1: results includes"),
     ("cluster includes reproduce (sideways)", "sweeps/cluster/src/cluster_plan.cpp",
      '#include "occsweep/sweeps/reproduce.hpp"\n', "top", "sweeps/cluster/src/cluster_plan.cpp:1: cluster includes"),
-    ("a core test includes eval", "tests/core/test_mappers.cpp",
-     '#include "occsweep/eval/confusion.hpp"\n', "top", "tests/core/test_mappers.cpp:1: tests/core includes"),
+    ("a method test includes eval", "tests/methods/test_mappers.cpp",
+     '#include "occsweep/eval/confusion.hpp"\n', "top", "tests/methods/test_mappers.cpp:1: tests/methods includes"),
     ("grid links reproduce", "sweeps/grid/CMakeLists.txt",
      "target_link_libraries(occsweep_grid PUBLIC occsweep::reproduce)\n", "end", "grid links occsweep::reproduce"),
     ("a part leaves a source unlisted", "sweeps/engine/src/unlisted.cpp",

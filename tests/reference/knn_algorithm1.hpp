@@ -19,7 +19,7 @@
 
 #include <octomap/OcTree.h>
 
-#include "occsweep/core/mapping_params.hpp"
+#include "occsweep/methods/knn/knn_parameters.hpp"
 #include "occsweep/core/point_cloud_set.hpp"
 
 namespace occsweep::reference {

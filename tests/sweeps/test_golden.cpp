@@ -4,7 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "occsweep/core/method_registry.hpp"
-#include "occsweep/core/octomap_baseline.hpp"
+#include "occsweep/methods/octomap/octomap_baseline.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
 #include "occsweep/sweeps/sweep.hpp"

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "occsweep/core/builtin_methods.hpp"
-#include "occsweep/core/knn_inverse_sensor_model.hpp"
-#include "occsweep/core/knn_set_distances.hpp"
+#include "occsweep/methods/knn/knn_method.hpp"
+#include "occsweep/methods/knn/knn_inverse_sensor_model.hpp"
+#include "occsweep/methods/knn/knn_set_distances.hpp"
 #include "occsweep/core/map_voxels.hpp"
 #include "occsweep/core/splitmix64.hpp"
 #include "occsweep/eval/confusion.hpp"
@@ -345,9 +345,9 @@ TEST_CASE("the k-NN mapper equals a second implementation of Algorithm 1 on 25 r
       const KnnSetDistances distances = computeKnnDistances(scene.set, k, scene.s_c);
       const reference::SetDistances reference_s = reference::averageDistances(scene.set, k, scene.s_c);
       for (const StatsMode stats : {StatsMode::Batch, StatsMode::Online}) {
-        const MapRule hit_rule = KnnMethod().rule(lanes[0], {});
-        const auto sums = eventHits(
-            recorded, recordedHitFeatures(recorded, scene.set, hit_rule.hit.feature, scene.s_c, stats), hit_rule.hit);
+        const MapRule hit_rule = KnnMethod().rule(lanes[0], {{.s_c = scene.s_c, .stats = stats}});
+        const std::vector<double> features = recordedHitFeatures(recorded, scene.set, *hit_rule.hit.feature, scene.s_c);
+        const auto sums = eventHits(recorded, features, hit_rule.hit);
         for (const UpdateVariant variant : {UpdateVariant::Default, UpdateVariant::Literal}) {
           std::vector<ReplayRule> rules;
           std::vector<std::vector<double>> p_t;

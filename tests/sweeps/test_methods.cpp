@@ -5,9 +5,15 @@
 #include <catch2/catch.hpp>
 
 #include "occsweep/core/method_registry.hpp"
+#include "occsweep/methods/knn/knn_method.hpp"
+#include "occsweep/methods/outlier_filters/outlier_filter_methods.hpp"
+#include "occsweep/methods/range_octomap/range_octomap_method.hpp"
 #include "occsweep/eval/builtin_scene.hpp"
+#include "occsweep/eval/ground_truth.hpp"
+#include "occsweep/sweeps/replay.hpp"
 #include "occsweep/sweeps/results_diff.hpp"
 #include "occsweep/sweeps/sweep.hpp"
+#include "occsweep/sweeps/tbb_scan_executor.hpp"
 #include "test_helpers.hpp"
 
 using namespace occsweep;
@@ -83,7 +89,7 @@ class SplitRangeMethod final : public MappingMethod {
     rule.l_max = logOdds(parameterValue(*this, v, "p_max"));
     rule.update = {logOdds(parameterValue(*this, v, "p_m")), logOdds(parameterValue(*this, v, "p_m")), c.map.variant};
     rule.hit.kind = HitRule::Kind::PointSum;
-    rule.hit.feature = {PointFeature::Range, 0};
+    rule.hit.feature = std::make_shared<RangeFeature>();
     const float near = logOdds(parameterValue(*this, v, "p_near")), far = logOdds(parameterValue(*this, v, "p_far"));
     const double split = parameterValue(*this, v, "r_split");
     rule.hit.pointLogOdds = [=](double r) { return r <= split ? near : far; };
@@ -173,6 +179,53 @@ TEST_CASE("a method registered from outside the library sweeps by replay as its 
   }
 }
 
+TEST_CASE("features are shared by identity: its arguments and mode are part of it, equal ones computed once") {
+  const FeatureIdentity knn3 = KnnCdfFeature(3, {}).identity();
+  CHECK(knn3 == KnnCdfFeature(3, {}).identity());
+  CHECK(knn3 != KnnCdfFeature(4, {}).identity());
+  CHECK(knn3 != KnnCdfFeature(3, {.stats = StatsMode::Online}).identity());
+  CHECK(knn3 != KnnCdfFeature(3, {.s_c = 5.0}).identity());
+  CHECK(knn3 != SorScoreFeature(3).identity());
+  CHECK(RorNeighboursFeature(0.2).identity() != RorNeighboursFeature(0.3).identity());
+  FeatureCache cache;
+  int made = 0;
+  const auto make = [&] { return ++made; };
+  const int& first = cache.get<int>(knn3, make);
+  CHECK(&cache.get<int>(KnnCdfFeature(3, {}).identity(), make) == &first);
+  CHECK(made == 1);
+  CHECK(cache.get<int>(SorScoreFeature(3).identity(), make) == 2);
+  CHECK_THROWS_WITH(cache.get<double>(knn3, [] { return 1.0; }), Catch::Contains("kept as another type"));
+}
+
+TEST_CASE("a feature at the recorded hits equals its value at every point, read there (k-NN's shortcut too)") {
+  const MapSettings map;  // 0.1 m voxels, s_c 4 m
+  for (std::uint64_t seed = 51; seed <= 53; ++seed) {
+    BuiltinSceneConfig config;
+    config.seed = seed;
+    config.scans = 5;
+    config.outlier_fraction = 0.1;
+    const Dataset d = makeBuiltinScene(config);
+    const GroundTruth truth = makeGroundTruth(d.truth, d.region, map.resolution);
+    const RecordedSet r = recordSet(d.scans, truth, map.resolution, map.s_c);
+    REQUIRE(r.hit_scan.size() > 100);
+    const HitPoints hits{r.hit_scan, r.hit_inner, map.s_c};
+    const auto check = [&](const PointFeature& f) {
+      INFO("seed " << seed << ", " << f.identity().name << " " << f.identity().mode);
+      const std::vector<double> at_hits = f.valuesAtHits(d.scans, hits, tbbScanExecutor());
+      const std::vector<double> read = f.PointFeature::valuesAtHits(d.scans, hits, {});  // compute(), read at the hits
+      REQUIRE(at_hits.size() == r.hit_scan.size());
+      CHECK(at_hits == read);
+      CHECK(std::none_of(at_hits.begin(), at_hits.end(), [](double v) { return std::isnan(v); }));
+    };
+    for (int k : {1, 3, 7})
+      for (StatsMode stats : {StatsMode::Batch, StatsMode::Online})
+        check(KnnCdfFeature(k, {.s_c = map.s_c, .stats = stats}));
+    check(RangeFeature());
+    check(SorScoreFeature(5));
+    check(RorNeighboursFeature(0.2));
+  }
+}
+
 TEST_CASE("the registry refuses a method that breaks its rules, naming the rule") {
   class Broken final : public MappingMethod {
    public:
@@ -190,9 +243,9 @@ TEST_CASE("the registry refuses a method that breaks its rules, naming the rule"
   auto bad_name = std::make_shared<Broken>();
   bad_name->name_ = "Bad Name";
   CHECK_THROWS_WITH(registerMethod(bad_name), Catch::Contains("lower-case letters"));
-  // A parameter becomes `occsweep map --NAME`: a map setting's or a flag's name, or one no flag can spell, would
-  // have ended every command at start-up.
-  for (const char* reserved : {"resolution", "s_c", "threads", "max_points", "from", "p_t", "Radius", "two words", "9k"}) {
+  // A map setting's name (results key the settings beside the parameters), p_t, or one no flag can spell. Names
+  // of map's own flags are the command's to refuse (test_map_methods: "... named like one of map's flags ...").
+  for (const char* reserved : {"resolution", "s_c", "variant", "stats", "p_t", "Radius", "two words", "9k"}) {
     auto clash = std::make_shared<Broken>();
     clash->params_ = {{"p_max", "p_max", "", 0.9, 0.5, 1, false, true, false, ""},
                       {"p_min", "p_min", "", 0.1, 0, 0.5, false, true, false, ""},

@@ -110,6 +110,28 @@ TEST_CASE("map builds a method a program registers from outside the library, as 
   CHECK(plain.output.find("density-octomap") != std::string::npos);
 }
 
+TEST_CASE("a method whose parameter is named like one of map's flags is refused by the command, naming both") {
+  // The registry knows no flag (core knows no command): the command checks every registered method as it starts.
+  const fs::path dir = occsweep::test::processScratch("map-flag-clash");
+  const std::string program = (occsweep::test::buildTree() / "tests/tools/occsweep_with_example_method").string();
+  const auto methodsWithParameter = [&](const std::string& name) {
+    return occsweep::test::runShell("cd " + occsweep::test::shellQuoted(dir) + " && OCCSWEEP_EXAMPLE_PARAMETER=" +
+                                    name + " " + occsweep::test::shellQuoted(program) + " methods 2>&1");
+  };
+  for (const std::string name : {"threads", "max_points", "from", "truth", "map_index"}) {
+    INFO(name);
+    const CommandResult clash = methodsWithParameter(name);
+    CHECK(clash.exit_code == 2);
+    std::string flag = "--" + name;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    CHECK(clash.output.find("method density-octomap-extra: parameter '" + name + "' would be `occsweep map " + flag +
+                            "`, one of map's own flags") != std::string::npos);
+  }
+  const CommandResult fine = methodsWithParameter("spread");  // a name no flag has is taken
+  CHECK(fine.exit_code == 0);
+  CHECK(fine.output.find("density-octomap-extra") != std::string::npos);
+}
+
 TEST_CASE("map refuses a parameter its method lacks, settings beside --from, and another data set") {
   const fs::path dir = sceneIn("map-refusals");
   REQUIRE(occsweep::test::runIn(dir, "scene --out other --scans 5 --width 32 --height 24").exit_code == 0);

@@ -2,9 +2,9 @@
 """Checks the layer rules of docs/architecture.md on a source tree; CI runs it (tests/CMakeLists.txt too).
 
   1. Every quoted #include resolves to a file of a known part, and points down: a part includes only itself and
-     the parts below it (ALLOWED). Test groups follow the layer they test.
+     the parts below it (ALLOWED). Test groups follow the layer they test. Core (the contract) includes no method.
   2. Every library part's CMakeLists.txt lists each of its sources (no glob) and links only parts it may include.
-  3. The library (io, core, eval, stats, sweeps/*) starts no shell and knows no source tree: no std::system, popen or
+  3. The library (io, core, methods, eval, stats, sweeps/*) starts no shell and knows no source tree: no std::system, popen or
      OCCSWEEP_SOURCE_DIR in it.
 
 Usage: check_layers.py ROOT. Prints one line per violation (file:line: what, and the rule) and exits 1, or a
@@ -14,27 +14,31 @@ import pathlib
 import re
 import sys
 
-LIBRARY = ["io", "core", "eval", "stats", "grid", "results", "engine", "cluster", "reproduce"]
-# What each part may include (itself implied). Order of the layers: io, core <- eval, stats <- sweeps <- tools.
-# io (file safety) includes nothing of occsweep: it knows no data set, result or method.
+LIBRARY = ["io", "core", "methods", "eval", "stats", "grid", "results", "engine", "cluster", "reproduce"]
+# What each part may include (itself implied). Order of the layers: io, core <- methods, eval, stats <- sweeps <- tools.
+# io (file safety) includes nothing of occsweep: it knows no data set, result or method. Core is the contract every
+# method implements and knows none (methods/ has them); the engines use the contract only, and the parts that build
+# or register the shipped methods (reproduce, the command, bench, examples, tests) may include methods.
 ALLOWED = {
     "io": [],
     "core": [],
+    "methods": ["core"],
     "eval": ["io", "core"],
     "stats": ["core"],
     "grid": ["io", "core", "eval"],
     "results": ["io", "core", "eval", "stats", "grid"],
     "engine": ["io", "core", "eval", "grid", "results"],
     "cluster": ["io", "core", "eval", "grid", "results", "engine"],
-    "reproduce": ["io", "core", "eval", "stats", "grid", "results", "engine"],
+    "reproduce": ["io", "core", "methods", "eval", "stats", "grid", "results", "engine"],
     "data": ["io", "core", "eval"],
     "stereo": ["io", "core", "eval", "data"],
     "cli": LIBRARY + ["data", "stereo"],
     "bench": LIBRARY + ["data", "stereo", "tests"],  # the tests' helpers: where the built command is
     "examples": LIBRARY,
-    "tests": ["core"],  # helpers shared by the test groups
+    "tests": ["core", "methods"],  # helpers shared by the test groups; the main registers the methods
     "tests/core": ["core", "tests"],
-    "tests/eval": ["io", "core", "eval", "stats", "tests"],
+    "tests/methods": ["core", "methods", "tests"],
+    "tests/eval": ["io", "core", "methods", "eval", "stats", "tests"],
     "tests/sweeps": LIBRARY + ["tests"],
     "tests/tools": LIBRARY + ["data", "stereo", "tests"],
     "tests/fuzz": LIBRARY + ["data", "tests"],
@@ -46,7 +50,7 @@ INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
 
 def part_of(rel: pathlib.PurePosixPath) -> str | None:
     p = rel.parts
-    if p[0] in ("io", "core"):
+    if p[0] in ("io", "core", "methods"):
         return p[0]
     if p[0] == "eval":
         return "stats" if "stats" in p[1:] else "eval"
@@ -59,14 +63,15 @@ def part_of(rel: pathlib.PurePosixPath) -> str | None:
     if p[0] in ("bench", "examples"):
         return p[0]
     if p[0] == "tests":
-        if len(p) > 2 and p[1] in ("core", "eval", "sweeps", "tools", "fuzz"):
+        if len(p) > 2 and p[1] in ("core", "methods", "eval", "sweeps", "tools", "fuzz"):
             return "tests/" + p[1]
         return "tests"
     return None
 
 
 def include_roots(root: pathlib.Path) -> list[pathlib.Path]:
-    return sorted(root.glob("io/include")) + sorted(root.glob("core/include")) + sorted(root.glob("eval/include")) + \
+    return sorted(root.glob("io/include")) + sorted(root.glob("core/include")) + sorted(root.glob("methods/include")) + \
+        sorted(root.glob("methods/*/include")) + sorted(root.glob("eval/include")) + \
         sorted(root.glob("sweeps/*/include")) + sorted(root.glob("tools/*/include")) + [root / "tests"]
 
 
@@ -111,7 +116,7 @@ def check_includes(root, files, errors):
 
 
 def check_cmake(root, errors):
-    parts = [("io", root / "io"), ("core", root / "core"), ("eval", root / "eval")] + \
+    parts = [("io", root / "io"), ("core", root / "core"), ("methods", root / "methods"), ("eval", root / "eval")] + \
         [(p, root / "sweeps" / p) for p in LIBRARY if (root / "sweeps" / p).is_dir()]
     for part, folder in parts:
         cmake = folder / "CMakeLists.txt"
@@ -122,7 +127,7 @@ def check_cmake(root, errors):
         rel = cmake.relative_to(root)
         if re.search(r"file\s*\(\s*GLOB", text):
             errors.append(f"{rel}: globs its sources; a part lists them")
-        for source in sorted(folder.glob("src/**/*.cpp")):
+        for source in sorted(s for s in folder.rglob("*.cpp") if "src" in s.relative_to(folder).parts):  # methods/*/src
             if source.relative_to(folder).as_posix() not in text:
                 errors.append(f"{rel}: does not list {source.relative_to(root)}")
         owner = part

@@ -86,7 +86,9 @@ std::string flagHelp(const ParameterFlag& f) {
 }
 
 // One flag per parameter name of every registered method (--p-h, --k, --std-mul, ...): a method takes the ones it
-// has, its defaults fill the rest (`occsweep methods` lists them).
+// has, its defaults fill the rest (`occsweep methods` lists them). Added after map's own flags: a parameter named
+// like one of them (threads, from, max_points) is refused, naming both, for it would end every command at start-up
+// (docs/methods.md, "One map"). The registry knows no flag: this check is the command's.
 void addParameterFlags(CLI::App& app, MapOptions& o) {
   std::map<std::string, ParameterFlag> flags;
   for (const auto& m : registeredMethods())
@@ -99,8 +101,12 @@ void addParameterFlags(CLI::App& app, MapOptions& o) {
       f.integer = f.integer && p.integer;
       f.meanings.push_back(p.meaning);
     }
-  for (const auto& [name, f] : flags)
+  for (const auto& [name, f] : flags) {
+    if (app.get_option_no_throw(flagOf(name)))
+      throw std::invalid_argument("method " + f.methods.front() + ": parameter '" + name + "' would be `occsweep map " +
+                                  flagOf(name) + "`, one of map's own flags: rename the parameter");
     o.parameters[name] = app.add_option(flagOf(name), o.values[name], flagHelp(f))->check(flagRule(f));
+  }
 }
 
 std::vector<std::string> methodNames() {
@@ -117,7 +123,6 @@ void addMapOptions(CLI::App& app, MapOptions& o) {
   o.settings["--method"] = app.add_option("--method", o.method, "Mapping method: " + registeredMethodNames())
                               ->check(CLI::IsMember(methodNames()))
                               ->capture_default_str();
-  addParameterFlags(app, o);
   o.settings["--p-t"] = app.add_option("--p-t", o.p_t, "Occupancy threshold of the TP/FP/FN/TN summary (recorded in "
                                                        "MAP.ot.json; the .ot keeps log-odds only)")
                            ->capture_default_str()->check(probability());
@@ -136,6 +141,7 @@ void addMapOptions(CLI::App& app, MapOptions& o) {
       ->capture_default_str()->check(threadCount());
   addLimitOptions(app, {Limit::WindowVoxels, Limit::RegionVoxels, Limit::Points, Limit::NeighbourDistances,
                         Limit::JsonBytes});
+  addParameterFlags(app, o);
 }
 
 bool given(const CLI::Option* option) { return option->count() > 0; }

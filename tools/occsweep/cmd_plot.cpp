@@ -20,7 +20,7 @@
 #include "method_style.hpp"
 #include "option_checks.hpp"
 #include "plot_data.hpp"
-#include "occsweep/core/builtin_methods.hpp"
+#include "occsweep/sweeps/baseline.hpp"
 #include "occsweep/core/method_registry.hpp"
 #include "occsweep/io/child_process.hpp"
 #include "occsweep/io/data_error.hpp"

@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <new>
+#include <stdexcept>
 
 #include "command_registry.hpp"
 #include "install_paths.hpp"
@@ -20,6 +21,7 @@
 #include "occsweep/sweeps/grid.hpp"
 #include "occsweep/sweeps/version.hpp"
 #include "occsweep/io/temporaries.hpp"
+#include "occsweep/methods/builtin_methods.hpp"
 #include "usage_errors.hpp"
 
 namespace occsweep::cli {
@@ -93,9 +95,15 @@ int runCommandLine(int argc, char** argv) {
   auto specs = commandRegistry();
   std::sort(specs.begin(), specs.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
   std::map<CLI::App*, std::pair<const CommandSpec*, std::function<int()>>> runners;
-  for (const auto& spec : specs) {
-    CLI::App* sub = app.add_subcommand(spec.name, spec.help);
-    runners[sub] = {&spec, spec.setup(*sub)};
+  try {  // occsweep's own methods, beside any the program registered before (docs/methods.md)
+    registerBuiltinMethods();
+    for (const auto& spec : specs) {
+      CLI::App* sub = app.add_subcommand(spec.name, spec.help);
+      runners[sub] = {&spec, spec.setup(*sub)};
+    }
+  } catch (const std::invalid_argument& e) {  // a registered method the commands cannot take (map's flags)
+    std::cerr << "occsweep: error: " << escapedControlCharacters(e.what()) << '\n';
+    return 2;
   }
   refuseEmptyPaths(app);
   try {

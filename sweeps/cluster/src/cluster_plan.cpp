@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "occsweep/sweeps/cluster_plan.hpp"
+#include "occsweep/core/limits.hpp"
 #include "occsweep/sweeps/grid.hpp"
 #include "occsweep/eval/paper_datasets.hpp"
 #include "occsweep/sweeps/sharding.hpp"

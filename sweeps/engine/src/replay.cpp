@@ -9,7 +9,6 @@
 #include <tbb/task_arena.h>
 
 #include "occsweep/core/log_odds.hpp"
-#include "occsweep/core/normal_cdf.hpp"
 #include "occsweep/core/scan_events.hpp"
 #include "occsweep/sweeps/tbb_scan_executor.hpp"
 
@@ -131,33 +130,9 @@ RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double
   return r;
 }
 
-SetFeature parallelSetFeature(const PointCloudSet& set, const FeatureRequest& request, double s_c, StatsMode stats) {
-  return setFeature(set, request, s_c, stats, [](std::size_t count, auto&& body) {
-    tbb::parallel_for(std::size_t(0), count, [&](std::size_t t) { body(t); });
-  });
-}
-
-std::vector<double> recordedHitFeatures(const RecordedSet& r, const PointCloudSet& set, const FeatureRequest& feature,
-                                        double s_c, StatsMode stats) {
-  std::vector<double> out(r.hit_scan.size());
-  if (feature.feature == PointFeature::KnnCdf) {
-    // F(s_j) exactly as knnCdfFeature computes it, at the hits only (hit_inner is the point's index j in z_in).
-    const KnnSetDistances d = computeKnnDistances(set, int(feature.argument), s_c, tbbScanExecutor());
-    const bool online = stats == StatsMode::Online;
-    for (std::size_t h = 0; h < out.size(); ++h) {
-      const KnnScanDistances& scan = d.scans[r.hit_scan[h]];
-      out[h] = normalCdf(scan.s[r.hit_inner[h]], online ? scan.online_mu : d.mu, online ? scan.online_sigma : d.sigma);
-    }
-    return out;
-  }
-  const SetFeature values = parallelSetFeature(set, feature, s_c, stats);
-  std::vector<std::vector<std::uint32_t>> inner(set.size());
-  for (std::size_t t = 0; t < set.size(); ++t) inner[t] = innerPoints(set[t], s_c);
-  for (std::size_t h = 0; h < out.size(); ++h) {
-    const std::uint32_t t = r.hit_scan[h];
-    out[h] = values.values[t][inner[t][r.hit_inner[h]]];
-  }
-  return out;
+std::vector<double> recordedHitFeatures(const RecordedSet& r, const PointCloudSet& set, const PointFeature& feature,
+                                        double s_c) {
+  return feature.valuesAtHits(set, {r.hit_scan, r.hit_inner, s_c}, tbbScanExecutor());
 }
 
 std::vector<float> eventHits(const RecordedSet& r, const std::vector<double>& features, const HitRule& hit) {

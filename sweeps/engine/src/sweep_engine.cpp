@@ -3,12 +3,12 @@
 #include "occsweep/sweeps/sweep_engine.hpp"
 
 #include <map>
-#include <mutex>
-#include <set>
+#include <memory>
 #include <utility>
 
 #include "occsweep/core/enum_names.hpp"
 #include "occsweep/sweeps/replay.hpp"
+#include "occsweep/sweeps/tbb_scan_executor.hpp"
 
 namespace occsweep {
 namespace {
@@ -53,21 +53,21 @@ class ReplayEngine final : public SweepEngine {
     observable_ = c.truth == TruthMode::Observable;
     twin_ = in.twin;
     // What the maps of every grid need per point: one rule per lane group tells (the groups share their features).
-    std::set<FeatureRequest> hit_needs, gate_needs;
+    Features hit_needs, gate_needs;
     lane_groups_.clear();
     for (std::size_t g = 0; g < grids.size(); ++g) {
       auto& groups = lane_groups_.emplace_back();
       for (auto& maps : laneGroups(*grids[g].method, *grids[g].layout, *grids[g].maps)) {
         const MapRule rule = ruleOf(g, maps.front());
-        if (rule.hit.kind != HitRule::Kind::Constant) hit_needs.insert(rule.hit.feature);
-        if (rule.gate) gate_needs.insert(rule.gate->feature);
+        if (rule.hit.kind != HitRule::Kind::Constant) hit_needs.emplace(rule.hit.feature->identity(), rule.hit.feature);
+        if (rule.gate) gate_needs.emplace(rule.gate->feature->identity(), rule.gate->feature);
         groups.push_back({std::move(maps), rule.hit.kind != HitRule::Kind::Constant});
       }
     }
     recordWithGates(in, gate_needs);
     // Replay needs a hit feature only at the recorded hits: one feature at a time, freed at once (memory).
-    for (const FeatureRequest& f : hit_needs)
-      hit_features_[f] = recordedHitFeatures(recorded_, in.scans, f, c.map.s_c, c.map.stats);
+    for (const auto& [identity, feature] : hit_needs)
+      hit_features_[identity] = recordedHitFeatures(recorded_, in.scans, *feature, c.map.s_c);
     // From here on only the recorded events are read: the points (12 bytes each) make room for replay's buffers.
     PointCloudSet().swap(in.scans);
   }
@@ -115,7 +115,7 @@ class ReplayEngine final : public SweepEngine {
     const MapRule& first = rules.front();
     std::vector<float> event_hits;
     if (first.hit.kind != HitRule::Kind::Constant)
-      event_hits = eventHits(recorded_, hit_features_.at(first.hit.feature), first.hit);
+      event_hits = eventHits(recorded_, hit_features_.at(first.hit.feature->identity()), first.hit);
     std::vector<ReplayRule> lanes;
     std::vector<std::vector<double>> p_t;
     for (std::size_t l = 0; l < batch.size(); ++l) {
@@ -127,8 +127,8 @@ class ReplayEngine final : public SweepEngine {
     BatchCounts out;
     std::vector<std::vector<ConfusionCounts>>* observable = observable_ || twin_ ? &out.observable : nullptr;
     if (first.gate)
-      out.counts = replayGatedCounts(recorded_, lanes, gate_columns_.at(first.gate->feature), laneGates(rules), p_t,
-                                     observable);
+      out.counts = replayGatedCounts(recorded_, lanes, gate_columns_.at(first.gate->feature->identity()),
+                                     laneGates(rules), p_t, observable);
     else
       out.counts = replayCounts(recorded_, lanes, p_t, observable);
     if (observable_) out.counts.swap(out.observable);
@@ -136,17 +136,20 @@ class ReplayEngine final : public SweepEngine {
   }
 
  private:
+  // The features the maps ask for, each once (by identity).
+  using Features = std::map<FeatureIdentity, std::shared_ptr<const PointFeature>>;
+
   MapRule ruleOf(std::size_t grid, std::size_t map) const {
     return grids_[grid].method->rule(valuesOf(*(*grids_[grid].maps)[map].params), context_);
   }
 
   // The events, with the extremes of every gate feature's scores (filters: docs/methods.md, "Filters").
-  void recordWithGates(const SweepInputs& in, const std::set<FeatureRequest>& gate_needs) {
+  void recordWithGates(const SweepInputs& in, const Features& gate_needs) {
     const SweepConfig& c = in.config;
     SetGateScores scores;
-    for (const FeatureRequest& f : gate_needs) {
-      SetFeature feature = parallelSetFeature(in.scans, f, c.map.s_c, c.map.stats);
-      gate_columns_[f] = scores.size();
+    for (const auto& [identity, gate] : gate_needs) {
+      SetFeature feature = gate->compute(in.scans, tbbScanExecutor());
+      gate_columns_[identity] = scores.size();
       gate_summaries_.push_back(std::move(feature.summaries));
       auto& column = scores.emplace_back(feature.values.size());
       for (std::size_t t = 0; t < column.size(); ++t) column[t].assign(feature.values[t].begin(), feature.values[t].end());
@@ -158,7 +161,7 @@ class ReplayEngine final : public SweepEngine {
   LaneGates laneGates(const std::vector<MapRule>& rules) const {
     LaneGates gates;
     for (const MapRule& rule : rules) {
-      const auto& summaries = gate_summaries_.at(gate_columns_.at(rule.gate->feature));
+      const auto& summaries = gate_summaries_.at(gate_columns_.at(rule.gate->feature->identity()));
       auto& lane = gates.emplace_back();
       for (const FeatureScanSummary& s : summaries) lane.push_back(rule.gate->threshold(s));
     }
@@ -176,13 +179,14 @@ class ReplayEngine final : public SweepEngine {
   bool observable_ = false;
   bool twin_ = false;  ///< SweepInputs::twin: the observable-truth counts go to a second file
   RecordedSet recorded_;
-  std::map<FeatureRequest, std::vector<double>> hit_features_;  // per hit feature: its value at every recorded hit
-  std::map<FeatureRequest, std::size_t> gate_columns_;           // per gate feature: its recorded column
+  std::map<FeatureIdentity, std::vector<double>> hit_features_;  // per hit feature: its value at every recorded hit
+  std::map<FeatureIdentity, std::size_t> gate_columns_;           // per gate feature: its recorded column
   std::vector<std::vector<FeatureScanSummary>> gate_summaries_;  // per column, per scan
 };
 
-// Builds every map with the method's own builder: liboctomap for OctoMap and its filters, the k-NN mapper, the
-// rule applied through OcTree::updateNode for the rest (the reference the replay engine is tested against).
+// Builds every map with the method's own builder (MappingMethod::buildMap: by default the rule applied through
+// OcTree::updateNode, the reference the replay engine is tested against), sharing what the maps compute from the
+// set through one FeatureCache.
 class DirectEngine final : public SweepEngine {
  public:
   std::string name() const override { return kEngineNames.text(EngineKind::Direct); }
@@ -193,15 +197,7 @@ class DirectEngine final : public SweepEngine {
     scans_ = &in.scans;
     truth_ = &in.truth;
     marked_ = in.twin ? &in.marked : nullptr;
-    context_ = {c.map, {}, {}};
-    // The distances of each k depend only on the points, k and s_c: computed once, shared by every map of that k.
-    // Serially, under the lock: a parallel loop here could take another map's task, which would wait for this lock.
-    context_.knn_distances = [this](int k) -> const KnnSetDistances& {
-      const std::lock_guard lock(distances_mutex_);
-      auto it = distances_.find(k);
-      if (it == distances_.end()) it = distances_.emplace(k, computeKnnDistances(*scans_, k, context_.map.s_c)).first;
-      return it->second;
-    };
+    context_ = {c.map, &shared_, {}};
   }
 
   std::vector<std::vector<std::size_t>> batches(std::size_t grid) const override {
@@ -227,8 +223,7 @@ class DirectEngine final : public SweepEngine {
   const GroundTruth* truth_ = nullptr;
   const GroundTruth* marked_ = nullptr;  // with a twin only
   MapContext context_;
-  mutable std::mutex distances_mutex_;
-  mutable std::map<int, KnnSetDistances> distances_;  // std::map: references stay valid as it grows
+  mutable FeatureCache shared_;  // what the maps compute from the set, once each (MapContext::shared)
 };
 
 }  // namespace

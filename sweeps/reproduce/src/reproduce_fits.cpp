@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "occsweep/eval/dataset.hpp"
+#include "occsweep/methods/knn/knn_set_distances.hpp"
 #include "occsweep/stats/distribution_fit.hpp"
 #include "occsweep/sweeps/tbb_scan_executor.hpp"
 #include "reproduce_internal.hpp"

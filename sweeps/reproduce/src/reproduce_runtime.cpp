@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "occsweep/core/knn_inverse_sensor_model.hpp"
-#include "occsweep/core/octomap_baseline.hpp"
+#include "occsweep/methods/knn/knn_inverse_sensor_model.hpp"
+#include "occsweep/methods/octomap/octomap_baseline.hpp"
 #include "occsweep/eval/dataset.hpp"
 #include "occsweep/stats/runtime_model.hpp"
 #include "occsweep/sweeps/progress.hpp"

@@ -14,39 +14,14 @@
 
 #include <octomap/OcTree.h>
 
-#include "knn_set_distances.hpp"
 #include "map_settings.hpp"
 #include "method_parameter.hpp"
 #include "point_cloud_set.hpp"
+#include "point_feature.hpp"
 #include "scan_executor.hpp"
 #include "voxel_update_rule.hpp"
 
 namespace occsweep {
-
-/// What a method may need per point of a scan; the engines compute each requested feature once per sweep
-/// (method_features.hpp), for every point of every scan.
-enum class PointFeature : std::uint8_t {
-  KnnCdf,         ///< F(s_j) of Eq. 8: the normal CDF of the point's mean distance to its k nearest neighbours in
-                  ///< z_in (argument: k); mu, sigma of the set (batch) or of the scans so far (online). In-range
-                  ///< points only.
-  Range,          ///< |p_j - x_t| as OctoMap's computeUpdate measures it (float components)
-  SorScore,       ///< minus PCL StatisticalOutlierRemoval's mean distance to the k nearest points of the whole
-                  ///< scan (argument: k); the scan's summary holds PCL's mean and standard deviation of them
-  RorNeighbours,  ///< how many other points of the scan PCL's RadiusOutlierRemoval finds within the radius
-                  ///< (argument: radius in metres)
-};
-
-/// A feature with its argument (k, radius). Ordered, so the engines compute each once.
-struct FeatureRequest {
-  PointFeature feature = PointFeature::Range;
-  double argument = 0.0;
-  friend auto operator<=>(const FeatureRequest&, const FeatureRequest&) = default;
-};
-
-/// What a feature says about a whole scan (SorScore: PCL's mean and standard deviation of the distances).
-struct FeatureScanSummary {
-  double mean = 0.0, stddev = 0.0;
-};
 
 /// How one scan's hits change a voxel (Algorithm 1 lines 3-10 for k-NN; one l(p_h) for OctoMap).
 struct HitRule {
@@ -58,16 +33,16 @@ struct HitRule {
                ///< point (OctoMap's one update per voxel and scan)
   };
   Kind kind = Kind::Constant;
-  float l_hit = 0.0f;                           ///< Constant
-  FeatureRequest feature{};                     ///< PointSum, PointMax: the feature pointLogOdds reads
-  std::function<float(double)> pointLogOdds;    ///< PointSum, PointMax: l(p(feature)) of one point
+  float l_hit = 0.0f;                                  ///< Constant
+  std::shared_ptr<const PointFeature> feature;         ///< PointSum, PointMax: the feature pointLogOdds reads
+  std::function<float(double)> pointLogOdds;           ///< PointSum, PointMax: l(p(feature)) of one point
 };
 
 /// A point filter (a removed point casts no ray and is no hit): a point is kept when its feature's score reaches
 /// the threshold of its scan. Replayable because a voxel's event happens exactly when the largest score over the
 /// points in it (hit) or over the rays that cross it (crossed) reaches the threshold (docs/methods.md, "Filters").
 struct PointGate {
-  FeatureRequest feature{};
+  std::shared_ptr<const PointFeature> feature;
   std::function<double(const FeatureScanSummary&)> threshold;  ///< per scan; -inf keeps every point
 };
 
@@ -81,7 +56,7 @@ struct MapRule {
 
 /// What a rule may take from the sweep rather than from the grid.
 struct RuleContext {
-  MapSettings map;  ///< the sweep's settings (a rule reads the variant)
+  MapSettings map;  ///< the sweep's settings (a rule reads the variant; its features may read s_c, the stats mode)
 };
 
 /// The values of one map's parameters, in the order of MappingMethod::parameters().
@@ -90,9 +65,9 @@ using MethodValues = std::vector<double>;
 /// What a direct build needs besides the values (sweep settings; features are computed on demand).
 struct MapContext {
   MapSettings map;
-  /// The set's k-NN distances for k and s_c, shared by the maps of a sweep (the direct engine computes each k
-  /// once); empty: a method computes its own.
-  std::function<const KnnSetDistances&(int k)> knn_distances;
+  /// Where the maps of a sweep share what they compute from the set, by identity (the direct engine holds one);
+  /// none: a build computes its own.
+  FeatureCache* shared = nullptr;
   /// Where a method may run its per-scan work in parallel (the same map whatever it does); empty: this thread.
   ScanExecutor executor;
 };
@@ -104,7 +79,7 @@ class MappingMethod {
 
   /// The registered name: grid files' "method", results' grid.method.
   [[nodiscard]] virtual std::string name() const = 0;
-  /// The name a paper's table or figure shows ("k-NN" for knn); by default the registered name.
+  /// The name a paper's table or figure shows; by default the registered name.
   [[nodiscard]] virtual std::string displayName() const { return name(); }
   /// One line for `occsweep methods`.
   [[nodiscard]] virtual std::string description() const = 0;

@@ -9,10 +9,8 @@
 
 #include <octomap/OcTree.h>
 
-#include "knn_set_distances.hpp"
 #include "mapping_method.hpp"
-#include "method_features.hpp"
-#include "octomap_baseline.hpp"
+#include "occupancy_tree.hpp"
 #include "scan_events.hpp"
 
 namespace occsweep {
@@ -20,6 +18,11 @@ namespace occsweep {
 /// The map of `set` under `method` with `values`, built by applying method.rule() scan by scan.
 [[nodiscard]] std::unique_ptr<octomap::OcTree> buildMapByRule(const MappingMethod& method, const PointCloudSet& set,
                                                               const MethodValues& values, const MapContext& context);
+
+/// `feature` of every point of `set`: from the sweep's shared cache when the context has one (computed once for
+/// every map), else computed here.
+[[nodiscard]] std::shared_ptr<const SetFeature> featureOf(const PointFeature& feature, const PointCloudSet& set,
+                                                         const MapContext& context);
 
 /// The points of `scan` a gate keeps, in point order (all of them without a gate). Gate scores compare as float
 /// (the replay engine records them as float).
@@ -31,6 +34,13 @@ template <class PointFeatures>
 [[nodiscard]] float hitDeltaOf(const MapRule& rule, const PointFeatures& features);
 
 // ---------------------------------------------------------------------------------------------------------
+
+inline std::shared_ptr<const SetFeature> featureOf(const PointFeature& feature, const PointCloudSet& set,
+                                                const MapContext& context) {
+  if (!context.shared) return std::make_shared<const SetFeature>(feature.compute(set, context.executor));
+  const auto compute = [&] { return std::make_shared<const SetFeature>(feature.compute(set, {})); };
+  return context.shared->get<std::shared_ptr<const SetFeature>>(feature.identity(), compute);
+}
 
 inline std::vector<std::uint32_t> keptPoints(const Scan& scan, const MapRule& rule, const std::vector<double>* scores,
                                              const FeatureScanSummary& summary) {
@@ -66,10 +76,9 @@ inline std::unique_ptr<octomap::OcTree> buildMapByRule(const MappingMethod& meth
   if (auto why = brokenRelation(method, values)) throw std::invalid_argument(method.name() + ": " + *why);
   const MapRule rule = method.rule(values, {context.map});
   const bool point_hits = rule.hit.kind != HitRule::Kind::Constant;
-  const SetFeature hit_feature =
-      point_hits ? setFeature(set, rule.hit.feature, context.map.s_c, context.map.stats) : SetFeature{};
-  const SetFeature gate_feature =
-      rule.gate ? setFeature(set, rule.gate->feature, context.map.s_c, context.map.stats) : SetFeature{};
+  const auto none = std::make_shared<const SetFeature>();
+  const auto hit_feature = point_hits ? featureOf(*rule.hit.feature, set, context) : none;
+  const auto gate_feature = rule.gate ? featureOf(*rule.gate->feature, set, context) : none;
   auto tree = makeTree(context.map.resolution, parameterValue(method, values, "p_max"),
                        parameterValue(method, values, "p_min"), 0.5);
   ScanEventRecorder recorder(context.map.resolution);
@@ -78,8 +87,8 @@ inline std::unique_ptr<octomap::OcTree> buildMapByRule(const MappingMethod& meth
   for (std::size_t t = 0; t < set.size(); ++t) {
     // A removed point casts no ray and is no hit: the scan as the filter leaves it.
     const std::vector<std::uint32_t> kept =
-        keptPoints(set[t], rule, rule.gate ? &gate_feature.values[t] : nullptr,
-                   rule.gate ? gate_feature.summaries[t] : FeatureScanSummary{});
+        keptPoints(set[t], rule, rule.gate ? &gate_feature->values[t] : nullptr,
+                   rule.gate ? gate_feature->summaries[t] : FeatureScanSummary{});
     Scan filtered{set[t].origin, {}, set[t].view};
     for (std::uint32_t i : kept) filtered.points.push_back(set[t].points[i]);
     const std::vector<std::uint32_t> inner = innerPoints(filtered, context.map.s_c);
@@ -89,7 +98,7 @@ inline std::unique_ptr<octomap::OcTree> buildMapByRule(const MappingMethod& meth
         features.clear();
         if (point_hits)
           for (std::uint32_t h = 0; h < e.hit_count; ++h)
-            features.push_back(hit_feature.values[t][kept[inner[events.hit_points[e.first_hit + h]]]]);
+            features.push_back(hit_feature->values[t][kept[inner[events.hit_points[e.first_hit + h]]]]);
         return hitDeltaOf(rule, features);
       };
       rule.update.apply(e.flags, hitDelta, [&](float delta) { tree->updateNode(e.key, delta); });

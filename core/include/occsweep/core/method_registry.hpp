@@ -1,44 +1,40 @@
-// The registered methods by name (docs/methods.md): the ones occsweep ships, and any a program adds before it
-// sweeps (examples/occupancy_method: a method of its own, registered from outside the library).
+// The registered methods by name (docs/methods.md): a program registers occsweep's own (the methods layer does it for
+// the command) and any of its own before it sweeps (examples/occupancy_method). The registry knows none of them.
 #pragma once
 
 #include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
-#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "builtin_methods.hpp"
 #include "mapping_method.hpp"
 
 namespace occsweep {
 
 /// Adds a method. Throws std::invalid_argument naming the rule broken: a name taken, empty or not of
 /// [a-z0-9-], no p_max or p_min, a relation naming an unknown parameter, a parameter listed twice, a parameter
-/// name not of [a-z][a-z0-9_]* or one of the settings every map shares (isReservedParameterName).
+/// name not of [a-z][a-z0-9_]* or one of the names every map has (isReservedParameterName).
 void registerMethod(std::shared_ptr<const MappingMethod> method);
 /// The method of that name; std::invalid_argument naming it and every registered name when there is none.
 [[nodiscard]] const MappingMethod& findMethod(const std::string& name);
 /// Every registered method, by name.
 [[nodiscard]] std::vector<std::shared_ptr<const MappingMethod>> registeredMethods();
-/// "knn, octomap, ..." for refusals.
+/// Every registered name, comma-separated, for refusals.
 [[nodiscard]] std::string registeredMethodNames();
 
 // ---------------------------------------------------------------------------------------------------------
-/// Names no parameter may take: p_t (implied), the settings every map shares (resolution, s_c, variant, stats,
-/// truth) and the other flags of `occsweep map`, which makes `--NAME` of each parameter (docs/methods.md, "One map").
+/// Names no parameter may take: p_t (every map's, stepped by grids) and the settings every map shares (resolution,
+/// s_c, variant, stats), which results files key beside the parameters (docs/methods.md, "One map").
 [[nodiscard]] bool isReservedParameterName(const std::string& name);
 
 namespace detail {
 
-// The shipped methods are in from the start, so a lookup never races with their registration.
 struct MethodTable {
   std::mutex mutex;
   std::map<std::string, std::shared_ptr<const MappingMethod>> methods;
-  MethodTable();
 };
 
 inline bool isParameterName(const std::string& name) {
@@ -54,7 +50,7 @@ inline void checkMethod(const MappingMethod& m) {
   for (const MethodParameter& p : m.parameters()) {
     if (!isParameterName(p.name) || isReservedParameterName(p.name))
       throw std::invalid_argument("method " + name + ": parameter '" + p.name + "': a parameter name is [a-z][a-z0-9_]*"
-                                  " and none of p_t, the map settings or `occsweep map`'s flags");
+                                  " and none of p_t or the map settings");
     if (++seen[p.name] > 1) throw std::invalid_argument("method " + name + ": parameter " + p.name + " listed twice");
   }
   for (const char* needed : {"p_max", "p_min"})
@@ -74,14 +70,6 @@ inline void addLocked(MethodTable& table, std::shared_ptr<const MappingMethod> m
     throw std::invalid_argument("method " + name + " is registered already");
 }
 
-inline MethodTable::MethodTable() {
-  addLocked(*this, std::make_shared<OctoMapMethod>());
-  addLocked(*this, std::make_shared<KnnMethod>());
-  addLocked(*this, std::make_shared<SorOctoMapMethod>());
-  addLocked(*this, std::make_shared<RorOctoMapMethod>());
-  addLocked(*this, std::make_shared<RangeOctoMapMethod>());
-}
-
 inline MethodTable& methodTable() {
   static MethodTable table;
   return table;
@@ -90,10 +78,7 @@ inline MethodTable& methodTable() {
 }  // namespace detail
 
 inline bool isReservedParameterName(const std::string& name) {
-  static const std::set<std::string> reserved = {"p_t",   "truth",     "dataset", "out",  "force",
-                                                 "method", "from",     "best",    "map_index", "threads", "help"};
-  const bool setting = std::find(kMapSettingNames.begin(), kMapSettingNames.end(), name) != kMapSettingNames.end();
-  return setting || reserved.count(name) > 0 || name.rfind("max_", 0) == 0;
+  return name == "p_t" || std::find(kMapSettingNames.begin(), kMapSettingNames.end(), name) != kMapSettingNames.end();
 }
 
 inline void registerMethod(std::shared_ptr<const MappingMethod> method) {
@@ -110,6 +95,7 @@ inline const MappingMethod& findMethod(const std::string& name) {
   if (it != table.methods.end()) return *it->second;
   std::string names;
   for (const auto& [n, _] : table.methods) names += (names.empty() ? "" : ", ") + n;
+  if (names.empty()) names = "none; a program registers methods before it looks one up";
   throw std::invalid_argument("method '" + name + "' is not registered (registered: " + names + ")");
 }
 

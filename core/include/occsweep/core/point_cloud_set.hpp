@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -32,6 +33,16 @@ using PointCloudSet = std::vector<Scan>;
 /// components, so that our in/out split at s_c matches liboctomap's maxrange test bit for bit.
 [[nodiscard]] inline double rangeFromOrigin(const octomap::point3d& p, const octomap::point3d& origin) {
   return (p - origin).norm();
+}
+
+/// The in-range points of a scan, z_in (OctoMap's maxrange test: (p - origin).norm() <= s_c), as indices into its
+/// points in point order; the others cast a ray cut at s_c and are no hit.
+[[nodiscard]] inline std::vector<std::uint32_t> innerPoints(const Scan& scan, double s_c) {
+  std::vector<std::uint32_t> inner;
+  inner.reserve(scan.points.size());
+  for (std::uint32_t i = 0; i < scan.points.size(); ++i)
+    if (rangeFromOrigin(scan.points[i], scan.origin) <= s_c) inner.push_back(i);
+  return inner;
 }
 
 }  // namespace occsweep

@@ -8,8 +8,6 @@
 #include <functional>
 #include <vector>
 
-#include "knn_set_distances.hpp"
-#include "point_cloud_set.hpp"
 
 namespace occsweep {
 
@@ -22,11 +20,6 @@ struct ScanExecutor {
   void run(std::size_t count, const std::function<void(std::size_t)>& body) const;
 };
 
-/// computeKnnDistances with the scans' searches on `executor`; the statistics are accumulated in scan order
-/// afterwards, so the result is identical.
-[[nodiscard]] KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c,
-                                                  const ScanExecutor& executor);
-
 // ---------------------------------------------------------------------------------------------------------
 
 inline void ScanExecutor::run(std::size_t count, const std::function<void(std::size_t)>& body) const {
@@ -35,16 +28,6 @@ inline void ScanExecutor::run(std::size_t count, const std::function<void(std::s
     return;
   }
   for (std::size_t i = 0; i < count; ++i) body(i);
-}
-
-inline KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c, const ScanExecutor& executor) {
-  KnnSetDistances out;
-  out.k = k;
-  out.s_c = s_c;
-  out.scans.resize(set.size());
-  executor.run(set.size(), [&](std::size_t t) { out.scans[t] = scanKnnDistances(set[t], k, s_c); });
-  accumulateStatistics(out);
-  return out;
 }
 
 }  // namespace occsweep

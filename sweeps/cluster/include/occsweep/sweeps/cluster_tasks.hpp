@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "occsweep/core/builtin_methods.hpp"
+#include "occsweep/sweeps/baseline.hpp"
 #include "occsweep/sweeps/sweep.hpp"
 
 namespace occsweep {

@@ -6,11 +6,8 @@
 #include <memory>
 #include <vector>
 
-#include "occsweep/core/knn_inverse_sensor_model.hpp"
-#include "occsweep/core/knn_set_distances.hpp"
 #include "occsweep/core/mapping_method.hpp"
-#include "occsweep/core/method_features.hpp"
-#include "occsweep/core/map_settings.hpp"
+#include "occsweep/core/point_feature.hpp"
 #include "occsweep/core/voxel_update_rule.hpp"
 #include "occsweep/eval/confusion.hpp"
 #include "occsweep/sweeps/grid.hpp"
@@ -47,14 +44,10 @@ using SetGateScores = std::vector<std::vector<std::vector<float>>>;
 [[nodiscard]] RecordedSet recordSet(const PointCloudSet& set, const GroundTruth& truth, double resolution, double s_c,
                                     const SetGateScores& gate_scores = {});
 
-/// A feature of every point (method_features.hpp) with the scans in parallel (TBB); identical to setFeature.
-[[nodiscard]] SetFeature parallelSetFeature(const PointCloudSet& set, const FeatureRequest& request, double s_c,
-                                            StatsMode stats);
-
-/// A feature of every recorded hit's point, equal to setFeature's value for it. KnnCdf is computed at the hits
-/// only (the normal CDF is the costly part, and most points of a scan are no hit inside the region).
+/// A feature of every recorded hit's point (PointFeature::valuesAtHits, the scans in parallel: TBB), equal to
+/// PointFeature::compute's value for it. `s_c`: the one the events were recorded at.
 [[nodiscard]] std::vector<double> recordedHitFeatures(const RecordedSet& r, const PointCloudSet& set,
-                                                      const FeatureRequest& feature, double s_c, StatsMode stats);
+                                                      const PointFeature& feature, double s_c);
 
 /// Per event, its hit delta from its points' features (`hit_features`: recordedHitFeatures) before any clamp: the float
 /// sum of pointLogOdds in point order (PointSum), or the largest (PointMax). Depends on the hit rule only.

@@ -1,6 +1,6 @@
 // How a sweep turns its maps into TP/FP/FN/TN counts (SweepConfig::engine): replay every map from the region
-// voxels' recorded events (replay.hpp), or build every map directly, liboctomap for OctoMap and the k-NN
-// mapper (the reference). runSweep (sweep_run.cpp) does everything else alike for both.
+// voxels' recorded events (replay.hpp), or build every map directly with its method's own builder (the
+// reference). runSweep (sweep_run.cpp) does everything else alike for both.
 #pragma once
 
 #include <memory>
@@ -55,9 +55,9 @@ class SweepEngine {
   [[nodiscard]] virtual std::string name() const = 0;
 
   /// Computes what the maps of every grid share (replay: the recorded events, once for all grids, with the gate
-  /// extremes of every filter, and each hit feature at the recorded hits; direct: the k-NN distances of each k, on
-  /// first use). Runs TBB loops in the caller's arena; keeps references to `inputs`' truths and points and to
-  /// `grids` (which must outlive the counting).
+  /// extremes of every filter, and each hit feature at the recorded hits; direct: what the maps share, each by its
+  /// identity on first use). Runs TBB loops in the caller's arena; keeps references to `inputs`' truths and points
+  /// and to `grids` (which must outlive the counting).
   virtual void prepare(const SweepInputs& inputs, const std::vector<GridMaps>& grids) = 0;
 
   /// The maps of grid `grid` counted together, as indices into its maps, each map once: replay, up to

@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "occsweep/core/builtin_methods.hpp"
+#include "occsweep/sweeps/baseline.hpp"
 #include "occsweep/stats/bootstrap.hpp"
 #include "occsweep/stats/effect_size.hpp"
 #include "occsweep/stats/sign_test.hpp"

@@ -16,8 +16,8 @@
 
 #include <octomap/octomap_types.h>
 
-#include "occsweep/core/knn_average_distance.hpp"  // detail::PointVectorAdaptor, detail::KdTree
-#include "occsweep/core/radius_count_tree.hpp"     // detail::flannSquaredDistance, detail::RadiusCountTree
+#include "occsweep/methods/knn/knn_average_distance.hpp"  // detail::PointVectorAdaptor, detail::KdTree
+#include "radius_count_tree.hpp"     // detail::flannSquaredDistance, detail::RadiusCountTree
 
 namespace occsweep {
 

@@ -1,6 +1,7 @@
-// The settings of the two mappers the paper compares (octomap_baseline.hpp, knn_inverse_sensor_model.hpp): their
-// parameters' values, whose defaults and checks come from the parameters' one home (builtin_parameters.hpp), and the
-// settings every map shares (map_settings.hpp). OctoMapMethod and KnnMethod fill these from a map's values.
+// OctoMap's parameters as data (names, defaults, bounds and Eq. 12's relations, written once) and the settings of
+// its mapper, which take their defaults and their checks from them. Defaults: liboctomap's own (OcTree's
+// constructor), clamping thresholds rounded to the paper's two decimals. The other OctoMap-family methods share
+// the clamping, hit and miss parameters declared here.
 #pragma once
 
 #include <optional>
@@ -8,14 +9,48 @@
 #include <string>
 #include <vector>
 
-#include "builtin_parameters.hpp"
-#include "map_settings.hpp"
+#include "occsweep/core/map_settings.hpp"
+#include "occsweep/core/method_parameter.hpp"
+
+namespace occsweep::builtin {
+
+/// The parameters every OctoMap-family method shares, with Eq. 12's bounds.
+[[nodiscard]] inline MethodParameter clampMax() {
+  return {"p_max", "p_max", "upper clamping threshold", 0.97, 0.5, 1.0, false, true, false, "Eq. 12"};
+}
+[[nodiscard]] inline MethodParameter clampMin() {
+  return {"p_min", "p_min", "lower clamping threshold", 0.12, 0.0, 0.5, true, true, false, "Eq. 12"};
+}
+[[nodiscard]] inline MethodParameter missIn() {
+  return {"p_m", "p_m", "miss: voxels crossed by a ray to an in-range point", 0.4, 0.0, 0.5, true, true, false,
+          "Eq. 12"};
+}
+[[nodiscard]] inline MethodParameter hitProbability() {
+  return {"p_h", "p_h", "hit: voxels holding an in-range point", 0.7, 0.5, 1.0, false, true, false, "Eq. 12"};
+}
+
+/// OctoMap (Eq. 4-5), in the order grids enumerate them.
+[[nodiscard]] inline std::vector<MethodParameter> octomapParameters() {
+  return {clampMax(), clampMin(), hitProbability(), missIn()};
+}
+/// Eq. 12 for OctoMap beyond the bounds: p_max >= p_h, p_m >= p_min.
+[[nodiscard]] inline std::vector<ParameterRelation> octomapRelations() {
+  return {{"p_max", "p_h", false, "Eq. 12"}, {"p_m", "p_min", false, "Eq. 12"}};
+}
+
+/// The default of parameter `name` among `parameters`.
+[[nodiscard]] inline double defaultOf(const std::vector<MethodParameter>& parameters, const std::string& name) {
+  for (const MethodParameter& p : parameters)
+    if (p.name == name) return p.default_value;
+  throw std::logic_error("no built-in parameter " + name);
+}
+
+}  // namespace occsweep::builtin
 
 namespace occsweep {
 
 namespace detail {
 [[nodiscard]] double octomapDefault(const std::string& name);
-[[nodiscard]] double knnDefault(const std::string& name);
 }  // namespace detail
 
 /// Parameters of the OctoMap baseline (Eq. 4-5), by liboctomap's setters.
@@ -28,22 +63,8 @@ struct OctoMapParams {
   MapSettings map;   ///< resolution and s_c (OctoMap reads neither the variant nor the statistics mode)
 };
 
-/// Parameters of the k-NN inverse sensor model (Eq. 6-10, Algorithm 1).
-struct KnnParams {
-  double p_u = detail::knnDefault("p_u");          ///< upper bound of p(s) (Eq. 6): a point with tight neighbours
-  double p_l = detail::knnDefault("p_l");          ///< lower bound of p(s) (Eq. 6): an isolated point
-  double p_m = detail::knnDefault("p_m");          ///< miss for voxels crossed by rays to in-range points (l_in)
-  double p_m_out = detail::knnDefault("p_m_out");  ///< p'_m: miss for voxels crossed only by rays beyond s_c (l_out)
-  double p_max = detail::knnDefault("p_max");      ///< upper clamping threshold
-  double p_min = detail::knnDefault("p_min");      ///< lower clamping threshold
-  double p_t = 0.5;                                ///< occupancy threshold
-  int k = static_cast<int>(detail::knnDefault("k"));  ///< number of nearest neighbours averaged (Section 3.1)
-  MapSettings map;
-};
-
 /// The first setting, bound or relation of Eq. 12 the parameters break, as a sentence naming it; none if valid.
 [[nodiscard]] std::optional<std::string> brokenRelation(const OctoMapParams& p);
-[[nodiscard]] std::optional<std::string> brokenRelation(const KnnParams& p);
 
 /// Throws std::invalid_argument naming the broken relation.
 template <class Params>
@@ -59,11 +80,6 @@ inline double octomapDefault(const std::string& name) {
   return builtin::defaultOf(parameters, name);
 }
 
-inline double knnDefault(const std::string& name) {
-  static const std::vector<MethodParameter> parameters = builtin::knnParameters();
-  return builtin::defaultOf(parameters, name);
-}
-
 // The values of `parameters` in their order, each read by its name.
 template <class ValueOf>
 std::vector<double> valuesByName(const std::vector<MethodParameter>& parameters, ValueOf value_of) {
@@ -73,7 +89,7 @@ std::vector<double> valuesByName(const std::vector<MethodParameter>& parameters,
 }
 
 [[noreturn]] inline double noSuchField(const std::string& name) {
-  throw std::logic_error("mapping_params.hpp: no field for parameter " + name);
+  throw std::logic_error("no settings field for parameter " + name);
 }
 
 }  // namespace detail
@@ -89,24 +105,6 @@ inline std::optional<std::string> brokenRelation(const OctoMapParams& p) {
   };
   const std::vector<MethodParameter> parameters = builtin::octomapParameters();
   if (auto e = brokenRelation(parameters, builtin::octomapRelations(), detail::valuesByName(parameters, value_of)))
-    return e;
-  return brokenThreshold(p.p_t, p.p_min, p.p_max);
-}
-
-inline std::optional<std::string> brokenRelation(const KnnParams& p) {
-  if (auto e = brokenSetting(p.map)) return e;
-  const auto value_of = [&](const std::string& name) {
-    if (name == "k") return double(p.k);
-    if (name == "p_u") return p.p_u;
-    if (name == "p_l") return p.p_l;
-    if (name == "p_m") return p.p_m;
-    if (name == "p_m_out") return p.p_m_out;
-    if (name == "p_max") return p.p_max;
-    if (name == "p_min") return p.p_min;
-    return detail::noSuchField(name);
-  };
-  const std::vector<MethodParameter> parameters = builtin::knnParameters();
-  if (auto e = brokenRelation(parameters, builtin::knnRelations(), detail::valuesByName(parameters, value_of)))
     return e;
   return brokenThreshold(p.p_t, p.p_min, p.p_max);
 }

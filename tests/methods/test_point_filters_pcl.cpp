@@ -16,8 +16,8 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
-#include "core/point_filter_cases.hpp"
-#include "occsweep/core/point_filters.hpp"
+#include "methods/point_filter_cases.hpp"
+#include "occsweep/methods/outlier_filters/point_filters.hpp"
 #include "occsweep/core/voxel_filter.hpp"
 
 using namespace occsweep;

@@ -7,8 +7,9 @@
 #include <vector>
 
 #include "knn_average_distance.hpp"
-#include "point_cloud_set.hpp"
-#include "welford.hpp"
+#include "occsweep/core/point_cloud_set.hpp"
+#include "occsweep/core/scan_executor.hpp"
+#include "occsweep/core/welford.hpp"
 
 namespace occsweep {
 
@@ -33,24 +34,18 @@ struct KnnSetDistances {
 /// alone within s_c) are left out of mu and sigma, which they would make infinite; F(+inf) = 1 still applies.
 [[nodiscard]] KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c);
 
-/// The z_in split of one scan (OctoMap's maxrange test: (p - origin).norm() <= s_c).
-[[nodiscard]] std::vector<std::uint32_t> innerPoints(const Scan& scan, double s_c);
-
 /// One scan's z_in and s_i (no statistics): the part that scans can compute independently, in parallel.
 [[nodiscard]] KnnScanDistances scanKnnDistances(const Scan& scan, int k, double s_c);
+
+/// computeKnnDistances with the scans' searches on `executor`; the statistics are accumulated in scan order
+/// afterwards, so the result is identical.
+[[nodiscard]] KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c,
+                                                  const ScanExecutor& executor);
 
 /// Welford over the scans' s_i in scan and point order: fills online_mu/sigma per scan and the set's mu, sigma.
 void accumulateStatistics(KnnSetDistances& d);
 
 // ---------------------------------------------------------------------------------------------------------
-
-inline std::vector<std::uint32_t> innerPoints(const Scan& scan, double s_c) {
-  std::vector<std::uint32_t> inner;
-  inner.reserve(scan.points.size());
-  for (std::uint32_t i = 0; i < scan.points.size(); ++i)
-    if (rangeFromOrigin(scan.points[i], scan.origin) <= s_c) inner.push_back(i);
-  return inner;
-}
 
 inline KnnScanDistances scanKnnDistances(const Scan& scan, int k, double s_c) {
   KnnScanDistances d;
@@ -74,13 +69,18 @@ inline void accumulateStatistics(KnnSetDistances& out) {
   out.sigma = welford.sigma();
 }
 
-inline KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c) {
+inline KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c, const ScanExecutor& executor) {
   KnnSetDistances out;
   out.k = k;
   out.s_c = s_c;
-  for (const Scan& scan : set) out.scans.push_back(scanKnnDistances(scan, k, s_c));
+  out.scans.resize(set.size());
+  executor.run(set.size(), [&](std::size_t t) { out.scans[t] = scanKnnDistances(set[t], k, s_c); });
   accumulateStatistics(out);
   return out;
+}
+
+inline KnnSetDistances computeKnnDistances(const PointCloudSet& set, int k, double s_c) {
+  return computeKnnDistances(set, k, s_c, ScanExecutor{});
 }
 
 }  // namespace occsweep

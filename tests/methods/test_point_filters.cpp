@@ -8,9 +8,9 @@
 #include <cstring>
 #include <limits>
 
-#include "core/point_filter_cases.hpp"
+#include "methods/point_filter_cases.hpp"
 #include "occsweep/core/limits.hpp"
-#include "occsweep/core/point_filters.hpp"
+#include "occsweep/methods/outlier_filters/point_filters.hpp"
 
 using namespace occsweep;
 using octomap::point3d;

@@ -13,7 +13,7 @@
 #include <octomap/octomap_types.h>
 
 #include "cell_grid_knn.hpp"
-#include "limits.hpp"
+#include "occsweep/core/limits.hpp"
 
 namespace occsweep {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "occsweep/core/knn_average_distance.hpp"
+#include "occsweep/methods/knn/knn_average_distance.hpp"
 #include "occsweep/core/limits.hpp"
 #include "test_helpers.hpp"
 

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "occsweep/core/knn_average_distance.hpp"
-#include "occsweep/core/normal_cdf.hpp"
+#include "occsweep/methods/knn/knn_average_distance.hpp"
+#include "occsweep/methods/knn/normal_cdf.hpp"
 #include "occsweep/core/welford.hpp"
 #include "test_helpers.hpp"
 

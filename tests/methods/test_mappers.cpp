@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "occsweep/core/knn_inverse_sensor_model.hpp"
+#include "occsweep/methods/knn/knn_inverse_sensor_model.hpp"
 #include "occsweep/core/map_voxels.hpp"
-#include "occsweep/core/octomap_baseline.hpp"
+#include "occsweep/methods/octomap/octomap_baseline.hpp"
 #include "occsweep/core/voxel_update_rule.hpp"
 #include "test_helpers.hpp"
 

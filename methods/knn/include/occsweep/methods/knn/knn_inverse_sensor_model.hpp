@@ -8,15 +8,15 @@
 
 #include <octomap/OcTree.h>
 
+#include "knn_parameters.hpp"
 #include "knn_set_distances.hpp"
-#include "log_odds.hpp"
-#include "mapping_params.hpp"
 #include "normal_cdf.hpp"
-#include "octomap_baseline.hpp"
-#include "flat_key_index.hpp"
-#include "scan_events.hpp"
-#include "scan_executor.hpp"
-#include "voxel_update_rule.hpp"
+#include "occsweep/core/flat_key_index.hpp"
+#include "occsweep/core/log_odds.hpp"
+#include "occsweep/core/occupancy_tree.hpp"
+#include "occsweep/core/scan_events.hpp"
+#include "occsweep/core/scan_executor.hpp"
+#include "occsweep/core/voxel_update_rule.hpp"
 
 namespace occsweep {
 
