@@ -40,6 +40,7 @@ octomap::KeySet oracleObservable(const GroundTruth& truth, const std::vector<poi
   const float inside = float(0.49 * truth.resolution);
   const point3d offsets[7] = {{0, 0, 0},       {inside, 0, 0}, {-inside, 0, 0}, {0, inside, 0},
                               {0, -inside, 0}, {0, 0, inside}, {0, 0, -inside}};
+  octomap::KeyRay ray;  // allocated once: a KeyRay holds room for 100,000 keys
   octomap::KeySet seen;
   for (const auto& key : truth.occupied) {
     const point3d centre = tree.keyToCoord(key);
@@ -47,7 +48,6 @@ octomap::KeySet oracleObservable(const GroundTruth& truth, const std::vector<poi
       if (!((centre - origin).norm() <= s_c)) continue;
       for (const point3d& offset : offsets) {
         const point3d aim = centre + offset;
-        octomap::KeyRay ray;
         if (tree.coordToKey(aim) != key || !tree.computeRayKeys(origin, aim, ray)) continue;
         bool blocked = false;
         for (const auto& k : ray) blocked = blocked || truth.occupied.count(k) > 0;

@@ -79,6 +79,7 @@ octomap::KeySet oracleObservable(const GroundTruth& truth, const std::vector<Vie
   const float inside = float(0.49 * truth.resolution);
   const point3d offsets[7] = {{0, 0, 0},       {inside, 0, 0}, {-inside, 0, 0}, {0, inside, 0},
                               {0, -inside, 0}, {0, 0, inside}, {0, 0, -inside}};
+  octomap::KeyRay ray;  // allocated once: a KeyRay holds room for 100,000 keys
   octomap::KeySet seen;
   for (const auto& key : truth.occupied) {
     const point3d centre = tree.keyToCoord(key);
@@ -86,7 +87,6 @@ octomap::KeySet oracleObservable(const GroundTruth& truth, const std::vector<Vie
       if (!((centre - origin).norm() <= s_c)) continue;
       for (const point3d& offset : offsets) {
         const point3d aim = centre + offset;
-        octomap::KeyRay ray;
         if (tree.coordToKey(aim) != key || !tree.computeRayKeys(origin, aim, ray)) continue;
         if (tree.coordToKey(origin) != key && !oracleInView(view, origin, aim)) continue;
         bool blocked = false;
