@@ -43,14 +43,28 @@ void recordTruthAndRegion(nlohmann::json& provenance, const TruthSources& truth,
   provenance["region"] = contentHash(nlohmann::json{region.min, region.max}.dump());
 }
 
+void recordPoints(nlohmann::json& provenance, const PointCloudSet& scans) {
+  Fnv1a h;
+  const std::uint64_t count = scans.size();
+  feedValues(h, &count, 1);
+  for (const Scan& scan : scans) {
+    const std::uint64_t points = scan.points.size();
+    feedValues(h, &points, 1);
+    feedPoint(h, scan.origin);
+    for (const auto& p : scan.points) feedPoint(h, p);
+  }
+  provenance["points"] = h.hex();
+}
+
 void checkProvenance(const nlohmann::json& provenance, const std::filesystem::path& file, const std::string& field) {
   const std::string fix = ": remove it (compare then counts the data set by its name) or write the data set anew "
                           "with occsweep (docs/dataset-format.md, \"Provenance\")";
   if (!provenance.is_object()) throw DataError(file, field, "must be an object of content hashes" + fix);
   for (const auto& [key, value] : provenance.items()) {
     const bool list = key == "inputs" || key == "poses" || key == "truth";
-    if (!list && key != "region" && key != "scene")
-      throw DataError(file, field + "." + key, "is not a provenance field (inputs, poses, truth, region, scene)" + fix);
+    if (!list && key != "region" && key != "scene" && key != "points")
+      throw DataError(file, field + "." + key,
+                      "is not a provenance field (inputs, poses, truth, region, scene, points)" + fix);
     if (list ? !value.is_array() || !std::all_of(value.begin(), value.end(), isHash) : !isHash(value))
       throw DataError(file, field + "." + key,
                       std::string(list ? "must be an array of content hashes" : "must be a content hash") +

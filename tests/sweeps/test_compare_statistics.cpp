@@ -781,6 +781,9 @@ TEST_CASE("grids that nest are counted in units: the optima verdict is decided o
     CHECK(s.optima.verdict.text == "gain over the 8 data sets where the grids do not nest, 2 of 10 holding base's "
                                    "best on all their sets");
     CHECK(s.optima.verdict.basis.find("n = 8 data sets") == 0);
+    // The sample after the verdict's n names both counts (old: "n = 8 data sets; ...; 10 data sets (...)").
+    CHECK(s.optima.verdict.basis.find("; 8 data sets where the grids do not nest, of 10 data sets (") !=
+          std::string::npos);
     REQUIRE(s.optima.test);
     CHECK(s.optima.test->nonzero == 10);  // the description stays over every unit
   }

@@ -547,6 +547,35 @@ TEST_CASE("one recording's pose and truth files copied with a comment or CRLF li
   CHECK(out.find("3 data sets over 1 scene") != std::string::npos);
 }
 
+TEST_CASE("one recording re-written (CRLF clouds, a commented pose file, its own truth) is one scene in compare") {
+  // Only the points read join the copies: their input and pose files differ in bytes, their truths and regions too.
+  const fs::path dir = test::scratch("import_units_rewritten");
+  writeSmallGrids(dir);
+  std::ofstream(dir / "poses0.txt") << "3 0 0 0 0 0 1\n-3 0 0 0 0 0 1\n";
+  std::ofstream(dir / "poses1.txt") << "# the same poses\n3 0 0 0 0 0 1\n-3 0 0 0 0 0 1\n";
+  std::ofstream(dir / "box0.json") << R"({"boxes": [{"min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 1]}]})";
+  std::ofstream(dir / "box1.json") << R"({"boxes": [{"min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 1.05]}]})";
+  std::vector<fs::path> datasets = {importBoxViews(dir, 0, dir / "poses0.txt", dir / "box0.json", "copy0")};
+  for (const char* view : {"a", "b"}) {  // the clouds of copy0 with CRLF line ends: other bytes, the same points
+    std::string text = test::bytesOf(dir / std::string(view).append("0.xyz")), crlf;
+    for (char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    std::ofstream(dir / std::string(view).append("1.xyz"), std::ios::binary) << crlf;
+  }
+  const fs::path scans = dir / "copy1-scans";
+  REQUIRE(test::runCli("import cloud " + (dir / "a1.xyz").string() + " " + (dir / "b1.xyz").string() + " --poses " +
+                       (dir / "poses1.txt").string() + " --out " + scans.string())
+              .exit_code == 0);
+  datasets.push_back(dir / "copy1");
+  REQUIRE(test::runCli("import truth " + (dir / "box1.json").string() + " --dataset " + scans.string() + " --out " +
+                       datasets.back().string())
+              .exit_code == 0);
+  const auto r = test::runCli("compare" + sweptResults(dir, datasets));
+  REQUIRE(r.exit_code == 0);
+  const std::string out = test::joinedLines(r.output);
+  CHECK(out.find("over 2 scenes") == std::string::npos);  // the old binary: "2 data sets over 2 scenes"
+  CHECK(out.find("2 data sets over 1 scene") != std::string::npos);
+}
+
 TEST_CASE("a malformed provenance in a manifest or a results file is refused, naming the file and the field") {
   const fs::path dir = test::scratch("provenance_malformed");
   writeSmallGrids(dir);

@@ -115,6 +115,7 @@ void printRegion(const AxisBox& r, const std::string& origin) {
 void recordProvenance(Dataset& d, const ImportOptions& o) {
   nlohmann::json provenance = {{"inputs", fileContentHashes(paths(o.files))}};
   if (!o.poses.empty()) provenance["poses"] = fileContentHashes(paths(o.poses));
+  recordPoints(provenance, d.scans);  // before --shift and --voxel-filter: the recording as read
   d.source["provenance"] = std::move(provenance);
 }
 

@@ -1,8 +1,11 @@
 // Fig. 5 (Section 4.3-4.4): the best AUC of OctoMap over octomap-opt (180 combinations) and of k-NN over knn-opt
 // (4,050) on the 1st, 800th and 1,600th ranked point cloud sets of each data set (first, median, last at smaller
 // scales), and the improvement of k-NN in percent.
+#include <map>
+
 #include "occsweep/sweeps/compare_statistics.hpp"
 #include "occsweep/sweeps/compare.hpp"
+#include "occsweep/sweeps/compare_units.hpp"
 #include "reproduce_internal.hpp"
 
 namespace occsweep {
@@ -94,6 +97,16 @@ json statisticsJson(const ComparedFiles& files, UnitRule units = UnitRule::Prove
   return out;
 }
 
+// Each data set's scene as compare's units find it (docs/statistics.md, "Verdicts", rule 1): report.md's trend and
+// group findings count scenes, as the verdicts do.
+std::map<std::string, std::string> scenesOf(const std::vector<ResultsFile>& files) {
+  const std::vector<ComparisonRow> rows = compareBest(files);
+  const SampleUnits units = sampleUnits(rows, UnitRule::Provenance);
+  std::map<std::string, std::string> scene;
+  for (std::size_t i = 0; i < rows.size(); ++i) scene[datasetOf(rows[i].dataset)] = units.of_row[i];
+  return scene;
+}
+
 json runOptimalComparison(const ReproduceConfig& c, const std::vector<RankedDataset>& all) {
   json rows = json::array();
   ComparedFiles files;
@@ -118,6 +131,11 @@ json runOptimalComparison(const ReproduceConfig& c, const std::vector<RankedData
                       {"truths", {{"full", full}, {"observable", truthJson(om_both.observable, knn_both.observable)}}},
                       {"baselines", baselinesJson(c, d, ranks[i], om_both, knn_both, files)}});
     }
+  }
+  const auto scene = scenesOf(files.full);
+  for (json& row : rows) {
+    const auto of_row = scene.find(row.at("dataset").get<std::string>());
+    row["scene"] = of_row != scene.end() ? json(of_row->second) : row.at("dataset");
   }
   return {{"format", "occsweep-reproduce-comparison"}, {"figure", "Fig. 5"},
           {"grids", {{"octomap", "octomap-opt"}, {"knn", "knn-opt"}}}, {"baseline_grids", kBaselineGrids},

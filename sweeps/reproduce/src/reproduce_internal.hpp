@@ -63,38 +63,42 @@ struct BothTruths {
 /// report.md's sections 3 and 4 (Fig. 5): improvement and the texture / environment means.
 void comparisonSection(std::ostringstream& o, const nlohmann::json& comparison);
 
-/// report.md section 4's tests of the texture and environment findings over pairs of data sets.
+/// report.md section 4's tests of the texture and environment findings over pairs of scenes.
 void groupFindingsSection(std::ostringstream& o, const nlohmann::json& rows);
 
 /// The paper's trend (Fig. 5) over the sets of comparison.json: OctoMap's best AUC against k-NN's improvement,
 /// with each set's texture and environment; sets where either is undefined are left out.
 struct TrendInput {
   std::vector<double> octomap_auc, improvement;
-  std::vector<std::string> texture, environment, dataset;
+  std::vector<std::string> texture, environment;
+  std::vector<std::string> scene;  ///< the row's `scene` (compare's unit); its data set in an older comparison.json
 };
 /// `truth` "full" or "observable" reads rows' `truths`; nullptr reads the rows' own fields (the run's truth).
 [[nodiscard]] TrendInput trendInput(const nlohmann::json& rows, const char* truth);
 
 /// The trend with its controls (docs/statistics.md, "Correlation"): Pearson r and Spearman rho with permutation
 /// p-values (10,000 permutations, seed 1), both within each texture and each environment, the pooled
-/// within-texture r (each texture's means removed), and the rank correlation over the data sets' means, the unit of
-/// the verdict: the sets of one data set share a scene, so permuting sets treats them as independent.
+/// within-texture r (each texture's means removed), and the rank correlation over the scenes' means, the unit of
+/// the verdict: the sets of one scene (its data sets in both textures) share its geometry, so permuting sets or
+/// data sets treats them as independent.
 struct TrendControls {
-  std::size_t sets = 0, datasets = 0;
+  std::size_t sets = 0, scenes = 0;
   double pearson = NAN, spearman = NAN, pearson_p = NAN, spearman_p = NAN, pooled_within_texture = NAN;
-  double dataset_spearman = NAN, dataset_spearman_p = NAN;
+  double scene_spearman = NAN, scene_spearman_p = NAN;
   std::vector<stats::GroupCorrelation> by_texture, by_environment;  ///< over sets: description
-  /// Within each texture over its data sets' means, the unit the verdict uses throughout, with permutation p.
-  std::vector<stats::GroupCorrelation> by_texture_datasets;
-  std::vector<double> by_texture_datasets_p;
+  /// Within each texture over its scenes' means (one data set each), the unit the verdict uses throughout, with
+  /// permutation p.
+  std::vector<stats::GroupCorrelation> by_texture_scenes;
+  std::vector<double> by_texture_scenes_p;
 };
 [[nodiscard]] TrendControls trendControls(const TrendInput& in);
 
 /// The trend's rule in report.md's words (docs/statistics.md, "Correlation").
 inline constexpr const char* kTrendRule =
-    "The trend is shown (**holds**) when Spearman's rho over the data sets' means, the verdicts' unit (the sets of "
-    "one data set share a scene: permuting sets as if independent makes the p-values over sets liberal), is negative "
-    "with permutation p < 0.05 both over all data sets and within each texture's data sets (a correlation over all "
+    "The trend is shown (**holds**) when Spearman's rho over the scenes' means, the verdicts' unit (the sets of one "
+    "scene, in both textures, share its geometry: permuting sets or data sets as if independent makes the p-values "
+    "liberal), is negative with permutation p < 0.05 both over all scenes and within each texture's scenes (a "
+    "correlation over all "
     "alone can come from the differences between the groups); all must reject (an intersection-union test, so no "
     "correction). Otherwise it is **not shown**: these data cannot show the trend, which is not evidence that there "
     "is none";
@@ -102,8 +106,8 @@ inline constexpr const char* kTrendRule =
 /// "**holds**" by kTrendRule, else "**not shown** (what fails)".
 [[nodiscard]] std::string trendVerdict(const TrendControls& c);
 
-/// "plain (10) -0.079 (0.84), ...": each texture's data sets, rho over their means and its permutation p.
-[[nodiscard]] std::string textureCorrelationsOverDatasets(const TrendControls& c);
+/// "plain (10) -0.079 (0.84), ...": each texture's scenes, rho over their means and its permutation p.
+[[nodiscard]] std::string textureCorrelationsOverScenes(const TrendControls& c);
 
 /// "plain (30) +0.215 / +0.190, ...": each group's n, Pearson r and Spearman rho.
 [[nodiscard]] std::string groupCorrelations(const std::vector<stats::GroupCorrelation>& groups);

@@ -1,5 +1,5 @@
 // report.md section 4: the paper's texture and environment findings, tested over pairs of data sets that differ only
-// in that attribute (the same layout and the other attribute), by the verdict rules of docs/statistics.md
+// in that attribute (the same layout and the other attribute), one value per scene or pair of scenes, by the rules of docs/statistics.md
 // ("Verdicts"): a difference needs the exact paired test to reject after Holm's correction, an equality needs the
 // sign test to put the median, and the bootstrap interval the mean, within +-0.01 AUC; otherwise "not shown".
 #include <map>
@@ -22,21 +22,29 @@ struct GroupFinding {
 constexpr GroupFinding kFindings[] = {{"texture", "voronoi", "plain"}, {"environment", "building", "parking"}};
 constexpr const char* kMethods[] = {"octomap", "knn"};
 
-// The mean best AUC of `method` over each data set's sets in `group`, keyed by the data set's name with the group
-// taken out: the key its partner in the other group has.
-std::map<std::string, double> groupMeans(const json& rows, const char* truth, const char* method, const char* attribute,
-                                         const std::string& group) {
+// Each data set in `group`: the mean best AUC of `method` over its sets and its scene (the row's `scene`, its name in
+// an older comparison.json), keyed by the data set's name with the group taken out: the key its partner in the
+// other group has.
+struct GroupMean {
+  double auc = 0;
+  std::string scene;
+};
+std::map<std::string, GroupMean> groupMeans(const json& rows, const char* truth, const char* method,
+                                            const char* attribute, const std::string& group) {
   std::map<std::string, std::pair<double, int>> sums;
+  std::map<std::string, std::string> scene;
   for (const json& r : rows) {
     const json& side = truth ? r.at("truths").at(truth) : r;
     if (r.at(attribute) != group || side.at(method).is_null()) continue;
     std::string key = r.at("dataset").get<std::string>();
+    const std::string of_row = r.value("scene", key);
     if (const auto at = key.find(group); at != std::string::npos) key.erase(at, group.size());
     auto& [sum, n] = sums[key];
     sum += get(side.at(method).at("auc")), ++n;
+    scene[key] = of_row;
   }
-  std::map<std::string, double> means;
-  for (const auto& [key, s] : sums) means[key] = s.first / s.second;
+  std::map<std::string, GroupMean> means;
+  for (const auto& [key, s] : sums) means[key] = {s.first / s.second, scene.at(key)};
   return means;
 }
 
@@ -47,16 +55,27 @@ CompareStatisticsOptions groupOptions() {
   return options;
 }
 
-// better - worse over the pairs of data sets that differ only in the finding's attribute.
+// better - worse over the pairs of data sets that differ only in the finding's attribute, one value per pair of
+// scenes (docs/statistics.md, "Verdicts", rule 1): a Voronoi data set and its plain twin are one scene, the unit of
+// the texture finding; a building and its parking twin are two, and the pair's two textures are averaged into one
+// value of the environment finding.
 DatasetComparison pairedGroups(const json& rows, const char* truth, const char* method, const GroupFinding& f) {
   const auto better = groupMeans(rows, truth, method, f.attribute, f.better),
              worse = groupMeans(rows, truth, method, f.attribute, f.worse);
-  std::vector<std::string> pairs;
+  std::map<std::string, std::pair<double, int>> by_unit;
+  bool within_scene = true;
+  for (const auto& [key, b] : better)
+    if (const auto w = worse.find(key); w != worse.end()) {
+      within_scene = within_scene && b.scene == w->second.scene;
+      auto& [sum, n] = by_unit[b.scene == w->second.scene ? b.scene : b.scene + " - " + w->second.scene];
+      sum += b.auc - w->second.auc, ++n;
+    }
+  std::vector<std::string> units;
   std::vector<double> differences;
-  for (const auto& [key, auc] : better)
-    if (const auto other = worse.find(key); other != worse.end())
-      pairs.push_back(key), differences.push_back(auc - other->second);
-  return pairedComparison(std::move(pairs), std::move(differences), groupOptions());
+  for (const auto& [unit, s] : by_unit) units.push_back(unit), differences.push_back(s.first / s.second);
+  DatasetComparison c = pairedComparison(std::move(units), std::move(differences), groupOptions());
+  c.unit_name = within_scene ? "scenes" : "pairs of scenes";
+  return c;
 }
 
 std::string findingVerdict(const std::vector<const DatasetComparison*>& methods, const GroupFinding& f) {
@@ -84,8 +103,8 @@ void findingsUnder(std::ostringstream& o, const json& rows, const char* truth, s
   std::vector<DatasetComparison*> family;
   for (DatasetComparison& comparison : c) family.push_back(&comparison);
   const std::string truth_name = truth ? truth : "the run's";
-  decideFamily(family, "the 4 verdicts of this section under " + truth_name + " truth", groupOptions(),
-               "pairs of data sets", "AUC");
+  decideFamily(family, "the 4 verdicts of this section under " + truth_name + " truth", groupOptions(), nullptr,
+               "AUC");
   for (std::size_t i = 0; i < c.size(); ++i) {
     const GroupFinding& f = kFindings[i / 2];
     o << "| " << f.better << " - " << f.worse << " | " << truth_name << " | " << kMethods[i % 2] << " | "
@@ -100,12 +119,15 @@ void findingsUnder(std::ostringstream& o, const json& rows, const char* truth, s
 
 void groupFindingsSection(std::ostringstream& o, const json& rows) {
   o << "Tested over pairs of data sets that differ only in the attribute (the same layout and the other attribute), "
-    << "each data set's mean best AUC over its sets, the data set being the unit (docs/statistics.md, \"Verdicts\"): "
+    << "each data set's mean best AUC over its sets, with the scene as the unit (docs/statistics.md, \"Verdicts\"): "
+    << "a data set and its twin of the other texture are one scene, so the texture finding has one value per scene, "
+    << "and the environment finding one per pair of scenes (building and parking of one layout, both textures "
+    << "averaged); "
     << "a difference when the exact paired test rejects at alpha 0.05 after Holm's correction over the 4 verdicts "
     << "of one truth (one family per truth), an equality when the sign test puts the median, and the 95 % BCa "
     << "interval the mean, within +-" << num(kSmallestAucDifference, "%g") << " AUC; a finding holds when both "
     << "methods show it, and is **not shown** when the data show neither it nor its opposite or an equality.\n\n"
-    << "| difference | truth | method | pairs | verdict | basis |\n|---|---|---|---|---|---|\n";
+    << "| difference | truth | method | units | verdict | basis |\n|---|---|---|---|---|---|\n";
   std::vector<std::string> findings;
   if (!rows.empty() && rows.front().contains("truths"))
     for (const char* truth : {"full", "observable"}) findingsUnder(o, rows, truth, findings);

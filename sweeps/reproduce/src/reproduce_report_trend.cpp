@@ -33,36 +33,40 @@ double permutationP(const TrendInput& in, stats::CorrelationKind kind) {
   return permutationP(in.octomap_auc, in.improvement, kind);
 }
 
-/// Each data set's mean OctoMap AUC and mean improvement over its sets, and its texture, in order of first appearance.
-struct DatasetMeans {
+/// Each unit's mean OctoMap AUC and mean improvement over its sets, and its texture, in order of first appearance.
+struct UnitMeans {
   std::vector<double> auc, improvement;
   std::vector<std::string> texture;
 };
 
-DatasetMeans datasetMeans(const TrendInput& in) {
-  std::vector<std::size_t> first;  // each data set's first set
+UnitMeans meansBy(const TrendInput& in, const std::vector<std::string>& unit) {
+  std::vector<std::size_t> first;  // each unit's first set
   std::map<std::string, std::array<double, 3>> sums;  // AUC, improvement, sets
   for (std::size_t i = 0; i < in.improvement.size(); ++i) {
-    auto [it, added] = sums.try_emplace(in.dataset[i], std::array<double, 3>{0, 0, 0});
+    auto [it, added] = sums.try_emplace(unit[i], std::array<double, 3>{0, 0, 0});
     if (added) first.push_back(i);
     it->second[0] += in.octomap_auc[i], it->second[1] += in.improvement[i], it->second[2] += 1;
   }
-  DatasetMeans means;
+  UnitMeans means;
   for (const std::size_t i : first) {
-    const auto& s = sums.at(in.dataset[i]);
+    const auto& s = sums.at(unit[i]);
     means.auc.push_back(s[0] / s[2]), means.improvement.push_back(s[1] / s[2]), means.texture.push_back(in.texture[i]);
   }
   return means;
 }
 
-/// Spearman's rho within each texture over its data sets' means, and its permutation p.
-void withinTexturesOverDatasets(const DatasetMeans& m, TrendControls& c) {
-  c.by_texture_datasets = stats::correlationWithinGroups(m.auc, m.improvement, m.texture);
-  for (const auto& g : c.by_texture_datasets) {
+/// Spearman's rho within each texture over its scenes' means (each scene's data set of that texture), and its
+/// permutation p.
+void withinTexturesOverScenes(const TrendInput& in, TrendControls& c) {
+  std::vector<std::string> scene_in_texture;
+  for (std::size_t i = 0; i < in.scene.size(); ++i) scene_in_texture.push_back(in.scene[i] + '\n' + in.texture[i]);
+  const UnitMeans m = meansBy(in, scene_in_texture);
+  c.by_texture_scenes = stats::correlationWithinGroups(m.auc, m.improvement, m.texture);
+  for (const auto& g : c.by_texture_scenes) {
     std::vector<double> auc, improvement;
     for (std::size_t i = 0; i < m.texture.size(); ++i)
       if (m.texture[i] == g.group) auc.push_back(m.auc[i]), improvement.push_back(m.improvement[i]);
-    c.by_texture_datasets_p.push_back(permutationP(auc, improvement, stats::CorrelationKind::Spearman));
+    c.by_texture_scenes_p.push_back(permutationP(auc, improvement, stats::CorrelationKind::Spearman));
   }
 }
 
@@ -83,7 +87,7 @@ TrendInput trendInput(const json& rows, const char* truth) {
     in.improvement.push_back(imp);
     in.texture.push_back(r.at("texture").get<std::string>());
     in.environment.push_back(r.at("environment").get<std::string>());
-    in.dataset.push_back(r.at("dataset").get<std::string>());
+    in.scene.push_back(r.value("scene", r.at("dataset").get<std::string>()));
   }
   return in;
 }
@@ -99,11 +103,11 @@ TrendControls trendControls(const TrendInput& in) {
   c.by_texture = within(in, in.texture);
   c.pooled_within_texture = stats::pooledWithinGroupPearson(in.octomap_auc, in.improvement, in.texture);
   c.by_environment = within(in, in.environment);
-  const DatasetMeans means = datasetMeans(in);
-  c.datasets = means.auc.size();
-  if (c.datasets >= 2) c.dataset_spearman = stats::spearmanCorrelation(means.auc, means.improvement);
-  c.dataset_spearman_p = permutationP(means.auc, means.improvement, stats::CorrelationKind::Spearman);
-  withinTexturesOverDatasets(means, c);
+  const UnitMeans means = meansBy(in, in.scene);
+  c.scenes = means.auc.size();
+  if (c.scenes >= 2) c.scene_spearman = stats::spearmanCorrelation(means.auc, means.improvement);
+  c.scene_spearman_p = permutationP(means.auc, means.improvement, stats::CorrelationKind::Spearman);
+  withinTexturesOverScenes(in, c);
   return c;
 }
 
@@ -112,10 +116,10 @@ std::string trendVerdict(const TrendControls& c) {
   auto check = [&](const std::string& where, double rho, double p) {
     if (!(rho < 0) || !(p < kLevel)) fails.push_back(where + ": rho " + num(rho, "%+.3f") + ", p = " + num(p, "%.2g"));
   };
-  check("over the " + std::to_string(c.datasets) + " data sets", c.dataset_spearman, c.dataset_spearman_p);
-  for (std::size_t i = 0; i < c.by_texture_datasets.size(); ++i) {
-    const auto& g = c.by_texture_datasets[i];
-    check("within the " + std::to_string(g.n) + " " + g.group + " data sets", g.spearman, c.by_texture_datasets_p[i]);
+  check("over the " + std::to_string(c.scenes) + " scenes", c.scene_spearman, c.scene_spearman_p);
+  for (std::size_t i = 0; i < c.by_texture_scenes.size(); ++i) {
+    const auto& g = c.by_texture_scenes[i];
+    check("within the " + std::to_string(g.n) + " " + g.group + " scenes", g.spearman, c.by_texture_scenes_p[i]);
   }
   if (fails.empty()) return verdict(true);
   std::string s = "**not shown** (";
@@ -123,12 +127,12 @@ std::string trendVerdict(const TrendControls& c) {
   return s + ")";
 }
 
-std::string textureCorrelationsOverDatasets(const TrendControls& c) {
+std::string textureCorrelationsOverScenes(const TrendControls& c) {
   std::string s;
-  for (std::size_t i = 0; i < c.by_texture_datasets.size(); ++i) {
-    const auto& g = c.by_texture_datasets[i];
+  for (std::size_t i = 0; i < c.by_texture_scenes.size(); ++i) {
+    const auto& g = c.by_texture_scenes[i];
     s += (s.empty() ? "" : ", ") + g.group + " (" + std::to_string(g.n) + ") " + num(g.spearman, "%+.3f") + " (" +
-         num(c.by_texture_datasets_p[i], "%.2g") + ")";
+         num(c.by_texture_scenes_p[i], "%.2g") + ")";
   }
   return s.empty() ? "n/a" : s;
 }
@@ -149,12 +153,11 @@ void trendParagraph(std::ostringstream& o, const TrendControls& c) {
     << "| sets | Pearson r | permutation p | Spearman rho | permutation p |\n|---|---|---|---|---|\n"
     << "| all " << c.sets << " | " << num(c.pearson, "%+.3f") << " | " << num(c.pearson_p, "%.2g") << " | "
     << num(c.spearman, "%+.3f") << " | " << num(c.spearman_p, "%.2g") << " |\n"
-    << "| data-set means (" << c.datasets << ") | | | " << num(c.dataset_spearman, "%+.3f") << " | "
-    << num(c.dataset_spearman_p, "%.2g") << " |\n";
-  for (std::size_t i = 0; i < c.by_texture_datasets.size(); ++i)
-    o << "| texture " << c.by_texture_datasets[i].group << ", data-set means (" << c.by_texture_datasets[i].n
-      << ") | | | " << num(c.by_texture_datasets[i].spearman, "%+.3f") << " | "
-      << num(c.by_texture_datasets_p[i], "%.2g") << " |\n";
+    << "| scene means (" << c.scenes << ") | | | " << num(c.scene_spearman, "%+.3f") << " | "
+    << num(c.scene_spearman_p, "%.2g") << " |\n";
+  for (std::size_t i = 0; i < c.by_texture_scenes.size(); ++i)
+    o << "| texture " << c.by_texture_scenes[i].group << ", scene means (" << c.by_texture_scenes[i].n << ") | | | "
+      << num(c.by_texture_scenes[i].spearman, "%+.3f") << " | " << num(c.by_texture_scenes_p[i], "%.2g") << " |\n";
   for (const auto& [kind, groups] : {std::pair{"texture", &c.by_texture}, {"environment", &c.by_environment}})
     for (const auto& g : *groups)
       o << "| " << kind << ' ' << g.group << " (" << g.n << ") | " << num(g.pearson, "%+.3f") << " | | "

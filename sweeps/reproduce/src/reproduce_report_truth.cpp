@@ -27,16 +27,16 @@ struct TruthSummary {
 void trendByTruth(std::ostringstream& o, const json& rows) {
   o << "\nThe paper's trend under each truth (improvement against OctoMap's best AUC; permutation p of 10,000 "
     << "permutations, seed 1; r / rho within each group, its sets in brackets; pooled: r with each texture's means "
-    << "removed; over data-set means: rho within each texture over its data sets' means, its data sets and p in "
+    << "removed; over scene means: rho within each texture over its scenes' means, its scenes and p in "
     << "brackets). " << kTrendRule << ".\n\n"
-    << "| truth | Pearson r (p) | Spearman rho (p) | rho over data-set means (p) | within texture over data-set "
+    << "| truth | Pearson r (p) | Spearman rho (p) | rho over scene means (p) | within texture over scene "
     << "means | within texture | within environment | trend |\n|---|---|---|---|---|---|---|---|\n";
   for (const char* truth : kTruths) {
     const TrendControls c = trendControls(trendInput(rows, truth));
     o << "| " << truth << " | " << num(c.pearson, "%+.3f") << " (" << num(c.pearson_p, "%.2g") << ") | "
       << num(c.spearman, "%+.3f") << " (" << num(c.spearman_p, "%.2g") << ") | "
-      << num(c.dataset_spearman, "%+.3f") << " (" << num(c.dataset_spearman_p, "%.2g") << ") | "
-      << textureCorrelationsOverDatasets(c) << " | " << groupCorrelations(c.by_texture)
+      << num(c.scene_spearman, "%+.3f") << " (" << num(c.scene_spearman_p, "%.2g") << ") | "
+      << textureCorrelationsOverScenes(c) << " | " << groupCorrelations(c.by_texture)
       << "; pooled " << num(c.pooled_within_texture, "%+.3f") << " | " << groupCorrelations(c.by_environment)
       << " | " << trendVerdict(c) << " |\n";
   }

@@ -264,7 +264,10 @@ std::optional<DatasetComparison> withoutNestedUnits(const DatasetComparison& opt
       kept.names.push_back(optima.datasets[i]), kept.values.push_back(optima.per_dataset[i]);
   if (kept.names.size() == optima.datasets.size()) return std::nullopt;
   DatasetComparison c;
-  c.unit_name = optima.unit_name, c.sample = optima.sample;
+  // "7 scenes where the grids do not nest, of 8 data sets over 8 scenes (...)": the verdict's n, then the sample's
+  c.unit_name = optima.unit_name;
+  c.sample = std::to_string(kept.names.size()) + " " + optima.unit_name + " where the grids do not nest, of " +
+             optima.sample;
   overDatasets(std::move(kept), o, c);
   return c;
 }

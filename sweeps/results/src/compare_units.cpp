@@ -15,14 +15,15 @@ bool isPointCloudSetName(const std::string& name, std::size_t slash) {
          std::all_of(tail.begin() + 4, tail.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-// What a data set shares with the others of its scene: each recorded input file, the generated scene, the truth
-// with the poses, the truth in its region (one room, whatever the trajectory or scan count). None when its provenance
+// What a data set shares with the others of its scene: each recorded input file, the points read from them, the
+// generated scene, the truth with the poses, the truth in its region (one room, whatever the trajectory or scan count). None when its provenance
 // records neither inputs nor a scene (an older occsweep made its scans).
 std::vector<std::string> provenanceKeys(const nlohmann::json& p) {
   std::vector<std::string> keys;
   if (!p.is_object() || !(p.contains("inputs") || p.contains("scene"))) return keys;
   if (p.contains("scene")) keys.push_back("scene " + p.at("scene").dump());
   for (const auto& input : p.value("inputs", nlohmann::json::array())) keys.push_back("input " + input.dump());
+  if (p.contains("points")) keys.push_back("points " + p.at("points").dump());
   if (p.contains("truth") && p.contains("poses"))
     keys.push_back("truth and poses " + p.at("truth").dump() + " " + p.at("poses").dump());
   if (p.contains("truth") && p.contains("region"))
@@ -55,8 +56,8 @@ std::string declarationOf(UnitRule rule, bool grouped, const std::vector<std::st
   if (rule == UnitRule::Names) return "units declared by --units names: one per data set name";
   const std::string older = "no content hashes recorded (made by an older occsweep)";
   if (!grouped) return "units: data set names, assumed independent: " + older;
-  std::string text = "scenes by content hashes: data sets sharing an input file, the truth with the poses or the "
-                     "region, or a generated scene are one";
+  std::string text = "scenes by content hashes: data sets sharing an input file, the points read, the truth with "
+                     "the poses or the region, or a generated scene are one";
   if (!without.empty())
     text += "; " + std::to_string(without.size()) + (without.size() == 1 ? " data set has " : " data sets have ") +
             older + ": each name assumed a scene of its own";

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occsweep/core/point_cloud_set.hpp"
 #include "occsweep/eval/ground_truth.hpp"
 #include "occsweep/io/fnv1a.hpp"
 
@@ -36,6 +37,11 @@ namespace occsweep {
 /// `[[min], [max]]` as JSON text) in `provenance`: values, not file bytes, so one truth written with other comments,
 /// line ends or formats is still one scene.
 void recordTruthAndRegion(nlohmann::json& provenance, const TruthSources& truth, const AxisBox& region);
+
+/// Sets `points` in `provenance`: one hash of every scan's origin and point coordinates as read, so that one recording
+/// whose files were re-encoded or re-written (another image format, other line ends, a byte appended that the reader
+/// skips) is still one recording.
+void recordPoints(nlohmann::json& provenance, const PointCloudSet& scans);
 
 /// DataError naming `file` and `field` unless `provenance` is an object of the documented fields only, each a hash
 /// of 16 lowercase hex digits (`inputs`, `poses`, `truth`: arrays of them): a hand-edited one would change the units.
