@@ -5,6 +5,8 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -70,16 +72,55 @@ void requireRefused(const std::vector<std::pair<std::string, std::string>>& args
   }
 }
 
-// Two data sets hold the same scans: points, origins, views.
-void requireSameScans(const fs::path& a, const fs::path& b) {
+// Two data sets hold the same scans: points and origins, within `metres` (0: equal).
+void requireSameScans(const fs::path& a, const fs::path& b, double metres = 0) {
   const Dataset x = readDataset(a), y = readDataset(b);
   REQUIRE(x.scans.size() == y.scans.size());
   for (std::size_t s = 0; s < x.scans.size(); ++s) {
     INFO("scan " << s);
-    CHECK(x.scans[s].origin == y.scans[s].origin);
+    CHECK((x.scans[s].origin - y.scans[s].origin).norm() <= metres);
     REQUIRE(x.scans[s].points.size() == y.scans[s].points.size());
-    for (std::size_t i = 0; i < x.scans[s].points.size(); ++i) CHECK(x.scans[s].points[i] == y.scans[s].points[i]);
+    for (std::size_t i = 0; i < x.scans[s].points.size(); ++i)
+      CHECK((x.scans[s].points[i] - y.scans[s].points[i]).norm() <= metres);
   }
+}
+
+// A camera-to-world pose: the rotation of the unit quaternion (x, y, z, w) and the translation t.
+struct QuaternionPose {
+  std::array<double, 4> q;
+  std::array<double, 3> t;
+};
+
+std::array<double, 9> rotationOf(const std::array<double, 4>& q) {
+  const auto [x, y, z, w] = q;
+  return {1 - 2 * (y * y + z * z), 2 * (x * y - z * w),     2 * (x * z + y * w),
+          2 * (x * y + z * w),     1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+          2 * (x * z - y * w),     2 * (y * z + x * w),     1 - 2 * (x * x + y * y)};
+}
+
+// The same transform world to camera: the conjugate rotation and -R^T t.
+QuaternionPose worldToCamera(const QuaternionPose& p) {
+  const std::array<double, 9> r = rotationOf(p.q);
+  QuaternionPose inverse{{-p.q[0], -p.q[1], -p.q[2], p.q[3]}, {}};
+  for (std::size_t i = 0; i < 3; ++i) inverse.t[i] = -(r[i] * p.t[0] + r[3 + i] * p.t[1] + r[6 + i] * p.t[2]);
+  return inverse;
+}
+
+// `p` as a line (or lines) of `format`; a tum line stamped `stamp`.
+std::string poseText(const QuaternionPose& p, const std::string& format, double stamp) {
+  std::ostringstream s;
+  s.precision(17);
+  if (format == "tum") s << stamp << ' ';
+  if (format == "quaternion" || format == "tum") {
+    s << p.t[0] << ' ' << p.t[1] << ' ' << p.t[2] << ' ' << p.q[0] << ' ' << p.q[1] << ' ' << p.q[2] << ' ' << p.q[3]
+      << '\n';
+    return s.str();
+  }
+  const std::array<double, 9> r = rotationOf(p.q);
+  for (std::size_t i = 0; i < 3; ++i)
+    s << r[3 * i] << ' ' << r[3 * i + 1] << ' ' << r[3 * i + 2] << ' ' << p.t[i] << (format == "kitti" ? ' ' : '\n');
+  s << (format == "kitti" ? "\n" : "0 0 0 1\n");
+  return s.str();
 }
 
 // `text`, written to `file` and read by --intrinsics, imports the scans the flags of `by_hand` did.
@@ -323,6 +364,47 @@ TEST_CASE("import names the order when --poses comes before the images, and a TU
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.output, Contains("no pose within 0.02 s of 1305031102.160407.pgm"));
   CHECK_FALSE(fs::exists(dir / "ds"));
+}
+
+// docs/import.md, "Poses": --pose-convention world-to-camera inverts each pose, [R^T | -R^T t], whatever its format.
+TEST_CASE("import with --pose-convention world-to-camera reads every pose format's world-to-camera poses as their "
+          "camera-to-world inverses, for depth images and clouds") {
+  const fs::path dir = test::scratch("import-checks-convention");
+  const double half = std::sin(0.4) / 3;  // 0.8 rad about the axis (1, 2, 2) / 3
+  const std::vector<QuaternionPose> poses{{{half, 2 * half, 2 * half, std::cos(0.4)}, {0.5, -0.2, 1}},
+                                          {{0, 0, std::sin(1.1), std::cos(1.1)}, {-1, 0.4, 2}}};
+  std::string images, clouds;
+  for (int f = 0; f < 2; ++f) {
+    images += writeFramePng(dir / ("depth" + std::to_string(f) + ".png"), f).string() + " ";
+    std::ofstream(dir / ("cloud" + std::to_string(f) + ".xyz")) << "0.1 0.2 1\n-0.3 0.1 2.5\n" << f << " 1 0\n";
+    clouds += (dir / ("cloud" + std::to_string(f) + ".xyz")).string() + " ";
+  }
+  for (const std::string format : {"quaternion", "tum", "matrix", "kitti"}) {
+    std::ofstream camera_to_world(dir / (format + "-c2w.txt")), world_to_camera(dir / (format + "-w2c.txt"));
+    for (std::size_t f = 0; f < poses.size(); ++f) {
+      camera_to_world << poseText(poses[f], format, 100.0 + double(f));
+      world_to_camera << poseText(worldToCamera(poses[f]), format, 100.0 + double(f));
+    }
+    camera_to_world.close(), world_to_camera.close();
+    for (const std::string& command : {"import depth " + images + kCamera, "import cloud " + clouds}) {
+      INFO(format << ", " << command.substr(0, 12));
+      const std::string posed = command + " --pose-format " + format + " --poses " + dir.string() + "/" + format;
+      fs::remove_all(dir / "right"), fs::remove_all(dir / "read");
+      REQUIRE(test::runCli(posed + "-c2w.txt --out " + (dir / "right").string()).exit_code == 0);
+      const auto r =
+          test::runCli(posed + "-w2c.txt --pose-convention world-to-camera --out " + (dir / "read").string());
+      INFO(r.output);
+      REQUIRE(r.exit_code == 0);
+      requireSameScans(dir / "right", dir / "read", 1e-5);
+      CHECK(readDataset(dir / "read").source.at("pose_convention") == "world-to-camera");
+    }
+  }
+  const auto bad = test::runCli("import cloud " + clouds + " --poses " + (dir / "matrix-c2w.txt").string() +
+                                " --pose-format matrix --pose-convention sensor-to-world --out " +
+                                (dir / "bad").string());
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.output, Contains("--pose-convention: sensor-to-world not in {camera-to-world,world-to-camera}"));
+  CHECK_FALSE(fs::exists(dir / "bad"));
 }
 
 // docs/import.md, "Intrinsics files": the files of 3DMatch (7-Scenes) and Replica, read as downloaded.
