@@ -439,7 +439,7 @@ TEST_CASE("import depth --intrinsics reads 3DMatch's camera-intrinsics.txt and R
   CHECK(readDataset(dir / "replica").source.at("depth_scale") == 6553.5);
   // Without "scale" the file is read when --depth-scale gives it (docs/import.md: refused otherwise).
   requireReadAs(posed + " --depth-scale 6553.5", dir / "no-scale.json",
-                R"({"camera": {"fx": 6.0, "fy": 6.5, "cx": 3.5, "cy": 2.0}})", dir / "replica-by-hand");
+                R"({"camera": {"w": 8, "h": 6, "fx": 6.0, "fy": 6.5, "cx": 3.5, "cy": 2.0}})", dir / "replica-by-hand");
   // A UTF-8 byte order mark before the numbers, as Windows editors save text, is skipped.
   requireReadAs(posed, dir / "bom.txt",
                 "\xEF\xBB\xBF" "5.703422241210937500e+00 0 3.5\n0 5.703422241210937500e+00 2.5\n0 0 1\n",
@@ -472,7 +472,8 @@ TEST_CASE("a bad intrinsics file, or no intrinsics, is refused naming the file, 
                   {at + "word.txt", file + "word.txt: line 3: column 4 (matrix entry) is \"hello\": not a "
                                            "number"},
                   {at + "array.json", file + "array.json: is a JSON array, not an intrinsics file: give "
-                                             "{\"camera\": {\"fx\", \"fy\", \"cx\", \"cy\", \"scale\"}} (Replica's "
+                                             "{\"camera\": {\"w\", \"h\", \"fx\", \"fy\", \"cx\", \"cy\", \"scale\"}} "
+                                             "(Replica's "
                                              "cam_params.json) or text of 9 numbers"},
                   {at + "no-fy.json", file + "no-fy.json: camera.fy: missing"},
                   {at + "no-scale.json", file + "no-scale.json: camera.scale: missing: give the raw depth units per "
@@ -484,6 +485,54 @@ TEST_CASE("a bad intrinsics file, or no intrinsics, is refused naming the file, 
                    "the camera's intrinsics have no default: give --intrinsics FILE (3DMatch's camera-intrinsics.txt, "
                    "Replica's cam_params.json) or all of --fx --fy --cx --cy"}},
                  dir / "ds");
+}
+
+// docs/import.md, "Intrinsics files": what the file's own rules refuse, one rule a case.
+namespace {
+
+// `text` as the intrinsics file `name` of a one-frame import, refused naming the file, then `message`.
+void requireIntrinsicsRefused(const std::string& dir_name, const std::string& name, const std::string& text,
+                              const std::string& message) {
+  const fs::path dir = test::scratch(dir_name);
+  const fs::path frame = writeFramePng(dir / "depth000000.png", 0);
+  std::ofstream(dir / "pose.txt") << matrixPose(0, 0, 1);
+  std::ofstream(dir / name) << text;
+  requireRefused({{frame.string() + " --poses " + (dir / "pose.txt").string() + " --pose-format matrix --intrinsics " +
+                       (dir / name).string(),
+                   (dir / name).string() + ": " + message}},
+                 dir / "ds");
+}
+
+}  // namespace
+
+TEST_CASE("an intrinsics file whose principal point lies outside its images' width or height is refused") {
+  requireIntrinsicsRefused("intrinsics-cx-outside", "cam_params.json",
+                           R"({"camera": {"w": 8, "h": 6, "fx": 6, "fy": 6, "cx": 599.5, "cy": 2.5, "scale": 1000}})",
+                           "camera.cx: is 599.5, outside the image's 0 to 8 pixels (camera.w)");
+  requireIntrinsicsRefused("intrinsics-cy-outside", "cam_params.json",
+                           R"({"camera": {"w": 8, "h": 6, "fx": 6, "fy": 6, "cx": 3.5, "cy": -1, "scale": 1000}})",
+                           "camera.cy: is -1, outside the image's 0 to 6 pixels (camera.h)");
+}
+
+TEST_CASE("Replica's cam_params.json without w or h is refused, naming the field") {
+  requireIntrinsicsRefused("intrinsics-no-w", "cam_params.json",
+                           R"({"camera": {"h": 6, "fx": 6, "fy": 6, "cx": 3.5, "cy": 2.5, "scale": 1000}})",
+                           "camera.w: missing: give the images' width in pixels");
+  requireIntrinsicsRefused("intrinsics-no-h", "cam_params.json",
+                           R"({"camera": {"w": 8, "fx": 6, "fy": 6, "cx": 3.5, "cy": 2.5, "scale": 1000}})",
+                           "camera.h: missing: give the images' height in pixels");
+}
+
+TEST_CASE("a number beyond a double's range in an intrinsics file is refused as out of range, not as not a number") {
+  requireIntrinsicsRefused("intrinsics-1e400", "camera-intrinsics.txt", "1e400 0 3.5\n0 6 2.5\n0 0 1\n",
+                           "line 1: column 1 (matrix entry) is \"1e400\": out of a double's range");
+}
+
+TEST_CASE("a # comment after the numbers of a camera-intrinsics.txt line is refused, saying a comment takes a whole "
+          "line") {
+  requireIntrinsicsRefused("intrinsics-comment", "camera-intrinsics.txt", "6 0 3.5 # fx 0 cx\n0 6 2.5\n0 0 1\n",
+                           "line 1: column 4 is \"#\", a comment after the numbers: a # comment takes a whole line "
+                           "(as numpy.savetxt writes one); move it to a line of its own");
 }
 
 // docs/import.md, "Poses": Replica's results/depthNNNNNN.png take line NNNNNN of the whole traj.txt.
