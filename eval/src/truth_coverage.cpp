@@ -92,10 +92,12 @@ bool offsetFitsBetter(const TruthCoverage& c) {
   return gain >= kOffsetGainShare && gain >= kOffsetMisfitShare * (1 - c.offset_fit->share_on_surface);
 }
 
+// A shift first: as likely as the other convention, whatever the warning's numbers (docs/import.md, "Truth coverage
+// and alignment").
 constexpr const char* kAlignmentFix =
-    "occsweep reads poses as camera (sensor) to world: a world-to-camera pose file must be inverted first (each pose "
-    "[R | t] as [R^T | -R^T t]); check too that the truth is in the poses' world frame and the depth scale "
-    "(docs/import.md, \"Truth coverage and alignment\")";
+    "likely causes: the truth or the poses shifted (a pose error, or the truth in another frame), poses written world "
+    "to camera (import with --pose-convention world-to-camera), or a wrong --depth-scale (docs/import.md, \"Truth "
+    "coverage and alignment\")";
 
 // The coverage of the truth `mask` holds, in `frame`'s region and at its resolution.
 TruthCoverage measureTruthCoverage(const GroundTruth& frame, const TruthMask& mask, const PointCloudSet& scans,
@@ -154,11 +156,11 @@ std::string coverageWarning(const TruthCoverage& c, TruthMode mode) {
   const std::string offset = offsetFitsBetter(c) ? "of the points, " + offsetText(*c.offset_fit) +
                                                       ": one translation fits them clearly better than none"
                                                     : "";
-  const std::string not_aligned = std::string(": scans and truth are not aligned; ") + kAlignmentFix;
-  if (!(c.median_point_distance <= kFarPointVoxels * c.resolution))
-    return "the points lie a median " + distanceText(c) + " from the nearest truth voxel (more than " +
-           std::to_string(int(kFarPointVoxels)) + " voxels)" + (offset.empty() ? "" : "; " + offset) + not_aligned;
-  if (!offset.empty()) return offset + not_aligned;
+  const bool far = !(c.median_point_distance <= kFarPointVoxels * c.resolution);
+  if (far || !offset.empty())  // the distance too when an offset fits: past the search's reach, that offset is partial
+    return "the points lie a median " + distanceText(c) + " from the nearest truth voxel" +
+           (far ? " (more than " + std::to_string(int(kFarPointVoxels)) + " voxels)" : "") +
+           (offset.empty() ? "" : "; " + offset) + ": scans and truth are not aligned; " + kAlignmentFix;
   if (mode == TruthMode::Full && c.observableShare() < kLowObservableShare)
     return "only " + percent(c.observableShare()) + " of the truth voxels are observable from the scans (below " +
            percent(kLowObservableShare) + "): under full truth every map misses the rest, so its AUC measures the " +

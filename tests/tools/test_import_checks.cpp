@@ -5,6 +5,8 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -70,16 +72,55 @@ void requireRefused(const std::vector<std::pair<std::string, std::string>>& args
   }
 }
 
-// Two data sets hold the same scans: points, origins, views.
-void requireSameScans(const fs::path& a, const fs::path& b) {
+// Two data sets hold the same scans: points and origins, within `metres` (0: equal).
+void requireSameScans(const fs::path& a, const fs::path& b, double metres = 0) {
   const Dataset x = readDataset(a), y = readDataset(b);
   REQUIRE(x.scans.size() == y.scans.size());
   for (std::size_t s = 0; s < x.scans.size(); ++s) {
     INFO("scan " << s);
-    CHECK(x.scans[s].origin == y.scans[s].origin);
+    CHECK((x.scans[s].origin - y.scans[s].origin).norm() <= metres);
     REQUIRE(x.scans[s].points.size() == y.scans[s].points.size());
-    for (std::size_t i = 0; i < x.scans[s].points.size(); ++i) CHECK(x.scans[s].points[i] == y.scans[s].points[i]);
+    for (std::size_t i = 0; i < x.scans[s].points.size(); ++i)
+      CHECK((x.scans[s].points[i] - y.scans[s].points[i]).norm() <= metres);
   }
+}
+
+// A camera-to-world pose: the rotation of the unit quaternion (x, y, z, w) and the translation t.
+struct QuaternionPose {
+  std::array<double, 4> q;
+  std::array<double, 3> t;
+};
+
+std::array<double, 9> rotationOf(const std::array<double, 4>& q) {
+  const auto [x, y, z, w] = q;
+  return {1 - 2 * (y * y + z * z), 2 * (x * y - z * w),     2 * (x * z + y * w),
+          2 * (x * y + z * w),     1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+          2 * (x * z - y * w),     2 * (y * z + x * w),     1 - 2 * (x * x + y * y)};
+}
+
+// The same transform world to camera: the conjugate rotation and -R^T t.
+QuaternionPose worldToCamera(const QuaternionPose& p) {
+  const std::array<double, 9> r = rotationOf(p.q);
+  QuaternionPose inverse{{-p.q[0], -p.q[1], -p.q[2], p.q[3]}, {}};
+  for (std::size_t i = 0; i < 3; ++i) inverse.t[i] = -(r[i] * p.t[0] + r[3 + i] * p.t[1] + r[6 + i] * p.t[2]);
+  return inverse;
+}
+
+// `p` as a line (or lines) of `format`; a tum line stamped `stamp`.
+std::string poseText(const QuaternionPose& p, const std::string& format, double stamp) {
+  std::ostringstream s;
+  s.precision(17);
+  if (format == "tum") s << stamp << ' ';
+  if (format == "quaternion" || format == "tum") {
+    s << p.t[0] << ' ' << p.t[1] << ' ' << p.t[2] << ' ' << p.q[0] << ' ' << p.q[1] << ' ' << p.q[2] << ' ' << p.q[3]
+      << '\n';
+    return s.str();
+  }
+  const std::array<double, 9> r = rotationOf(p.q);
+  for (std::size_t i = 0; i < 3; ++i)
+    s << r[3 * i] << ' ' << r[3 * i + 1] << ' ' << r[3 * i + 2] << ' ' << p.t[i] << (format == "kitti" ? ' ' : '\n');
+  s << (format == "kitti" ? "\n" : "0 0 0 1\n");
+  return s.str();
 }
 
 // `text`, written to `file` and read by --intrinsics, imports the scans the flags of `by_hand` did.
@@ -325,6 +366,47 @@ TEST_CASE("import names the order when --poses comes before the images, and a TU
   CHECK_FALSE(fs::exists(dir / "ds"));
 }
 
+// docs/import.md, "Poses": --pose-convention world-to-camera inverts each pose, [R^T | -R^T t], whatever its format.
+TEST_CASE("import with --pose-convention world-to-camera reads every pose format's world-to-camera poses as their "
+          "camera-to-world inverses, for depth images and clouds") {
+  const fs::path dir = test::scratch("import-checks-convention");
+  const double half = std::sin(0.4) / 3;  // 0.8 rad about the axis (1, 2, 2) / 3
+  const std::vector<QuaternionPose> poses{{{half, 2 * half, 2 * half, std::cos(0.4)}, {0.5, -0.2, 1}},
+                                          {{0, 0, std::sin(1.1), std::cos(1.1)}, {-1, 0.4, 2}}};
+  std::string images, clouds;
+  for (int f = 0; f < 2; ++f) {
+    images += writeFramePng(dir / ("depth" + std::to_string(f) + ".png"), f).string() + " ";
+    std::ofstream(dir / ("cloud" + std::to_string(f) + ".xyz")) << "0.1 0.2 1\n-0.3 0.1 2.5\n" << f << " 1 0\n";
+    clouds += (dir / ("cloud" + std::to_string(f) + ".xyz")).string() + " ";
+  }
+  for (const std::string format : {"quaternion", "tum", "matrix", "kitti"}) {
+    std::ofstream camera_to_world(dir / (format + "-c2w.txt")), world_to_camera(dir / (format + "-w2c.txt"));
+    for (std::size_t f = 0; f < poses.size(); ++f) {
+      camera_to_world << poseText(poses[f], format, 100.0 + double(f));
+      world_to_camera << poseText(worldToCamera(poses[f]), format, 100.0 + double(f));
+    }
+    camera_to_world.close(), world_to_camera.close();
+    for (const std::string& command : {"import depth " + images + kCamera, "import cloud " + clouds}) {
+      INFO(format << ", " << command.substr(0, 12));
+      const std::string posed = command + " --pose-format " + format + " --poses " + dir.string() + "/" + format;
+      fs::remove_all(dir / "right"), fs::remove_all(dir / "read");
+      REQUIRE(test::runCli(posed + "-c2w.txt --out " + (dir / "right").string()).exit_code == 0);
+      const auto r =
+          test::runCli(posed + "-w2c.txt --pose-convention world-to-camera --out " + (dir / "read").string());
+      INFO(r.output);
+      REQUIRE(r.exit_code == 0);
+      requireSameScans(dir / "right", dir / "read", 1e-5);
+      CHECK(readDataset(dir / "read").source.at("pose_convention") == "world-to-camera");
+    }
+  }
+  const auto bad = test::runCli("import cloud " + clouds + " --poses " + (dir / "matrix-c2w.txt").string() +
+                                " --pose-format matrix --pose-convention sensor-to-world --out " +
+                                (dir / "bad").string());
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.output, Contains("--pose-convention: sensor-to-world not in {camera-to-world,world-to-camera}"));
+  CHECK_FALSE(fs::exists(dir / "bad"));
+}
+
 // docs/import.md, "Intrinsics files": the files of 3DMatch (7-Scenes) and Replica, read as downloaded.
 TEST_CASE("import depth --intrinsics reads 3DMatch's camera-intrinsics.txt and Replica's cam_params.json as the flags "
           "they hold") {
@@ -357,7 +439,7 @@ TEST_CASE("import depth --intrinsics reads 3DMatch's camera-intrinsics.txt and R
   CHECK(readDataset(dir / "replica").source.at("depth_scale") == 6553.5);
   // Without "scale" the file is read when --depth-scale gives it (docs/import.md: refused otherwise).
   requireReadAs(posed + " --depth-scale 6553.5", dir / "no-scale.json",
-                R"({"camera": {"fx": 6.0, "fy": 6.5, "cx": 3.5, "cy": 2.0}})", dir / "replica-by-hand");
+                R"({"camera": {"w": 8, "h": 6, "fx": 6.0, "fy": 6.5, "cx": 3.5, "cy": 2.0}})", dir / "replica-by-hand");
   // A UTF-8 byte order mark before the numbers, as Windows editors save text, is skipped.
   requireReadAs(posed, dir / "bom.txt",
                 "\xEF\xBB\xBF" "5.703422241210937500e+00 0 3.5\n0 5.703422241210937500e+00 2.5\n0 0 1\n",
@@ -390,7 +472,8 @@ TEST_CASE("a bad intrinsics file, or no intrinsics, is refused naming the file, 
                   {at + "word.txt", file + "word.txt: line 3: column 4 (matrix entry) is \"hello\": not a "
                                            "number"},
                   {at + "array.json", file + "array.json: is a JSON array, not an intrinsics file: give "
-                                             "{\"camera\": {\"fx\", \"fy\", \"cx\", \"cy\", \"scale\"}} (Replica's "
+                                             "{\"camera\": {\"w\", \"h\", \"fx\", \"fy\", \"cx\", \"cy\", \"scale\"}} "
+                                             "(Replica's "
                                              "cam_params.json) or text of 9 numbers"},
                   {at + "no-fy.json", file + "no-fy.json: camera.fy: missing"},
                   {at + "no-scale.json", file + "no-scale.json: camera.scale: missing: give the raw depth units per "
@@ -402,6 +485,54 @@ TEST_CASE("a bad intrinsics file, or no intrinsics, is refused naming the file, 
                    "the camera's intrinsics have no default: give --intrinsics FILE (3DMatch's camera-intrinsics.txt, "
                    "Replica's cam_params.json) or all of --fx --fy --cx --cy"}},
                  dir / "ds");
+}
+
+// docs/import.md, "Intrinsics files": what the file's own rules refuse, one rule a case.
+namespace {
+
+// `text` as the intrinsics file `name` of a one-frame import, refused naming the file, then `message`.
+void requireIntrinsicsRefused(const std::string& dir_name, const std::string& name, const std::string& text,
+                              const std::string& message) {
+  const fs::path dir = test::scratch(dir_name);
+  const fs::path frame = writeFramePng(dir / "depth000000.png", 0);
+  std::ofstream(dir / "pose.txt") << matrixPose(0, 0, 1);
+  std::ofstream(dir / name) << text;
+  requireRefused({{frame.string() + " --poses " + (dir / "pose.txt").string() + " --pose-format matrix --intrinsics " +
+                       (dir / name).string(),
+                   (dir / name).string() + ": " + message}},
+                 dir / "ds");
+}
+
+}  // namespace
+
+TEST_CASE("an intrinsics file whose principal point lies outside its images' width or height is refused") {
+  requireIntrinsicsRefused("intrinsics-cx-outside", "cam_params.json",
+                           R"({"camera": {"w": 8, "h": 6, "fx": 6, "fy": 6, "cx": 599.5, "cy": 2.5, "scale": 1000}})",
+                           "camera.cx: is 599.5, outside the image's 0 to 8 pixels (camera.w)");
+  requireIntrinsicsRefused("intrinsics-cy-outside", "cam_params.json",
+                           R"({"camera": {"w": 8, "h": 6, "fx": 6, "fy": 6, "cx": 3.5, "cy": -1, "scale": 1000}})",
+                           "camera.cy: is -1, outside the image's 0 to 6 pixels (camera.h)");
+}
+
+TEST_CASE("Replica's cam_params.json without w or h is refused, naming the field") {
+  requireIntrinsicsRefused("intrinsics-no-w", "cam_params.json",
+                           R"({"camera": {"h": 6, "fx": 6, "fy": 6, "cx": 3.5, "cy": 2.5, "scale": 1000}})",
+                           "camera.w: missing: give the images' width in pixels");
+  requireIntrinsicsRefused("intrinsics-no-h", "cam_params.json",
+                           R"({"camera": {"w": 8, "fx": 6, "fy": 6, "cx": 3.5, "cy": 2.5, "scale": 1000}})",
+                           "camera.h: missing: give the images' height in pixels");
+}
+
+TEST_CASE("a number beyond a double's range in an intrinsics file is refused as out of range, not as not a number") {
+  requireIntrinsicsRefused("intrinsics-1e400", "camera-intrinsics.txt", "1e400 0 3.5\n0 6 2.5\n0 0 1\n",
+                           "line 1: column 1 (matrix entry) is \"1e400\": out of a double's range");
+}
+
+TEST_CASE("a # comment after the numbers of a camera-intrinsics.txt line is refused, saying a comment takes a whole "
+          "line") {
+  requireIntrinsicsRefused("intrinsics-comment", "camera-intrinsics.txt", "6 0 3.5 # fx 0 cx\n0 6 2.5\n0 0 1\n",
+                           "line 1: column 4 is \"#\", a comment after the numbers: a # comment takes a whole line "
+                           "(as numpy.savetxt writes one); move it to a line of its own");
 }
 
 // docs/import.md, "Poses": Replica's results/depthNNNNNN.png take line NNNNNN of the whole traj.txt.

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depth_png.hpp"
+#include "occsweep/eval/dataset.hpp"
 #include "test_helpers.hpp"
 
 namespace fs = std::filesystem;
@@ -285,17 +286,24 @@ TEST_CASE("docs/your-own-data.md runs as written on a TUM, a 3DMatch and a Repli
 
 namespace {
 
-// The 3DMatch recording imported as the page's block does (its frames' pose files in whichever convention).
-fs::path importedRecording(const std::string& name, bool world_to_camera, const std::array<double, 3>& shift = {}) {
+// The 3DMatch recording imported as the page's block does (its frames' pose files in whichever convention), with
+// `flags` more.
+fs::path importedRecording(const std::string& name, bool world_to_camera, const std::array<double, 3>& shift = {},
+                           const std::string& flags = "") {
   const fs::path dir = test::scratch(name);
   writeRecording("3dmatch", dir / "rec", world_to_camera, shift);
   const auto r = test::runIn(dir, "import depth rec/seq-01/frame-*.depth.png --poses rec/seq-01/frame-*.pose.txt "
                                   "--pose-format matrix --depth-scale 1000 --max-depth 10 --fx 585 --fy 585 --cx 320 "
-                                  "--cy 240 --stride 8 --out ds");
+                                  "--cy 240 --stride 8 --out ds" + flags);
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   return dir;
 }
+
+// What an alignment warning names as its causes (docs/import.md, "Truth coverage and alignment"): a shift first, as
+// likely as the other convention, whose fix is a flag.
+const std::string kCauses = "likely causes: the truth or the poses shifted (a pose error, or the truth in another "
+                            "frame), poses written world to camera (import with --pose-convention world-to-camera)";
 
 // TP + FN of every threshold of a results file: the truth voxels it counts.
 std::uint64_t countedTruth(const fs::path& results) {
@@ -377,13 +385,12 @@ TEST_CASE("import truth, sweep and compare warn when the frames see a small part
 }
 
 TEST_CASE("import truth and sweep warn when the poses were written world to camera, naming the convention and the "
-          "inversion") {
+          "flag that reads it") {
   const fs::path dir = importedRecording("coverage-inverted", true);
   const auto truth = test::runIn(dir, "import truth rec/mesh.ply --dataset ds --out ds-truth");
   INFO(truth.output);
   REQUIRE(truth.exit_code == 0);
-  const std::string fix = "scans and truth are not aligned; occsweep reads poses as camera (sensor) to world: a "
-                          "world-to-camera pose file must be inverted first (each pose [R | t] as [R^T | -R^T t])";
+  const std::string fix = "scans and truth are not aligned; " + kCauses;
   CHECK_THAT(truth.output, Contains("occsweep import: warning: ds-truth: ") && Contains(fix));
   const auto sweep = test::runIn(dir, "sweep --dataset ds-truth --grid octomap-opt --out full.json");
   INFO(sweep.output);
@@ -408,8 +415,7 @@ TEST_CASE("import truth, sweep and compare warn when the poses are shifted by 0.
     REQUIRE(truth.exit_code == 0);
     const std::string warning = lineStarting(truth.output, "occsweep import: warning: ds-truth: ");
     CHECK_THAT(warning, Contains("one translation fits them clearly better than none: ") &&
-                            Contains("scans and truth are not aligned; occsweep reads poses as camera (sensor) to "
-                                     "world"));
+                            Contains("scans and truth are not aligned; " + kCauses));
     // The offset named undoes the shift, within a voxel on each axis.
     const std::size_t at = warning.find("moved by the best offset (");
     REQUIRE(at != std::string::npos);
@@ -426,4 +432,37 @@ TEST_CASE("import truth, sweep and compare warn when the poses are shifted by 0.
                                  Contains("one translation fits them clearly better"));
     CHECK_THAT(compareNotes(dir, "full.json"), Contains("one translation fits them clearly better"));
   }
+}
+
+TEST_CASE("import depth --pose-convention world-to-camera reads world-to-camera pose files as the camera-to-world "
+          "ones, aligned with the truth") {
+  const fs::path right = importedRecording("convention-camera-to-world", false);
+  const fs::path read = importedRecording("convention-world-to-camera", true, {},
+                                          " --pose-convention world-to-camera");
+  const Dataset a = readDataset(right / "ds"), b = readDataset(read / "ds");
+  REQUIRE(a.scans.size() == b.scans.size());
+  for (std::size_t s = 0; s < a.scans.size(); ++s) {
+    INFO("scan " << s);
+    CHECK((a.scans[s].origin - b.scans[s].origin).norm() <= 1e-5);
+    REQUIRE(a.scans[s].points.size() == b.scans[s].points.size());
+    for (std::size_t i = 0; i < a.scans[s].points.size(); ++i)
+      CHECK((a.scans[s].points[i] - b.scans[s].points[i]).norm() <= 1e-5);
+  }
+  CHECK(a.source.at("pose_convention") == "camera-to-world");  // the data set says how its poses were read
+  CHECK(b.source.at("pose_convention") == "world-to-camera");
+  const auto truth = test::runIn(read, "import truth rec/mesh.ply --dataset ds --out ds-truth");
+  INFO(truth.output);
+  REQUIRE(truth.exit_code == 0);
+  CHECK_THAT(truth.output, Contains("truth coverage at 0.1 m") && !Contains("warning"));
+}
+
+TEST_CASE("a shift past the offset search (3 m, the search reaches 2 m) still warns, naming the distance and both "
+          "causes") {
+  const fs::path dir = importedRecording("coverage-shift-far", false, {3, 0, 0});
+  const auto truth = test::runIn(dir, "import truth rec/mesh.ply --dataset ds --out ds-truth");
+  INFO(truth.output);
+  REQUIRE(truth.exit_code == 0);
+  const std::string warning = lineStarting(truth.output, "occsweep import: warning: ds-truth: ");
+  CHECK_THAT(warning, Contains("the points lie a median ") && Contains(" m (") &&
+                          Contains("scans and truth are not aligned; " + kCauses));
 }

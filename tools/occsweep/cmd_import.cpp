@@ -33,7 +33,7 @@ namespace fs = std::filesystem;
 
 struct ImportOptions {
   std::vector<std::string> files;
-  std::string out, name, pose_format = "quaternion", dataset, intrinsics;
+  std::string out, name, pose_format = "quaternion", pose_convention = "camera-to-world", dataset, intrinsics;
   PoseSelection pose_selection;  // --pose-start, --pose-step (chosen: either given)
   std::vector<std::string> poses;  ///< one file of every frame's pose, or one file a frame
   DepthImportConfig depth;
@@ -141,6 +141,10 @@ void addPoseOptions(CLI::App* sub, ImportOptions& o) {
                   "qw) or kitti (12 numbers: 3x4 [R|t] row-major); docs/import.md")
       ->check(CLI::IsMember({"quaternion", "matrix", "tum", "kitti"}))->capture_default_str();
   CLI::Option* poses = sub->get_option("--poses");
+  sub->add_option("--pose-convention", o.pose_convention,
+                  "Which way the poses go: camera-to-world (p_world = R p + t; camera: the sensor) or world-to-camera "
+                  "(each pose read as its inverse [R^T | -R^T t]); any --pose-format")
+      ->check(CLI::IsMember({"camera-to-world", "world-to-camera"}))->capture_default_str()->needs(poses);
   sub->add_option("--pose-start", o.pose_selection.start,
                   "K: with one pose file of a whole sequence, the first frame takes pose K (counting from 0)")
       ->check(CLI::Range(std::size_t(0), std::size_t(1'000'000'000)))->needs(poses);
@@ -196,7 +200,7 @@ void addCommonOptions(const ImportCommands& subs, ImportOptions& o) {
 
 void addDepthOptions(CLI::App& depth, ImportOptions& o) {
   DepthImportConfig& c = o.depth;
-  depth.add_option("--poses", o.poses, "Pose file, camera-to-world: one for all images (one pose each, or a TUM "
+  depth.add_option("--poses", o.poses, "Pose file (--pose-convention): one for all images (one pose each, or a TUM "
                                       "trajectory matched by timestamp), or one per image in order; after the images")
       ->type_name(kPath)
       ->required();
@@ -217,7 +221,7 @@ void addDepthOptions(CLI::App& depth, ImportOptions& o) {
 }
 
 void addCloudOptions(CLI::App& cloud, ImportOptions& o) {
-  cloud.add_option("--poses", o.poses, "Pose file, sensor-to-world: one for all clouds, or one per cloud in order; "
+  cloud.add_option("--poses", o.poses, "Pose file (--pose-convention): one for all clouds, or one per cloud in order; "
                                       "after the clouds (default: clouds in world frame)")->type_name(kPath);
   addPoseOptions(&cloud, o);
   cloud.add_option("--origin", o.origin, "Sensor origin of every cloud when there is no pose file")->expected(3);
@@ -301,6 +305,7 @@ int runImportDepth(const ImportOptions& o, const CLI::App& depth) {
                                 "camera-intrinsics.txt, Replica's cam_params.json) or all of --fx --fy --cx --cy");
   c.pose_format = poseFormatNamed(o.pose_format);
   c.pose_selection = poseSelectionOf(depth, o);
+  c.pose_convention = poseConventionNamed(o.pose_convention);
   c.skip_empty = o.skip_empty;
   c.shift = shiftOf(o);
   Dataset d = importDepthSequence(paths(o.files), paths(o.poses), c);
@@ -326,6 +331,7 @@ int runImportCloud(const ImportOptions& o, const CLI::App& cloud) {
   cc.pose_files = paths(o.poses);
   cc.pose_format = poseFormatNamed(o.pose_format);
   cc.pose_selection = poseSelectionOf(cloud, o);
+  cc.pose_convention = poseConventionNamed(o.pose_convention);
   cc.origin = {o.origin[0], o.origin[1], o.origin[2]};
   cc.skip_empty = o.skip_empty;
   cc.view = coneOfFlags(o);

@@ -71,15 +71,29 @@ void TextLines::fail(const std::string& rule) const {
   throw DataError(file_, "line " + std::to_string(line_), rule);
 }
 
+namespace {
+
+/// Why `token`, which parseFiniteDouble refused, is no finite number.
+std::string notFiniteWhy(std::string_view token) {
+  if (token.find_first_of("nNiI") != std::string_view::npos) return "NaN and infinite values are not allowed";
+  if (!token.empty() && token[0] == '+') token.remove_prefix(1);
+  double v = 0;
+  const auto r = std::from_chars(token.data(), token.data() + token.size(), v);
+  if (r.ec == std::errc::result_out_of_range && r.ptr == token.data() + token.size())
+    return "out of a double's range";
+  return "not a number";
+}
+
+}  // namespace
+
 double TextLines::number(std::string_view token, std::size_t column, const std::string& what) const {
   double v = 0;
-  if (!parseFiniteDouble(token, v)) {
-    const std::string shown(token.substr(0, 32));
-    fail("column " + std::to_string(column + 1) + " (" + what + ") is \"" + shown + "\": " +
-         (shown.find_first_of("nNiI") != std::string::npos ? "NaN and infinite values are not allowed"
-                                                           : "not a number"));
-  }
-  return v;
+  if (parseFiniteDouble(token, v)) return v;
+  const std::string column_is = "column " + std::to_string(column + 1), shown(token.substr(0, 32));
+  if (!token.empty() && token[0] == '#')  // a whole-line comment is skipped (nextData); one after numbers is not
+    fail(column_is + " is \"" + shown + "\", a comment after the numbers: a # comment takes a whole line (as "
+                     "numpy.savetxt writes one); move it to a line of its own");
+  fail(column_is + " (" + what + ") is \"" + shown + "\": " + notFiniteWhy(token));
 }
 
 double decodeScalar(const char* p, int size, char kind, bool big_endian) {

@@ -167,14 +167,20 @@ nlohmann::json poseFileNames(const std::vector<fs::path>& pose_files) {
   return names;
 }
 
-void recordPoseSelection(nlohmann::json& source, const PoseSelection& selection) {
+void recordPoseReading(nlohmann::json& source, PoseFormat format, const PoseSelection& selection,
+                       PoseConvention convention) {
+  source["pose_format"] = poseFormatName(format);
+  source["pose_convention"] = poseConventionName(convention);
   if (selection.chosen) source["pose_start_step"] = {selection.start, selection.step};
   if (selection.by_frame_number) source["pose_by_frame_number"] = true;
 }
 
-std::vector<RigidPose> framePoses(const std::vector<fs::path>& pose_files, PoseFormat format,
-                                  const std::vector<fs::path>& frames, const std::string& kind,
-                                  const PoseSelection& selection) {
+namespace {
+
+/// framePoses of the poses as the files hold them.
+std::vector<RigidPose> posesAsWritten(const std::vector<fs::path>& pose_files, PoseFormat format,
+                                      const std::vector<fs::path>& frames, const std::string& kind,
+                                      const PoseSelection& selection) {
   if ((selection.chosen || selection.by_frame_number) && pose_files.size() > 1)
     throw std::invalid_argument(std::string(selection.chosen ? "--pose-start and --pose-step take"
                                                              : "--pose-by-frame-number takes") +
@@ -202,6 +208,17 @@ std::vector<RigidPose> framePoses(const std::vector<fs::path>& pose_files, PoseF
                                 "'s name numbers its pose (Replica's depth000120.png: pose 120); a TUM trajectory "
                                 "(--pose-format tum) is matched by timestamp when each " + kind + " is named by its "
                                 "own, as TUM names them");
+}
+
+}  // namespace
+
+std::vector<RigidPose> framePoses(const std::vector<fs::path>& pose_files, PoseFormat format,
+                                  const std::vector<fs::path>& frames, const std::string& kind,
+                                  const PoseSelection& selection, PoseConvention convention) {
+  std::vector<RigidPose> poses = posesAsWritten(pose_files, format, frames, kind, selection);
+  if (convention == PoseConvention::WorldToCamera)
+    for (RigidPose& pose : poses) pose = pose.inverse();
+  return poses;
 }
 
 }  // namespace occsweep

@@ -67,8 +67,9 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
   if (clouds.empty()) throw std::invalid_argument("no point cloud given");
   if (c.view) (void)cloudView(*c.view, RigidPose{});  // its rules, before any file is read
   const bool posed = !c.pose_files.empty();
-  const std::vector<RigidPose> poses = posed ? framePoses(c.pose_files, c.pose_format, clouds, "cloud", c.pose_selection)
-                                             : std::vector<RigidPose>{};
+  const std::vector<RigidPose> poses =
+      posed ? framePoses(c.pose_files, c.pose_format, clouds, "cloud", c.pose_selection, c.pose_convention)
+            : std::vector<RigidPose>{};
   PointCloudSet scans;
   std::uint64_t total_points = 0;
   nlohmann::json files = nlohmann::json::array();
@@ -93,8 +94,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
   if (c.view) source["view"] = {{"axis", c.view->axis}, {"half_angle_deg", c.view->half_angle_deg}};
   if (posed) {
     source["poses"] = poseFileNames(c.pose_files);
-    source["pose_format"] = poseFormatName(c.pose_format);
-    recordPoseSelection(source, c.pose_selection);
+    recordPoseReading(source, c.pose_format, c.pose_selection, c.pose_convention);
   } else {
     source["origin"] = c.origin;
   }

@@ -99,7 +99,8 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
   validate(c);
   if (images.empty()) throw std::invalid_argument("no depth image given");
   if (pose_files.empty()) throw std::invalid_argument("no pose file given (--poses)");
-  const auto poses = framePoses(pose_files, c.pose_format, images, "depth image", c.pose_selection);
+  const auto poses =
+      framePoses(pose_files, c.pose_format, images, "depth image", c.pose_selection, c.pose_convention);
   // About a million values in all (at least one an image), for the median depth that shows a wrong --depth-scale.
   const std::size_t per_image = std::max<std::size_t>(1, 1'000'000 / images.size());
   std::vector<std::uint16_t> depth_sample;
@@ -125,14 +126,13 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
   nlohmann::json source = {{"generator", "occsweep import depth"},
                            {"images", files},
                            {"poses", poseFileNames(pose_files)},
-                           {"pose_format", poseFormatName(c.pose_format)},
                            {"depth_scale", c.depth_scale},
                            {"intrinsics", {c.fx, c.fy, c.cx, c.cy}},
                            {"max_depth", c.max_depth},
                            {"stride", c.stride},
                            {"median_depth", medianMetres(depth_sample, c.depth_scale)}};
   if (!c.intrinsics_file.empty()) source["intrinsics_file"] = c.intrinsics_file.filename().string();
-  recordPoseSelection(source, c.pose_selection);
+  recordPoseReading(source, c.pose_format, c.pose_selection, c.pose_convention);
   return importedDataset(images.front().parent_path().filename().string(), std::move(scans), source);
 }
 

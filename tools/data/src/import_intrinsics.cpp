@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -21,8 +22,8 @@ namespace {
 
 constexpr const char* kMatrixForm = "a camera matrix is fx 0 cx / 0 fy cy / 0 0 1";
 constexpr const char* kForms =
-    "give {\"camera\": {\"fx\", \"fy\", \"cx\", \"cy\", \"scale\"}} (Replica's cam_params.json) or text of 9 numbers, "
-    "the matrix fx 0 cx / 0 fy cy / 0 0 1 (3DMatch's camera-intrinsics.txt)";
+    "give {\"camera\": {\"w\", \"h\", \"fx\", \"fy\", \"cx\", \"cy\", \"scale\"}} (Replica's cam_params.json) or text "
+    "of 9 numbers, the matrix fx 0 cx / 0 fy cy / 0 0 1 (3DMatch's camera-intrinsics.txt)";
 /// numpy's round-off: savetxt of a computed matrix writes 1e-17 for its zeros and 1.0000000000000002 for its 1.
 constexpr double kRoundOff = 1e-9;
 constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
@@ -39,8 +40,8 @@ CameraIntrinsics cameraObject(const nlohmann::json& root, const fs::path& file, 
   if (!root.is_object())
     throw DataError(file, "", std::string("is a JSON ") + root.type_name() + ", not an intrinsics file: " + kForms);
   if (!root.contains("camera") || !root.at("camera").is_object())
-    throw DataError(file, "camera", "missing: the intrinsics are read from {\"camera\": {\"fx\": ..., \"fy\": ..., "
-                                    "\"cx\": ..., \"cy\": ...}} (Replica's cam_params.json)");
+    throw DataError(file, "camera", "missing: the intrinsics are read from {\"camera\": {\"w\": ..., \"h\": ..., "
+                                    "\"fx\": ..., \"fy\": ..., \"cx\": ..., \"cy\": ...}} (Replica's cam_params.json)");
   const nlohmann::json& camera = root.at("camera");
   auto field = [&](const char* name) -> std::optional<double> {
     if (!camera.contains(name)) return std::nullopt;
@@ -57,13 +58,21 @@ CameraIntrinsics cameraObject(const nlohmann::json& root, const fs::path& file, 
                      field("scale"), std::nullopt, std::nullopt};
   if (!k.depth_scale && !depth_scale_given)
     (void)required("scale", "give the raw depth units per metre (Replica's is 6553.5), or --depth-scale");
-  for (const char* name : {"w", "h"})
-    if (const auto size = field(name)) {
-      if (!(*size >= 1 && *size <= 1e6 && *size == std::floor(*size)))
-        throw DataError(file, std::string("camera.") + name, "must be a whole number of pixels >= 1, got " +
-                                                                 camera.at(name).dump());
-      (name[0] == 'w' ? k.width : k.height) = int(*size);
-    }
+  // The images' size, which every image must have, and the principal point within it: one outside is another
+  // camera's, or another image size's (docs/import.md, "Intrinsics files").
+  for (const auto& [side, centre, at, size] : {std::tuple{"w", "cx", k.cx, &k.width}, {"h", "cy", k.cy, &k.height}}) {
+    const double pixels = required(side, std::string("give the images' ") + (side[0] == 'w' ? "width" : "height") +
+                                             " in pixels (Replica's cam_params.json has both)");
+    if (!(pixels >= 1 && pixels <= 1e6 && pixels == std::floor(pixels)))
+      throw DataError(file, std::string("camera.") + side, "must be a whole number of pixels >= 1, got " +
+                                                               camera.at(side).dump());
+    if (!(at >= 0 && at <= pixels))
+      throw DataError(file, std::string("camera.") + centre, "is " + exactly(at) + ", outside the image's 0 to " +
+                                                                 exactly(pixels) + " pixels (camera." + side +
+                                                                 "): is the file another camera's, or for another "
+                                                                 "image size?");
+    *size = int(pixels);
+  }
   if (k.depth_scale && !(*k.depth_scale > 0))
     throw DataError(file, "camera.scale", "must be > 0 (raw depth units per metre; Replica's is 6553.5), got " +
                                               camera.at("scale").dump());

@@ -121,6 +121,14 @@ octomap::point3d RigidPose::origin() const {
   return octomap::point3d(float(translation[0]), float(translation[1]), float(translation[2]));
 }
 
+RigidPose RigidPose::inverse() const {
+  const auto& r = rotation;
+  RigidPose p;
+  p.rotation = {r[0], r[3], r[6], r[1], r[4], r[7], r[2], r[5], r[8]};
+  p.translation = p.applyExact(-translation[0], -translation[1], -translation[2]);  // -R^T t
+  return p;
+}
+
 RigidPose poseFromQuaternion(double tx, double ty, double tz, double w, double x, double y, double z, bool& ok) {
   const double norm = std::sqrt(w * w + x * x + y * y + z * z);
   ok = std::isfinite(norm) && std::abs(norm - 1.0) <= kQuaternionNormTolerance;
@@ -160,6 +168,16 @@ PoseFormat poseFormatNamed(const std::string& name) {
   for (auto f : {PoseFormat::Quaternion, PoseFormat::Matrix, PoseFormat::Tum, PoseFormat::Kitti})
     if (name == poseFormatName(f)) return f;
   throw std::invalid_argument("pose format '" + name + "': expected quaternion, matrix, tum or kitti");
+}
+
+const char* poseConventionName(PoseConvention convention) {
+  return convention == PoseConvention::WorldToCamera ? "world-to-camera" : "camera-to-world";
+}
+
+PoseConvention poseConventionNamed(const std::string& name) {
+  for (auto c : {PoseConvention::CameraToWorld, PoseConvention::WorldToCamera})
+    if (name == poseConventionName(c)) return c;
+  throw std::invalid_argument("pose convention '" + name + "': expected camera-to-world or world-to-camera");
 }
 
 std::vector<RigidPose> readPoses(const fs::path& file, PoseFormat format) {

@@ -65,8 +65,8 @@ struct TruthCoverage {
 [[nodiscard]] std::string coverageText(const TruthCoverage& c);
 
 /// What is wrong, naming the fix; "" when nothing is. Scans and truth not aligned (no point in the region, a median
-/// distance past kFarPointVoxels, or an offset that fits clearly better, named in either case) come first: the share
-/// then measures the misalignment too.
+/// distance past kFarPointVoxels, or an offset that fits clearly better, named with the median distance) come first,
+/// naming the likely causes: the share then measures the misalignment too.
 /// Else a share below kLowObservableShare, under full truth only (observable truth is the fix).
 [[nodiscard]] std::string coverageWarning(const TruthCoverage& c, TruthMode mode);
 

@@ -51,7 +51,8 @@ class TextLines {
   [[nodiscard]] std::size_t offset() const { return pos_ < text_.size() ? pos_ : text_.size(); }
   [[nodiscard]] const std::filesystem::path& file() const { return file_; }
   [[noreturn]] void fail(const std::string& rule) const;
-  /// A finite number, or a DataError naming the line and the column.
+  /// A finite number, or a DataError naming the line, the column and why: a `#` comment after numbers (a comment
+  /// takes a whole line), NaN or infinity, out of a double's range (1e400), or not a number.
   [[nodiscard]] double number(std::string_view token, std::size_t column, const std::string& what) const;
 
  private:

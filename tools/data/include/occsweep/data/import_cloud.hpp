@@ -43,6 +43,7 @@ struct CloudImportConfig {
   std::vector<std::filesystem::path> pose_files;  ///< sensor -> world, as framePoses reads them; none: world frame
   PoseFormat pose_format = PoseFormat::Quaternion;
   PoseSelection pose_selection;  ///< --pose-start, --pose-step: frame i takes pose start + i step of one file
+  PoseConvention pose_convention = PoseConvention::CameraToWorld;  ///< --pose-convention
   std::array<double, 3> origin{0, 0, 0};           ///< sensor origin of every cloud when there is no pose file
   bool skip_empty = false;
   /// --shift: added to every point and origin after the pose, before the one rounding to float32 (CloudPlacement).

@@ -42,6 +42,7 @@ struct DepthImportConfig {
   int stride = 1;               ///< use every stride-th pixel in u and v, to keep clouds small
   PoseFormat pose_format = PoseFormat::Quaternion;
   PoseSelection pose_selection;  ///< --pose-start, --pose-step: frame i takes pose start + i step of one file
+  PoseConvention pose_convention = PoseConvention::CameraToWorld;  ///< --pose-convention
   bool skip_empty = false;      ///< drop frames without a valid pixel instead of refusing them
   /// --shift: added to every point and origin after the pose, before the one rounding to float32 (CloudPlacement).
   std::array<double, 3> shift{0, 0, 0};

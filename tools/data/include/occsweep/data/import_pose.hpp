@@ -21,6 +21,8 @@ struct RigidPose {
   [[nodiscard]] std::array<double, 3> applyExact(double x, double y, double z) const;
   [[nodiscard]] octomap::point3d apply(double x, double y, double z) const;
   [[nodiscard]] octomap::point3d origin() const;
+  /// The transform the other way: [R^T | -R^T t].
+  [[nodiscard]] RigidPose inverse() const;
 };
 
 /// Where a reader puts a point it read: pose(x y z) + shift, in double, then rounded to float32 once, so that a
@@ -44,6 +46,15 @@ enum class PoseFormat {
 [[nodiscard]] const char* poseFormatName(PoseFormat format);
 /// The format of a name; std::invalid_argument listing the names otherwise.
 [[nodiscard]] PoseFormat poseFormatNamed(const std::string& name);
+
+/// Which way a pose file's transforms go (docs/import.md, "Poses", --pose-convention): camera (sensor) to world, as
+/// occsweep applies them, or world to camera, each pose then read as its inverse.
+enum class PoseConvention { CameraToWorld, WorldToCamera };
+
+/// "camera-to-world" or "world-to-camera", on the command line and in a data set's `source.pose_convention`.
+[[nodiscard]] const char* poseConventionName(PoseConvention convention);
+/// The convention of a name; std::invalid_argument listing the names otherwise.
+[[nodiscard]] PoseConvention poseConventionNamed(const std::string& name);
 
 /// How far a quaternion's norm may be from 1 and still be normalised; beyond it the pose is refused, because a
 /// quaternion that far off is a corrupted or mis-ordered line, not rounding (docs/import.md).
@@ -78,8 +89,10 @@ struct PoseSelection {
   bool by_frame_number = false;
 };
 
-/// Records a selection other than the default in a data set's source: `pose_start_step`, `pose_by_frame_number`.
-void recordPoseSelection(nlohmann::json& source, const PoseSelection& selection);
+/// Records how the poses were read in a data set's source: `pose_format`, `pose_convention`, and a selection other
+/// than the default, `pose_start_step` or `pose_by_frame_number`.
+void recordPoseReading(nlohmann::json& source, PoseFormat format, const PoseSelection& selection,
+                       PoseConvention convention);
 
 /// The pose of each frame (`frames`: image or cloud files, in order; `kind`: "depth image", "cloud") from
 /// `pose_files` (docs/import.md, "Poses"):
@@ -91,9 +104,11 @@ void recordPoseSelection(nlohmann::json& source, const PoseSelection& selection)
 ///   (TUM's depth/1305031102.160407.png): paired as associate.py pairs them, each pose with one frame, the pairs
 ///   closest in time first, closer than kTumMaxTimeDifference (a frame left without one is refused, where
 ///   associate.py would drop it).
-/// Otherwise a DataError naming the file, the counts and the fix.
+/// Otherwise a DataError naming the file, the counts and the fix. Poses written world to camera (`convention`) are
+/// returned inverted: camera to world.
 [[nodiscard]] std::vector<RigidPose> framePoses(const std::vector<std::filesystem::path>& pose_files, PoseFormat format,
                                                 const std::vector<std::filesystem::path>& frames,
-                                                const std::string& kind, const PoseSelection& selection = {});
+                                                const std::string& kind, const PoseSelection& selection = {},
+                                                PoseConvention convention = PoseConvention::CameraToWorld);
 
 }  // namespace occsweep
