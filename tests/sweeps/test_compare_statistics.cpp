@@ -493,6 +493,7 @@ for row, jr in zip(rows, j['rows']):
             assert float(row[m + '.' + name]) == value, name
     assert float(row['knn.improvement_percent']) == jr['methods']['knn']['improvement_percent']
     assert row['unit'] == jr['unit'] == 'builtin-O', 'unit'
+    assert (row['truth'], row['coverage_warning']) == (j['truth'], '') == ('full', ''), 'truth'
 print('csv equals json')
 ")";
   const auto py = test::runShell("cd " + dir.string() + " && " + check);
@@ -514,11 +515,101 @@ print('csv equals json')
   CHECK(md.find("|---|---|---:|---:|---:|\n") != std::string::npos);
   CHECK(md.find("| knn |") == std::string::npos);
   CHECK(md.find("- knn,") == std::string::npos);  // the verdicts under the tables name it so too
+  // The truth under the per-set table, and no warning: the golden results record none.
+  CHECK(md.find("|\n\n- truth: full (every truth voxel of the region counts)\n\nStatistics") != std::string::npos);
   // A table of another program's is never replaced, even with --force.
   std::ofstream(dir / "mine.csv") << "my,own,data\n";
   const auto refused = test::runIn(dir, "compare " + files + " --csv mine.csv --force");
   CHECK(refused.exit_code == 2);
   CHECK(test::bytesOf(dir / "mine.csv") == "my,own,data\n");
+}
+
+namespace {
+
+// The results files of data set `index` in `dir` (writeGoldenDataset's) as scored under `truth`, recording
+// `coverage`; the warning compare notes of them (docs/import.md, "Truth coverage and alignment"), "" for none.
+std::string recordCoverage(const fs::path& dir, int index, const TruthCoverage& coverage, TruthMode truth) {
+  std::string warning;
+  for (const char* method : {"octomap", "knn"}) {
+    const fs::path file = dir / (std::string(method) + "-" + std::to_string(index) + ".json");
+    ResultsFile f = readResults(file);
+    f.header.coverage = coverage, f.header.truth = truth;
+    writeResults(f, file);
+    warning = coverageWarning(*readResults(file).header.coverage, truth);  // at the file's resolution and s_c
+  }
+  return warning;
+}
+
+// Markdown's text with its backslash escapes (compare_tables.cpp, markdownCell) undone.
+std::string unescapedMarkdown(const std::string& md) {
+  std::string out;
+  for (std::size_t i = 0; i < md.size(); ++i)
+    if (!(md[i] == '\\' && i + 1 < md.size() && std::string("|*_~`<>&[]\\").find(md[i + 1]) != std::string::npos))
+      out += md[i];
+    else
+      out += md[++i];
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("compare's --markdown, --latex and --csv state the truth and carry each truth coverage warning (issue 44)") {
+  // Old binary: the terminal noted both warnings and the truth; the tables said neither, so a table pasted into a
+  // paper hid that its AUCs measure the recording's coverage (or a misalignment), not the mapping.
+  const fs::path dir = test::scratch("compare-truth-notes");
+  for (int d = 0; d < 3; ++d) writeGoldenDataset(dir, d, 0.05 + 0.1 * d);
+  TruthCoverage partial;  // a recording that sees 7 % of its truth, its points on it
+  partial.truth_voxels = 13132, partial.sampled_truth = 4000, partial.observable_sampled = 269;
+  partial.points = 5000, partial.points_in_region = 4000, partial.sampled_points = 2000;
+  partial.median_point_distance = 0.05;
+  TruthCoverage outside = partial;  // poses in the wrong convention: no point in the region
+  outside.points_in_region = outside.sampled_points = 0, outside.median_point_distance = NAN;
+  TruthCoverage seen = partial;  // most of it seen: nothing to warn of
+  seen.observable_sampled = 3900;
+  const bool pdflatex = test::runShell("command -v pdflatex").exit_code == 0;
+  for (const TruthMode truth : {TruthMode::Full, TruthMode::Observable}) {
+    const std::string line = truth == TruthMode::Full
+                                 ? "truth: full (every truth voxel of the region counts)"
+                                 : "truth: observable (only truth voxels observable from the scan origins count)";
+    INFO(line);
+    const std::vector<std::string> warnings{recordCoverage(dir, 0, partial, truth),
+                                            recordCoverage(dir, 1, outside, truth),
+                                            recordCoverage(dir, 2, seen, truth)};
+    REQUIRE((warnings[0].find("only 7 % of the truth voxels") != std::string::npos) == (truth == TruthMode::Full));
+    REQUIRE(warnings[1].find("scans and truth are not aligned") != std::string::npos);
+    REQUIRE(warnings[2].empty());
+    const auto r = test::runIn(dir, "compare octomap-*.json knn-*.json --json c.json --csv c.csv --markdown c.md "
+                                    "--latex c.tex --force");
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    CHECK_THAT(r.output, Catch::Contains(line));  // what the tables are held to: the terminal says it
+    CHECK_THAT(test::bytesOf(dir / "c.json"), Catch::Contains(nlohmann::json(warnings[1]).dump()));
+    const std::string md = unescapedMarkdown(test::bytesOf(dir / "c.md")), tex = test::bytesOf(dir / "c.tex");
+    CHECK_THAT(md, Catch::Contains("|\n\n- " + line + "\n"));  // under the per-set table
+    const std::size_t warned = truth == TruthMode::Full ? 2 : 1;
+    CHECK_THAT(tex, Catch::Contains("in percent; " + line + "; " + std::to_string(warned) +
+                                    (warned == 1 ? " warning" : " warnings") +
+                                    " of truth coverage or alignment listed after the table}"));
+    for (int d = 0; d < 3; ++d) {
+      const std::string dataset = "room-" + std::to_string(d);
+      INFO(dataset);
+      CHECK((md.find("- warning: " + dataset + ": " + warnings[d] + "\n") != std::string::npos) ==
+            !warnings[d].empty());
+      CHECK((tex.find("\\item warning: " + dataset + ": ") != std::string::npos) == !warnings[d].empty());
+    }
+    CHECK_THAT(tex, Catch::Contains("\\item warning: room-1: none of the 5000 points lies in the region: scans and "
+                                    "truth are not aligned; occsweep reads poses as camera (sensor) to world"));
+    // The CSV: a truth and a coverage_warning column, read back whole by Python's csv module.
+    const auto py = test::runShell("cd " + dir.string() + " && python3 -c \"import csv, json; print(json.dumps("
+                                   "{r['dataset']: [r['truth'], r['coverage_warning']] for r in "
+                                   "csv.DictReader(open('c.csv', newline=''))}))\"");
+    INFO(py.output);
+    REQUIRE(py.exit_code == 0);
+    const nlohmann::json csv = nlohmann::json::parse(py.output);
+    for (int d = 0; d < 3; ++d)
+      CHECK(csv.at("room-" + std::to_string(d)) == nlohmann::json::array({truthModeName(truth), warnings[d]}));
+    if (pdflatex) checkFitsPlainArticle(dir, "c.tex");
+  }
 }
 
 TEST_CASE("compare --latex of five methods over 60 sets continues the per-set table in floats of at most 40 sets, "

@@ -9,10 +9,9 @@
 #include "command_registry.hpp"
 #include "limit_options.hpp"
 #include "task_options.hpp"
-#include "compare_tables.hpp"
+#include "compare_cells.hpp"
 #include "occsweep/io/control_characters.hpp"
 #include "occsweep/io/output_file.hpp"
-#include "occsweep/eval/truth_coverage.hpp"
 #include "occsweep/sweeps/compare.hpp"
 #include "occsweep/sweeps/csv_text.hpp"
 
@@ -38,14 +37,6 @@ std::string changedSettingsText(const MapSettings& s) {
   if (s.variant != defaults.variant) add("variant", toText(s.variant));
   if (s.stats != defaults.stats) add("stats", toText(s.stats));
   return text;
-}
-
-// A number occsweep prints is either right or not printed (docs/robustness.md): "-" where there is none.
-std::string cell(double v, const char* format) {
-  if (!std::isfinite(v)) return "-";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
 }
 
 // Files of one data set that differ in their settings: refused, or with --allow-mixed each listed on stderr.
@@ -115,15 +106,6 @@ void printRow(const ComparisonRow& r, const std::vector<ResultsFile>& in, const 
   }
 }
 
-// The warning of the data set's truth coverage that the row's results files recorded (the first that did: one data
-// set, one resolution and s_c), naming its fix (docs/import.md, "Truth coverage and alignment"); "" when none.
-std::string coverageWarningOf(const ComparisonRow& r, const std::vector<ResultsFile>& in) {
-  for (const auto& [method, files] : r.files_of)
-    for (std::size_t f : files)
-      if (const ResultsHeader& h = in[f].header; h.coverage) return coverageWarning(*h.coverage, h.truth);
-  return "";
-}
-
 // Why a row lacks a number: in the row's JSON, and (with its data set) in `notes` for the lines after the table.
 nlohmann::json rowNotes(const ComparisonRow& r, const std::vector<ResultsFile>& in, const std::vector<std::string>& files,
                         const std::vector<std::string>& methods, const std::string& baseline,
@@ -158,13 +140,6 @@ nlohmann::json rowJson(const ComparisonRow& r, const std::vector<ResultsFile>& i
   }
   return {{"dataset", r.dataset}, {"point_cloud_set", r.point_cloud_set}, {"dataset_hash", r.dataset_hash},
           {"unit", unit}, {"methods", std::move(methods)}, {"notes", std::move(notes)}};
-}
-
-void printTruth(TruthMode truth) {
-  std::cout << "truth: " << truthModeName(truth)
-            << (truth == TruthMode::Full ? " (every truth voxel of the region counts)"
-                                         : " (only truth voxels observable from the scan origins count)")
-            << '\n';
 }
 
 // Every output needs a file of its own on a path that can hold it, checked before the first is written: a failure
@@ -251,11 +226,11 @@ int runCompare(const CompareTask& o) {
   for (const auto& r : rows) printRow(r, in, o.files, shown, o.baseline);
   for (const auto& n : notes)
     std::cout << "note: " << wrappedLines(escapedControlCharacters(n), 6, kTerminalColumns).substr(6);
-  printTruth(truth);
+  std::cout << truthLine(truth) << '\n';
   std::vector<std::string> methods;
   for (const auto& s : statistics) methods.push_back(s.method);
   const ComparisonTables tables{rows,      in, o.files, methods, statistics, o.baseline, {o.alpha, o.smallest_effect},
-                                mixed, units.of_row};
+                                mixed, units.of_row, truth};
   std::cout << statisticsText(tables);
   const nlohmann::json comparison = {{"format", "occsweep-comparison"}, {"files", o.files},
                                      {"allow_mixed", o.allow_mixed}, {"mixed", mixed}, {"truth", truthModeName(truth)},

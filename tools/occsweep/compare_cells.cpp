@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "method_style.hpp"
+#include "occsweep/eval/truth_coverage.hpp"
 
 namespace occsweep::cli {
 namespace {
@@ -166,6 +167,34 @@ Cells withDisplayNames(Cells c, const std::vector<std::string>& methods, std::si
 // One line of text (a verdict's basis) with the methods by their display names, as the tables show them.
 std::string withDisplayNames(const std::string& line, const std::vector<std::string>& methods) {
   return withDisplayNames(Cells{{line}}, methods, 0)[0][0];
+}
+
+// The first that did: the files of one row share a data set, resolution and s_c (docs/import.md, "Truth coverage
+// and alignment").
+std::string coverageWarningOf(const ComparisonRow& r, const std::vector<ResultsFile>& in) {
+  for (const auto& [method, files] : r.files_of)
+    for (std::size_t f : files)
+      if (const ResultsHeader& h = in[f].header; h.coverage) return coverageWarning(*h.coverage, h.truth);
+  return "";
+}
+
+std::string truthLine(TruthMode truth) {
+  return std::string("truth: ") + truthModeName(truth) +
+         (truth == TruthMode::Full ? " (every truth voxel of the region counts)"
+                                   : " (only truth voxels observable from the scan origins count)");
+}
+
+// Under every table what the terminal says of the truth: a table pasted into a paper without its warnings would hide
+// that its AUCs measure the recording's coverage or a misalignment, not the mapping (docs/statistics.md, "In
+// occsweep compare"). A warning shared by a data set's point cloud sets is said once.
+std::vector<std::string> truthNotes(const ComparisonTables& t) {
+  std::vector<std::string> notes{truthLine(t.truth)};
+  for (const ComparisonRow& row : t.rows)
+    if (const std::string why = coverageWarningOf(row, t.files); !why.empty()) {
+      const std::string note = "warning: " + row.dataset + ": " + why;
+      if (std::find(notes.begin(), notes.end(), note) == notes.end()) notes.push_back(note);
+    }
+  return notes;
 }
 
 // Said before every table of a comparison made with --allow-mixed: its numbers do not compare like with like.

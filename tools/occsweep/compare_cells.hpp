@@ -23,6 +23,12 @@ using Cells = std::vector<std::vector<std::string>>;  ///< a header line, then t
 [[nodiscard]] Cells withDisplayNames(Cells c, const std::vector<std::string>& methods, std::size_t name_columns);
 /// One line (a verdict's basis) with the methods by their display names.
 [[nodiscard]] std::string withDisplayNames(const std::string& line, const std::vector<std::string>& methods);
+/// The warning of truth coverage or alignment the row's results files recorded (coverageWarning); "" when none.
+[[nodiscard]] std::string coverageWarningOf(const ComparisonRow& r, const std::vector<ResultsFile>& in);
+/// "truth: full (every truth voxel of the region counts)", or observable's: what the AUCs are scored against.
+[[nodiscard]] std::string truthLine(TruthMode truth);
+/// The notes under every table: truthLine, then "warning: DATA SET: " each row's coverage warning (once each).
+[[nodiscard]] std::vector<std::string> truthNotes(const ComparisonTables& t);
 /// What every table of a comparison made with --allow-mixed begins with; "" otherwise.
 [[nodiscard]] std::string mixedNote(const ComparisonTables& t);
 

@@ -13,10 +13,10 @@
 namespace occsweep::cli {
 namespace {
 
-// A Markdown table cell that CommonMark with GitHub's tables shows as the text itself (names come from users' files):
-// the characters that open something inside a cell backslash-escaped ('|' ends the cell; '*', '_', '~', '`', '<',
-// '&', '[', ']' start emphasis, strikethrough, code, HTML, entities and links; '\\' escapes), a line break as a space
-// (it would end the row). docs/statistics.md, "In occsweep compare".
+// A Markdown table cell (or list item) that CommonMark with GitHub's tables shows as the text itself (names come from
+// users' files): the characters that open something inside a cell backslash-escaped ('|' ends the cell; '*', '_',
+// '~', '`', '<', '&', '[', ']' start emphasis, strikethrough, code, HTML, entities and links; '\\' escapes), a line
+// break as a space (it would end the row). docs/statistics.md, "In occsweep compare".
 std::string markdownCell(const std::string& s) {
   std::string out;
   for (char ch : s) {
@@ -40,6 +40,13 @@ std::string markdown(const Cells& c, std::size_t first_number_column) {
     }
   }
   return o.str();
+}
+
+// The notes as a list, each item the text itself.
+std::string markdownItems(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const std::string& line : lines) out += "- " + markdownCell(line) + "\n";
+  return out;
 }
 
 }  // namespace
@@ -125,7 +132,7 @@ std::string csvTable(const ComparisonTables& t) {
   // Columns: every method's, and every parameter any of its best maps has.
   std::vector<std::string> header{"dataset", "point_cloud_set", "dataset_hash"};
   if (!t.mixed.empty()) header.push_back("mixed_settings");  // every row: compared with --allow-mixed
-  header.push_back("unit");
+  header.insert(header.end(), {"unit", "truth", "coverage_warning"});
   std::vector<std::pair<std::string, std::vector<std::string>>> columns;  // method, its parameters
   for (const std::string& m : t.methods) {
     std::vector<std::string> params;
@@ -144,7 +151,8 @@ std::string csvTable(const ComparisonTables& t) {
   for (const ComparisonRow& row : t.rows) {
     o << csvField(row.dataset) << ',' << csvField(row.point_cloud_set) << ',' << csvField(row.dataset_hash);
     if (!t.mixed.empty()) o << ",yes";
-    o << ',' << csvField(t.units[std::size_t(&row - t.rows.data())]);
+    o << ',' << csvField(t.units[std::size_t(&row - t.rows.data())]) << ',' << truthModeName(t.truth) << ','
+      << csvField(coverageWarningOf(row, t.files));
     for (const auto& [m, params] : columns) {
       const auto best = row.best(m);
       const bool base = m == t.baseline;
@@ -163,10 +171,12 @@ std::string markdownTables(const ComparisonTables& t) {
   const std::size_t name_columns = 2;  // data set, pcs
   std::string out = mixedNote(t) + "Best AUC per set, and the improvement over " + displayNameOf(t.baseline) +
                     " in percent:\n\n" + markdown(withDisplayNames(perSetCells(t), t.methods, name_columns),
-                                                   name_columns);
+                                                   name_columns) +
+                    "\n" + markdownItems(truthNotes(t));
   if (!t.statistics.empty()) {
     const Cells statistics = withDisplayNames(statisticsCells(t.statistics, t.baseline), t.methods, 0);
-    out += "\n" + mixedNote(t) + "Statistics against " + displayNameOf(t.baseline) + " (docs/statistics.md):\n\n" +
+    out += '\n';  // apart: g++ 12 warns wrongly (-Wrestrict) on "\n" + a string here
+    out += mixedNote(t) + "Statistics against " + displayNameOf(t.baseline) + " (docs/statistics.md):\n\n" +
            markdown(statistics, statistics[0].size());
     const std::vector<std::string> bases = verdictBases(t.statistics);
     if (!bases.empty()) out += "\nVerdicts:\n\n";

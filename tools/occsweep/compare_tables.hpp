@@ -26,6 +26,7 @@ struct ComparisonTables {
   std::vector<std::string> mixed{};
   /// Each row's unit of the tests (SampleUnits::of_row): the CSV's `unit` column.
   std::vector<std::string> units{};
+  TruthMode truth;  ///< what every AUC is scored against (map.truth, one for all files: mixedTruths)
 };
 
 /// The results files compare and plot read: only complete files that pass every check of `results check`

@@ -108,6 +108,14 @@ std::string latexStatistics(const Cells& c, const std::string& caption) {
   return o.str();
 }
 
+// Lines under the tables as a list, each item the text itself.
+std::string latexItems(const std::vector<std::string>& lines) {
+  if (lines.empty()) return "";
+  std::string out = "\\begin{itemize}\n";
+  for (const std::string& line : lines) out += "  \\item " + latexEscaped(line) + "\n";
+  return out + "\\end{itemize}\n";
+}
+
 }  // namespace
 
 void requireLatexCharacters(const std::vector<ResultsFile>& files, const std::vector<std::string>& names) {
@@ -126,11 +134,19 @@ void requireLatexCharacters(const std::vector<ResultsFile>& files, const std::ve
 }
 
 std::string latexTables(const ComparisonTables& t) {
+  // The truth in the caption, which goes wherever the float goes; the warnings after the float, as many as there
+  // are: a float cannot grow past the page.
+  const std::vector<std::string> notes = truthNotes(t);
+  const std::size_t warnings = notes.size() - 1;
+  const std::string listed = warnings ? "; " + std::to_string(warnings) + (warnings == 1 ? " warning" : " warnings") +
+                                            " of truth coverage or alignment listed after the table"
+                                      : "";
   std::string out = "% occsweep compare --latex: needs \\usepackage{booktabs}, \\usepackage{graphicx} and "
                     "\\usepackage{array}; with \\usepackage[T1]{fontenc} every character of a name shows as typed\n" +
                     latexPerSet(perSetCells(t), t,
                                 mixedNote(t) + "Best AUC per set, and (%) the improvement over " +
-                                    displayNameOf(t.baseline) + " in percent");
+                                    displayNameOf(t.baseline) + " in percent; " + notes.front() + listed) +
+                    latexItems({notes.begin() + 1, notes.end()});
   if (t.statistics.empty()) return out;
   const stats::VerdictRules& rules = t.rules;
   out += latexStatistics(withDisplayNames(statisticsCells(t.statistics, t.baseline), t.methods, 0),
@@ -141,12 +157,9 @@ std::string latexTables(const ComparisonTables& t) {
                "methods compared, leaning the interval's way; negligible when the sign test puts the median, and the "
                "interval the mean, within +-" + cell(rules.smallest_effect, "%g") + " %");
   // Each verdict's basis (its sample, test and correction) under the tables, as compare prints it.
-  const std::vector<std::string> bases = verdictBases(t.statistics);
-  if (!bases.empty()) out += "\\begin{itemize}\n";
-  for (const std::string& line : bases)  // the methods by the names the tables above show
-    out += "  \\item " + latexEscaped(withDisplayNames(line, t.methods)) + "\n";
-  if (!bases.empty()) out += "\\end{itemize}\n";
-  return out;
+  std::vector<std::string> bases = verdictBases(t.statistics);
+  for (std::string& line : bases) line = withDisplayNames(line, t.methods);  // as the tables above name the methods
+  return out + latexItems(bases);
 }
 
 }  // namespace occsweep::cli
