@@ -633,7 +633,7 @@ TEST_CASE("docs/statistics.md and docs/fidelity.md quote the ci reproduction's c
   const std::string statistics = readText(test::sourceTree() / "docs" / "statistics.md");
   const std::string fidelity = proseOf(readText(test::sourceTree() / "docs" / "fidelity.md"));
   // The trend under each truth (report.md section 3b): statistics.md holds its rows, fidelity.md its values.
-  const std::size_t trend = report.find("| truth | Pearson r (p) | Spearman rho (p) | rho over data-set means (p) |");
+  const std::size_t trend = report.find("| truth | Pearson r (p) | Spearman rho (p) | rho over scene means (p) |");
   REQUIRE(trend != std::string::npos);
   for (const char* truth : {"full", "observable"}) {
     const std::string row = lineStarting(report, std::string("| ") + truth + " | ", trend);
@@ -641,8 +641,8 @@ TEST_CASE("docs/statistics.md and docs/fidelity.md quote the ci reproduction's c
     CHECK(statistics.find(row + "\n") != std::string::npos);
     const std::vector<std::string> c = cellsOf(row);
     REQUIRE(c.size() == 8);
-    const std::string over_datasets = c[3].substr(0, c[3].find(" (")) + " (p = " + c[3].substr(c[3].find(" (") + 2);
-    CHECK(fidelity.find(over_datasets + " under " + truth + " truth") != std::string::npos);
+    const std::string over_scenes = c[3].substr(0, c[3].find(" (")) + " (p = " + c[3].substr(c[3].find(" (") + 2);
+    CHECK(fidelity.find(over_scenes + " under " + truth + " truth") != std::string::npos);
   }
   const std::vector<std::string> observable = cellsOf(lineStarting(report, "| observable | ", trend));
   std::smatch m;
