@@ -584,7 +584,7 @@ TEST_CASE("cluster plan --estimate-from carries measured tasks to a new plan and
   CHECK(timeWithMargin(7200) == "04:00:00");
   CHECK(memWithMargin(100u << 20) == "256M");
   CHECK(memWithMargin(1u << 30) == "1536M");
-  const std::vector<StageEstimate> two = {{"a", 10, 10, 3600, 100, 0}, {"b", 1, 1, 50, 50, 0}};
+  const std::vector<StageEstimate> two = {{"a", 10, 10, 3600, 100, 0, {}}, {"b", 1, 1, 50, 50, 0, {}}};
   CHECK(estimatedWallSeconds(two, 64, 2) == Approx(100 + 50));
   CHECK(estimatedWallSeconds(two, 8, 2) == Approx(3600.0 / 8 + 50));
   // Three tasks of a minute on two slots take two minutes, not 90 s; on four, one minute.

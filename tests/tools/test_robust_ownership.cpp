@@ -837,7 +837,7 @@ TEST_CASE("a sweep resuming a killed run's partial store keeps a user's file at 
   ::waitpid(pid, &status, 0);
   REQUIRE(fs::exists(partial));
   REQUIRE_FALSE(fs::exists(journal));  // killed before its first batch: no transaction was open
-  for (const std::string users : {std::string("user notes\n"), std::string()}) {
+  for (const std::string& users : {std::string("user notes\n"), std::string()}) {
     writeBytes(journal, users);
     const CommandResult r = runIn(dir, sweep);
     INFO(r.output);
