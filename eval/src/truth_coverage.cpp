@@ -99,6 +99,16 @@ constexpr const char* kAlignmentFix =
     "to camera (import with --pose-convention world-to-camera), or a wrong --depth-scale (docs/import.md, \"Truth "
     "coverage and alignment\")";
 
+// Of `keys`, those some point of `scans` falls in.
+std::uint64_t holdingAPoint(const octomap::OcTree& grid, const std::vector<octomap::OcTreeKey>& keys,
+                            const PointCloudSet& scans) {
+  octomap::KeySet with_point;
+  for (const Scan& scan : scans)
+    for (const auto& p : scan.points)
+      if (octomap::OcTreeKey k; grid.coordToKeyChecked(p, k)) with_point.insert(k);
+  return std::uint64_t(std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return with_point.count(k); }));
+}
+
 // The coverage of the truth `mask` holds, in `frame`'s region and at its resolution.
 TruthCoverage measureTruthCoverage(const GroundTruth& frame, const TruthMask& mask, const PointCloudSet& scans,
                                    double s_c) {
@@ -109,6 +119,7 @@ TruthCoverage measureTruthCoverage(const GroundTruth& frame, const TruthMask& ma
   c.sampled_truth = keys.size();
   c.observable_sampled = observableAmong(mask, frame.resolution, keys, viewpointsOf(scans), s_c).size();
   const octomap::OcTree grid(frame.resolution);
+  c.with_point_sampled = holdingAPoint(grid, keys, scans);
   c.points = pointCount(scans);
   std::vector<double> distances;
   const std::vector<octomap::point3d> points = sampledRegionPoints(grid, frame, scans, c);
@@ -125,6 +136,11 @@ double TruthCoverage::observableShare() const {
   return sampled_truth ? double(observable_sampled) / double(sampled_truth) : std::numeric_limits<double>::quiet_NaN();
 }
 
+double TruthCoverage::withPointShare() const {
+  return sampled_truth && with_point_sampled ? double(*with_point_sampled) / double(sampled_truth)
+                                             : std::numeric_limits<double>::quiet_NaN();
+}
+
 TruthCoverage measureTruthCoverage(const GroundTruth& truth, const PointCloudSet& scans, double s_c) {
   return measureTruthCoverage(truth, TruthMask(truth.occupied), scans, s_c);
 }
@@ -139,7 +155,9 @@ std::string coverageText(const TruthCoverage& c) {
   std::ostringstream s;
   s << "truth coverage at " << c.resolution << " m, s_c " << c.s_c << " m: " << percent(c.observableShare())
     << " of the truth voxels observable from the scans (" << c.observable_sampled << " of " << c.sampled_truth
-    << " sampled of " << c.truth_voxels << "); ";
+    << " sampled of " << c.truth_voxels << ")";
+  if (c.with_point_sampled) s << ", " << percent(c.withPointShare()) << " holding a point";
+  s << "; ";
   if (c.points_in_region == 0) return s.str() + "no point in the region";
   s << "median distance from the points to the nearest truth voxel " << distanceText(c) << ", over "
     << c.sampled_points << " sampled of the " << c.points_in_region << " points in the region (of " << c.points
@@ -161,12 +179,18 @@ std::string coverageWarning(const TruthCoverage& c, TruthMode mode) {
     return "the points lie a median " + distanceText(c) + " from the nearest truth voxel" +
            (far ? " (more than " + std::to_string(int(kFarPointVoxels)) + " voxels)" : "") +
            (offset.empty() ? "" : "; " + offset) + ": scans and truth are not aligned; " + kAlignmentFix;
-  if (mode == TruthMode::Full && c.observableShare() < kLowObservableShare)
-    return "only " + percent(c.observableShare()) + " of the truth voxels are observable from the scans (below " +
-           percent(kLowObservableShare) + "): under full truth every map misses the rest, so its AUC measures the " +
-           "recording's coverage, not the mapping; sweep with --truth observable, or import truth with a --region " +
-           "around what the recording sees (docs/import.md, \"Truth coverage and alignment\")";
-  return "";
+  if (mode != TruthMode::Full || !(c.observableShare() < kLowObservableShare) ||
+      c.withPointShare() >= kLowObservableShare)  // NaN (not measured): the observable share decides
+    return "";
+  const std::string held = c.with_point_sampled ? " and " + percent(c.withPointShare()) + " hold a point" : "";
+  std::string text = "only " + percent(c.observableShare()) + " of the truth voxels are observable from the scans" +
+                     held + " (below " + percent(kLowObservableShare) + "): under full truth every map misses " +
+                     "most of the rest, so its AUC measures the recording's coverage, not the mapping; sweep with " +
+                     "--truth observable, or import truth with a --region around what the recording sees";
+  if (c.offset_fit && c.offset_fit->share_on_surface < kOffSurfacePointShare)  // a shift past the offset search
+    return text + "; unless scans and truth are not aligned (only " + percent(c.offset_fit->share_on_surface) +
+           " of the points lie within a voxel of the truth's surface): " + kAlignmentFix;
+  return text + " (docs/import.md, \"Truth coverage and alignment\")";
 }
 
 }  // namespace occsweep

@@ -711,6 +711,13 @@ TEST_CASE("plot killed at 20 seeded moments: its figure script ends with it and 
       finished = true;  // the next run: its figure
     }
     if (finished) expected.insert("fig.png");
+    if (!finished && fs::exists(dir / "fig.png")) {  // the signal came after the figure was in place (a loaded
+      // machine): it is whole, its last chunk IEND, never half a figure
+      const std::string png = bytesOf(dir / "fig.png");
+      CHECK(png.size() > 12);
+      CHECK(png.substr(png.size() - 12) == std::string("\0\0\0\0IEND\xAE\x42\x60\x82", 12));
+      expected.insert("fig.png");
+    }
     if (!fs::exists(dir / "pids")) expected.erase("pids");
     CHECK(entriesOf(dir) == expected);  // no temporary, no data file, no half figure
   }

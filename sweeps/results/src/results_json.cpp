@@ -164,6 +164,8 @@ json toJson(const ResultsHeader& h) {
                                 {"observable_sampled", c->observable_sampled}, {"points", c->points},
                                 {"points_in_region", c->points_in_region}, {"sampled_points", c->sampled_points},
                                 {"median_point_distance", finiteNumber(c->median_point_distance)}};
+  if (const auto& c = h.coverage; c && c->with_point_sampled)
+    j["dataset"]["coverage"]["with_point_sampled"] = *c->with_point_sampled;
   if (const auto& c = h.coverage; c && c->offset_fit) {
     const OffsetFit& f = *c->offset_fit;
     j["dataset"]["coverage"]["offset_fit"] = {
@@ -234,7 +236,8 @@ TruthCoverage parseCoverage(const json& j, const MapSettings& map, const Reader&
   c.points_in_region = r.count(j, "points_in_region", where);
   c.sampled_points = r.count(j, "sampled_points", where);
   c.median_point_distance = r.real(j, "median_point_distance", where, true);
-  if (c.observable_sampled > c.sampled_truth || c.sampled_truth > c.truth_voxels ||
+  if (j.contains("with_point_sampled")) c.with_point_sampled = r.count(j, "with_point_sampled", where);
+  if (c.observable_sampled > c.sampled_truth || c.with_point_sampled.value_or(0) > c.sampled_truth || c.sampled_truth > c.truth_voxels ||
       c.sampled_points > c.points_in_region || c.points_in_region > c.points || c.median_point_distance < 0 ||
       std::isnan(c.median_point_distance) != (c.sampled_points == 0) ||
       (c.sampled_points == 0) != (c.points_in_region == 0))

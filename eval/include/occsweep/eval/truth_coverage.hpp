@@ -17,8 +17,13 @@ namespace occsweep {
 
 /// Truth voxels and points measured (bounded cost: evenly spaced samples of each, all of them when fewer).
 inline constexpr std::size_t kCoverageTruthSample = 4000, kCoveragePointSample = 2000;
-/// Below this share of observable truth voxels, full truth measures mostly what the scans could not see.
+/// Below this share of observable truth voxels, and of truth voxels holding a measured point, full truth measures
+/// mostly what the scans could not see: a truth voxel no point falls in is never marked occupied by a map of these
+/// points, and one no ray reaches is not seen. Both must be low: a truth made from the scan's own depth at a
+/// coarse resolution (Aloe at 0.1 m) holds points in most voxels that a ray at voxel resolution cannot reach.
 inline constexpr double kLowObservableShare = 0.3;
+/// Below this share of the sampled points within a voxel of the truth's surface, a low share may be misalignment.
+inline constexpr double kOffSurfacePointShare = 0.5;
 /// Past this median distance from points to the nearest truth voxel centre, in voxels, scans and truth disagree.
 inline constexpr double kFarPointVoxels = 2.0;
 /// The nearest truth voxel is looked for this many voxels around a point; farther counts as this far (plus half a
@@ -36,6 +41,9 @@ struct TruthCoverage {
   std::uint64_t truth_voxels = 0;       ///< every truth voxel of the region
   std::uint64_t sampled_truth = 0;      ///< truth voxels tested, evenly spaced in key order
   std::uint64_t observable_sampled = 0; ///< of those, observable from some scan (observable_truth.hpp)
+  /// Of the sampled truth voxels, those some point of the scans falls in; none in results files written before it
+  /// was measured.
+  std::optional<std::uint64_t> with_point_sampled;
   std::uint64_t points = 0;             ///< every point of every scan
   std::uint64_t points_in_region = 0;   ///< of those, inside the region (the truth beyond it is not rasterised)
   std::uint64_t sampled_points = 0;     ///< of those, evenly spaced in scan order: the ones measured
@@ -50,6 +58,8 @@ struct TruthCoverage {
 
   /// observable_sampled / sampled_truth (NaN with no truth).
   [[nodiscard]] double observableShare() const;
+  /// with_point_sampled / sampled_truth (NaN with no truth or not measured).
+  [[nodiscard]] double withPointShare() const;
 };
 
 /// Coverage of `truth` by `scans` with maximum range `s_c`, at the truth's resolution. The truth must not be empty.
@@ -67,7 +77,8 @@ struct TruthCoverage {
 /// What is wrong, naming the fix; "" when nothing is. Scans and truth not aligned (no point in the region, a median
 /// distance past kFarPointVoxels, or an offset that fits clearly better, named with the median distance) come first,
 /// naming the likely causes: the share then measures the misalignment too.
-/// Else a share below kLowObservableShare, under full truth only (observable truth is the fix).
+/// Else an observable share and a share of truth voxels holding a point both below kLowObservableShare, under full
+/// truth only (observable truth is the fix), naming misalignment too when few points lie on the truth's surface.
 [[nodiscard]] std::string coverageWarning(const TruthCoverage& c, TruthMode mode);
 
 }  // namespace occsweep
