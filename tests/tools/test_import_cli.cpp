@@ -442,6 +442,35 @@ fs::path importBoxViews(const fs::path& dir, std::size_t n, const fs::path& pose
   return dir / out;
 }
 
+// slambook_joinMap's depth frames, a pose line each in `poses`, imported with --skip-empty, then the truth `box` added
+// in `region`: the data set `out`; what import depth printed.
+std::string importDepthRoom(const fs::path& dir, const std::vector<fs::path>& frames, const fs::path& poses,
+                            const fs::path& box, const std::string& region, const std::string& out) {
+  std::string files;
+  for (const fs::path& frame : frames) files.append(" ").append(frame.string());
+  const fs::path scans = dir / (out + "-scans");
+  const auto r = test::runCli("import depth" + files + " --poses " + poses.string() + " --skip-empty --fx 518 --fy 519 "
+                              "--cx 325.5 --cy 253.5 --max-depth 7 --stride 8 --out " + scans.string());
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(test::runCli("import truth " + box.string() + " --dataset " + scans.string() + " --region " + region +
+                       " --out " + (dir / out).string())
+              .exit_code == 0);
+  return r.output;
+}
+
+// Lines `first` ... `first + count - 1` of slambook_joinMap's pose file (counting from 0) into `file`.
+void writePoseLines(const fs::path& file, std::size_t first, std::size_t count) {
+  std::ifstream in(kReal / "slambook_joinMap" / "pose.txt");
+  std::ofstream out(file);
+  std::string line;
+  for (std::size_t i = 0; i < first + count && std::getline(in, line); ++i)
+    if (i >= first) out << line << '\n';
+}
+
+fs::path depthFrame(int number) {
+  return kReal / "slambook_joinMap" / "depth" / std::to_string(number).append(".pgm");
+}
+
 }  // namespace
 
 TEST_CASE("ten SGBM settings of one pair (one truth, one pose file, default names) are one scene in compare") {
@@ -574,6 +603,32 @@ TEST_CASE("one recording re-written (CRLF clouds, a commented pose file, its own
   const std::string out = test::joinedLines(r.output);
   CHECK(out.find("over 2 scenes") == std::string::npos);  // the old binary: "2 data sets over 2 scenes"
   CHECK(out.find("2 data sets over 1 scene") != std::string::npos);
+}
+
+TEST_CASE("two cuts of one room with pose files and regions of their own and one truth are one scene in compare") {
+  // Frames 1-2 and 3-4, each cut with its own pose file and --region, one truth: only the truth joins them.
+  const fs::path dir = test::scratch("import_units_one_truth");
+  writeSmallGrids(dir);
+  std::ofstream(dir / "box.json") << R"({"boxes": [{"min": [-1, -1, 0], "max": [1, 1, 2]}]})";
+  const std::array<std::string, 2> regions = {"-2 -2 -1 2 2 3", "-3 -3 -1 3 3 3"};
+  std::vector<fs::path> datasets;
+  for (int cut = 0; cut < 2; ++cut) {
+    const std::string n = std::to_string(cut);
+    writePoseLines(dir / ("poses" + n + ".txt"), std::size_t(2 * cut), 2);
+    importDepthRoom(dir, {depthFrame(2 * cut + 1), depthFrame(2 * cut + 2)}, dir / ("poses" + n + ".txt"),
+                    dir / "box.json", regions[std::size_t(cut)], "cut" + n);
+    datasets.push_back(dir / ("cut" + n));
+  }
+  const auto r = test::runCli("compare" + sweptResults(dir, datasets) + " --json " + (dir / "units.json").string());
+  REQUIRE(r.exit_code == 0);
+  const std::string out = test::joinedLines(r.output);
+  CHECK(out.find("over 2 scenes") == std::string::npos);  // the old binary: "2 data sets over 2 scenes"
+  CHECK(out.find("2 data sets over 1 scene") != std::string::npos);
+  const auto knn = nlohmann::json::parse(test::bytesOf(dir / "units.json")).at("statistics").at(1);
+  CHECK(knn.at("scenes") == 1);
+  CHECK(knn.at("optima_over_datasets").at("sample") ==
+        "2 data sets over 1 scene (scenes by content hashes: data sets sharing an input file, the points read, the "
+        "truth, or a generated scene are one)");
 }
 
 TEST_CASE("a malformed provenance in a manifest or a results file is refused, naming the file and the field") {
