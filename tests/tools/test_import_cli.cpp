@@ -426,20 +426,51 @@ void writeBoxView(const fs::path& file, const std::array<double, 3>& sensor, std
   }
 }
 
-// Two views of the box (the clouds of setting `n`) imported with `poses`, then `truth` added: the data set `out`.
+// Two views of the box (the clouds of setting `n`), and `blank` (a third cloud, with --skip-empty) if given, imported
+// with `poses`, then `truth` added: the data set `out`.
 fs::path importBoxViews(const fs::path& dir, std::size_t n, const fs::path& poses, const fs::path& truth,
-                        const std::string& out) {
+                        const std::string& out, const std::string& blank = "") {
   const std::string a = (dir / ("a" + std::to_string(n) + ".xyz")).string();
   const std::string b = (dir / ("b" + std::to_string(n) + ".xyz")).string();
   writeBoxView(a, {3, 0, 0}, 100 + n);
   writeBoxView(b, {-3, 0, 0}, 200 + n);
   const fs::path scans = dir / (out + "-scans");
-  REQUIRE(test::runCli("import cloud " + a + " " + b + " --poses " + poses.string() + " --out " + scans.string())
+  const std::string more = blank.empty() ? "" : " " + blank + " --skip-empty";
+  REQUIRE(test::runCli("import cloud " + a + " " + b + more + " --poses " + poses.string() + " --out " + scans.string())
               .exit_code == 0);
   REQUIRE(test::runCli("import truth " + truth.string() + " --dataset " + scans.string() + " --out " +
                        (dir / out).string())
               .exit_code == 0);
   return dir / out;
+}
+
+// slambook_joinMap's depth frames, a pose line each in `poses`, imported with --skip-empty, then the truth `box` added
+// in `region`: the data set `out`; what import depth printed.
+std::string importDepthRoom(const fs::path& dir, const std::vector<fs::path>& frames, const fs::path& poses,
+                            const fs::path& box, const std::string& region, const std::string& out) {
+  std::string files;
+  for (const fs::path& frame : frames) files.append(" ").append(frame.string());
+  const fs::path scans = dir / (out + "-scans");
+  const auto r = test::runCli("import depth" + files + " --poses " + poses.string() + " --skip-empty --fx 518 --fy 519 "
+                              "--cx 325.5 --cy 253.5 --max-depth 7 --stride 8 --out " + scans.string());
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(test::runCli("import truth " + box.string() + " --dataset " + scans.string() + " --region " + region +
+                       " --out " + (dir / out).string())
+              .exit_code == 0);
+  return r.output;
+}
+
+// Lines `first` ... `first + count - 1` of slambook_joinMap's pose file (counting from 0) into `file`.
+void writePoseLines(const fs::path& file, std::size_t first, std::size_t count) {
+  std::ifstream in(kReal / "slambook_joinMap" / "pose.txt");
+  std::ofstream out(file);
+  std::string line;
+  for (std::size_t i = 0; i < first + count && std::getline(in, line); ++i)
+    if (i >= first) out << line << '\n';
+}
+
+fs::path depthFrame(int number) {
+  return kReal / "slambook_joinMap" / "depth" / std::to_string(number).append(".pgm");
 }
 
 }  // namespace
@@ -574,6 +605,78 @@ TEST_CASE("one recording re-written (CRLF clouds, a commented pose file, its own
   const std::string out = test::joinedLines(r.output);
   CHECK(out.find("over 2 scenes") == std::string::npos);  // the old binary: "2 data sets over 2 scenes"
   CHECK(out.find("2 data sets over 1 scene") != std::string::npos);
+}
+
+TEST_CASE("two cuts of one room with pose files and regions of their own and one truth are one scene in compare") {
+  // Frames 1-2 and 3-4, each cut with its own pose file and --region, one truth: only the truth joins them.
+  const fs::path dir = test::scratch("import_units_one_truth");
+  writeSmallGrids(dir);
+  std::ofstream(dir / "box.json") << R"({"boxes": [{"min": [-1, -1, 0], "max": [1, 1, 2]}]})";
+  const std::array<std::string, 2> regions = {"-2 -2 -1 2 2 3", "-3 -3 -1 3 3 3"};
+  std::vector<fs::path> datasets;
+  for (int cut = 0; cut < 2; ++cut) {
+    const std::string n = std::to_string(cut);
+    writePoseLines(dir / ("poses" + n + ".txt"), std::size_t(2 * cut), 2);
+    importDepthRoom(dir, {depthFrame(2 * cut + 1), depthFrame(2 * cut + 2)}, dir / ("poses" + n + ".txt"),
+                    dir / "box.json", regions[std::size_t(cut)], "cut" + n);
+    datasets.push_back(dir / ("cut" + n));
+  }
+  const auto r = test::runCli("compare" + sweptResults(dir, datasets) + " --json " + (dir / "units.json").string());
+  REQUIRE(r.exit_code == 0);
+  const std::string out = test::joinedLines(r.output);
+  CHECK(out.find("over 2 scenes") == std::string::npos);  // the old binary: "2 data sets over 2 scenes"
+  CHECK(out.find("2 data sets over 1 scene") != std::string::npos);
+  const auto knn = nlohmann::json::parse(test::bytesOf(dir / "units.json")).at("statistics").at(1);
+  CHECK(knn.at("scenes") == 1);
+  CHECK(knn.at("optima_over_datasets").at("sample") ==
+        "2 data sets over 1 scene (scenes by content hashes: data sets sharing an input file, the points read, the "
+        "truth, or a generated scene are one)");
+}
+
+TEST_CASE("recordings sharing only a blank frame --skip-empty dropped are scenes of their own in compare") {
+  // Two depth recordings and two cloud recordings, each with its own frames, poses and truth, and the same blank
+  // frame (an all-zero PGM, an empty cloud file) among its frames: what they keep shares nothing.
+  const fs::path dir = test::scratch("import_units_blank_frame");
+  writeSmallGrids(dir);
+  const std::string blank_pgm = std::string("P5 4 4 65535\n").append(32, '\0');
+  std::ofstream(dir / "blank.pgm", std::ios::binary) << blank_pgm;
+  std::ofstream(dir / "blank.xyz");
+  std::vector<fs::path> datasets;
+  for (int room = 0; room < 2; ++room) {
+    const std::string n = std::to_string(room);
+    std::ofstream(dir / ("box" + n + ".json"))
+        << R"({"boxes": [{"min": [-1, -1, 0], "max": [1, 1, 2.0)" << n << "]}]}";
+    writePoseLines(dir / ("depth-poses" + n + ".txt"), std::size_t(2 * room), 3);
+    const std::vector<fs::path> frames = {depthFrame(2 * room + 1), depthFrame(2 * room + 2), dir / "blank.pgm"};
+    const std::string said = importDepthRoom(dir, frames, dir / ("depth-poses" + n + ".txt"),
+                                             dir / ("box" + n + ".json"), "-2 -2 -1 2 2 3", "depth" + n);
+    CHECK(said.find("--skip-empty: dropped 1 of 3 frames without a valid point (the first: " +
+                    (dir / "blank.pgm").string() + ")") != std::string::npos);
+    datasets.push_back(dir / ("depth" + n));
+    const auto source = readDataset(datasets.back()).source;
+    CHECK(source.at("frames_dropped_empty") == nlohmann::json::array({2}));
+    nlohmann::json kept = nlohmann::json::array();
+    for (const fs::path& frame : {frames[0], frames[1]}) {
+      Fnv1a bytes;
+      bytes.feed(test::bytesOf(frame));
+      kept.push_back(bytes.hex());
+    }
+    CHECK(source.at("provenance").at("inputs") == kept);  // the old binary: the blank frame's hash too
+    // The same with clouds, whose blank frame is an empty file.
+    std::ofstream(dir / ("cloud-poses" + n + ".txt"))
+        << (room == 0 ? "3 0 0 0 0 0 1\n-3 0 0 0 0 0 1\n0 0 5 0 0 0 1\n"
+                      : "3 0 0.1 0 0 0 1\n-3 0 0.1 0 0 0 1\n0 0 6 0 0 0 1\n");
+    std::ofstream(dir / ("cloud-box" + n + ".json"))
+        << R"({"boxes": [{"min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 1.0)" << n << "]}]}";
+    datasets.push_back(importBoxViews(dir, std::size_t(room), dir / ("cloud-poses" + n + ".txt"),
+                                      dir / ("cloud-box" + n + ".json"), "cloud" + n, (dir / "blank.xyz").string()));
+    CHECK(readDataset(datasets.back()).source.at("provenance").at("inputs").size() == 2);
+  }
+  const auto r = test::runCli("compare" + sweptResults(dir, datasets));
+  REQUIRE(r.exit_code == 0);
+  const std::string out = test::joinedLines(r.output);
+  CHECK(out.find("over 2 scenes") == std::string::npos);  // the old binary: each pair joined by its blank frame
+  CHECK(out.find("4 data sets over 4 scenes") != std::string::npos);
 }
 
 TEST_CASE("a malformed provenance in a manifest or a results file is refused, naming the file and the field") {

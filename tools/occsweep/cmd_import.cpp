@@ -110,10 +110,23 @@ void printRegion(const AxisBox& r, const std::string& origin) {
                  "--max-region-voxels to them)\n";
 }
 
-// What the scans were made from, by content: compare counts data sets that share a recorded input, or truth and
-// poses or region, as one scene (docs/dataset-format.md, "Provenance"; docs/statistics.md, "Verdicts").
+// The input files whose scans the data set keeps, saying how many --skip-empty dropped: a dropped frame is no part
+// of the recording, and a blank frame two recordings share must not join them (docs/dataset-format.md, "Provenance").
+std::vector<fs::path> keptFrames(const Dataset& d, const ImportOptions& o) {
+  std::vector<fs::path> kept = paths(o.files);
+  const auto dropped = d.source.value("frames_dropped_empty", std::vector<std::size_t>{});  // ascending
+  for (auto i = dropped.rbegin(); i != dropped.rend(); ++i) kept.erase(kept.begin() + std::ptrdiff_t(*i));
+  if (!dropped.empty())
+    std::cout << "--skip-empty: dropped " << dropped.size() << " of " << o.files.size()
+              << " frames without a valid point (the first: " << escapedControlCharacters(o.files[dropped[0]])
+              << ")\n";
+  return kept;
+}
+
+// What the scans were made from, by content: compare counts data sets that share a recorded input, or the truth,
+// as one scene (docs/dataset-format.md, "Provenance"; docs/statistics.md, "Verdicts").
 void recordProvenance(Dataset& d, const ImportOptions& o) {
-  nlohmann::json provenance = {{"inputs", fileContentHashes(paths(o.files))}};
+  nlohmann::json provenance = {{"inputs", fileContentHashes(keptFrames(d, o))}};
   if (!o.poses.empty()) provenance["poses"] = fileContentHashes(paths(o.poses));
   recordPoints(provenance, d.scans);  // before --shift and --voxel-filter: the recording as read
   d.source["provenance"] = std::move(provenance);

@@ -16,7 +16,8 @@ bool isPointCloudSetName(const std::string& name, std::size_t slash) {
 }
 
 // What a data set shares with the others of its scene: each recorded input file, the points read from them, the
-// generated scene, the truth with the poses, the truth in its region (one room, whatever the trajectory or scan count). None when its provenance
+// generated scene, the truth (one room, whatever its region, trajectory or scan count: fewer units can only make a
+// verdict "too few to tell", never a false "gain"; docs/statistics.md, "Verdicts"). None when its provenance
 // records neither inputs nor a scene (an older occsweep made its scans).
 std::vector<std::string> provenanceKeys(const nlohmann::json& p) {
   std::vector<std::string> keys;
@@ -24,10 +25,7 @@ std::vector<std::string> provenanceKeys(const nlohmann::json& p) {
   if (p.contains("scene")) keys.push_back("scene " + p.at("scene").dump());
   for (const auto& input : p.value("inputs", nlohmann::json::array())) keys.push_back("input " + input.dump());
   if (p.contains("points")) keys.push_back("points " + p.at("points").dump());
-  if (p.contains("truth") && p.contains("poses"))
-    keys.push_back("truth and poses " + p.at("truth").dump() + " " + p.at("poses").dump());
-  if (p.contains("truth") && p.contains("region"))
-    keys.push_back("truth and region " + p.at("truth").dump() + " " + p.at("region").dump());
+  if (p.contains("truth")) keys.push_back("truth " + p.at("truth").dump());
   return keys;
 }
 
@@ -56,8 +54,8 @@ std::string declarationOf(UnitRule rule, bool grouped, const std::vector<std::st
   if (rule == UnitRule::Names) return "units declared by --units names: one per data set name";
   const std::string older = "no content hashes recorded (made by an older occsweep)";
   if (!grouped) return "units: data set names, assumed independent: " + older;
-  std::string text = "scenes by content hashes: data sets sharing an input file, the points read, the truth with "
-                     "the poses or the region, or a generated scene are one";
+  std::string text = "scenes by content hashes: data sets sharing an input file, the points read, the truth, or a "
+                     "generated scene are one";
   if (!without.empty())
     text += "; " + std::to_string(without.size()) + (without.size() == 1 ? " data set has " : " data sets have ") +
             older + ": each name assumed a scene of its own";

@@ -72,7 +72,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
             : std::vector<RigidPose>{};
   PointCloudSet scans;
   std::uint64_t total_points = 0;
-  nlohmann::json files = nlohmann::json::array();
+  nlohmann::json files = nlohmann::json::array(), dropped = nlohmann::json::array();
   ProgressLine progress("point cloud");
   for (std::size_t i = 0; i < clouds.size(); ++i) {
     progress.show(i + 1, clouds.size());
@@ -83,7 +83,10 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
     scan.origin = at.placeOrigin();
     files.push_back(clouds[i].filename().string());
     if (c.view) scan.view = cloudView(*c.view, posed ? poses[i] : RigidPose{});
-    if (scan.points.empty() && c.skip_empty) continue;
+    if (scan.points.empty() && c.skip_empty) {
+      dropped.push_back(i);
+      continue;
+    }
     requireNonEmpty(scan, clouds[i].string(), "");
     requireFiniteScan(scan, clouds[i].string(), "", afterWhat(c));
     countPoints(total_points, scan, clouds[i].string());
@@ -92,6 +95,7 @@ Dataset importClouds(const std::vector<fs::path>& clouds, const CloudImportConfi
   if (scans.empty()) throw std::invalid_argument("every point cloud is empty");
   nlohmann::json source = {{"generator", "occsweep import cloud"}, {"clouds", files}};
   if (c.view) source["view"] = {{"axis", c.view->axis}, {"half_angle_deg", c.view->half_angle_deg}};
+  if (!dropped.empty()) source["frames_dropped_empty"] = dropped;  // no part of its inputs (cmd_import.cpp)
   if (posed) {
     source["poses"] = poseFileNames(c.pose_files);
     recordPoseReading(source, c.pose_format, c.pose_selection, c.pose_convention);

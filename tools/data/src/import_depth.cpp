@@ -106,7 +106,7 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
   std::vector<std::uint16_t> depth_sample;
   PointCloudSet scans;
   std::uint64_t total_points = 0;
-  nlohmann::json files = nlohmann::json::array();
+  nlohmann::json files = nlohmann::json::array(), dropped = nlohmann::json::array();
   ProgressLine progress("depth image");
   for (std::size_t i = 0; i < images.size(); ++i) {
     progress.show(i + 1, images.size());
@@ -115,7 +115,10 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
     sampleDepths(image, per_image, c, depth_sample);
     Scan scan = depthToScan(image, poses[i], c);
     files.push_back(images[i].filename().string());
-    if (scan.points.empty() && c.skip_empty) continue;
+    if (scan.points.empty() && c.skip_empty) {
+      dropped.push_back(i);
+      continue;
+    }
     requireNonEmpty(scan, images[i].string(), "");
     requireFiniteScan(scan, images[i].string(), "",
                       "check --depth-scale, --fx, --fy, --shift and the poses of " + pose_files[0].string());
@@ -132,6 +135,7 @@ Dataset importDepthSequence(const std::vector<fs::path>& images, const std::vect
                            {"stride", c.stride},
                            {"median_depth", medianMetres(depth_sample, c.depth_scale)}};
   if (!c.intrinsics_file.empty()) source["intrinsics_file"] = c.intrinsics_file.filename().string();
+  if (!dropped.empty()) source["frames_dropped_empty"] = dropped;  // no part of its inputs (cmd_import.cpp)
   recordPoseReading(source, c.pose_format, c.pose_selection, c.pose_convention);
   return importedDataset(images.front().parent_path().filename().string(), std::move(scans), source);
 }

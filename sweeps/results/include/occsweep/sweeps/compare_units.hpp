@@ -29,7 +29,7 @@ struct SampleUnits {
 };
 
 /// The rows' units: under UnitRule::Provenance the connected groups of rows that share a recorded input file, the
-/// same truth with the same poses or region, or a generated scene (docs/dataset-format.md, "Provenance"), a row without provenance by
+/// points read, the truth, or a generated scene (docs/dataset-format.md, "Provenance"), a row without provenance by
 /// its name; under UnitRule::Names by name.
 [[nodiscard]] SampleUnits sampleUnits(const std::vector<ComparisonRow>& rows, UnitRule rule);
 

@@ -45,7 +45,7 @@ struct CloudImportConfig {
   PoseSelection pose_selection;  ///< --pose-start, --pose-step: frame i takes pose start + i step of one file
   PoseConvention pose_convention = PoseConvention::CameraToWorld;  ///< --pose-convention
   std::array<double, 3> origin{0, 0, 0};           ///< sensor origin of every cloud when there is no pose file
-  bool skip_empty = false;
+  bool skip_empty = false;  ///< drop empty clouds (source.frames_dropped_empty), not refuse them
   /// --shift: added to every point and origin after the pose, before the one rounding to float32 (CloudPlacement).
   std::array<double, 3> shift{0, 0, 0};
   /// What the sensor sees (docs/import.md, "Sensor views"): a cone whose axis is in the sensor frame (each pose

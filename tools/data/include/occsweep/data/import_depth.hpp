@@ -43,7 +43,7 @@ struct DepthImportConfig {
   PoseFormat pose_format = PoseFormat::Quaternion;
   PoseSelection pose_selection;  ///< --pose-start, --pose-step: frame i takes pose start + i step of one file
   PoseConvention pose_convention = PoseConvention::CameraToWorld;  ///< --pose-convention
-  bool skip_empty = false;      ///< drop frames without a valid pixel instead of refusing them
+  bool skip_empty = false;      ///< drop frames without a valid pixel (source.frames_dropped_empty), not refuse
   /// --shift: added to every point and origin after the pose, before the one rounding to float32 (CloudPlacement).
   std::array<double, 3> shift{0, 0, 0};
   /// --intrinsics: the file the intrinsics came from (recorded in source), and the image size it gives, which every
