@@ -388,7 +388,7 @@ TEST_CASE("a truth of the scan's own points, hidden behind one another at the vo
           "observable") {
   // As Middlebury's Aloe truth at 0.1 m: a block of points 1 m deep seen from one side; truth = the same points. A
   // ray at voxel resolution reaches the front voxels only, but every truth voxel holds a point, which the maps mark
-  // occupied. The old binary: "only 13 % of the truth voxels are observable ...: under full truth every map misses
+  // occupied. The old binary: "only 10 % of the truth voxels are observable ...: under full truth every map misses
   // the rest".
   const fs::path dir = test::scratch("coverage-own-points");
   std::ofstream cloud(dir / "block.xyz"), ply(dir / "block.ply");
