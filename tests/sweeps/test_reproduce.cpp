@@ -624,7 +624,7 @@ TEST_CASE("docs/statistics.md and docs/fidelity.md quote the ci reproduction's c
   // Issue 44, finding 6: the docs typed numbers a run makes, and nothing noticed when a run made others. Here the
   // comparison step of `reproduce --scale ci` (20 data sets, 60 sets) runs, and every figure the docs quote from its
   // report.md is looked up in them: the trend table and its within-texture values, the environment test, and the
-  // verdict table of the worked example.
+  // verdict table of the worked example. Also (D3): report.md's counts over sets carry no verdict.
   const auto dir = test::scratch("reproduce-ci-comparison");
   const auto r = test::runCli("reproduce --scale ci --steps comparison --no-figures --quiet --out " + dir.string());
   INFO(r.output);
@@ -632,6 +632,17 @@ TEST_CASE("docs/statistics.md and docs/fidelity.md quote the ci reproduction's c
   const std::string report = readText(dir / "report.md");
   const std::string statistics = readText(test::sourceTree() / "docs" / "statistics.md");
   const std::string fidelity = proseOf(readText(test::sourceTree() / "docs" / "fidelity.md"));
+  // Issue 44, D3: a count over sets is description, not a verdict; report.md's verdicts are over scenes (section 3d).
+  const std::string strict_wins = lineStarting(report, "k-NN strictly better on ");
+  INFO(strict_wins);
+  CHECK(strict_wins.find("**") == std::string::npos);
+  CHECK(strict_wins.find("section 3d's verdict, over scenes") != std::string::npos);
+  const std::size_t baselines = report.find("## 3c."), scenes = report.find("## 3d.");
+  REQUIRE((baselines != std::string::npos && scenes > baselines));
+  const std::string baseline_counts = report.substr(baselines, scenes - baselines);
+  INFO(baseline_counts);
+  CHECK(baseline_counts.find("**") == std::string::npos);
+  CHECK(baseline_counts.find("section 3d's") != std::string::npos);
   // The trend under each truth (report.md section 3b): statistics.md holds its rows, fidelity.md its values.
   const std::size_t trend = report.find("| truth | Pearson r (p) | Spearman rho (p) | rho over scene means (p) |");
   REQUIRE(trend != std::string::npos);
