@@ -47,11 +47,9 @@ void comparisonSection(std::ostringstream& o, const json& comparison) {
   o << "\nk-NN strictly better on " << positive << " of " << improvement.size() << " sets, equal on "
     << long(improvement.size()) - positive - negative << ", worse on " << negative << "; improvement from "
     << num(worst, "%+.2f") << " % to " << num(best, "%+.2f") << " %, mean " << num(mean(improvement), "%+.2f")
-    << " %. \"Holds\" here counts strict wins only: k-NN strictly better than the optimal OctoMap on more than half "
-    << "of the sets: " << verdict(2 * positive > long(improvement.size())) << ". Equal sets are no evidence either "
-    << "way: knn-opt often holds a map scoring OctoMap's best exactly (section 3d, \"Grids that nest\"), so k-NN's "
-    << "optimum cannot fall below OctoMap's there. This is a count over sets of few scenes, not a test; whether the "
-    << "gain is more than chance is section 3d's verdict, over scenes.\n\n";
+    << " %. Equal sets are no evidence either way: knn-opt often holds a map scoring OctoMap's best exactly (section "
+    << "3d, \"Grids that nest\"), so k-NN's optimum cannot fall below OctoMap's there. A count over sets describes; "
+    << "whether the gain is more than chance is section 3d's verdict, over scenes.\n\n";
   trendParagraph(o, trendControls(trendInput(rows, nullptr)));
 
   o << "## 4. Voronoi better than plain, buildings better than the parking lot (Fig. 5)\n\n"
