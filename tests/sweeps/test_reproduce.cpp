@@ -291,7 +291,7 @@ TEST_CASE("reproduce on two ci data sets writes every step, consistent with comp
   }
   // The comparison's own section is there, the trend with its controls (docs/statistics.md, "Correlation").
   CHECK(partial.find("| sets | Pearson r | permutation p | Spearman rho | permutation p |") != std::string::npos);
-  CHECK(partial.find("The trend is shown (**holds**) when Spearman's rho over the data sets' means") != std::string::npos);
+  CHECK(partial.find("The trend is shown (**holds**) when Spearman's rho over the scenes' means") != std::string::npos);
   // Which verdicts were corrected together (issue 44): four families of the 4 methods, one per truth and kind.
   CHECK(partial.find("Holm families: the 16 verdicts above form four families of 4, one per truth and kind") !=
         std::string::npos);
