@@ -99,14 +99,16 @@ constexpr const char* kAlignmentFix =
     "to camera (import with --pose-convention world-to-camera), or a wrong --depth-scale (docs/import.md, \"Truth "
     "coverage and alignment\")";
 
-// Of `keys`, those some point of `scans` falls in.
+// Of `keys`, those some point of `scans` falls in: each point looked up among the sampled keys, so memory stays
+// the sample's, not the points' voxels.
 std::uint64_t holdingAPoint(const octomap::OcTree& grid, const std::vector<octomap::OcTreeKey>& keys,
                             const PointCloudSet& scans) {
-  octomap::KeySet with_point;
+  const octomap::KeySet sampled(keys.begin(), keys.end());
+  octomap::KeySet held;
   for (const Scan& scan : scans)
     for (const auto& p : scan.points)
-      if (octomap::OcTreeKey k; grid.coordToKeyChecked(p, k)) with_point.insert(k);
-  return std::uint64_t(std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return with_point.count(k); }));
+      if (octomap::OcTreeKey k; grid.coordToKeyChecked(p, k) && sampled.count(k)) held.insert(k);
+  return held.size();
 }
 
 // The coverage of the truth `mask` holds, in `frame`'s region and at its resolution.

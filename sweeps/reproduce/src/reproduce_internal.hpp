@@ -98,8 +98,7 @@ inline constexpr const char* kTrendRule =
     "The trend is shown (**holds**) when Spearman's rho over the scenes' means, the verdicts' unit (the sets of one "
     "scene, in both textures, share its geometry: permuting sets or data sets as if independent makes the p-values "
     "liberal), is negative with permutation p < 0.05 both over all scenes and within each texture's scenes (a "
-    "correlation over all "
-    "alone can come from the differences between the groups); all must reject (an intersection-union test, so no "
+    "correlation over all alone can come from the differences between the groups); all must reject (an intersection-union test, so no "
     "correction). Otherwise it is **not shown**: these data cannot show the trend, which is not evidence that there "
     "is none";
 

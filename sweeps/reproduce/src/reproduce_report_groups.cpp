@@ -1,6 +1,6 @@
 // report.md section 4: the paper's texture and environment findings, tested over pairs of data sets that differ only
-// in that attribute (the same layout and the other attribute), one value per scene or pair of scenes, by the rules of docs/statistics.md
-// ("Verdicts"): a difference needs the exact paired test to reject after Holm's correction, an equality needs the
+// in that attribute (the same layout and the other attribute), one value per scene or pair of scenes, by the rules
+// of docs/statistics.md ("Verdicts"): a difference needs the exact paired test to reject after Holm's correction, an equality needs the
 // sign test to put the median, and the bootstrap interval the mean, within +-0.01 AUC; otherwise "not shown".
 #include <map>
 
@@ -26,25 +26,23 @@ constexpr const char* kMethods[] = {"octomap", "knn"};
 // an older comparison.json), keyed by the data set's name with the group taken out: the key its partner in the
 // other group has.
 struct GroupMean {
-  double auc = 0;
+  double auc = 0;  // the sum over the data set's sets until groupMeans divides it
+  int sets = 0;
   std::string scene;
 };
 std::map<std::string, GroupMean> groupMeans(const json& rows, const char* truth, const char* method,
                                             const char* attribute, const std::string& group) {
-  std::map<std::string, std::pair<double, int>> sums;
-  std::map<std::string, std::string> scene;
+  std::map<std::string, GroupMean> means;
   for (const json& r : rows) {
     const json& side = truth ? r.at("truths").at(truth) : r;
     if (r.at(attribute) != group || side.at(method).is_null()) continue;
     std::string key = r.at("dataset").get<std::string>();
-    const std::string of_row = r.value("scene", key);
+    const std::string scene = r.value("scene", key);
     if (const auto at = key.find(group); at != std::string::npos) key.erase(at, group.size());
-    auto& [sum, n] = sums[key];
-    sum += get(side.at(method).at("auc")), ++n;
-    scene[key] = of_row;
+    GroupMean& m = means[key];
+    m.auc += get(side.at(method).at("auc")), ++m.sets, m.scene = scene;
   }
-  std::map<std::string, GroupMean> means;
-  for (const auto& [key, s] : sums) means[key] = {s.first / s.second, scene.at(key)};
+  for (auto& [key, m] : means) m.auc /= m.sets;
   return means;
 }
 
